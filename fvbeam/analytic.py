@@ -1,0 +1,69 @@
+"""Closed-form answers used as oracles by the tests and the studies.
+
+Cantilever of length ``L`` clamped at 0, transverse force ``F`` at station ``xi`` (paper
+Sec. 5).  Every function returns ``(v_flexural, v_shear, phi)`` at the tip ``L``; the tip
+displacement is ``v_flexural + v_shear``.  Where a finite-volume load sits exactly on an
+evaluation point it is shared half and half between the two regions, as
+:func:`fvbeam.elements.indicator` does.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def _step(x: np.ndarray) -> np.ndarray:
+    return np.where(x > 0, 1.0, np.where(x == 0, 0.5, 0.0))
+
+
+def cantilever_exact(xi, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, F: float = 1.0):
+    """Timoshenko cantilever, force at ``xi`` (paper Sec. 5.1)."""
+    xi = np.asarray(xi, dtype=float)
+    return F * xi**2 * (3 * L - xi) / (6 * EJ), F * xi / GA, F * xi**2 / (2 * EJ)
+
+
+def cantilever_fv2(xi, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, F: float = 1.0):
+    """One 2-node finite-volume element (paper Sec. 5.2)."""
+    xi = np.asarray(xi, dtype=float)
+    step = _step(xi - L / 2)
+    return (F * L**2 / (2 * EJ) * (xi - L / 2) * step, F * L / GA * step,
+            F * L / EJ * np.maximum(xi - L / 2, 0.0))
+
+
+def cantilever_fv3(xi, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, F: float = 1.0):
+    """One 3-node finite-volume element (paper Sec. 5.3; ``docs/theory.md`` for a < xi < b).
+
+    With the evaluation points ``a, b = L (1 -+ 1/sqrt(3)) / 2``:
+
+    * ``xi < a``: the load is on the clamped node, nothing moves;
+    * ``a < xi < b``: ``v = F [L b (xi - a) / (2 EJ) + L / (2 GA)]``,
+      ``phi = F L (xi - a) / (2 EJ)`` (eq. T9);
+    * ``xi > b``: ``v = F [L^2 (3 xi - L) / (6 EJ) + L / GA]``, ``phi = F L (xi - L/2) / EJ``.
+    """
+    xi = np.asarray(xi, dtype=float)
+    a, b = L * (1 - 1 / np.sqrt(3)) / 2, L * (1 + 1 / np.sqrt(3)) / 2
+    on_mid = _step(xi - a) - _step(xi - b)
+    on_tip = _step(xi - b)
+    flex = (on_mid * F * L * b * (xi - a) / (2 * EJ)
+            + on_tip * F * L**2 * (3 * xi - L) / (6 * EJ))
+    shear = on_mid * F * L / (2 * GA) + on_tip * F * L / GA
+    phi = on_mid * F * L * (xi - a) / (2 * EJ) + on_tip * F * L * (xi - L / 2) / EJ
+    return flex, shear, phi
+
+
+def cantilever_internal_forces(zeta, xi: float, F: float = 1.0):
+    """Exact shear and bending moment at ``zeta`` for a force at ``xi`` (paper Sec. 5.1)."""
+    zeta = np.asarray(zeta, dtype=float)
+    return F * _step(xi - zeta), F * np.maximum(xi - zeta, 0.0)
+
+
+def quarter_circle_tip(R: float, P: float, GJ: float, EJ_radial: float, GA_normal: float):
+    """Out-of-plane tip deflection of a quarter-circle cantilever under a tip force ``P``.
+
+    Castigliano on the statically determinate arc (angle alpha from the clamp): torque
+    ``P R (1 - sin alpha)``, bending about the radial axis ``P R cos alpha``, shear ``P``::
+
+        delta = P R^3 [(3 pi / 4 - 2) / GJ + (pi / 4) / EJ_radial] + P R pi / (2 GA_normal)
+    """
+    return (P * R**3 * ((3 * np.pi / 4 - 2) / GJ + (np.pi / 4) / EJ_radial)
+            + P * R * np.pi / (2 * GA_normal))

@@ -1,0 +1,156 @@
+"""Finite-volume test functions as a custom scikit-fem element.
+
+Each node owns an *influence region* bounded by the evaluation points (or a beam end).  Its six
+test functions are the rigid motions of that region (``docs/theory.md``, eq. T4):
+
+* translation ``c``:  ``w = e_c chi``,                 ``psi = 0``
+* rotation ``k``:     ``w = e_k x (x - x_a) chi``,       ``psi = e_k chi``
+
+with ``chi`` the indicator of the region.  A rigid motion has zero generalised strain inside
+the region, so the internal virtual work reduces to the Dirac spikes of ``chi'`` at the
+evaluation points: the region's force and moment balance about its node, with the lever arm
+``x(evaluation point) - x_a`` of the internal shear.  The element reproduces those spikes on a
+quadrature made of the evaluation points alone: there ``chi' = jump / (W detJ)``, so that the
+scikit-fem sum ``sum f chi' W detJ`` returns ``jump * f`` exactly.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from skfem.element import DiscreteField, Element
+from skfem.refdom import RefLine
+
+from fvbeam.mesh import BeamMesh
+
+_E = np.eye(3)
+
+
+def evaluation_points(nodes_per_element: int) -> np.ndarray:
+    """Evaluation points on the reference element [0, 1] (paper Sec. 5).
+
+    Mid-point for 2-node elements; ``s = -+1/sqrt(3)`` on [-1, 1], the 2-point Gauss points,
+    for 3-node elements.
+    """
+    if nodes_per_element == 2:
+        return np.array([0.5])
+    return np.array([(1 - 1 / np.sqrt(3)) / 2, (1 + 1 / np.sqrt(3)) / 2])
+
+
+def influence_regions(nodes_per_element: int) -> np.ndarray:
+    """Part of each local node's influence region inside the element, ``(npe, 2)`` bounds.
+
+    Local node order: end 0, end 1, mid node.
+    """
+    p = evaluation_points(nodes_per_element)
+    if nodes_per_element == 2:
+        return np.array([[0.0, p[0]], [p[0], 1.0]])
+    return np.array([[0.0, p[0]], [p[1], 1.0], [p[0], p[1]]])
+
+
+def indicator(X: np.ndarray, nodes_per_element: int) -> np.ndarray:
+    """Region indicators ``chi_a(X)``, shape ``(npe,) + X.shape``.
+
+    A point exactly on an evaluation point belongs half to each neighbouring region, the limit
+    of a symmetric smearing of vanishing width.
+    """
+    bounds = influence_regions(nodes_per_element)
+    X = np.asarray(X, dtype=float)
+    lo, hi = bounds[:, :1], bounds[:, 1:]
+    flat = X.reshape(1, -1)
+    chi = ((flat > lo) & (flat < hi)).astype(float)
+    chi += 0.5 * (np.isclose(flat, lo, rtol=0, atol=1e-14) & (lo > 0))
+    chi += 0.5 * (np.isclose(flat, hi, rtol=0, atol=1e-14) & (hi < 1))
+    chi += (np.isclose(flat, lo, rtol=0, atol=1e-14) & (lo == 0))
+    chi += (np.isclose(flat, hi, rtol=0, atol=1e-14) & (hi == 1))
+    return chi.reshape((len(bounds),) + X.shape)
+
+
+def jumps(nodes_per_element: int) -> np.ndarray:
+    """``chi_a(p+) - chi_a(p-)`` at each evaluation point ``p``, shape ``(npe, n_points)``."""
+    p = evaluation_points(nodes_per_element)
+    eps = 1e-9
+    return indicator(p + eps, nodes_per_element) - indicator(p - eps, nodes_per_element)
+
+
+def rigid_motions(mesh: BeamMesh, e: np.ndarray, X: np.ndarray, chi: np.ndarray,
+                  dchi: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray | None]:
+    """Values (and derivatives in the element coordinate) of the fv test functions.
+
+    Parameters
+    ----------
+    e, X
+        Element indices and reference coordinates, broadcast to a common shape ``P``.
+    chi, dchi
+        Indicator values and derivatives per local node, shape ``(npe,) + P``.
+
+    Returns
+    -------
+    value : ``(6 npe, 6) + P`` -- test function ``6 a + c`` as the 6-vector ``(w, psi)``
+    grad : same shape, d/dX of ``(w, psi)`` divided by the element length, or None
+    """
+    npe = mesh.nodes_per_element
+    x = mesh.positions(e, X)                                   # P + (3,)
+    nodes = mesh.points[mesh.cells[e]]                         # P + (npe, 3)
+    value = np.zeros((npe, 6, 6) + chi.shape[1:])
+    grad = None if dchi is None else np.zeros_like(value)
+    if dchi is not None:
+        dx = mesh.tangent_vectors(e, X) / mesh.element_length[e][..., None]
+    for a in range(npe):
+        lever = x - nodes[..., a, :]
+        for c in range(3):
+            value[a, c, c] = chi[a]
+            value[a, 3 + c, 3 + c] = chi[a]
+            arm = np.moveaxis(np.cross(_E[c], lever), -1, 0)   # e_c x (x - x_a)
+            value[a, 3 + c, :3] = arm * chi[a]
+            if grad is not None:
+                grad[a, c, c] = dchi[a]
+                grad[a, 3 + c, 3 + c] = dchi[a]
+                grad[a, 3 + c, :3] = (np.moveaxis(np.cross(_E[c], dx), -1, 0) * chi[a]
+                                      + arm * dchi[a])
+    shape = (6 * npe, 6) + chi.shape[1:]
+    return value.reshape(shape), None if grad is None else grad.reshape(shape)
+
+
+class ElementBeamFV(Element):
+    """Finite-volume beam test functions on one :class:`~fvbeam.mesh.BeamMesh`.
+
+    Six dofs per node, numbered as ``ElementVector(ElementLineP1|P2(), 6)`` numbers them, so
+    that the trial and test bases share the global dof numbering (a square Petrov-Galerkin
+    system).  Evaluated on :meth:`stiffness_quadrature` it yields the spikes of the region
+    boundaries; on any other points, the region indicators.
+    """
+
+    refdom = RefLine
+    maxdeg = 0
+
+    def __init__(self, mesh: BeamMesh) -> None:
+        npe = mesh.nodes_per_element
+        self.mesh = mesh
+        self.nodal_dofs = 6
+        self.interior_dofs = 6 if npe == 3 else 0
+        self.dofnames = ["u"] * 6
+        self.points = evaluation_points(npe)
+        self.weight = 1.0 / len(self.points)
+        self.jumps = jumps(npe)
+
+    def stiffness_quadrature(self) -> tuple[np.ndarray, np.ndarray]:
+        """The evaluation points as a quadrature rule (weights cancel in the spikes)."""
+        return self.points[None, :], np.full(len(self.points), self.weight)
+
+    def gbasis(self, mapping, X: np.ndarray, i: int, tind=None):
+        npe = self.mesh.nodes_per_element
+        if not 0 <= i < 6 * npe:
+            self._index_error()
+        if tind is None:
+            tind = np.arange(mapping.mesh.t.shape[1])
+        tind = np.asarray(tind)
+        Xe = np.broadcast_to(X[0], (len(tind),) + X.shape[-1:]) if X.ndim == 2 else X[0]
+        e = np.broadcast_to(tind[:, None], Xe.shape)
+        chi = indicator(Xe, npe)
+        dchi = np.zeros_like(chi)
+        detJ = np.abs(mapping.detDF(X, tind))
+        for k, p in enumerate(self.points):
+            on = np.isclose(Xe, p, rtol=0, atol=1e-14)
+            dchi[:, on] = self.jumps[:, k:k + 1] / (self.weight * detJ[on])
+        value, grad = rigid_motions(self.mesh, e, Xe, chi, dchi)
+        return (DiscreteField(value=value[i], grad=grad[i][:, None]),)

@@ -1,0 +1,43 @@
+"""scikit-fem forms of the linear 3-D Timoshenko beam (``docs/theory.md``).
+
+Generalised strains in global axes (eq. T1)::
+
+    nu = u' - theta x t,      kappa = theta'
+
+with ``'`` the derivative in arc length and ``t`` the unit tangent.  Internal virtual work
+(eq. T3)::
+
+    delta W_int = int ( F . (w' - psi x t) + M . psi' ) ds,   [F; M] = C [nu; kappa]
+
+The forms take three fields at the quadrature points: ``t`` (unit tangent), ``metric``
+(ds / d(affine coordinate), 1 on straight beams) and ``C`` (6x6 section stiffness in global
+axes).  Test and trial bases may differ (Petrov-Galerkin): the fv test element supplies the
+rigid motions of the influence regions, the Galerkin test element the shape functions.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from skfem import BilinearForm, LinearForm
+
+
+def generalised_strain(field, t: np.ndarray, metric: np.ndarray) -> np.ndarray:
+    """``[u' - theta x t, theta']`` of a 6-component field, shape (6, ...) (eq. T1)."""
+    d = field.grad[:, 0] / metric
+    rot = np.cross(field.value[3:], t, axis=0)
+    return np.concatenate([d[:3] - rot, d[3:]])
+
+
+@BilinearForm
+def internal_work(u, v, w):
+    """Internal virtual work density (eq. T3), per unit of the affine element coordinate."""
+    t, metric, C = w.t.value, w.metric.value, w.C.value
+    stress = np.einsum("ij...,j...->i...", C, generalised_strain(u, t, metric))
+    return np.einsum("i...,i...->...", generalised_strain(v, t, metric), stress) * metric
+
+
+@LinearForm
+def distributed_load(v, w):
+    """Virtual work of a force ``f`` and a couple ``m`` per unit length (eq. T5)."""
+    return (np.einsum("i...,i...->...", v.value[:3], w.f.value)
+            + np.einsum("i...,i...->...", v.value[3:], w.m.value)) * w.metric.value

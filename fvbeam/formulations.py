@@ -1,0 +1,150 @@
+"""Beam formulations: finite-volume (fv2, fv3) and Galerkin (galerkin-p1, galerkin-p2).
+
+All of them interpolate the six nodal fields (3 displacements, 3 rotations) with Lagrange
+polynomials in the arc length (the *trial* side) and assemble the same internal-work form
+(:func:`fvbeam.forms.internal_work`); they differ only in the *test* side and its quadrature:
+
+============  =============================  ===========================================
+name          test functions                 stiffness quadrature
+============  =============================  ===========================================
+fv2, fv3      rigid motions of each node's   the evaluation points (mid-point;
+              influence region (paper Sec.5) s = -+1/sqrt(3))
+galerkin-p1   P1 shape functions             reduced: 1 Gauss point; full: 2
+galerkin-p2   P2 shape functions             reduced: 2 Gauss points; full: 3
+============  =============================  ===========================================
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from skfem.element import Element, ElementLineP1, ElementLineP2, ElementVector
+
+from fvbeam.elements import ElementBeamFV, evaluation_points, indicator, influence_regions
+from fvbeam.elements import rigid_motions
+from fvbeam.mesh import BeamMesh, shape_functions
+
+
+def gauss(n: int, a: float = 0.0, b: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    """n-point Gauss-Legendre rule on [a, b]."""
+    x, w = np.polynomial.legendre.leggauss(n)
+    return a + (b - a) * (x + 1) / 2, w * (b - a) / 2
+
+
+def composite_gauss(breaks: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """n-point Gauss rule on each interval between consecutive ``breaks``."""
+    parts = [gauss(n, a, b) for a, b in zip(breaks[:-1], breaks[1:]) if b > a]
+    return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
+
+
+@dataclass(frozen=True)
+class Formulation:
+    """Common interface: trial element, test element, quadratures, test values at points."""
+
+    name: str
+    nodes_per_element: int
+
+    def trial_element(self) -> Element:
+        """Lagrange interpolation of the six nodal fields."""
+        scalar = ElementLineP1() if self.nodes_per_element == 2 else ElementLineP2()
+        return ElementVector(scalar, 6)
+
+    def test_element(self, mesh: BeamMesh) -> Element:
+        raise NotImplementedError
+
+    def stiffness_quadrature(self, test: Element) -> tuple[np.ndarray, np.ndarray]:
+        raise NotImplementedError
+
+    def load_quadrature(self) -> tuple[np.ndarray, np.ndarray]:
+        raise NotImplementedError
+
+    def test_values(self, mesh: BeamMesh, e: np.ndarray, X: np.ndarray) -> np.ndarray:
+        """Test functions at points, shape ``(6 npe, 6) + P``: function ``6a + c`` as (w, psi)."""
+        raise NotImplementedError
+
+    def breakpoints(self) -> np.ndarray:
+        """Reference coordinates where the test functions are not smooth (element ends...)."""
+        return np.array([0.0, 1.0])
+
+    def check(self, mesh: BeamMesh) -> None:
+        if mesh.nodes_per_element != self.nodes_per_element:
+            raise ValueError(f"{mesh.name}: formulation {self.name} needs "
+                             f"{self.nodes_per_element}-node elements, the mesh has "
+                             f"{mesh.nodes_per_element}-node elements")
+
+
+@dataclass(frozen=True)
+class FiniteVolume(Formulation):
+    """Finite-volume beam of Ghiringhelli, Masarati and Mantegazza (paper ref. [8], Sec. 5)."""
+
+    def test_element(self, mesh: BeamMesh) -> Element:
+        return ElementBeamFV(mesh)
+
+    def stiffness_quadrature(self, test: Element) -> tuple[np.ndarray, np.ndarray]:
+        return test.stiffness_quadrature()
+
+    def recovery_points(self) -> np.ndarray:
+        """Evaluation points, where the internal forces are computed."""
+        return evaluation_points(self.nodes_per_element)
+
+    def breakpoints(self) -> np.ndarray:
+        return np.unique(influence_regions(self.nodes_per_element))
+
+    def load_quadrature(self) -> tuple[np.ndarray, np.ndarray]:
+        X, W = composite_gauss(self.breakpoints(), 4)
+        return X[None, :], W
+
+    def test_values(self, mesh: BeamMesh, e: np.ndarray, X: np.ndarray) -> np.ndarray:
+        e, X = np.broadcast_arrays(np.asarray(e), np.asarray(X, dtype=float))
+        return rigid_motions(mesh, e, X, indicator(X, self.nodes_per_element))[0]
+
+
+@dataclass(frozen=True)
+class Galerkin(Formulation):
+    """Bubnov-Galerkin Timoshenko beam with full or reduced (uniform) integration."""
+
+    integration: str = "reduced"
+
+    def __post_init__(self) -> None:
+        if self.integration not in ("full", "reduced"):
+            raise ValueError(f"{self.name}: integration must be 'full' or 'reduced', "
+                             f"got {self.integration!r}")
+
+    def test_element(self, mesh: BeamMesh) -> Element:
+        return self.trial_element()
+
+    def recovery_points(self) -> np.ndarray:
+        n = self.nodes_per_element - (1 if self.integration == "reduced" else 0)
+        return gauss(n)[0]
+
+    def stiffness_quadrature(self, test: Element) -> tuple[np.ndarray, np.ndarray]:
+        n = self.nodes_per_element - (1 if self.integration == "reduced" else 0)
+        X, W = gauss(n)
+        return X[None, :], W
+
+    def load_quadrature(self) -> tuple[np.ndarray, np.ndarray]:
+        X, W = gauss(4)
+        return X[None, :], W
+
+    def test_values(self, mesh: BeamMesh, e: np.ndarray, X: np.ndarray) -> np.ndarray:
+        N, _ = shape_functions(np.asarray(X, dtype=float), self.nodes_per_element)
+        eye = np.eye(6).reshape(1, 6, 6, *([1] * N.ndim)[1:])
+        return (N[:, None, None] * eye).reshape((6 * self.nodes_per_element, 6) + N.shape[1:])
+
+
+FORMULATIONS = ("fv2", "fv3", "galerkin-p1", "galerkin-p2")
+
+
+def formulation(name: str, integration: str = "reduced") -> Formulation:
+    """Formulation by name: ``fv2``, ``fv3``, ``galerkin-p1`` or ``galerkin-p2``.
+
+    ``integration`` ('reduced' or 'full') applies to the Galerkin formulations only.
+    """
+    if name == "fv2":
+        return FiniteVolume("fv2", 2)
+    if name == "fv3":
+        return FiniteVolume("fv3", 3)
+    if name in ("galerkin-p1", "galerkin-p2"):
+        return Galerkin(name, 2 if name.endswith("p1") else 3, integration)
+    raise ValueError(f"unknown formulation {name!r}; choose one of {', '.join(FORMULATIONS)}")

@@ -1,0 +1,79 @@
+"""Beam cross-section properties: 6x6 stiffness, mass per unit length, section inertia."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+#: Order of the generalised strains and stresses in the section frame (t, e2, e3):
+#: axial, two shears, twist, two bending curvatures.
+COMPONENTS = ("EA", "GAy", "GAz", "GJ", "EJy", "EJz")
+
+
+@dataclass(frozen=True, eq=False)
+class Section:
+    """Linear elastic section in its own frame ``(t, e2, e3)``.
+
+    Parameters
+    ----------
+    stiffness
+        6x6 matrix relating ``[F_t, F_2, F_3, M_t, M_2, M_3]`` to the generalised strains
+        ``[nu_t, nu_2, nu_3, kappa_t, kappa_2, kappa_3]``; symmetric positive definite.
+    mass_per_length
+        Mass per unit length (for dynamics), >= 0.
+    inertia
+        3x3 section inertia per unit length in the section frame (for dynamics), symmetric
+        positive semi-definite.
+    name
+        Label used in error messages.
+    """
+
+    stiffness: np.ndarray
+    mass_per_length: float = 0.0
+    inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
+    name: str = "section"
+
+    def __post_init__(self) -> None:
+        K = np.array(self.stiffness, dtype=float)
+        if K.shape != (6, 6):
+            raise ValueError(f"{self.name}: stiffness must be 6x6, got shape {K.shape}")
+        if not np.all(np.isfinite(K)):
+            raise ValueError(f"{self.name}: stiffness has a non-finite entry")
+        if not np.allclose(K, K.T, rtol=1e-12, atol=1e-12 * np.abs(K).max()):
+            raise ValueError(f"{self.name}: stiffness must be symmetric")
+        eig = np.linalg.eigvalsh(K)
+        if eig.min() <= 1e-14 * eig.max() or eig.max() <= 0:
+            diag = np.diag(K)
+            bad = [f"{n} = {v:g}" for n, v in zip(COMPONENTS, diag) if not v > 0]
+            detail = ", ".join(bad) if bad else f"smallest eigenvalue {eig.min():g}"
+            raise ValueError(f"{self.name}: stiffness must be positive definite ({detail})")
+        m = float(self.mass_per_length)
+        if not np.isfinite(m) or m < 0:
+            raise ValueError(f"{self.name}: mass_per_length must be finite and >= 0, got {m}")
+        J = np.array(self.inertia, dtype=float)
+        if J.shape != (3, 3) or not np.all(np.isfinite(J)) or not np.allclose(J, J.T):
+            raise ValueError(f"{self.name}: inertia must be a finite symmetric 3x3 matrix")
+        if np.linalg.eigvalsh(J).min() < -1e-14 * max(np.abs(J).max(), 1.0):
+            raise ValueError(f"{self.name}: inertia must be positive semi-definite")
+        object.__setattr__(self, "stiffness", K)
+        object.__setattr__(self, "mass_per_length", m)
+        object.__setattr__(self, "inertia", J)
+
+    @classmethod
+    def diagonal(cls, EA: float, GAy: float, GAz: float, GJ: float, EJy: float, EJz: float,
+                 **kwargs) -> "Section":
+        """Uncoupled section from its six stiffnesses (named as in :data:`COMPONENTS`)."""
+        values = dict(EA=EA, GAy=GAy, GAz=GAz, GJ=GJ, EJy=EJy, EJz=EJz)
+        name = kwargs.get("name", "section")
+        for key, value in values.items():
+            if not (np.isfinite(value) and value > 0):
+                raise ValueError(f"{name}: {key} must be finite and > 0, got {value}")
+        return cls(np.diag([values[k] for k in COMPONENTS]), **kwargs)
+
+    def global_stiffness(self, frames: np.ndarray) -> np.ndarray:
+        """Stiffness in global axes, ``blockdiag(R, R) C blockdiag(R, R)^T``, for frames (..., 3, 3)."""
+        R6 = np.zeros(frames.shape[:-2] + (6, 6))
+        R6[..., :3, :3] = frames
+        R6[..., 3:, 3:] = frames
+        return R6 @ self.stiffness @ np.swapaxes(R6, -1, -2)

@@ -1,0 +1,154 @@
+"""Structures of several beams, supports, and the linear static solve on a cached factorisation."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from fvbeam.beam import Beam
+
+NodeRef = int | str
+
+
+def node_index(beam: Beam, node: NodeRef) -> int:
+    """Mesh node index from an index or ``'start'`` / ``'end'`` (the beam's end vertices)."""
+    if node == "start":
+        return 0
+    if node == "end":
+        return beam.mesh.n_elements
+    if isinstance(node, (int, np.integer)) and 0 <= node < beam.mesh.n_nodes:
+        return int(node)
+    raise ValueError(f"{beam.mesh.name}: node {node!r} is not 'start', 'end' or an index "
+                     f"in 0..{beam.mesh.n_nodes - 1}")
+
+
+@dataclass(frozen=True)
+class Support:
+    """A node held fixed: ``clamp`` (all six dofs) or ``pin`` (the three translations)."""
+
+    beam: int
+    node: NodeRef
+    kind: str = "clamp"
+
+    def __post_init__(self) -> None:
+        if self.kind not in ("clamp", "pin"):
+            raise ValueError(f"support kind must be 'clamp' or 'pin', got {self.kind!r}")
+
+
+class Structure:
+    """Beams joined at shared nodes into one set of global dofs.
+
+    Parameters
+    ----------
+    beams
+        The beams, each with its own dofs.
+    ties
+        ``(beam_a, node_a, beam_b, node_b)``: the two nodes become one node (same dofs).
+    """
+
+    def __init__(self, beams: Sequence[Beam], ties: Sequence[tuple] = ()) -> None:
+        self.beams = list(beams)
+        if not self.beams:
+            raise ValueError("a structure needs at least one beam")
+        offsets = np.cumsum([0] + [b.mesh.n_nodes for b in self.beams])
+        parent = np.arange(offsets[-1])
+
+        def root(k: int) -> int:
+            while parent[k] != k:
+                k = parent[k]
+            return k
+
+        for tie in ties:
+            a, na, b, nb = tie
+            ka = offsets[self._beam_index(a)] + node_index(self.beams[a], na)
+            kb = offsets[self._beam_index(b)] + node_index(self.beams[b], nb)
+            parent[max(root(ka), root(kb))] = min(root(ka), root(kb))
+        roots = np.array([root(k) for k in range(offsets[-1])])
+        _, node_number = np.unique(roots, return_inverse=True)
+        self.n_nodes = int(node_number.max()) + 1
+        self.dof_maps = [(6 * node_number[offsets[i]:offsets[i + 1], None]
+                          + np.arange(6)).ravel() for i in range(len(self.beams))]
+
+    def _beam_index(self, i: int) -> int:
+        if not (isinstance(i, (int, np.integer)) and 0 <= i < len(self.beams)):
+            raise ValueError(f"beam {i!r} does not exist (the structure has "
+                             f"{len(self.beams)} beams)")
+        return int(i)
+
+    @property
+    def n_dofs(self) -> int:
+        return 6 * self.n_nodes
+
+    def stiffness(self) -> sp.csr_matrix:
+        """Global tangent stiffness: the beams' matrices scattered on the global dofs."""
+        rows, cols, vals = [], [], []
+        for beam, dofs in zip(self.beams, self.dof_maps):
+            K = beam.stiffness.tocoo()
+            rows.append(dofs[K.row])
+            cols.append(dofs[K.col])
+            vals.append(K.data)
+        return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                             shape=(self.n_dofs, self.n_dofs))
+
+    def gather(self, beam: int, f_local: np.ndarray) -> np.ndarray:
+        """A beam's load vector as a global one."""
+        f = np.zeros(self.n_dofs)
+        np.add.at(f, self.dof_maps[self._beam_index(beam)], f_local)
+        return f
+
+    def local(self, beam: int, q: np.ndarray) -> np.ndarray:
+        """A beam's share of a global dof vector."""
+        return q[self.dof_maps[self._beam_index(beam)]]
+
+    def support_dofs(self, supports: Sequence[Support]) -> np.ndarray:
+        fixed = []
+        for s in supports:
+            beam = self.beams[self._beam_index(s.beam)]
+            node = node_index(beam, s.node)
+            dofs = self.dof_maps[s.beam][6 * node:6 * node + 6]
+            fixed.append(dofs if s.kind == "clamp" else dofs[:3])
+        return np.unique(np.concatenate(fixed)) if fixed else np.zeros(0, dtype=int)
+
+
+class LinearStatics:
+    """``K q = f`` with supports, factorised once; every further load case is one solve.
+
+    Raises ``ValueError`` naming the problem when the supports leave a rigid motion free.
+    """
+
+    def __init__(self, structure: Structure | Beam, supports: Sequence[Support]) -> None:
+        if isinstance(structure, Beam):
+            structure = Structure([structure])
+        self.structure = structure
+        self.fixed = structure.support_dofs(supports)
+        self.free = np.setdiff1d(np.arange(structure.n_dofs), self.fixed)
+        self.K = structure.stiffness()
+        Kff = self.K[self.free][:, self.free].tocsc()
+        try:
+            self.lu = spla.splu(Kff)
+        except RuntimeError as exc:
+            raise ValueError("the stiffness is singular: the supports leave a rigid-body "
+                             "motion free (clamp or pin more nodes)") from exc
+        diag = np.abs(self.lu.U.diagonal())
+        if diag.min() <= 1e-13 * diag.max():
+            raise ValueError("the stiffness is singular to working precision: the supports "
+                             "leave a rigid-body motion free (clamp or pin more nodes)")
+
+    def solve(self, f: np.ndarray) -> np.ndarray:
+        """Displacements for the load vector ``f`` (global dofs; zero at the supports)."""
+        f = np.asarray(f, dtype=float)
+        if f.shape[0] != self.structure.n_dofs or not np.all(np.isfinite(f)):
+            raise ValueError(f"load vector must be finite with {self.structure.n_dofs} rows")
+        q = np.zeros_like(f)
+        q[self.free] = self.lu.solve(f[self.free])
+        return q
+
+    def reactions(self, q: np.ndarray, f: np.ndarray) -> np.ndarray:
+        """Support reactions ``K q - f`` on the fixed dofs (global vector, zero elsewhere)."""
+        r = np.zeros_like(f)
+        r[self.fixed] = (self.K @ q - f)[self.fixed]
+        return r
