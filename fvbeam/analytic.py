@@ -11,9 +11,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from fvbeam.elements import TIE
 
-def _step(x: np.ndarray) -> np.ndarray:
-    return np.where(x > 0, 1.0, np.where(x == 0, 0.5, 0.0))
+
+def _step(x: np.ndarray, L: float = 1.0) -> np.ndarray:
+    """Heaviside step, 1/2 within the library's tie band (``elements.TIE`` element lengths)."""
+    tie = np.abs(x) <= TIE * L
+    return np.where(tie, 0.5, np.where(x > 0, 1.0, 0.0))
 
 
 def cantilever_exact(xi, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, F: float = 1.0):
@@ -25,7 +29,7 @@ def cantilever_exact(xi, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, F: fl
 def cantilever_fv2(xi, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, F: float = 1.0):
     """One 2-node finite-volume element (paper Sec. 5.2)."""
     xi = np.asarray(xi, dtype=float)
-    step = _step(xi - L / 2)
+    step = _step(xi - L / 2, L)
     return (F * L**2 / (2 * EJ) * (xi - L / 2) * step, F * L / GA * step,
             F * L / EJ * np.maximum(xi - L / 2, 0.0))
 
@@ -42,8 +46,8 @@ def cantilever_fv3(xi, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, F: floa
     """
     xi = np.asarray(xi, dtype=float)
     a, b = L * (1 - 1 / np.sqrt(3)) / 2, L * (1 + 1 / np.sqrt(3)) / 2
-    on_mid = _step(xi - a) - _step(xi - b)
-    on_tip = _step(xi - b)
+    on_mid = _step(xi - a, L) - _step(xi - b, L)
+    on_tip = _step(xi - b, L)
     flex = (on_mid * F * L * b * (xi - a) / (2 * EJ)
             + on_tip * F * L**2 * (3 * xi - L) / (6 * EJ))
     shear = on_mid * F * L / (2 * GA) + on_tip * F * L / GA

@@ -23,6 +23,8 @@ from skfem.refdom import RefLine
 from fvbeam.mesh import BeamMesh
 
 _E = np.eye(3)
+#: Distance (reference coordinate) within which a point counts as on a region boundary.
+TIE = 1e-12
 
 
 def evaluation_points(nodes_per_element: int) -> np.ndarray:
@@ -55,13 +57,13 @@ def indicator(X: np.ndarray, nodes_per_element: int) -> np.ndarray:
     """
     bounds = influence_regions(nodes_per_element)
     X = np.asarray(X, dtype=float)
-    lo, hi = bounds[:, :1], bounds[:, 1:]
     flat = X.reshape(1, -1)
-    chi = ((flat > lo) & (flat < hi)).astype(float)
-    chi += 0.5 * (np.isclose(flat, lo, rtol=0, atol=1e-14) & (lo > 0))
-    chi += 0.5 * (np.isclose(flat, hi, rtol=0, atol=1e-14) & (hi < 1))
-    chi += (np.isclose(flat, lo, rtol=0, atol=1e-14) & (lo == 0))
-    chi += (np.isclose(flat, hi, rtol=0, atol=1e-14) & (hi == 1))
+    lo, hi = bounds[:, :1], bounds[:, 1:]
+    near_lo = np.isclose(flat, lo, rtol=0, atol=TIE)
+    near_hi = np.isclose(flat, hi, rtol=0, atol=TIE)
+    inner = (flat > lo) & (flat < hi) & ~near_lo & ~near_hi
+    chi = (inner + np.where(lo == 0, 1.0, 0.5) * near_lo
+           + np.where(hi == 1, 1.0, 0.5) * near_hi)
     return chi.reshape((len(bounds),) + X.shape)
 
 

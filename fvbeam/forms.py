@@ -24,14 +24,14 @@ from skfem import BilinearForm, LinearForm
 def generalised_strain(field, t: np.ndarray, metric: np.ndarray) -> np.ndarray:
     """``[u' - theta x t, theta']`` of a 6-component field, shape (6, ...) (eq. T1)."""
     d = field.grad[:, 0] / metric
-    rot = np.cross(field.value[3:], t, axis=0)
+    rot = np.cross(np.asarray(field)[3:], t, axis=0)
     return np.concatenate([d[:3] - rot, d[3:]])
 
 
 @BilinearForm
 def internal_work(u, v, w):
     """Internal virtual work density (eq. T3), per unit of the affine element coordinate."""
-    t, metric, C = w.t.value, w.metric.value, w.C.value
+    t, metric, C = np.asarray(w.t), np.asarray(w.metric), np.asarray(w.C)
     stress = np.einsum("ij...,j...->i...", C, generalised_strain(u, t, metric))
     return np.einsum("i...,i...->...", generalised_strain(v, t, metric), stress) * metric
 
@@ -39,5 +39,5 @@ def internal_work(u, v, w):
 @LinearForm
 def distributed_load(v, w):
     """Virtual work of a force ``f`` and a couple ``m`` per unit length (eq. T5)."""
-    return (np.einsum("i...,i...->...", v.value[:3], w.f.value)
-            + np.einsum("i...,i...->...", v.value[3:], w.m.value)) * w.metric.value
+    return (np.einsum("i...,i...->...", np.asarray(v)[:3], np.asarray(w.f))
+            + np.einsum("i...,i...->...", np.asarray(v)[3:], np.asarray(w.m))) * np.asarray(w.metric)
