@@ -134,6 +134,7 @@ class ElementBeamFV(Element):
         self.points = evaluation_points(npe)
         self.weight = 1.0 / len(self.points)
         self.jumps = jumps(npe)
+        self._cache: tuple | None = None
 
     def stiffness_quadrature(self) -> tuple[np.ndarray, np.ndarray]:
         """The evaluation points as a quadrature rule (weights cancel in the spikes)."""
@@ -146,6 +147,17 @@ class ElementBeamFV(Element):
         if tind is None:
             tind = np.arange(mapping.mesh.t.shape[1])
         tind = np.asarray(tind)
+        key = (id(mapping), X.shape, X.tobytes(), tind.tobytes())
+        if self._cache is None or self._cache[0] != key:
+            self._cache = (key,) + self._all_functions(mapping, X, tind)
+        _, value, grad = self._cache
+        return (DiscreteField(value=value[i], grad=grad[i][:, None]),)
+
+    def _all_functions(self, mapping, X: np.ndarray,
+                       tind: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """All 6 npe test functions at once: scikit-fem asks for them one by one, at the same
+        points, so they are evaluated together and kept for the next request."""
+        npe = self.mesh.nodes_per_element
         Xe = np.broadcast_to(X[0], (len(tind),) + X.shape[-1:]) if X.ndim == 2 else X[0]
         e = np.broadcast_to(tind[:, None], Xe.shape)
         chi = indicator(Xe, npe)
@@ -154,5 +166,4 @@ class ElementBeamFV(Element):
         for k, p in enumerate(self.points):
             on = np.isclose(Xe, p, rtol=0, atol=1e-14)
             dchi[:, on] = self.jumps[:, k:k + 1] / (self.weight * detJ[on])
-        value, grad = rigid_motions(self.mesh, e, Xe, chi, dchi)
-        return (DiscreteField(value=value[i], grad=grad[i][:, None]),)
+        return rigid_motions(self.mesh, e, Xe, chi, dchi)

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 from skfem.element import Element, ElementLineP1, ElementLineP2, ElementVector
 
-from fvbeam.elements import ElementBeamFV, evaluation_points, indicator, influence_regions
+from fvbeam.elements import ElementBeamFV, indicator, influence_regions
 from fvbeam.elements import rigid_motions
 from fvbeam.mesh import BeamMesh, shape_functions
 
@@ -84,10 +84,6 @@ class FiniteVolume(Formulation):
     def stiffness_quadrature(self, test: Element) -> tuple[np.ndarray, np.ndarray]:
         return test.stiffness_quadrature()
 
-    def recovery_points(self) -> np.ndarray:
-        """Evaluation points, where the internal forces are computed."""
-        return evaluation_points(self.nodes_per_element)
-
     def breakpoints(self) -> np.ndarray:
         return np.unique(influence_regions(self.nodes_per_element))
 
@@ -113,10 +109,6 @@ class Galerkin(Formulation):
 
     def test_element(self, mesh: BeamMesh) -> Element:
         return self.trial_element()
-
-    def recovery_points(self) -> np.ndarray:
-        n = self.nodes_per_element - (1 if self.integration == "reduced" else 0)
-        return gauss(n)[0]
 
     def stiffness_quadrature(self, test: Element) -> tuple[np.ndarray, np.ndarray]:
         n = self.nodes_per_element - (1 if self.integration == "reduced" else 0)

@@ -70,9 +70,11 @@ class BeamMesh:
             raise ValueError(f"{self.name}: points must have shape (n, 3), got {points.shape}")
         if points.shape[1] == 2:
             points = np.column_stack([points, np.zeros(len(points))])
+        ids = np.arange(len(points)) if self.point_ids is None else np.asarray(self.point_ids)
         if not np.all(np.isfinite(points)):
             bad = int(np.argwhere(~np.isfinite(points))[0, 0])
-            raise ValueError(f"{self.name}: node {bad} has a non-finite coordinate {points[bad]}")
+            raise ValueError(f"{self.name}: point {ids[bad]} has a non-finite coordinate "
+                             f"{points[bad]}")
         cells = np.array(self.cells, dtype=np.int64)
         if cells.ndim != 2 or cells.shape[1] not in (2, 3) or len(cells) == 0:
             raise ValueError(f"{self.name}: cells must have shape (n_elements, 2 or 3), "
@@ -82,7 +84,6 @@ class BeamMesh:
         up = np.array(self.up, dtype=float)
         if up.shape != (3,) or not np.all(np.isfinite(up)) or np.linalg.norm(up) == 0:
             raise ValueError(f"{self.name}: up must be a finite non-zero 3-vector, got {self.up}")
-        ids = np.arange(len(points)) if self.point_ids is None else np.asarray(self.point_ids)
         object.__setattr__(self, "points", points)
         object.__setattr__(self, "cells", cells)
         object.__setattr__(self, "up", up / np.linalg.norm(up))
@@ -93,7 +94,7 @@ class BeamMesh:
         short = np.flatnonzero(lengths <= 1e-12 * scale)
         if short.size:
             raise ValueError(f"{self.name}: element {int(short[0])} has zero length "
-                             f"(nodes {cells[short[0]].tolist()})")
+                             f"(points {ids[cells[short[0]]].tolist()})")
         if self.nodes_per_element == 3:
             X = np.array([0.0, 0.5, 1.0])
             speeds = np.linalg.norm(self.tangent_vectors(np.repeat(np.arange(self.n_elements), 3),
@@ -224,17 +225,18 @@ def _read_meshio(path: str | Path) -> meshio.Mesh:
         raise ValueError(f"mesh file {path} does not exist")
     try:
         return meshio.read(path)
-    except Exception as exc:  # meshio raises many types; name the file in one message
+    except (Exception, SystemExit) as exc:  # meshio raises many types, or exits
         raise ValueError(f"meshio cannot read {path}: {exc}") from exc
 
 
 def read_beams(mesh: meshio.Mesh | str | Path, up: Sequence[float] = (0.0, 0.0, 1.0),
                name: str = "beam") -> list[BeamMesh]:
-    """Split the line cells of a meshio mesh into beams, one per connected chain.
+    """Split the line cells of a meshio mesh into beams: one per connected chain of each cell
+    block (a Gmsh physical group, say, is a block).
 
-    All line cells must be of one kind (``line`` or ``line3``).  Nodes shared by two chains keep
-    the same ``point_ids`` so a structure can join the beams there.  A chain keeps the direction
-    of its first cell in the file.
+    All line cells must be of one kind (``line`` or ``line3``).  Nodes shared by two beams keep
+    the same ``point_ids``; :meth:`fvbeam.statics.Structure.from_shared_points` joins them.  A
+    chain keeps the direction of its first cell in the file.
     """
     if not isinstance(mesh, meshio.Mesh):
         mesh = _read_meshio(mesh)
@@ -245,11 +247,11 @@ def read_beams(mesh: meshio.Mesh | str | Path, up: Sequence[float] = (0.0, 0.0, 
     kinds = {b.type for b in blocks}
     if len(kinds) > 1:
         raise ValueError(f"the mesh mixes {' and '.join(sorted(kinds))} cells; use one kind")
-    cells = np.concatenate([b.data for b in blocks]).astype(np.int64)
     points = np.asarray(mesh.points, dtype=float)
-    chains = _chains(cells[:, :2], name)
+    chains = [(block.data.astype(np.int64), chain) for block in blocks
+              for chain in _chains(block.data[:, :2].astype(np.int64), name)]
     beams = []
-    for k, chain in enumerate(chains):
+    for k, (cells, chain) in enumerate(chains):
         vertices = [cells[chain[0][0], 0 if chain[0][1] else 1]]
         vertices += [cells[c, 1 if forward else 0] for c, forward in chain]
         ids = list(vertices)

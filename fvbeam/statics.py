@@ -83,11 +83,32 @@ class Structure:
     def n_dofs(self) -> int:
         return 6 * self.n_nodes
 
-    def stiffness(self) -> sp.csr_matrix:
-        """Global tangent stiffness: the beams' matrices scattered on the global dofs."""
+    @classmethod
+    def from_shared_points(cls, beams: Sequence[Beam]) -> "Structure":
+        """Beams read together (:func:`fvbeam.mesh.read_beams`), joined where they share a
+        mesh point (equal ``point_ids``)."""
+        first: dict[int, tuple[int, int]] = {}
+        ties = []
+        for b, beam in enumerate(beams):
+            for node, pid in enumerate(beam.mesh.point_ids.tolist()):
+                if pid in first:
+                    ties.append(first[pid] + (b, node))
+                else:
+                    first[pid] = (b, node)
+        return cls(beams, ties)
+
+    def residual(self, q: np.ndarray) -> np.ndarray:
+        """Internal force vector: the beams' residuals gathered on the global dofs."""
+        r = np.zeros(self.n_dofs)
+        for beam, dofs in zip(self.beams, self.dof_maps):
+            np.add.at(r, dofs, beam.residual(q[dofs]))
+        return r
+
+    def tangent(self, q: np.ndarray) -> sp.csr_matrix:
+        """Global tangent: the beams' tangents scattered on the global dofs."""
         rows, cols, vals = [], [], []
         for beam, dofs in zip(self.beams, self.dof_maps):
-            K = beam.stiffness.tocoo()
+            K = beam.tangent(q[dofs]).tocoo()
             rows.append(dofs[K.row])
             cols.append(dofs[K.col])
             vals.append(K.data)
@@ -126,7 +147,7 @@ class LinearStatics:
         self.structure = structure
         self.fixed = structure.support_dofs(supports)
         self.free = np.setdiff1d(np.arange(structure.n_dofs), self.fixed)
-        self.K = structure.stiffness()
+        self.K = structure.tangent(np.zeros(structure.n_dofs))
         Kff = self.K[self.free][:, self.free].tocsc()
         try:
             self.lu = spla.splu(Kff)

@@ -1,0 +1,45 @@
+"""Smoke test of ``studies.bench``: output structure and merge behaviour, never speed."""
+
+from __future__ import annotations
+
+import json
+
+from studies.bench import main
+
+STAGES = ("assembly_s", "factorisation_s", "solve_s", "per_load_case_s")
+
+
+def test_quick_run_writes_rows_and_keeps_other_keys(tmp_path, capsys):
+    out = tmp_path / "b.json"
+    out.write_text(json.dumps({"other_benchmark": {"kept": True}, "environment": "stale"}))
+
+    main(["--out", str(out), "--quick"])
+
+    data = json.loads(out.read_text())
+    assert data["other_benchmark"] == {"kept": True}
+    env = data["environment"]
+    for key in ("python", "numpy", "scipy", "scikit-fem", "cpu_count", "date"):
+        assert key in env
+    rows = data["fv3_cantilever"]
+    assert [r["n_elements"] for r in rows] == [10, 100]
+    for row in rows:
+        for stage in STAGES:
+            assert row[stage]["median"] > 0
+            assert 0 < row[stage]["min"] <= row[stage]["median"]
+        assert row["rel_error_xi_0.7"] >= 0
+        assert row["per_load_case_max_rel_error"] >= 0
+    assert "n = 100" in capsys.readouterr().out
+
+
+def test_second_run_replaces_only_its_own_keys(tmp_path):
+    out = tmp_path / "b.json"
+    main(["--out", str(out), "--quick"])
+    data = json.loads(out.read_text())
+    data["later_benchmark"] = [1, 2, 3]
+    out.write_text(json.dumps(data))
+
+    main(["--out", str(out), "--quick"])
+
+    again = json.loads(out.read_text())
+    assert again["later_benchmark"] == [1, 2, 3]
+    assert len(again["fv3_cantilever"]) == 2
