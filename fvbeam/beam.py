@@ -109,6 +109,16 @@ class Beam:
         dofs = (6 * nodes[:, :, None] + np.arange(6)).reshape(len(e), -1)
         return dofs, values
 
+    def nodal_load(self, node: int, force=(0.0, 0.0, 0.0),
+                   moment=(0.0, 0.0, 0.0)) -> np.ndarray:
+        """Load vector of a force and couple applied directly to mesh node ``node``."""
+        if not (isinstance(node, (int, np.integer)) and 0 <= node < self.mesh.n_nodes):
+            raise ValueError(f"{self.mesh.name}: node {node!r} is not in 0..{self.mesh.n_nodes - 1}")
+        f = np.zeros(self.n_dofs)
+        f[self.node_dofs(node)] = np.concatenate([_vector3(force, "force"),
+                                                  _vector3(moment, "moment")])
+        return f
+
     def point_load(self, xi: float, force=(0.0, 0.0, 0.0), moment=(0.0, 0.0, 0.0),
                    smearing: float = 0.0, kernel: str = "box") -> np.ndarray:
         """Load vector of a force and couple at abscissa ``xi`` (eq. T6).

@@ -131,3 +131,16 @@ def test_bad_loads_name_the_item():
         beam.point_load(1.2, F)
     with pytest.raises(ValueError, match="distributed load 'f'"):
         beam.distributed_load(force=lambda xi: np.full((len(xi), 3), np.inf))
+
+
+@pytest.mark.parametrize("name,npe", FORMULATIONS)
+def test_nodal_load_at_a_vertex_equals_the_point_load_there(name, npe):
+    """Every formulation's test functions are 1 at their own vertex and 0 at the others (the
+    fv region of a vertex contains it, with zero lever arm), so both loads coincide."""
+    beam = oblique_beam(name, npe)
+    vertex = 2
+    xi = beam.mesh.vertex_s[vertex]
+    np.testing.assert_allclose(beam.nodal_load(vertex, F, M), beam.point_load(xi, F, M),
+                               atol=EXACT)
+    with pytest.raises(ValueError, match="node 99"):
+        beam.nodal_load(99, F)
