@@ -1,0 +1,207 @@
+"""Rigid C1 lines a body can slide on: straight line, circular arc, helix, cubic spline.
+
+Every line is parametrised by an abscissa ``xi`` in ``[0, length]`` and gives, at ``xi``
+(paper Sec. 3):
+
+* ``x``: the point; ``l = x_/xi``: the (un-normalised) direction; ``l_xi``: the line's
+  curvature vector ``l_/xi`` of eq. (4); ``l_xixi``: its derivative (for Newton's Jacobian);
+* ``R = [t, e2, e3]``: the line's frame for the spline slider (Sec. 3.3), built from the
+  tangent and a reference vector ``up`` (``e3`` is ``up`` made orthogonal to ``t``);
+* ``k = ax(R_/xi R^T)``: the frame's curvature vector (Sec. 4).
+
+Straight lines, arcs and helices are parametrised by arc length (``|l| = 1``); a cubic spline
+by the cumulative chord length of its points (``|l|`` close to, not exactly, 1).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.interpolate import CubicSpline as _ScipyCubicSpline
+
+from fvbeam.geometry import section_frames
+
+
+@dataclass(frozen=True)
+class LinePoint:
+    """Geometry of a line at one abscissa (all global axes)."""
+
+    xi: float
+    x: np.ndarray
+    l: np.ndarray  # noqa: E741 -- the paper's name
+    l_xi: np.ndarray
+    l_xixi: np.ndarray
+    R: np.ndarray
+    k: np.ndarray
+
+
+def axial(A: np.ndarray) -> np.ndarray:
+    """``ax(A)``: the vector of the skew-symmetric part of a 3x3 matrix."""
+    return 0.5 * np.array([A[2, 1] - A[1, 2], A[0, 2] - A[2, 0], A[1, 0] - A[0, 1]])
+
+
+def frame_and_curvature(l: np.ndarray, l_xi: np.ndarray,  # noqa: E741
+                        up: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Frame ``R = [t, e2, e3]`` from the direction and ``up``, and ``k = ax(R_/xi R^T)``.
+
+    With ``t = l / |l|`` and ``n = up - (up . t) t``, ``e3 = n / |n|``, ``e2 = e3 x t``;
+    the derivatives follow by the chain rule from ``l_xi``.
+    """
+    R = section_frames(l, up)
+    t, e3 = R[:, 0], R[:, 2]
+    norm_l = np.linalg.norm(l)
+    t_xi = (l_xi - (t @ l_xi) * t) / norm_l
+    n = up - (up @ t) * t
+    norm_n = np.linalg.norm(n)
+    n_xi = -(up @ t_xi) * t - (up @ t) * t_xi
+    e3_xi = (n_xi - (e3 @ n_xi) * e3) / norm_n
+    e2_xi = np.cross(e3_xi, t) + np.cross(e3, t_xi)
+    R_xi = np.column_stack([t_xi, e2_xi, e3_xi])
+    return R, axial(R_xi @ R.T)
+
+
+class RigidLine:
+    """Base of the rigid lines: subclasses give ``length`` and the derivatives of ``x``."""
+
+    length: float
+    up: np.ndarray
+    name: str
+
+    def derivatives(self, xi: float) -> tuple[np.ndarray, ...]:
+        """``x, x', x'', x'''`` at ``xi``."""
+        raise NotImplementedError
+
+    def check_xi(self, xi: float) -> float:
+        xi = float(xi)
+        tol = 1e-12 * max(self.length, 1.0)
+        if not np.isfinite(xi) or xi < -tol or xi > self.length + tol:
+            raise ValueError(f"{self.name}: xi = {xi} lies outside the line [0, {self.length}]")
+        return min(max(xi, 0.0), self.length)
+
+    def at(self, xi: float) -> LinePoint:
+        """Geometry at abscissa ``xi`` (``ValueError`` outside ``[0, length]``)."""
+        xi = self.check_xi(xi)
+        x, l, l_xi, l_xixi = self.derivatives(xi)  # noqa: E741
+        R, k = frame_and_curvature(l, l_xi, self.up)
+        return LinePoint(xi, x, l, l_xi, l_xixi, R, k)
+
+    def project(self, point: np.ndarray, samples: int = 64) -> float:
+        """Abscissa of the point of the line closest to ``point`` (initial ``xi``).
+
+        A coarse sampling brackets the minimum of ``|x(xi) - point|^2``; Newton on
+        ``l . (x - point) = 0`` refines it.
+        """
+        point = np.asarray(point, dtype=float)
+        grid = np.linspace(0.0, self.length, samples + 1)
+        distances = [np.sum((self.derivatives(s)[0] - point) ** 2) for s in grid]
+        xi = grid[int(np.argmin(distances))]
+        for _ in range(50):
+            x, l, l_xi, _ = self.derivatives(xi)  # noqa: E741
+            g = l @ (x - point)
+            h = l @ l + l_xi @ (x - point)
+            step = -g / h if h > 0 else 0.0
+            xi = min(max(xi + step, 0.0), self.length)
+            if abs(step) <= 1e-14 * max(self.length, 1.0):
+                break
+        return xi
+
+
+def _check_positive(value: float, what: str, name: str) -> float:
+    value = float(value)
+    if not (np.isfinite(value) and value > 0):
+        raise ValueError(f"{name}: {what} must be finite and > 0, got {value}")
+    return value
+
+
+def _vector(value, what: str, name: str) -> np.ndarray:
+    v = np.asarray(value, dtype=float)
+    if v.shape != (3,) or not np.all(np.isfinite(v)):
+        raise ValueError(f"{name}: {what} must be a finite 3-vector, got {value!r}")
+    return v
+
+
+class StraightLine(RigidLine):
+    """Segment from ``start`` to ``end``, arc-length parametrised."""
+
+    def __init__(self, start, end, up=(0.0, 0.0, 1.0), name: str = "straight line") -> None:
+        self.name = name
+        self.start = _vector(start, "start", name)
+        d = _vector(end, "end", name) - self.start
+        self.length = _check_positive(np.linalg.norm(d), "length", name)
+        self.t = d / self.length
+        self.up = _vector(up, "up", name)
+
+    def derivatives(self, xi: float) -> tuple[np.ndarray, ...]:
+        zero = np.zeros(3)
+        return self.start + xi * self.t, self.t.copy(), zero, zero
+
+
+class CircularArc(RigidLine):
+    """Arc of radius ``radius`` about ``center`` in the plane normal to z, from ``angle0`` to
+    ``angle1`` (radians, either direction), arc-length parametrised."""
+
+    def __init__(self, center, radius: float, angle0: float, angle1: float,
+                 name: str = "circular arc") -> None:
+        self.name = name
+        self.center = _vector(center, "center", name)
+        self.radius = _check_positive(radius, "radius", name)
+        self.angle0, self.sense = float(angle0), float(np.sign(angle1 - angle0))
+        self.length = _check_positive(self.radius * abs(angle1 - angle0), "angle span", name)
+        self.up = np.array([0.0, 0.0, 1.0])
+
+    def derivatives(self, xi: float) -> tuple[np.ndarray, ...]:
+        r, w = self.radius, self.sense / self.radius
+        a = self.angle0 + w * xi
+        c, s = np.cos(a), np.sin(a)
+        return (self.center + r * np.array([c, s, 0.0]), r * w * np.array([-s, c, 0.0]),
+                r * w**2 * np.array([-c, -s, 0.0]), r * w**3 * np.array([s, -c, 0.0]))
+
+
+class Helix(RigidLine):
+    """Helix about the z axis through ``center``: radius, rise per turn ``pitch``, ``turns``
+    turns, arc-length parametrised."""
+
+    def __init__(self, center, radius: float, pitch: float, turns: float,
+                 name: str = "helix") -> None:
+        self.name = name
+        self.center = _vector(center, "center", name)
+        self.radius = _check_positive(radius, "radius", name)
+        self.rise = float(pitch) / (2 * np.pi)
+        if not np.isfinite(self.rise):
+            raise ValueError(f"{name}: pitch must be finite, got {pitch}")
+        speed = np.hypot(self.radius, self.rise)
+        self.length = _check_positive(2 * np.pi * float(turns) * speed, "turns", name)
+        self.w = 1.0 / speed
+        self.up = np.array([0.0, 0.0, 1.0])
+
+    def derivatives(self, xi: float) -> tuple[np.ndarray, ...]:
+        r, h, w = self.radius, self.rise, self.w
+        a = w * xi
+        c, s = np.cos(a), np.sin(a)
+        return (self.center + np.array([r * c, r * s, h * a]),
+                w * np.array([-r * s, r * c, h]),
+                w**2 * np.array([-r * c, -r * s, 0.0]),
+                w**3 * np.array([r * s, -r * c, 0.0]))
+
+
+class CubicSpline(RigidLine):
+    """C2 cubic spline through ``points`` (natural end conditions), parametrised by the
+    cumulative chord length."""
+
+    def __init__(self, points, up=(0.0, 0.0, 1.0), name: str = "cubic spline") -> None:
+        self.name = name
+        pts = np.asarray(points, dtype=float)
+        if pts.ndim != 2 or pts.shape[1] != 3 or len(pts) < 3 or not np.all(np.isfinite(pts)):
+            raise ValueError(f"{name}: points must be at least 3 finite 3-D points")
+        chords = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+        if np.any(chords <= 0):
+            raise ValueError(f"{name}: points {int(np.argmin(chords))} and "
+                             f"{int(np.argmin(chords)) + 1} coincide")
+        u = np.concatenate([[0.0], np.cumsum(chords)])
+        self.spline = _ScipyCubicSpline(u, pts, bc_type="natural")
+        self.length = float(u[-1])
+        self.up = _vector(up, "up", name)
+
+    def derivatives(self, xi: float) -> tuple[np.ndarray, ...]:
+        return tuple(self.spline(xi, nu) for nu in range(4))
