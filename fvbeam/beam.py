@@ -113,7 +113,8 @@ class Beam:
                    moment=(0.0, 0.0, 0.0)) -> np.ndarray:
         """Load vector of a force and couple applied directly to mesh node ``node``."""
         if not (isinstance(node, (int, np.integer)) and 0 <= node < self.mesh.n_nodes):
-            raise ValueError(f"{self.mesh.name}: node {node!r} is not in 0..{self.mesh.n_nodes - 1}")
+            raise ValueError(f"{self.mesh.name}: node {node!r} is not in "
+                             f"0..{self.mesh.n_nodes - 1}")
         f = np.zeros(self.n_dofs)
         f[self.node_dofs(node)] = np.concatenate([_vector3(force, "force"),
                                                   _vector3(moment, "moment")])

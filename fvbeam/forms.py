@@ -39,5 +39,7 @@ def internal_work(u, v, w):
 @LinearForm
 def distributed_load(v, w):
     """Virtual work of a force ``f`` and a couple ``m`` per unit length (eq. T5)."""
-    return (np.einsum("i...,i...->...", np.asarray(v)[:3], np.asarray(w.f))
-            + np.einsum("i...,i...->...", np.asarray(v)[3:], np.asarray(w.m))) * np.asarray(w.metric)
+    v = np.asarray(v)
+    work = (np.einsum("i...,i...->...", v[:3], np.asarray(w.f))
+            + np.einsum("i...,i...->...", v[3:], np.asarray(w.m)))
+    return work * np.asarray(w.metric)

@@ -72,7 +72,10 @@ class Section:
         return cls(np.diag([values[k] for k in COMPONENTS]), **kwargs)
 
     def global_stiffness(self, frames: np.ndarray) -> np.ndarray:
-        """Stiffness in global axes, ``blockdiag(R, R) C blockdiag(R, R)^T``, for frames (..., 3, 3)."""
+        """Stiffness in global axes, ``blockdiag(R, R) C blockdiag(R, R)^T`` (eq. T2).
+
+        ``frames``: section frames ``R = [t, e2, e3]``, shape (..., 3, 3).
+        """
         R6 = np.zeros(frames.shape[:-2] + (6, 6))
         R6[..., :3, :3] = frames
         R6[..., 3:, 3:] = frames

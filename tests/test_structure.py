@@ -64,3 +64,13 @@ def test_bad_structure_input_names_the_item():
         LinearStatics(beams[0], [Support(0, "middle")])
     with pytest.raises(ValueError, match="support kind"):
         Support(0, "start", "roller")
+
+
+def test_residual_is_the_tangent_times_the_displacements():
+    """Linear beams: r(q) = K q, gathered over the beams (the residual + tangent interface)."""
+    beams = [Beam(mesh, SECTION, "fv3") for mesh in read_beams(l_frame())]
+    structure = Structure.from_shared_points(beams)
+    q = np.random.default_rng(1).standard_normal(structure.n_dofs)
+    K = structure.tangent(q)
+    np.testing.assert_allclose(structure.residual(q), K @ q,
+                               atol=ROUNDOFF * np.abs(K).max() * np.abs(q).sum())
