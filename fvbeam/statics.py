@@ -64,8 +64,8 @@ class Structure:
 
         for tie in ties:
             a, na, b, nb = tie
-            ka = offsets[self._beam_index(a)] + node_index(self.beams[a], na)
-            kb = offsets[self._beam_index(b)] + node_index(self.beams[b], nb)
+            ka = offsets[self.beam_index(a)] + node_index(self.beams[a], na)
+            kb = offsets[self.beam_index(b)] + node_index(self.beams[b], nb)
             parent[max(root(ka), root(kb))] = min(root(ka), root(kb))
         roots = np.array([root(k) for k in range(offsets[-1])])
         _, node_number = np.unique(roots, return_inverse=True)
@@ -73,7 +73,7 @@ class Structure:
         self.dof_maps = [(6 * node_number[offsets[i]:offsets[i + 1], None]
                           + np.arange(6)).ravel() for i in range(len(self.beams))]
 
-    def _beam_index(self, i: int) -> int:
+    def beam_index(self, i: int) -> int:
         if not (isinstance(i, (int, np.integer)) and 0 <= i < len(self.beams)):
             raise ValueError(f"beam {i!r} does not exist (the structure has "
                              f"{len(self.beams)} beams)")
@@ -118,17 +118,17 @@ class Structure:
     def gather(self, beam: int, f_local: np.ndarray) -> np.ndarray:
         """A beam's load vector as a global one."""
         f = np.zeros(self.n_dofs)
-        np.add.at(f, self.dof_maps[self._beam_index(beam)], f_local)
+        np.add.at(f, self.dof_maps[self.beam_index(beam)], f_local)
         return f
 
     def local(self, beam: int, q: np.ndarray) -> np.ndarray:
         """A beam's share of a global dof vector."""
-        return q[self.dof_maps[self._beam_index(beam)]]
+        return q[self.dof_maps[self.beam_index(beam)]]
 
     def support_dofs(self, supports: Sequence[Support]) -> np.ndarray:
         fixed = []
         for s in supports:
-            beam = self.beams[self._beam_index(s.beam)]
+            beam = self.beams[self.beam_index(s.beam)]
             node = node_index(beam, s.node)
             dofs = self.dof_maps[s.beam][6 * node:6 * node + 6]
             fixed.append(dofs if s.kind == "clamp" else dofs[:3])
