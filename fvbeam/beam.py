@@ -16,6 +16,7 @@ from skfem import CellBasis, MeshLine1, asm
 
 from fvbeam.formulations import Formulation, composite_gauss, formulation as get_formulation
 from fvbeam.forms import distributed_load, generalised_strain, internal_work
+from fvbeam.geometry import vector3
 from fvbeam.mesh import BeamMesh, shape_functions
 from fvbeam.section import Section
 from fvbeam.smearing import check_smearing, density, kernel_breaks
@@ -116,8 +117,8 @@ class Beam:
             raise ValueError(f"{self.mesh.name}: node {node!r} is not in "
                              f"0..{self.mesh.n_nodes - 1}")
         f = np.zeros(self.n_dofs)
-        f[self.node_dofs(node)] = np.concatenate([_vector3(force, "force"),
-                                                  _vector3(moment, "moment")])
+        f[self.node_dofs(node)] = np.concatenate([vector3(force, "force"),
+                                                  vector3(moment, "moment")])
         return f
 
     def point_load(self, xi: float, force=(0.0, 0.0, 0.0), moment=(0.0, 0.0, 0.0),
@@ -128,7 +129,7 @@ class Beam:
         (:mod:`fvbeam.smearing`) and integrated exactly against the test functions.
         """
         smearing = check_smearing(smearing, kernel)
-        load = np.concatenate([_vector3(force, "force"), _vector3(moment, "moment")])
+        load = np.concatenate([vector3(force, "force"), vector3(moment, "moment")])
         self.mesh.locate(xi)
         if smearing == 0:
             points, weights = np.array([float(xi)]), np.array([1.0])
@@ -193,13 +194,6 @@ class Beam:
         return np.einsum("an,nac->nc", N, nodal)
 
 
-def _vector3(value, name: str) -> np.ndarray:
-    v = np.asarray(value, dtype=float)
-    if v.shape != (3,) or not np.all(np.isfinite(v)):
-        raise ValueError(f"{name} must be a finite 3-vector, got {value!r}")
-    return v
-
-
 def _sample(value: Field, xi: np.ndarray, name: str) -> np.ndarray:
     """A constant 3-vector or a function of xi, as a (3, nel, nqp) field."""
     if callable(value):
@@ -207,5 +201,5 @@ def _sample(value: Field, xi: np.ndarray, name: str) -> np.ndarray:
         if out.shape != (xi.size, 3) or not np.all(np.isfinite(out)):
             raise ValueError(f"distributed load {name!r} must return finite (n, 3) values")
         return np.moveaxis(out.reshape(xi.shape + (3,)), -1, 0)
-    v = _vector3(value, f"distributed load {name!r}")
+    v = vector3(value, f"distributed load {name!r}")
     return np.broadcast_to(v[:, None, None], (3,) + xi.shape).copy()

@@ -1,8 +1,16 @@
-"""Small vector helpers: section frames from a tangent and a reference vector."""
+"""Small vector helpers: input 3-vectors, section frames from a tangent and a reference vector."""
 
 from __future__ import annotations
 
 import numpy as np
+
+
+def vector3(value, name: str) -> np.ndarray:
+    """``value`` as a finite 3-vector, or ``ValueError`` naming ``name``."""
+    v = np.asarray(value, dtype=float)
+    if v.shape != (3,) or not np.all(np.isfinite(v)):
+        raise ValueError(f"{name} must be a finite 3-vector, got {value!r}")
+    return v
 
 
 def section_frames(tangents: np.ndarray, up: np.ndarray) -> np.ndarray:

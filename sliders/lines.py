@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.interpolate import CubicSpline as _ScipyCubicSpline
 
-from fvbeam.geometry import section_frames
+from fvbeam.geometry import section_frames, vector3
 
 
 @dataclass(frozen=True)
@@ -114,23 +114,16 @@ def _check_positive(value: float, what: str, name: str) -> float:
     return value
 
 
-def _vector(value, what: str, name: str) -> np.ndarray:
-    v = np.asarray(value, dtype=float)
-    if v.shape != (3,) or not np.all(np.isfinite(v)):
-        raise ValueError(f"{name}: {what} must be a finite 3-vector, got {value!r}")
-    return v
-
-
 class StraightLine(RigidLine):
     """Segment from ``start`` to ``end``, arc-length parametrised."""
 
     def __init__(self, start, end, up=(0.0, 0.0, 1.0), name: str = "straight line") -> None:
         self.name = name
-        self.start = _vector(start, "start", name)
-        d = _vector(end, "end", name) - self.start
+        self.start = vector3(start, f"{name}: start")
+        d = vector3(end, f"{name}: end") - self.start
         self.length = _check_positive(np.linalg.norm(d), "length", name)
         self.t = d / self.length
-        self.up = _vector(up, "up", name)
+        self.up = vector3(up, f"{name}: up")
 
     def derivatives(self, xi: float) -> tuple[np.ndarray, ...]:
         zero = np.zeros(3)
@@ -144,7 +137,7 @@ class CircularArc(RigidLine):
     def __init__(self, center, radius: float, angle0: float, angle1: float,
                  name: str = "circular arc") -> None:
         self.name = name
-        self.center = _vector(center, "center", name)
+        self.center = vector3(center, f"{name}: center")
         self.radius = _check_positive(radius, "radius", name)
         self.angle0, self.sense = float(angle0), float(np.sign(angle1 - angle0))
         self.length = _check_positive(self.radius * abs(angle1 - angle0), "angle span", name)
@@ -165,7 +158,7 @@ class Helix(RigidLine):
     def __init__(self, center, radius: float, pitch: float, turns: float,
                  name: str = "helix") -> None:
         self.name = name
-        self.center = _vector(center, "center", name)
+        self.center = vector3(center, f"{name}: center")
         self.radius = _check_positive(radius, "radius", name)
         self.rise = float(pitch) / (2 * np.pi)
         if not np.isfinite(self.rise):
@@ -201,7 +194,7 @@ class CubicSpline(RigidLine):
         u = np.concatenate([[0.0], np.cumsum(chords)])
         self.spline = _ScipyCubicSpline(u, pts, bc_type="natural")
         self.length = float(u[-1])
-        self.up = _vector(up, "up", name)
+        self.up = vector3(up, f"{name}: up")
 
     def derivatives(self, xi: float) -> tuple[np.ndarray, ...]:
         return tuple(self.spline(xi, nu) for nu in range(4))
