@@ -75,22 +75,28 @@ class Beam:
         """The six dofs of mesh node ``node``."""
         return 6 * int(node) + np.arange(6)
 
-    def _geometry(self, X: np.ndarray) -> dict[str, np.ndarray]:
-        """Tangent, metric and global section stiffness at reference points X (1, nqp)."""
+    def _geometry(self, X: np.ndarray) -> tuple[dict[str, np.ndarray], np.ndarray]:
+        """Form fields (tangent, metric, global section stiffness) at reference points X
+        (1, nqp), and the section frames there, shape (nel, nqp, 3, 3)."""
         e = np.repeat(np.arange(self.mesh.n_elements)[:, None], X.shape[-1], axis=1)
         Xe = np.broadcast_to(X[0], e.shape)
         dx = self.mesh.tangent_vectors(e, Xe)
-        C = self.section.global_stiffness(self.mesh.frames(e, Xe))
+        frames = self.mesh.frames(e, Xe)
+        C = self.section.global_stiffness(frames)
         return {"t": np.moveaxis(dx / np.linalg.norm(dx, axis=-1, keepdims=True), -1, 0),
                 "metric": self.mesh.metric(e, Xe),
-                "C": np.moveaxis(C, (-2, -1), (0, 1))}
+                "C": np.moveaxis(C, (-2, -1), (0, 1))}, frames
+
+    @cached_property
+    def _stiffness_geometry(self) -> tuple[dict[str, np.ndarray], np.ndarray]:
+        """Geometry at the stiffness quadrature points, which are also the recovery points."""
+        return self._geometry(self.trial_basis.X)
 
     # -- residual and tangent ------------------------------------------------------------
     @cached_property
     def stiffness(self) -> sp.csr_matrix:
         """Tangent stiffness K (unsymmetric for fv test functions), assembled once."""
-        K = asm(internal_work, self.trial_basis, self.test_basis,
-                **self._geometry(self.trial_basis.X))
+        K = asm(internal_work, self.trial_basis, self.test_basis, **self._stiffness_geometry[0])
         return sp.csr_matrix(K)
 
     def residual(self, q: np.ndarray) -> np.ndarray:
@@ -130,10 +136,10 @@ class Beam:
         """
         smearing = check_smearing(smearing, kernel)
         load = np.concatenate([vector3(force, "force"), vector3(moment, "moment")])
-        self.mesh.locate(xi)
         if smearing == 0:
             points, weights = np.array([float(xi)]), np.array([1.0])
         else:
+            self.mesh.locate(xi)
             points, weights = self._kernel_quadrature(float(xi), smearing, kernel)
         dofs, values = self.test_values(points)
         f = np.zeros(self.n_dofs)
@@ -146,8 +152,7 @@ class Beam:
         e, _ = self.mesh.locate(np.clip([xi - smearing, xi + smearing], 0, self.mesh.length))
         local = self.formulation.breakpoints()
         elements = np.arange(e[0], e[1] + 1)
-        breaks = (self.mesh.vertex_s[elements, None]
-                  + self.mesh.element_length[elements, None] * local).ravel()
+        breaks = self.mesh.abscissae(elements[:, None], local).ravel()
         breaks = np.concatenate([breaks, kernel_breaks(xi, smearing)])
         breaks = np.unique(np.clip(breaks, max(xi - smearing, 0.0),
                                    min(xi + smearing, self.mesh.length)))
@@ -164,24 +169,21 @@ class Beam:
         X, W = self.formulation.load_quadrature()
         basis = CellBasis(self.skfem_mesh, self._test_element, quadrature=(X, W),
                           disable_doflocs=True)
-        geometry = self._geometry(X)
-        xi = self.mesh.vertex_s[:-1, None] + self.mesh.element_length[:, None] * X
+        geometry, _ = self._geometry(X)
+        xi = self.mesh.abscissae(np.arange(self.mesh.n_elements)[:, None], X)
         fields = {k: _sample(v, xi, k) for k, v in (("f", force), ("m", moment))}
         return asm(distributed_load, basis, metric=geometry["metric"], **fields)
 
     # -- recovery -------------------------------------------------------------------------
     def internal_forces(self, q: np.ndarray) -> InternalForces:
         """Internal forces at the recovery points, in section and global axes."""
-        X = self.trial_basis.X
-        geometry = self._geometry(X)
+        geometry, frames = self._stiffness_geometry
         field = self.trial_basis.interpolate(q)
         strain = generalised_strain(field, geometry["t"], geometry["metric"])
         stress = np.einsum("ij...,j...->...i", geometry["C"], strain).reshape(-1, 6)
-        e = np.repeat(np.arange(self.mesh.n_elements), X.shape[-1])
-        Xe = np.tile(X[0], self.mesh.n_elements)
-        R = self.mesh.frames(e, Xe)
-        RT = np.swapaxes(R, -1, -2)
-        xi = self.mesh.vertex_s[e] + self.mesh.element_length[e] * Xe
+        RT = np.swapaxes(frames, -1, -2).reshape(-1, 3, 3)
+        X = self.trial_basis.X[0]
+        xi = self.mesh.abscissae(np.arange(self.mesh.n_elements)[:, None], X).ravel()
         return InternalForces(xi, np.einsum("nij,nj->ni", RT, stress[:, :3]),
                               np.einsum("nij,nj->ni", RT, stress[:, 3:]),
                               stress[:, :3], stress[:, 3:])

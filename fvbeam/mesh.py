@@ -17,6 +17,7 @@ import meshio
 import numpy as np
 
 from fvbeam.geometry import section_frames
+from fvbeam.io import write_atomic
 
 _GAUSS8 = np.polynomial.legendre.leggauss(8)
 _CELL_TYPES = {"line": 2, "line3": 3}
@@ -182,6 +183,11 @@ class BeamMesh:
         X = np.clip((xi - self.vertex_s[e]) / self.element_length[e], 0.0, 1.0)
         return e, X
 
+    def abscissae(self, e: np.ndarray, X: np.ndarray) -> np.ndarray:
+        """Abscissa ``xi`` of reference coordinates ``X`` in elements ``e`` (inverse of
+        :meth:`locate`)."""
+        return self.vertex_s[e] + self.element_length[e] * X
+
     def node_abscissae(self) -> np.ndarray:
         """Abscissa ``xi`` of every node (vertices, then mid nodes)."""
         if self.nodes_per_element == 2:
@@ -200,8 +206,6 @@ class BeamMesh:
         path = Path(path)
         if file_format is None and path.suffix == ".msh":
             file_format = "gmsh22"
-        from fvbeam.io import write_atomic
-
         write_atomic(path, lambda tmp: meshio.write(tmp, self.to_meshio(),
                                                     file_format=file_format))
 
