@@ -71,9 +71,20 @@ class Beam:
     def n_dofs(self) -> int:
         return 6 * self.mesh.n_nodes
 
-    def node_dofs(self, node: int) -> np.ndarray:
-        """The six dofs of mesh node ``node``."""
-        return 6 * int(node) + np.arange(6)
+    def node_index(self, node: int | str) -> int:
+        """Mesh node index from an index or ``'start'`` / ``'end'`` (the end vertices)."""
+        if node == "start":
+            return 0
+        if node == "end":
+            return self.mesh.n_elements
+        if isinstance(node, (int, np.integer)) and 0 <= node < self.mesh.n_nodes:
+            return int(node)
+        raise ValueError(f"{self.mesh.name}: node {node!r} is not 'start', 'end' or an index "
+                         f"in 0..{self.mesh.n_nodes - 1}")
+
+    def node_dofs(self, node: int | str) -> np.ndarray:
+        """The six dofs of a mesh node (index, ``'start'`` or ``'end'``)."""
+        return 6 * self.node_index(node) + np.arange(6)
 
     def _geometry(self, X: np.ndarray) -> tuple[dict[str, np.ndarray], np.ndarray]:
         """Form fields (tangent, metric, global section stiffness) at reference points X
@@ -116,12 +127,9 @@ class Beam:
         dofs = (6 * nodes[:, :, None] + np.arange(6)).reshape(len(e), -1)
         return dofs, values
 
-    def nodal_load(self, node: int, force=(0.0, 0.0, 0.0),
+    def nodal_load(self, node: int | str, force=(0.0, 0.0, 0.0),
                    moment=(0.0, 0.0, 0.0)) -> np.ndarray:
-        """Load vector of a force and couple applied directly to mesh node ``node``."""
-        if not (isinstance(node, (int, np.integer)) and 0 <= node < self.mesh.n_nodes):
-            raise ValueError(f"{self.mesh.name}: node {node!r} is not in "
-                             f"0..{self.mesh.n_nodes - 1}")
+        """Load vector of a force and couple applied directly to a mesh node."""
         f = np.zeros(self.n_dofs)
         f[self.node_dofs(node)] = np.concatenate([vector3(force, "force"),
                                                   vector3(moment, "moment")])

@@ -11,27 +11,12 @@ import scipy.sparse.linalg as spla
 
 from fvbeam.beam import Beam
 
-NodeRef = int | str
-
-
-def node_index(beam: Beam, node: NodeRef) -> int:
-    """Mesh node index from an index or ``'start'`` / ``'end'`` (the beam's end vertices)."""
-    if node == "start":
-        return 0
-    if node == "end":
-        return beam.mesh.n_elements
-    if isinstance(node, (int, np.integer)) and 0 <= node < beam.mesh.n_nodes:
-        return int(node)
-    raise ValueError(f"{beam.mesh.name}: node {node!r} is not 'start', 'end' or an index "
-                     f"in 0..{beam.mesh.n_nodes - 1}")
-
-
 @dataclass(frozen=True)
 class Support:
     """A node held fixed: ``clamp`` (all six dofs) or ``pin`` (the three translations)."""
 
     beam: int
-    node: NodeRef
+    node: int | str
     kind: str = "clamp"
 
     def __post_init__(self) -> None:
@@ -64,8 +49,8 @@ class Structure:
 
         for tie in ties:
             a, na, b, nb = tie
-            ka = offsets[self.beam_index(a)] + node_index(self.beams[a], na)
-            kb = offsets[self.beam_index(b)] + node_index(self.beams[b], nb)
+            ka = offsets[self.beam_index(a)] + self.beams[a].node_index(na)
+            kb = offsets[self.beam_index(b)] + self.beams[b].node_index(nb)
             parent[max(root(ka), root(kb))] = min(root(ka), root(kb))
         roots = np.array([root(k) for k in range(offsets[-1])])
         _, node_number = np.unique(roots, return_inverse=True)
@@ -129,7 +114,7 @@ class Structure:
         fixed = []
         for s in supports:
             beam = self.beams[self.beam_index(s.beam)]
-            node = node_index(beam, s.node)
+            node = beam.node_index(s.node)
             dofs = self.dof_maps[s.beam][6 * node:6 * node + 6]
             fixed.append(dofs if s.kind == "clamp" else dofs[:3])
         return np.unique(np.concatenate(fixed)) if fixed else np.zeros(0, dtype=int)

@@ -15,7 +15,7 @@ from typing import Sequence
 import numpy as np
 
 from fvbeam.mesh import shape_functions
-from fvbeam.statics import Structure, node_index
+from fvbeam.statics import Structure
 
 
 def second_derivatives(nodes_per_element: int) -> np.ndarray:
@@ -36,8 +36,8 @@ class BeamChain:
         self.beams = [structure.beams[structure.beam_index(b)] for b in self.indices]
         for (a, beam_a), (b, beam_b) in zip(zip(self.indices, self.beams),
                                             zip(self.indices[1:], self.beams[1:])):
-            end = structure.dof_maps[a][6 * node_index(beam_a, "end")]
-            start = structure.dof_maps[b][6 * node_index(beam_b, "start")]
+            end = structure.dof_maps[a][6 * beam_a.node_index("end")]
+            start = structure.dof_maps[b][6 * beam_b.node_index("start")]
             if end != start:
                 raise ValueError(f"{name}: beam {a} does not end where beam {b} starts "
                                  "(tie its end node to the next beam's start node)")
