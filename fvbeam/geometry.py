@@ -1,4 +1,4 @@
-"""Small vector helpers: input 3-vectors, section frames from a tangent and a reference vector."""
+"""Small helpers: input 3-vectors and abscissae, section frames from a tangent and a vector."""
 
 from __future__ import annotations
 
@@ -11,6 +11,25 @@ def vector3(value, name: str) -> np.ndarray:
     if v.shape != (3,) or not np.all(np.isfinite(v)):
         raise ValueError(f"{name} must be a finite 3-vector, got {value!r}")
     return v
+
+
+def locate_abscissa(xi: np.ndarray | float, breaks: np.ndarray, name: str,
+                    what: str) -> tuple[np.ndarray, np.ndarray]:
+    """Interval of ``breaks`` (increasing, from 0) holding each abscissa, and the offset in it.
+
+    An abscissa within ``1e-12`` of the total length outside ``[0, breaks[-1]]`` is taken
+    as the nearest end; any other, or a non-finite one, raises ``ValueError`` naming the
+    object ``name`` and what it is (``what``, e.g. "the beam").
+    """
+    xi = np.asarray(xi, dtype=float)
+    length = breaks[-1]
+    tol = 1e-12 * length
+    bad = ~np.isfinite(xi) | (xi < -tol) | (xi > length + tol)
+    if np.any(bad):
+        value = xi[bad].flat[0] if xi.ndim else float(xi)
+        raise ValueError(f"{name}: xi = {value} lies outside {what} [0, {length}]")
+    k = np.clip(np.searchsorted(breaks, xi, side="right") - 1, 0, len(breaks) - 2)
+    return k, np.clip(xi - breaks[k], 0.0, breaks[k + 1] - breaks[k])
 
 
 def section_frames(tangents: np.ndarray, up: np.ndarray) -> np.ndarray:

@@ -16,7 +16,7 @@ from typing import Callable, Sequence
 import meshio
 import numpy as np
 
-from fvbeam.geometry import section_frames
+from fvbeam.geometry import locate_abscissa, section_frames
 from fvbeam.io import write_atomic
 
 _GAUSS8 = np.polynomial.legendre.leggauss(8)
@@ -173,15 +173,8 @@ class BeamMesh:
         Inside an element the abscissa is the affine coordinate scaled to the element's arc
         length, exact at the nodes.  ``xi`` outside ``[0, length]`` raises ``ValueError``.
         """
-        xi = np.asarray(xi, dtype=float)
-        tol = 1e-12 * self.length
-        bad = ~np.isfinite(xi) | (xi < -tol) | (xi > self.length + tol)
-        if np.any(bad):
-            value = xi[bad].flat[0] if xi.ndim else float(xi)
-            raise ValueError(f"{self.name}: xi = {value} lies outside the beam [0, {self.length}]")
-        e = np.clip(np.searchsorted(self.vertex_s, xi, side="right") - 1, 0, self.n_elements - 1)
-        X = np.clip((xi - self.vertex_s[e]) / self.element_length[e], 0.0, 1.0)
-        return e, X
+        e, offset = locate_abscissa(xi, self.vertex_s, self.name, "the beam")
+        return e, np.clip(offset / self.element_length[e], 0.0, 1.0)
 
     def abscissae(self, e: np.ndarray, X: np.ndarray) -> np.ndarray:
         """Abscissa ``xi`` of reference coordinates ``X`` in elements ``e`` (inverse of

@@ -14,6 +14,7 @@ from typing import Sequence
 
 import numpy as np
 
+from fvbeam.geometry import locate_abscissa
 from fvbeam.mesh import shape_functions
 from fvbeam.statics import Structure
 
@@ -46,13 +47,8 @@ class BeamChain:
 
     def locate(self, xi: float) -> tuple[int, float]:
         """Position in the chain of the beam holding ``xi``, and ``xi`` along that beam."""
-        xi = float(xi)
-        tol = 1e-12 * self.length
-        if not np.isfinite(xi) or xi < -tol or xi > self.length + tol:
-            raise ValueError(f"{self.name}: xi = {xi} lies outside the chain [0, {self.length}]")
-        k = int(np.clip(np.searchsorted(self.offsets, xi, side="right") - 1, 0,
-                        len(self.beams) - 1))
-        return k, min(max(xi - self.offsets[k], 0.0), self.beams[k].mesh.length)
+        k, offset = locate_abscissa(float(xi), self.offsets, self.name, "the chain")
+        return int(k), float(offset)
 
     def geometry(self, xi: float, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``x``, ``l = x_/xi`` and ``l_/xi`` of the deformed chain (global dofs ``q``)."""

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.interpolate import CubicSpline as _ScipyCubicSpline
 
-from fvbeam.geometry import section_frames, vector3
+from fvbeam.geometry import locate_abscissa, section_frames, vector3
 
 
 @dataclass(frozen=True)
@@ -73,11 +73,10 @@ class RigidLine:
         raise NotImplementedError
 
     def check_xi(self, xi: float) -> float:
-        xi = float(xi)
-        tol = 1e-12 * max(self.length, 1.0)
-        if not np.isfinite(xi) or xi < -tol or xi > self.length + tol:
-            raise ValueError(f"{self.name}: xi = {xi} lies outside the line [0, {self.length}]")
-        return min(max(xi, 0.0), self.length)
+        """``xi`` clipped to the line; ``ValueError`` beyond its ends."""
+        _, offset = locate_abscissa(float(xi), np.array([0.0, self.length]),
+                                    self.name, "the line")
+        return float(offset)
 
     def at(self, xi: float) -> LinePoint:
         """Geometry at abscissa ``xi`` (``ValueError`` outside ``[0, length]``)."""
