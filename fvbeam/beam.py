@@ -119,13 +119,20 @@ class Beam:
         return self.stiffness
 
     # -- loads ----------------------------------------------------------------------------
-    def test_values(self, xi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Test functions at abscissae ``xi``: (dofs (n, 6 npe), values (n, 6 npe, 6))."""
+    def transfer(self, xi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Test functions at abscissae ``xi`` as load-transfer matrices (eq. T6).
+
+        Returns
+        -------
+        dofs : (n, 6 npe) -- the dofs of the element holding each point
+        H : (n, 6 npe, 6) -- nodal loads of a unit force and couple ``[F; M]`` at the point
+        dH : (n, 6 npe, 6) -- d H / d xi, where H is smooth (fv: away from the
+            evaluation points, across which H jumps)
+        """
         e, X = self.mesh.locate(np.atleast_1d(xi))
-        values = np.moveaxis(self.formulation.test_values(self.mesh, e, X), -1, 0)
-        nodes = self.mesh.cells[e]
-        dofs = (6 * nodes[:, :, None] + np.arange(6)).reshape(len(e), -1)
-        return dofs, values
+        H, dH = self.formulation.transfer(self.mesh, e, X)
+        dofs = (6 * self.mesh.cells[e][:, :, None] + np.arange(6)).reshape(len(e), -1)
+        return dofs, H, dH
 
     def nodal_load(self, node: int | str, force=(0.0, 0.0, 0.0),
                    moment=(0.0, 0.0, 0.0)) -> np.ndarray:
@@ -149,7 +156,7 @@ class Beam:
         else:
             self.mesh.locate(xi)
             points, weights = self._kernel_quadrature(float(xi), smearing, kernel)
-        dofs, values = self.test_values(points)
+        dofs, values, _ = self.transfer(points)
         f = np.zeros(self.n_dofs)
         np.add.at(f, dofs, np.einsum("n,nij,j->ni", weights, values, load))
         return f

@@ -20,6 +20,7 @@ import numpy as np
 from skfem.element import DiscreteField, Element
 from skfem.refdom import RefLine
 
+from fvbeam.geometry import skew_matrices
 from fvbeam.mesh import BeamMesh
 
 _E = np.eye(3)
@@ -74,43 +75,43 @@ def jumps(nodes_per_element: int) -> np.ndarray:
     return (bounds[:, :1] == p).astype(float) - (bounds[:, 1:] == p)
 
 
+def _region_blocks(chi: np.ndarray, lever: np.ndarray) -> np.ndarray:
+    """``chi_a [[I, 0], [skew(lever_a), I]]`` per local node, as rows ``6a + c``.
+
+    ``chi``: ``(npe,) + P``; ``lever``: ``P + (npe, 3)``.  Returns ``P + (6 npe, 6)``.
+    """
+    c = np.moveaxis(chi, 0, -1)[..., None, None]                # P + (npe, 1, 1)
+    out = np.zeros(lever.shape[:-1] + (6, 6))
+    out[..., :3, :3] = np.eye(3)
+    out[..., 3:, 3:] = np.eye(3)
+    out[..., 3:, :3] = skew_matrices(lever)
+    return (out * c).reshape(lever.shape[:-2] + (6 * lever.shape[-2], 6))
+
+
 def rigid_motions(mesh: BeamMesh, e: np.ndarray, X: np.ndarray, chi: np.ndarray,
-                  dchi: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray | None]:
-    """Values (and derivatives in the element coordinate) of the fv test functions.
+                  dchi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Values and derivatives of the fv test functions (eq. T4), shape ``P + (6 npe, 6)``.
+
+    Row ``6a + c`` is test function ``c`` of local node ``a`` as the 6-vector ``(w, psi)``:
+    node ``a``'s block is ``chi_a [[I, 0], [skew(x - x_a), I]]``, which is also the matrix that
+    carries a force and couple ``[F; M]`` at ``x`` to the node (force ``F``, moment
+    ``M + (x - x_a) x F``).  The derivative, in the affine element coordinate (the abscissa
+    ``xi``), is ``dchi_a [[I, 0], [skew(x - x_a), I]] + chi_a [[0, 0], [skew(x_/xi), 0]]``.
 
     Parameters
     ----------
     e, X
         Element indices and reference coordinates, broadcast to a common shape ``P``.
     chi, dchi
-        Indicator values and derivatives per local node, shape ``(npe,) + P``.
-
-    Returns
-    -------
-    value : ``(6 npe, 6) + P`` -- test function ``6 a + c`` as the 6-vector ``(w, psi)``
-    grad : same shape, d/dX of ``(w, psi)`` divided by the element length, or None
+        Indicator values and their derivatives in ``xi``, shape ``(npe,) + P``.
     """
-    npe = mesh.nodes_per_element
-    x = mesh.positions(e, X)                                   # P + (3,)
-    nodes = mesh.points[mesh.cells[e]]                         # P + (npe, 3)
-    value = np.zeros((npe, 6, 6) + chi.shape[1:])
-    grad = None if dchi is None else np.zeros_like(value)
-    if dchi is not None:
-        dx = mesh.tangent_vectors(e, X) / mesh.element_length[e][..., None]
-    for a in range(npe):
-        lever = x - nodes[..., a, :]
-        for c in range(3):
-            value[a, c, c] = chi[a]
-            value[a, 3 + c, 3 + c] = chi[a]
-            arm = np.moveaxis(np.cross(_E[c], lever), -1, 0)   # e_c x (x - x_a)
-            value[a, 3 + c, :3] = arm * chi[a]
-            if grad is not None:
-                grad[a, c, c] = dchi[a]
-                grad[a, 3 + c, 3 + c] = dchi[a]
-                grad[a, 3 + c, :3] = (np.moveaxis(np.cross(_E[c], dx), -1, 0) * chi[a]
-                                      + arm * dchi[a])
-    shape = (6 * npe, 6) + chi.shape[1:]
-    return value.reshape(shape), None if grad is None else grad.reshape(shape)
+    lever = mesh.positions(e, X)[..., None, :] - mesh.points[mesh.cells[e]]
+    dx = mesh.tangent_vectors(e, X) / mesh.element_length[e][..., None]
+    turn = np.zeros(chi.shape[1:] + (mesh.nodes_per_element, 6, 6))
+    turn[..., 3:, :3] = skew_matrices(dx)[..., None, :, :]
+    turn *= np.moveaxis(chi, 0, -1)[..., None, None]
+    grad = _region_blocks(dchi, lever) + turn.reshape(turn.shape[:-3] + (-1, 6))
+    return _region_blocks(chi, lever), grad
 
 
 class ElementBeamFV(Element):
@@ -149,7 +150,9 @@ class ElementBeamFV(Element):
         tind = np.asarray(tind)
         key = (id(mapping), X.shape, X.tobytes(), tind.tobytes())
         if self._cache is None or self._cache[0] != key:
-            self._cache = (key,) + self._all_functions(mapping, X, tind)
+            value, grad = self._all_functions(mapping, X, tind)
+            self._cache = (key, np.moveaxis(value, (-2, -1), (0, 1)),
+                           np.moveaxis(grad, (-2, -1), (0, 1)))
         _, value, grad = self._cache
         return (DiscreteField(value=value[i], grad=grad[i][:, None]),)
 

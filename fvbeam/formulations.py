@@ -21,8 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 from skfem.element import Element, ElementLineP1, ElementLineP2, ElementVector
 
-from fvbeam.elements import ElementBeamFV, indicator, influence_regions
-from fvbeam.elements import rigid_motions
+from fvbeam.elements import ElementBeamFV, indicator, influence_regions, rigid_motions
 from fvbeam.mesh import BeamMesh, shape_functions
 
 
@@ -59,8 +58,14 @@ class Formulation:
     def load_quadrature(self) -> tuple[np.ndarray, np.ndarray]:
         raise NotImplementedError
 
-    def test_values(self, mesh: BeamMesh, e: np.ndarray, X: np.ndarray) -> np.ndarray:
-        """Test functions at points, shape ``(6 npe, 6) + P``: function ``6a + c`` as (w, psi)."""
+    def transfer(self, mesh: BeamMesh, e: np.ndarray,
+                 X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Test functions at points and their derivatives in ``xi``, shape ``P + (6 npe, 6)``.
+
+        Row ``6a + c`` is test function ``c`` of local node ``a`` as the 6-vector
+        ``(w, psi)``; read as a matrix, it carries a force and couple ``[F; M]`` applied at the
+        point to the element's nodes (eq. T6).
+        """
         raise NotImplementedError
 
     def breakpoints(self) -> np.ndarray:
@@ -91,9 +96,11 @@ class FiniteVolume(Formulation):
         X, W = composite_gauss(self.breakpoints(), 4)
         return X[None, :], W
 
-    def test_values(self, mesh: BeamMesh, e: np.ndarray, X: np.ndarray) -> np.ndarray:
+    def transfer(self, mesh: BeamMesh, e: np.ndarray,
+                 X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         e, X = np.broadcast_arrays(np.asarray(e), np.asarray(X, dtype=float))
-        return rigid_motions(mesh, e, X, indicator(X, self.nodes_per_element))[0]
+        chi = indicator(X, self.nodes_per_element)
+        return rigid_motions(mesh, e, X, chi, np.zeros_like(chi))
 
 
 @dataclass(frozen=True)
@@ -119,10 +126,17 @@ class Galerkin(Formulation):
         X, W = gauss(4)
         return X[None, :], W
 
-    def test_values(self, mesh: BeamMesh, e: np.ndarray, X: np.ndarray) -> np.ndarray:
-        N, _ = shape_functions(np.asarray(X, dtype=float), self.nodes_per_element)
-        eye = np.eye(6).reshape(1, 6, 6, *([1] * N.ndim)[1:])
-        return (N[:, None, None] * eye).reshape((6 * self.nodes_per_element, 6) + N.shape[1:])
+    def transfer(self, mesh: BeamMesh, e: np.ndarray,
+                 X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        e, X = np.broadcast_arrays(np.asarray(e), np.asarray(X, dtype=float))
+        N, dN = shape_functions(X, self.nodes_per_element)
+        dN = dN / mesh.element_length[e]
+        shape = X.shape + (6 * self.nodes_per_element, 6)
+
+        def blocks(f: np.ndarray) -> np.ndarray:
+            return (np.moveaxis(f, 0, -1)[..., None, None] * np.eye(6)).reshape(shape)
+
+        return blocks(N), blocks(dN)
 
 
 FORMULATIONS = ("fv2", "fv3", "galerkin-p1", "galerkin-p2")

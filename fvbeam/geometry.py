@@ -13,6 +13,15 @@ def vector3(value, name: str) -> np.ndarray:
     return v
 
 
+def skew_matrices(v: np.ndarray) -> np.ndarray:
+    """Matrices of ``v x`` for vectors ``v`` of shape (..., 3): shape (..., 3, 3)."""
+    out = np.zeros(v.shape + (3,))
+    out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
+    out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
+    out[..., 2, 0], out[..., 2, 1] = -v[..., 1], v[..., 0]
+    return out
+
+
 def locate_abscissa(xi: np.ndarray | float, breaks: np.ndarray, name: str,
                     what: str) -> tuple[np.ndarray, np.ndarray]:
     """Interval of ``breaks`` (increasing, from 0) holding each abscissa, and the offset in it.

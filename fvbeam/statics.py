@@ -11,17 +11,34 @@ import scipy.sparse.linalg as spla
 
 from fvbeam.beam import Beam
 
+#: Names of the six nodal dofs, in order.
+DOF_NAMES = ("ux", "uy", "uz", "rx", "ry", "rz")
+
+
 @dataclass(frozen=True)
 class Support:
-    """A node held fixed: ``clamp`` (all six dofs) or ``pin`` (the three translations)."""
+    """A node held fixed: ``clamp`` (all six dofs), ``pin`` (the three translations), or the
+    dofs named and joined by ``+`` (from ``ux uy uz rx ry rz``), e.g. ``"ux+rx"``."""
 
     beam: int
     node: int | str
     kind: str = "clamp"
 
     def __post_init__(self) -> None:
-        if self.kind not in ("clamp", "pin"):
-            raise ValueError(f"support kind must be 'clamp' or 'pin', got {self.kind!r}")
+        self.dofs()
+
+    def dofs(self) -> np.ndarray:
+        """Local dof indices (0..5) the support holds."""
+        if self.kind == "clamp":
+            return np.arange(6)
+        if self.kind == "pin":
+            return np.arange(3)
+        names = self.kind.split("+")
+        unknown = [n for n in names if n not in DOF_NAMES]
+        if unknown or not names:
+            raise ValueError(f"support kind must be 'clamp', 'pin' or dof names from "
+                             f"{' '.join(DOF_NAMES)} joined by '+', got {self.kind!r}")
+        return np.array(sorted({DOF_NAMES.index(n) for n in names}))
 
 
 class Structure:
@@ -116,7 +133,7 @@ class Structure:
             beam = self.beams[self.beam_index(s.beam)]
             node = beam.node_index(s.node)
             dofs = self.dof_maps[s.beam][6 * node:6 * node + 6]
-            fixed.append(dofs if s.kind == "clamp" else dofs[:3])
+            fixed.append(dofs[s.dofs()])
         return np.unique(np.concatenate(fixed)) if fixed else np.zeros(0, dtype=int)
 
 
