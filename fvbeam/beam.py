@@ -134,6 +134,17 @@ class Beam:
         dofs = (6 * self.mesh.cells[e][:, :, None] + np.arange(6)).reshape(len(e), -1)
         return dofs, H, dH
 
+    @cached_property
+    def _transfer_jumps(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        e, X, J = self.formulation.transfer_jumps(self.mesh)
+        dofs = (6 * self.mesh.cells[e][:, :, None] + np.arange(6)).reshape(len(e), J.shape[1])
+        return self.mesh.abscissae(e, X), dofs, J
+
+    def transfer_jumps(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Abscissae (m,), dofs (m, 6 npe) and jumps ``H(xi+) - H(xi-)`` (m, 6 npe, 6) of the
+        transfer matrices inside the beam (fv: at the evaluation points; Galerkin: none)."""
+        return self._transfer_jumps
+
     def nodal_load(self, node: int | str, force=(0.0, 0.0, 0.0),
                    moment=(0.0, 0.0, 0.0)) -> np.ndarray:
         """Load vector of a force and couple applied directly to a mesh node."""

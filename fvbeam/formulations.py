@@ -21,7 +21,8 @@ from dataclasses import dataclass
 import numpy as np
 from skfem.element import Element, ElementLineP1, ElementLineP2, ElementVector
 
-from fvbeam.elements import ElementBeamFV, indicator, influence_regions, rigid_motions
+from fvbeam.elements import (ElementBeamFV, evaluation_points, indicator, influence_regions,
+                             jumps, rigid_motions)
 from fvbeam.mesh import BeamMesh, shape_functions
 
 
@@ -72,6 +73,11 @@ class Formulation:
         """Reference coordinates where the test functions are not smooth (element ends...)."""
         return np.array([0.0, 1.0])
 
+    def transfer_jumps(self, mesh: BeamMesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Where the transfer matrices jump inside the beam: element, reference coordinate,
+        and the jump ``H(X+) - H(X-)``, shape ``(m, 6 npe, 6)``.  None for Galerkin."""
+        return np.zeros(0, int), np.zeros(0), np.zeros((0, 6 * self.nodes_per_element, 6))
+
     def check(self, mesh: BeamMesh) -> None:
         if mesh.nodes_per_element != self.nodes_per_element:
             raise ValueError(f"{mesh.name}: formulation {self.name} needs "
@@ -91,6 +97,13 @@ class FiniteVolume(Formulation):
 
     def breakpoints(self) -> np.ndarray:
         return np.unique(influence_regions(self.nodes_per_element))
+
+    def transfer_jumps(self, mesh: BeamMesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        p = evaluation_points(self.nodes_per_element)
+        e = np.repeat(np.arange(mesh.n_elements), len(p))
+        X = np.tile(p, mesh.n_elements)
+        chi = np.tile(jumps(self.nodes_per_element), mesh.n_elements)
+        return e, X, rigid_motions(mesh, e, X, chi, np.zeros_like(chi))[0]
 
     def load_quadrature(self) -> tuple[np.ndarray, np.ndarray]:
         X, W = composite_gauss(self.breakpoints(), 4)

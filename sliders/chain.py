@@ -10,13 +10,17 @@ positions and ``u_i`` their displacements, ``x(xi) = sum N_i (X_i + u_i)``,
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Sequence
 
 import numpy as np
 
+from fvbeam.formulations import composite_gauss
 from fvbeam.geometry import locate_abscissa
 from fvbeam.mesh import shape_functions
+from fvbeam.smearing import check_smearing, density
 from fvbeam.statics import Structure
+from sliders.lines import project
 
 
 def second_derivatives(nodes_per_element: int) -> np.ndarray:
@@ -50,16 +54,103 @@ class BeamChain:
         k, offset = locate_abscissa(float(xi), self.offsets, self.name, "the chain")
         return int(k), float(offset)
 
-    def geometry(self, xi: float, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``x``, ``l = x_/xi`` and ``l_/xi`` of the deformed chain (global dofs ``q``)."""
+    def interpolation(self, xi: float) -> Interpolation:
+        """Where ``xi`` sits and how the line interpolates the beam there."""
         k, local = self.locate(xi)
         beam = self.beams[k]
         mesh = beam.mesh
         e, X = mesh.locate(local)
         h = mesh.element_length[e]
         nodes = mesh.cells[e]
-        u = self.structure.local(self.indices[k], q).reshape(-1, 6)[nodes, :3]
-        current = mesh.points[nodes] + u
         N, dN = shape_functions(X, mesh.nodes_per_element)
-        d2N = second_derivatives(mesh.nodes_per_element)
-        return N @ current, dN @ current / h, d2N @ current / h**2
+        dofs = self.structure.dof_maps[self.indices[k]][6 * nodes[:, None] + np.arange(3)]
+        return Interpolation(dofs, mesh.points[nodes], N, dN / h,
+                             second_derivatives(mesh.nodes_per_element) / h**2)
+
+    def geometry(self, xi: float, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``x``, ``l = x_/xi`` and ``l_/xi`` of the deformed chain (global dofs ``q``)."""
+        return self.interpolation(xi).geometry(q)
+
+    def project(self, point: np.ndarray, q: np.ndarray) -> float:
+        """Abscissa of the point of the deformed chain closest to ``point``."""
+        return project(lambda xi: self.geometry(xi, q), self.length, point)
+
+    def transfer(self, xi: float, smearing: float = 0.0,
+                 kernel: str = "box") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """How a force and couple ``[F; M]`` at ``xi`` loads the chain (eq. T6).
+
+        Returns global ``dofs`` (k,), ``G`` (k, 6) -- the nodal loads of a unit force and
+        couple -- and ``dG / dxi`` (k, 6).  With ``smearing > 0`` the load is spread by the
+        kernel over ``[xi - smearing, xi + smearing]``, across element and beam junctions, and
+        rescaled where the chain ends cut it.  The derivative is exact: writing
+        ``G = int K(r) H(xi + r) dr / int K(r) dr`` over the part of the kernel on the chain,
+        it is the kernel average of ``H'`` plus ``K(b - xi) [H](b)`` at every jump ``b`` of
+        the test functions (fv evaluation points, chain ends), minus ``G`` times the same
+        end terms of the normalisation.
+        """
+        smearing = check_smearing(smearing, kernel)
+        if smearing == 0:
+            k, local = self.locate(xi)
+            dofs, H, dH = self.beams[k].transfer(np.array([local]))
+            return self.structure.dof_maps[self.indices[k]][dofs[0]], H[0], dH[0]
+        self.locate(xi)
+        lo, hi = max(xi - smearing, 0.0), min(xi + smearing, self.length)
+        dofs, N, dN, weight = [], [], [], 0.0
+        for k, beam in enumerate(self.beams):
+            a, b = max(lo, self.offsets[k]), min(hi, self.offsets[k + 1])
+            if b <= a:
+                continue
+            s, w = composite_gauss(self._breaks(k, a, b, xi), 3)
+            w = w * density(s - xi, smearing, kernel)
+            weight += w.sum()
+            local, H, dH = beam.transfer(s - self.offsets[k])
+            jump_xi, jump_dofs, J = beam.transfer_jumps()
+            jump_xi = jump_xi + self.offsets[k]
+            inside = (jump_xi > a) & (jump_xi < b)
+            to_global = self.structure.dof_maps[self.indices[k]]
+            dofs += [to_global[local], to_global[jump_dofs[inside]]]
+            N += [w[:, None, None] * H, np.zeros_like(J[inside])]
+            dN += [w[:, None, None] * dH,
+                   density(jump_xi[inside] - xi, smearing, kernel)[:, None, None] * J[inside]]
+        dweight = 0.0
+        for end, sign, k in ((0.0, 1.0, 0), (self.length, -1.0, len(self.beams) - 1)):
+            if abs(end - xi) < smearing:
+                cut = sign * density(np.array([end - xi]), smearing, kernel)
+                local, H, _ = self.beams[k].transfer(np.array([end - self.offsets[k]]))
+                dofs.append(self.structure.dof_maps[self.indices[k]][local])
+                N.append(np.zeros_like(H))
+                dN.append(cut[:, None, None] * H)
+                dweight += cut[0]
+        unique, where = np.unique(np.concatenate([d.ravel() for d in dofs]),
+                                  return_inverse=True)
+        G, dG = np.zeros((len(unique), 6)), np.zeros((len(unique), 6))
+        np.add.at(G, where, np.concatenate([n.reshape(-1, 6) for n in N]))
+        np.add.at(dG, where, np.concatenate([n.reshape(-1, 6) for n in dN]))
+        return unique, G / weight, dG / weight - G * dweight / weight**2
+
+    def _breaks(self, k: int, a: float, b: float, xi: float) -> np.ndarray:
+        """Points in [a, b] of beam ``k`` (chain abscissae) where the integrand is not smooth:
+        element ends, fv region boundaries, the kernel's peak."""
+        mesh = self.beams[k].mesh
+        local = self.beams[k].formulation.breakpoints()
+        inner = self.offsets[k] + mesh.abscissae(np.arange(mesh.n_elements)[:, None], local)
+        points = np.concatenate([[a, b, xi], inner.ravel()])
+        return np.unique(points[(points >= a) & (points <= b)])
+
+
+@dataclass(frozen=True)
+class Interpolation:
+    """The line near ``xi``: translational ``dofs`` (npe, 3) of the element holding it, node
+    positions ``X`` (npe, 3), and the shape functions ``N`` with their first and second
+    derivatives in ``xi``."""
+
+    dofs: np.ndarray
+    X: np.ndarray
+    N: np.ndarray
+    dN: np.ndarray
+    d2N: np.ndarray
+
+    def geometry(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``x``, ``l`` and ``l_/xi`` of the deformed line."""
+        current = self.X + q[self.dofs]
+        return self.N @ current, self.dN @ current, self.d2N @ current

@@ -16,6 +16,7 @@ by the cumulative chord length of its points (``|l|`` close to, not exactly, 1).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 from scipy.interpolate import CubicSpline as _ScipyCubicSpline
@@ -61,6 +62,26 @@ def frame_and_curvature(l: np.ndarray, l_xi: np.ndarray,  # noqa: E741
     return R, axial(R_xi @ R.T)
 
 
+def project(curve: Callable[[float], tuple[np.ndarray, ...]], length: float,
+            point: np.ndarray, samples: int = 64) -> float:
+    """Abscissa of the point of a curve closest to ``point``.
+
+    ``curve(xi)`` returns ``x, l, l_xi``.  A sampling of ``[0, length]`` brackets the minimum
+    of ``|x(xi) - point|^2``; Newton on ``l . (x - point) = 0`` refines it, within the ends.
+    """
+    point = np.asarray(point, dtype=float)
+    grid = np.linspace(0.0, length, samples + 1)
+    xi = grid[int(np.argmin([np.sum((curve(s)[0] - point) ** 2) for s in grid]))]
+    for _ in range(50):
+        x, l, l_xi = curve(xi)  # noqa: E741
+        h = l @ l + l_xi @ (x - point)
+        step = -(l @ (x - point)) / h if h > 0 else 0.0
+        xi = min(max(xi + step, 0.0), length)
+        if abs(step) <= 1e-14 * max(length, 1.0):
+            break
+    return float(xi)
+
+
 class RigidLine:
     """Base of the rigid lines: subclasses give ``length`` and the derivatives of ``x``."""
 
@@ -85,25 +106,9 @@ class RigidLine:
         R, k = frame_and_curvature(l, l_xi, self.up)
         return LinePoint(xi, x, l, l_xi, l_xixi, R, k)
 
-    def project(self, point: np.ndarray, samples: int = 64) -> float:
-        """Abscissa of the point of the line closest to ``point`` (initial ``xi``).
-
-        A coarse sampling brackets the minimum of ``|x(xi) - point|^2``; Newton on
-        ``l . (x - point) = 0`` refines it.
-        """
-        point = np.asarray(point, dtype=float)
-        grid = np.linspace(0.0, self.length, samples + 1)
-        distances = [np.sum((self.derivatives(s)[0] - point) ** 2) for s in grid]
-        xi = grid[int(np.argmin(distances))]
-        for _ in range(50):
-            x, l, l_xi, _ = self.derivatives(xi)  # noqa: E741
-            g = l @ (x - point)
-            h = l @ l + l_xi @ (x - point)
-            step = -g / h if h > 0 else 0.0
-            xi = min(max(xi + step, 0.0), self.length)
-            if abs(step) <= 1e-14 * max(self.length, 1.0):
-                break
-        return xi
+    def project(self, point: np.ndarray) -> float:
+        """Abscissa of the point of the line closest to ``point`` (initial ``xi``)."""
+        return project(lambda xi: self.derivatives(xi)[:3], self.length, point)
 
 
 def _check_positive(value: float, what: str, name: str) -> float:

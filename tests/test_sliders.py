@@ -1,0 +1,177 @@
+"""Slider joints on beam chains and rigid lines: Jacobians, load transfer, sliding beams.
+
+Finite differences: central, step 1e-7 on unknowns of order 1e-3..1; truncation ~h^2 x third
+derivatives (order 1) = 1e-14, roundoff ~eps x |r| / h ~ 1e-8 for residuals of order 10:
+the Jacobians must agree to 1e-6 (two orders of margin).
+"""
+
+import numpy as np
+import pytest
+
+from fvbeam import Beam, Section, Structure, Support, straight
+from sliders.analytic import sliding_beams
+from sliders.chain import BeamChain
+from sliders.joint import Slider
+from sliders.lines import CircularArc
+from sliders.statics import SliderStatics
+
+EJ, GA, L = 4.1e4, 1.1e8, 0.6
+SECTION = Section.diagonal(EA=10 * GA, GAy=GA, GAz=GA, GJ=EJ, EJy=EJ, EJz=EJ)
+FD = 1e-6
+
+
+def sliding_beams_model(s, n, kind, name="fv3", smearing=0.0, kernel="box"):
+    """Paper Sec. 6 (Figure 3): cylinder C on [0, L] clamped at 0, piston P on [s, s + L]
+    with its axial translation and spin held at its bottom; A: P's bottom slides on C,
+    B: C's top slides on P."""
+    npe = 2 if name in ("fv2", "galerkin-p1") else 3
+    C = Beam(straight((0, 0, 0), (L, 0, 0), n, npe), SECTION, name)
+    P = Beam(straight((s, 0, 0), (s + L, 0, 0), n, npe), SECTION, name)
+    structure = Structure([C, P])
+    sliders = [Slider(kind, BeamChain(structure, [0], "C"), (1, "start"), smearing=smearing,
+                      kernel=kernel, name="A"),
+               Slider(kind, BeamChain(structure, [1], "P"), (0, "end"), smearing=smearing,
+                      kernel=kernel, name="B")]
+    supports = [Support(0, "start"), Support(1, "start", "ux+rx")]
+    return structure, supports, sliders, P
+
+
+def fd_jacobian(slider, structure, q, y):
+    dofs, _, _, J = slider.assemble(structure, q, y)
+    t = len(dofs)
+
+    def residual(z):
+        qq = q.copy()
+        qq[dofs] = z[:t]
+        d, rq, ry, _ = slider.assemble(structure, qq, z[t:])
+        assert np.array_equal(d, dofs)
+        return np.concatenate([rq, ry])
+
+    z0 = np.concatenate([q[dofs], y])
+    h = 1e-7
+    columns = []
+    for i in range(len(z0)):
+        step = np.zeros_like(z0)
+        step[i] = h
+        columns.append((residual(z0 + step) - residual(z0 - step)) / (2 * h))
+    return J, np.column_stack(columns)
+
+
+@pytest.mark.parametrize("kind", ["spherical", "classical"])
+@pytest.mark.parametrize("name", ["fv2", "fv3", "galerkin-p1", "galerkin-p2"])
+@pytest.mark.parametrize("smearing,kernel", [(0.0, "box"), (0.02, "box"), (0.02, "hat")])
+@pytest.mark.parametrize("where", [0.013, 0.0])
+def test_joint_jacobian_matches_finite_differences(kind, name, smearing, kernel, where):
+    """Deformed state, random multipliers; xi inside an element (0.013 off the projection)
+    or at the projected point, on fv, Galerkin, with and without smearing."""
+    structure, _, sliders, _ = sliding_beams_model(0.3, 3, kind, name, smearing, kernel)
+    rng = np.random.default_rng(0)
+    q = rng.standard_normal(structure.n_dofs) * 1e-3
+    for slider in sliders:
+        y = slider.initial_unknowns(structure, q)
+        y[0] += where
+        y[1:] = rng.standard_normal(len(y) - 1)
+        J, J_fd = fd_jacobian(slider, structure, q, y)
+        np.testing.assert_allclose(J, J_fd, atol=FD * max(1.0, np.abs(J).max() * 1e-2))
+
+
+@pytest.mark.parametrize("kind", ["spherical", "classical"])
+def test_rigid_line_jacobian_and_reaction_normal_to_the_line(kind):
+    """A beam's tip node slides on a rigid arc: Jacobian against differences; at equilibrium
+    the spherical reaction is normal to the line (l . lambda = 0, paper eq. 3); the classical
+    one has the tangential part mu_j e_bj . l_xi (paper eq. 4), and the tip lies on the arc."""
+    beam = Beam(straight((0, 0, 0), (1, 0, 0), 4, 3), SECTION, "fv3")
+    structure = Structure([beam])
+    arc = CircularArc((1, -2, 0), 2.0, np.pi / 2 - 0.3, np.pi / 2 + 0.3)
+    frame = np.column_stack([[-1, 0, 0], [0, 1, 0], [0, 0, -1]])
+    slider = Slider(kind, arc, (0, "end"), frame=frame.astype(float), name="tip")
+    rng = np.random.default_rng(1)
+    q = rng.standard_normal(structure.n_dofs) * 1e-3
+    y = slider.initial_unknowns(structure, q)
+    y[1:] = rng.standard_normal(len(y) - 1)
+    J, J_fd = fd_jacobian(slider, structure, q, y)
+    np.testing.assert_allclose(J, J_fd, atol=FD * max(1.0, np.abs(J).max() * 1e-2))
+    statics = SliderStatics(structure, [Support(0, "start")], [slider])
+    f = structure.gather(0, beam.nodal_load("end", force=(3.0, 1.0e3, 2.0e2)))
+    solution = statics.solve(f)
+    y = solution.unknowns[0]
+    xi, lam, mu = y[0], y[1:4], y[4:]
+    point = arc.at(xi)
+    theta = solution.q[structure.dof_maps[0][6 * beam.node_index("end") + 3:][:3]]
+    axes = frame[:, 1:1 + len(mu)] + np.cross(theta, frame[:, 1:1 + len(mu)].T).T
+    tangential = sum(m * a @ point.l_xi for m, a in zip(mu, axes.T))
+    assert abs(point.l @ lam - tangential) <= 1e-9 * np.abs(lam).max()
+    tip = beam.mesh.points[beam.node_index("end")] + solution.q[structure.dof_maps[0][
+        6 * beam.node_index("end"):][:3]]
+    np.testing.assert_allclose(tip, point.x, atol=1e-12)
+
+
+@pytest.mark.parametrize("kind", ["spherical", "classical"])
+def test_newton_converges_quadratically(kind):
+    """Residual ratios r_{k+1} / r_k^2 stay bounded until the roundoff floor (~1e-11 of the
+    load for K entries ~1e12 x displacements ~1e-5)."""
+    structure, supports, sliders, P = sliding_beams_model(0.3, 5, kind)
+    f = structure.gather(1, P.nodal_load("end", (0, 1.0e3, 0)))
+    residuals = SliderStatics(structure, supports, sliders).solve(f).residuals
+    above_floor = [r for r in residuals if r > 1e-10]
+    assert len(above_floor) <= 3
+    for a, b in zip(above_floor[1:], above_floor[2:]):
+        assert b <= 10 * a**2
+
+
+def tip_stiffness(s, n, kind, name="fv3"):
+    structure, supports, sliders, P = sliding_beams_model(s * L, n, kind, name)
+    f = structure.gather(1, P.nodal_load("end", (0, 1.0, 0)))
+    q = SliderStatics(structure, supports, sliders).solve(f).q
+    return 1.0 / P.displacements(structure.local(1, q), L)[0, 1] * L**3 / EJ
+
+
+def test_spherical_sliding_beams_reproduce_the_two_beam_solution():
+    """With contacts on element nodes (s = 0, 0.3 L, 0.6 L, 0.9 L on meshes of 10, 20, 40
+    elements) fv3 is exact for the nodal loads (tests/test_fv_closed_forms.py), so the analytic
+    two-beam stiffness is reproduced to roundoff: 1e-8 (condition ~1e7 x eps x margin)."""
+    for s in (0.0, 0.3, 0.6, 0.9):
+        exact = sliding_beams(s * L, L, EJ, GA, "spherical")["k_norm"]
+        for n in (10, 20, 40):
+            assert tip_stiffness(s, n, "spherical") == pytest.approx(exact, rel=1e-8)
+
+
+def test_classical_sliding_beams_converge_under_refinement():
+    """s = 0: both contacts sit at beam ends, where the slope is one-sided: the error falls at
+    the order 2 of the fv3 rotations (|p - 2| < 0.5).  Elsewhere the classical limit is
+    defined up to the slope jump R / GA under a point force: the discrete limit lies between
+    the one-sided answers, so at 80 elements the error must be within half their spread
+    (computed here), and below the 5-element error."""
+    exact = sliding_beams(0.0, L, EJ, GA, "classical")["k_norm"]
+    ns = np.array([5, 10, 20, 40, 80])
+    errors = [abs(tip_stiffness(0.0, n, "classical") / exact - 1) for n in ns]
+    assert abs(-np.polyfit(np.log(ns), np.log(errors), 1)[0] - 2) < 0.5
+    for s in (0.3, 0.6):
+        exact = sliding_beams(s * L, L, EJ, GA, "classical")["k_norm"]
+        one_side = [sliding_beams(s * L, L, EJ, GA, "classical", slope_side=side)["k_norm"]
+                    for side in ("left", "right")]
+        spread = abs(one_side[0] - one_side[1]) / (2 * exact)
+        coarse, fine = (abs(tip_stiffness(s, n, "classical") / exact - 1) for n in (5, 80))
+        assert fine <= max(spread, 1e-6 * exact)
+        assert fine < coarse
+
+
+def test_spherical_slider_meets_the_paper_accuracy_bounds():
+    """Paper Sec. 6: fv3 with 3 and 5 elements per beam within 2 % on [0, 0.95] and 1.1 % on
+    [0, 0.8]; with 1 element within 7 %."""
+    stations = np.arange(0, 96, 5) / 100
+    exact = np.array([sliding_beams(s * L, L, EJ, GA, "spherical")["k_norm"] for s in stations])
+    for n, bound_all, bound_08 in ((1, 0.07, 0.07), (3, 0.02, 0.011), (5, 0.02, 0.011)):
+        errors = np.array([tip_stiffness(s, n, "spherical") for s in stations]) / exact - 1
+        assert np.abs(errors).max() <= bound_all
+        assert np.abs(errors[stations <= 0.8]).max() <= bound_08
+
+
+def test_singular_pair_of_classical_sliders_is_diagnosed():
+    """One fv3 element per beam, overlap 0.1 L shorter than the end-node region (0.21 h): both
+    reactions are lumped on the same two nodes with opposite lever arms, and a force pair
+    balanced by a couple loads nothing: the bordered system is singular."""
+    structure, supports, sliders, P = sliding_beams_model(0.9 * L, 1, "classical")
+    f = structure.gather(1, P.nodal_load("end", (0, 1.0, 0)))
+    with pytest.raises(ValueError, match="singular configuration.*(lambda|mu)"):
+        SliderStatics(structure, supports, sliders).solve(f)
