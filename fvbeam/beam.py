@@ -6,6 +6,8 @@ axes, node ``k`` of the :class:`~fvbeam.mesh.BeamMesh` owning dofs ``6k .. 6k + 
 
 from __future__ import annotations
 
+import copy
+import dataclasses
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Callable
@@ -66,6 +68,15 @@ class Beam:
         self.trial_basis = CellBasis(self.skfem_mesh, form.trial_element(), quadrature=quadrature)
         self.test_basis = CellBasis(self.skfem_mesh, self._test_element, quadrature=quadrature,
                                     disable_doflocs=True)
+
+    def translated(self, offset) -> "Beam":
+        """The same beam moved rigidly by ``offset``, sharing everything a translation leaves
+        unchanged (bases, stiffness, transfer jumps): they are assembled here, once."""
+        self.stiffness, self.transfer_jumps()
+        moved = copy.copy(self)
+        moved.mesh = dataclasses.replace(self.mesh, points=self.mesh.points
+                                         + vector3(offset, "offset"))
+        return moved
 
     @property
     def n_dofs(self) -> int:

@@ -73,7 +73,9 @@ class BeamChain:
 
     def project(self, point: np.ndarray, q: np.ndarray) -> float:
         """Abscissa of the point of the deformed chain closest to ``point``."""
-        return project(lambda xi: self.geometry(xi, q), self.length, point)
+        grid = np.unique(np.concatenate([offset + beam.mesh.node_abscissae()
+                                         for offset, beam in zip(self.offsets, self.beams)]))
+        return project(lambda xi: self.geometry(xi, q), grid, point)
 
     def transfer(self, xi: float, smearing: float = 0.0,
                  kernel: str = "box") -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -62,15 +62,16 @@ def frame_and_curvature(l: np.ndarray, l_xi: np.ndarray,  # noqa: E741
     return R, axial(R_xi @ R.T)
 
 
-def project(curve: Callable[[float], tuple[np.ndarray, ...]], length: float,
-            point: np.ndarray, samples: int = 64) -> float:
+def project(curve: Callable[[float], tuple[np.ndarray, ...]], grid: np.ndarray,
+            point: np.ndarray) -> float:
     """Abscissa of the point of a curve closest to ``point``.
 
-    ``curve(xi)`` returns ``x, l, l_xi``.  A sampling of ``[0, length]`` brackets the minimum
-    of ``|x(xi) - point|^2``; Newton on ``l . (x - point) = 0`` refines it, within the ends.
+    ``curve(xi)`` returns ``x, l, l_xi``.  The closest of the sample abscissae ``grid``
+    (increasing, from 0 to the length) starts Newton on ``l . (x - point) = 0``, which stays
+    within the ends.
     """
     point = np.asarray(point, dtype=float)
-    grid = np.linspace(0.0, length, samples + 1)
+    length = grid[-1]
     xi = grid[int(np.argmin([np.sum((curve(s)[0] - point) ** 2) for s in grid]))]
     for _ in range(50):
         x, l, l_xi = curve(xi)  # noqa: E741
@@ -108,7 +109,8 @@ class RigidLine:
 
     def project(self, point: np.ndarray) -> float:
         """Abscissa of the point of the line closest to ``point`` (initial ``xi``)."""
-        return project(lambda xi: self.derivatives(xi)[:3], self.length, point)
+        return project(lambda xi: self.derivatives(xi)[:3], np.linspace(0, self.length, 65),
+                       point)
 
 
 def _check_positive(value: float, what: str, name: str) -> float:

@@ -39,20 +39,37 @@ class SliderSolution:
 
 
 class SliderStatics:
-    """Equilibrium of ``structure`` held by ``supports`` and ``sliders``."""
+    """Equilibrium of ``structure`` held by ``supports`` and ``sliders``.
+
+    ``reuse``: a previous instance on beams with the same stiffness objects, dof maps and
+    supports (e.g. the same beams translated, :meth:`fvbeam.beam.Beam.translated`), whose
+    assembled stiffness is then taken as it is; a sweep over positions builds it once.
+    """
 
     def __init__(self, structure: Structure, supports: Sequence[Support],
-                 sliders: Sequence[Slider]) -> None:
+                 sliders: Sequence[Slider], reuse: "SliderStatics | None" = None) -> None:
         self.structure, self.sliders = structure, list(sliders)
         names = [s.name for s in self.sliders]
         if len(set(names)) != len(names):
             raise ValueError(f"slider names must be unique, got {names}")
-        self.K = structure.tangent(np.zeros(structure.n_dofs)).tocsr()
         fixed = structure.support_dofs(supports)
+        if reuse is not None and reuse._same_operator(structure, fixed):
+            self.K, self.free, self.K_free = reuse.K, reuse.free, reuse.K_free
+            self._position = reuse._position
+            return
+        self.K = structure.tangent(np.zeros(structure.n_dofs)).tocsr()
         self.free = np.setdiff1d(np.arange(structure.n_dofs), fixed)
         self._position = np.full(structure.n_dofs, -1)
         self._position[self.free] = np.arange(len(self.free))
         self.K_free = self.K[self.free][:, self.free].tocoo()
+
+    def _same_operator(self, structure: Structure, fixed: np.ndarray) -> bool:
+        old = self.structure
+        return (len(old.beams) == len(structure.beams)
+                and all(a.stiffness is b.stiffness for a, b in zip(old.beams, structure.beams))
+                and all(np.array_equal(a, b) for a, b in zip(old.dof_maps, structure.dof_maps))
+                and np.array_equal(np.setdiff1d(np.arange(structure.n_dofs), fixed),
+                                   self.free))
 
     def initial_unknowns(self, q: np.ndarray) -> list[np.ndarray]:
         return [s.initial_unknowns(self.structure, q) for s in self.sliders]

@@ -1,0 +1,189 @@
+"""Figures 4 and 5 of the paper: tip stiffness of two beams joined by two sliders.
+
+The sliding-beams setup (paper Sec. 6; Figure 3 is not in the text, so this is its
+definition): cylinder beam C on ``[0, L]`` along x, clamped at 0; piston beam P on
+``[s, s + L]``, its axial translation and its spin about x held at its bottom node (a real
+strut's gas spring and torque links; their reactions vanish to first order).  Slider A: P's
+bottom end node slides on C.  Slider B: C's top end node slides on P.  A transverse force
+``F`` at P's tip.  ``EJ = 4.1e4 N m^2``, ``GA = 1.1e8 N``, ``L = 0.6 m``; ``EA = 10 GA`` and
+``GJ = EJ`` play no role in this bending problem.  The tip stiffness ``k = F / v(s + L)`` is
+normalised by ``EJ / L^3`` and compared with the analytic two-beam solution
+(:func:`sliders.analytic.sliding_beams`, ``docs/sliders.md``).
+
+Run as ``python -m studies.fig4_stiffness --out DIR``; writes ``DIR/fig4_stiffness.csv``
+(columns ``slider,formulation,n_elements,smearing,s_over_L,k_norm,k_norm_exact,rel_error``;
+``smearing`` as a fraction of the element length; an empty ``k_norm`` where the
+configuration is singular), ``DIR/fig4_stiffness.png`` (Figure 4) and
+``DIR/fig5_rel_error.png`` (Figure 5), and prints the largest errors against the paper's
+bounds.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import time
+from pathlib import Path
+
+import numpy as np
+
+from fvbeam import Beam, Section, Structure, Support, straight
+from fvbeam.io import write_atomic
+from sliders.analytic import sliding_beams
+from sliders.chain import BeamChain
+from sliders.joint import Slider
+from sliders.statics import SliderStatics
+
+EJ, GA, L, F = 4.1e4, 1.1e8, 0.6, 1.0
+SECTION = Section.diagonal(EA=10 * GA, GAy=GA, GAz=GA, GJ=EJ, EJy=EJ, EJz=EJ)
+KINDS = ("spherical", "classical")
+STATIONS = np.arange(96) / 100
+CASES = ([("fv3", n) for n in (1, 3, 5, 10, 20, 40)] + [("galerkin-p2", n) for n in (1, 3, 5)])
+SMEARINGS = (0.0, 0.01)
+COLUMNS = ("slider", "formulation", "n_elements", "smearing", "s_over_L", "k_norm",
+           "k_norm_exact", "rel_error")
+#: Paper Sec. 6 bounds on |rel_error|: (elements, on [0, 0.95], on [0, 0.8]).
+BOUNDS = {"spherical": ((1, 0.07, 0.07), (3, 0.02, 0.011), (5, 0.02, 0.011)),
+          "classical": ((1, 0.07, 0.07), (3, 0.025, 0.015), (5, 0.025, 0.015))}
+
+
+class SlidingBeams:
+    """The two beams built once; :meth:`stiffness` moves the piston and solves."""
+
+    def __init__(self, formulation: str, n_elements: int, kind: str,
+                 smearing: float = 0.0) -> None:
+        npe = 2 if formulation in ("fv2", "galerkin-p1") else 3
+        self.cylinder = Beam(straight((0, 0, 0), (L, 0, 0), n_elements, npe), SECTION,
+                             formulation)
+        self.piston = Beam(straight((0, 0, 0), (L, 0, 0), n_elements, npe), SECTION,
+                           formulation)
+        self.kind, self.smearing = kind, smearing * L / n_elements
+        self.supports = [Support(0, "start"), Support(1, "start", "ux+rx")]
+        self._previous: SliderStatics | None = None
+        self.iterations: list[int] = []
+
+    def stiffness(self, s_over_L: float) -> float:
+        """Normalised tip stiffness ``F L^3 / (EJ v)`` with the piston at ``s = s_over_L L``."""
+        piston = self.piston.translated((s_over_L * L, 0, 0))
+        structure = Structure([self.cylinder, piston])
+        sliders = [Slider(self.kind, BeamChain(structure, [0], "C"), (1, "start"),
+                          smearing=self.smearing, name="A"),
+                   Slider(self.kind, BeamChain(structure, [1], "P"), (0, "end"),
+                          smearing=self.smearing, name="B")]
+        statics = SliderStatics(structure, self.supports, sliders, reuse=self._previous)
+        self._previous = statics
+        f = structure.gather(1, piston.nodal_load("end", (0, F, 0)))
+        solution = statics.solve(f)
+        self.iterations.append(solution.iterations)
+        tip = piston.displacements(structure.local(1, solution.q), L)[0, 1]
+        return F / tip * L**3 / EJ
+
+
+def sweep(kind: str, formulation: str, n: int, smearing: float,
+          stations: np.ndarray = STATIONS) -> tuple[np.ndarray, SlidingBeams]:
+    """``k_norm`` at every station; NaN where the configuration is singular."""
+    model = SlidingBeams(formulation, n, kind, smearing)
+    out = np.full(len(stations), np.nan)
+    for i, s in enumerate(stations):
+        try:
+            out[i] = model.stiffness(s)
+        except ValueError:
+            model._previous = None
+    return out, model
+
+
+def compute(cases=CASES, smearings=SMEARINGS, stations: np.ndarray = STATIONS,
+            progress: bool = True) -> list[dict]:
+    """Rows of Figures 4 and 5 for every slider kind, formulation, mesh and smearing."""
+    from tqdm import tqdm
+
+    exact = {kind: np.array([sliding_beams(s * L, L, EJ, GA, kind)["k_norm"]
+                             for s in stations]) for kind in KINDS}
+    jobs = [(k, f, n, sm) for k in KINDS for f, n in cases for sm in smearings]
+    rows = []
+    for kind, formulation, n, smearing in tqdm(jobs, disable=not progress, desc="fig4"):
+        k, _ = sweep(kind, formulation, n, smearing, stations)
+        for s, kn, ke in zip(stations, k, exact[kind]):
+            rows.append(dict(slider=kind, formulation=formulation, n_elements=n,
+                             smearing=smearing, s_over_L=s, k_norm=kn, k_norm_exact=ke,
+                             rel_error=kn / ke - 1))
+    return rows
+
+
+def write_csv(rows: list[dict], path: Path) -> None:
+    def write(tmp: Path) -> None:
+        with open(tmp, "w", newline="") as handle:
+            writer = csv.DictWriter(handle, COLUMNS)
+            writer.writeheader()
+            for row in rows:
+                writer.writerow({k: ("" if isinstance(v, float) and np.isnan(v) else v)
+                                 for k, v in row.items()})
+
+    write_atomic(path, write)
+
+
+def plot(rows: list[dict], out: Path) -> None:
+    """Figure 4 (stiffness) and Figure 5 (relative error), fv3 with 1, 3, 5 elements."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    def series(kind, formulation, n):
+        pick = [r for r in rows if r["slider"] == kind and r["formulation"] == formulation
+                and r["n_elements"] == n and r["smearing"] == 0.0]
+        return (np.array([r["s_over_L"] for r in pick]),
+                np.array([r["k_norm"] for r in pick]),
+                np.array([r["k_norm_exact"] for r in pick]))
+
+    for name, error in (("fig4_stiffness.png", False), ("fig5_rel_error.png", True)):
+        fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharex=True)
+        for ax, kind in zip(axes, KINDS):
+            s, _, exact = series(kind, "fv3", 1)
+            if not error:
+                ax.plot(s, exact, "k-", lw=2, label="analytic")
+            for n, style in ((1, ":"), (3, "--"), (5, "-.")):
+                s, k, exact = series(kind, "fv3", n)
+                ax.plot(s, 100 * (k / exact - 1) if error else k, style,
+                        label=f"fv3, {n} element{'s' if n > 1 else ''}")
+            ax.set_title(f"{kind} slider")
+            ax.set_xlabel("s / L")
+            ax.set_ylabel("relative error of k [%]" if error else "k L^3 / EJ")
+            ax.grid(alpha=0.3)
+            ax.legend()
+        fig.tight_layout()
+        write_atomic(out / name, lambda tmp: fig.savefig(tmp, dpi=120))
+        plt.close(fig)
+
+
+def summary(rows: list[dict]) -> list[str]:
+    """Largest |rel_error| of fv3 (smearing 0) on [0, 0.95] and [0, 0.8] against the bounds."""
+    lines = []
+    for kind in KINDS:
+        for n, bound_all, bound_08 in BOUNDS[kind]:
+            pick = [r for r in rows if r["slider"] == kind and r["formulation"] == "fv3"
+                    and r["n_elements"] == n and r["smearing"] == 0.0]
+            err = np.array([abs(r["rel_error"]) for r in pick])
+            s = np.array([r["s_over_L"] for r in pick])
+            singular = int(np.isnan(err).sum())
+            lines.append(f"{kind:9s} fv3 n={n}: max |err| {np.nanmax(err):.4f} (paper "
+                         f"{bound_all}), on [0, 0.8] {np.nanmax(err[s <= 0.8]):.4f} (paper "
+                         f"{bound_08}), singular at {singular} stations")
+    return lines
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=Path("results"))
+    args = parser.parse_args(argv)
+    start = time.perf_counter()
+    rows = compute()
+    write_csv(rows, args.out / "fig4_stiffness.csv")
+    plot(rows, args.out)
+    for line in summary(rows):
+        print(line)
+    print(f"{len(rows)} rows in {time.perf_counter() - start:.1f} s")
+
+
+if __name__ == "__main__":
+    main()
