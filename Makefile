@@ -21,9 +21,11 @@ test: $(VENV)/.installed-test
 
 demo: $(VENV)/.installed-all
 	$(BIN)/python -m studies.fig1_tip_response --out $(RESULTS)
+	$(BIN)/python -m studies.fig4_stiffness --out $(RESULTS)
 
 bench: $(VENV)/.installed-all
 	$(BIN)/python -m studies.bench --out $(RESULTS)/bench.json
+	$(BIN)/python -m studies.bench_sweep --out $(RESULTS)/bench.json
 
 clean:
 	rm -rf $(VENV) $(RESULTS) .pytest_cache
