@@ -43,3 +43,14 @@ def test_second_run_replaces_only_its_own_keys(tmp_path):
     again = json.loads(out.read_text())
     assert again["later_benchmark"] == [1, 2, 3]
     assert len(again["fv3_cantilever"]) == 2
+
+
+def test_sweep_benchmark_reports_time_iterations_and_error():
+    """Shape of the sweep benchmark (no timing threshold: speed is never asserted here)."""
+    from studies.bench_sweep import bench
+
+    result = bench(elements=(1,))
+    assert len(result["rows"]) == 2 and result["total_seconds"] > 0
+    for row in result["rows"]:
+        assert row["positions"] == 96 and row["mean_newton_iterations"] >= 1
+        assert row["max_abs_rel_error"] < 1.0
