@@ -94,14 +94,18 @@ def sweep(kind: str, formulation: str, n: int, smearing: float,
 
 def compute(cases=CASES, smearings=SMEARINGS, stations: np.ndarray = STATIONS,
             progress: bool = True) -> list[dict]:
-    """Rows of Figures 4 and 5 for every slider kind, formulation, mesh and smearing."""
+    """Rows of Figures 4 and 5 for every slider kind, formulation, mesh and smearing.
+
+    ``progress``: a progress bar on a terminal (never when the output is not a terminal).
+    """
     from tqdm import tqdm
 
     exact = {kind: np.array([sliding_beams(s * L, L, EJ, GA, kind)["k_norm"]
                              for s in stations]) for kind in KINDS}
     jobs = [(k, f, n, sm) for k in KINDS for f, n in cases for sm in smearings]
     rows = []
-    for kind, formulation, n, smearing in tqdm(jobs, disable=not progress, desc="fig4"):
+    for kind, formulation, n, smearing in tqdm(jobs, disable=None if progress else True,
+                                               desc="fig4"):
         k, _ = sweep(kind, formulation, n, smearing, stations)
         for s, kn, ke in zip(stations, k, exact[kind]):
             rows.append(dict(slider=kind, formulation=formulation, n_elements=n,
