@@ -9,9 +9,10 @@ shear stiffness ``GA``; the answer is exact within linear theory (``docs/sliders
 * forces: each slider passes a transverse force, ``R_A`` onto P's bottom (``-R_A`` onto C at
   ``s``) and ``R_B`` onto C's top (``-R_B`` onto P at ``L - s``);
 * classical sliders also pass couples ``M_A``, ``M_B`` the same way, and hold the body's
-  rotation to the *slope* of the other beam at the contact (the constraint ``e_b2 . l = 0``);
-  a concentrated force makes a Timoshenko beam's slope jump by ``R / GA``, and the constraint
-  takes the mean of the two sides, the limit of a vanishing symmetric smearing;
+  rotation to the other beam's *section rotation* at the contact (``orientation="section"``,
+  continuous there) or to its *slope* (``"slope"``, the constraint ``e_b2 . l = 0``); a
+  concentrated force makes a Timoshenko beam's slope jump by ``R / GA``, and the slope
+  constraint takes the mean of the two sides, the limit of a vanishing symmetric smearing;
 * C is a cantilever; P is a cantilever clamped at its bottom plus a rigid motion ``a + b y``.
 
 Six linear equations (P's force and moment balance, two contact displacements, two contact
@@ -55,14 +56,19 @@ def cantilever(loads: list[Load], y: float, length: float, EJ: float, GA: float,
 
 
 def sliding_beams(s: float, L: float, EJ: float, GA: float, kind: str, F: float = 1.0,
-                  slope_side: str = "mean") -> dict[str, float]:
+                  orientation: str = "section", slope_side: str = "mean") -> dict[str, float]:
     """Reactions, tip deflection and normalised tip stiffness ``k L^3 / EJ`` at offset ``s``.
 
-    ``kind``: ``spherical`` or ``classical``.  ``s`` in ``[0, L)``.  ``slope_side``: which
-    slope a classical slider follows where a force makes it jump (see :func:`cantilever`).
+    ``kind``: ``spherical`` or ``classical``.  ``s`` in ``[0, L)``.  ``orientation``: what a
+    classical slider holds the body's rotation to, the other beam's ``section`` rotation or
+    its ``slope``; ``slope_side``: which slope where a force makes it jump (see
+    :func:`cantilever`).
     """
     if kind not in ("spherical", "classical"):
         raise ValueError(f"kind must be 'spherical' or 'classical', got {kind!r}")
+    if orientation not in ("section", "slope"):
+        raise ValueError(f"orientation must be 'section' or 'slope', got {orientation!r}")
+    read = 1 if orientation == "section" else 2
     if not 0 <= s < L:
         raise ValueError(f"the piston offset s = {s} must lie in [0, L = {L})")
 
@@ -70,13 +76,13 @@ def sliding_beams(s: float, L: float, EJ: float, GA: float, kind: str, F: float 
         Ra, Rb, Ma, Mb, a, b = u
         C = [("force", s, -Ra), ("couple", s, -Ma), ("force", L, Rb), ("couple", L, Mb)]
         P = [("force", L - s, -Rb), ("couple", L - s, -Mb), ("force", L, F)]
-        vC_s, _, slopeC_s = cantilever(C, s, L, EJ, GA, slope_side)
+        at_A = cantilever(C, s, L, EJ, GA, slope_side)
         vC_L, thetaC_L, _ = cantilever(C, L, L, EJ, GA)
-        eP, _, slopeP = cantilever(P, L - s, L, EJ, GA, slope_side)
+        at_B = cantilever(P, L - s, L, EJ, GA, slope_side)
         equations = [Ra - Rb + F, Ma - Mb - Rb * (L - s) + F * L,
-                     a - vC_s, a + b * (L - s) + eP - vC_L]
+                     a - at_A[0], a + b * (L - s) + at_B[0] - vC_L]
         if kind == "classical":
-            equations += [b - slopeC_s, thetaC_L - (b + slopeP)]
+            equations += [b - at_A[read], thetaC_L - (b + at_B[read])]
         else:
             equations += [Ma, Mb]
         return np.array(equations)

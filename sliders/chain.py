@@ -15,12 +15,19 @@ from typing import Sequence
 
 import numpy as np
 
-from fvbeam.formulations import composite_gauss
+from fvbeam.formulations import FiniteVolume, composite_gauss
 from fvbeam.geometry import locate_abscissa
 from fvbeam.mesh import shape_functions
 from fvbeam.smearing import check_smearing, density
 from fvbeam.statics import Structure
-from sliders.lines import project
+from sliders.lines import curvature_rate, frame_and_curvature, project
+
+
+#: Lag of an fv3 mid-node rotation under a couple ``M`` at the mid-node, per ``h C M``:
+#: ``1/4 - sqrt(3)/8``.  The curvature, linear in the element and exact at the evaluation
+#: points, integrates from a vertex to the mid-node to ``(1/4 + sqrt(3)/8) h C M`` where the
+#: exact step gives ``h C M / 2`` (``docs/sliders.md``).
+MID_NODE_LAG = 0.25 - np.sqrt(3.0) / 8
 
 
 def second_derivatives(nodes_per_element: int) -> np.ndarray:
@@ -76,6 +83,48 @@ class BeamChain:
         grid = np.unique(np.concatenate([offset + beam.mesh.node_abscissae()
                                          for offset, beam in zip(self.offsets, self.beams)]))
         return project(lambda xi: self.geometry(xi, q), grid, point)
+
+    def rotation(self, xi: float) -> LineRotation:
+        """The section rotation of the chain at ``xi`` and its reference frame.
+
+        The rotation is interpolated linearly between the two consecutive nodes that bracket
+        ``xi`` (the element's vertices, and its mid-node for 3-node elements), whatever the
+        beam formulation: the weights are continuous along the chain, so a couple carried by
+        them never jumps.  ``kink`` is how far the exact rotation at a couple ``M`` lies off
+        that interpolation, per unit ``C M``: ``w0 w1 span`` for exact nodal rotations, plus
+        ``MID_NODE_LAG h w_mid^2`` on an fv3 element, whose mid-node rotation lags by that
+        much under the share ``w_mid M`` it carries (``docs/sliders.md``).  The reference frame ``R0``, its curvature
+        ``k0`` and ``k0_/xi`` come from the element's reference interpolation and the mesh's
+        ``up``.  ``C`` is the section's bending-and-torsion compliance (the rotational block
+        of the inverse section stiffness) in global axes, taken in the element's reference
+        frame at ``xi``.
+        """
+        k, local = self.locate(xi)
+        beam = self.beams[k]
+        mesh = beam.mesh
+        e, X = mesh.locate(local)
+        h, X, nodes = float(mesh.element_length[e]), float(X), mesh.cells[e]
+        along = np.array([0.0, 1.0, 0.5])[:len(nodes)]
+        order = np.argsort(along)
+        j = min(int(np.searchsorted(along[order], X, side="right")) - 1, len(nodes) - 2)
+        pair = order[j:j + 2]
+        span = (along[pair[1]] - along[pair[0]]) * h
+        t = (X - along[pair[0]]) * h / span
+        w = np.array([1 - t, t])
+        mid = np.flatnonzero(pair == 2)
+        shift = MID_NODE_LAG * h if isinstance(beam.formulation, FiniteVolume) else 0.0
+        kink, kink_xi = t * (1 - t) * span, 1 - 2 * t
+        if mid.size:
+            kink += shift * w[mid[0]] ** 2
+            kink_xi += 2 * shift * w[mid[0]] * (1 if mid[0] else -1) / span
+        interp = self.interpolation(xi)
+        l0, l0_xi = interp.dN @ interp.X, interp.d2N @ interp.X
+        R0, k0 = frame_and_curvature(l0, l0_xi, mesh.up)
+        k0_xi = curvature_rate(l0, l0_xi, np.zeros(3), mesh.up)
+        compliance = np.linalg.inv(beam.section.global_stiffness(R0[None])[0])[3:, 3:]
+        dofs = self.structure.dof_maps[self.indices[k]][6 * nodes[pair][:, None] + np.arange(3, 6)]
+        return LineRotation(dofs, w, np.array([-1.0, 1.0]) / span, kink, kink_xi, compliance,
+                            R0, k0, k0_xi)
 
     def transfer(self, xi: float, smearing: float = 0.0,
                  kernel: str = "box") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -156,3 +205,22 @@ class Interpolation:
         """``x``, ``l`` and ``l_/xi`` of the deformed line."""
         current = self.X + q[self.dofs]
         return self.N @ current, self.dN @ current, self.d2N @ current
+
+
+@dataclass(frozen=True)
+class LineRotation:
+    """Section rotation of the line at ``xi``: ``theta = w @ q[dofs]``, with ``dofs`` (2, 3)
+    the rotation dofs of the bracketing nodes, ``w`` their weights and ``w_xi`` their
+    derivatives; ``kink = w0 w1 span`` and ``kink_xi`` its derivative (the correction for a
+    couple at ``xi``, :class:`sliders.joint.Slider`); the section ``compliance`` (3, 3); the
+    reference frame ``R0``, its curvature vector ``k0`` and ``k0_xi``."""
+
+    dofs: np.ndarray
+    w: np.ndarray
+    w_xi: np.ndarray
+    kink: float
+    kink_xi: float
+    compliance: np.ndarray
+    R0: np.ndarray
+    k0: np.ndarray
+    k0_xi: np.ndarray

@@ -3,25 +3,37 @@
 The body is a node of the structure (a beam node, six dofs ``u_b, theta_b``, linear kinematics
 like the beams) carrying the sliding point at ``offset`` and the slider axes ``frame``
 (columns ``e1, e2, e3``; ``e1`` along the line).  The line is a :class:`BeamChain` or a rigid
-line.  Unknowns of the joint ``y = [xi, lambda (3), mu_2, mu_3]`` (``mu`` for the classical
-slider only).  With ``x_b = X_b + offset + u_b + theta_b x offset``,
-``e_bj = e_j + theta_b x e_j`` and ``W = [lambda; m]``, ``m = sum_j mu_j e_bj x l``:
+line.  Unknowns ``y = [xi, lambda (3), mu_2, mu_3, mu_1]``: ``mu_2, mu_3`` for the classical
+and spline sliders, ``mu_1`` for the spline slider.  With
+``x_b = X_b + offset + u_b + theta_b x offset`` and ``m`` the couple of the orientation
+constraints:
 
 =====================  ==================================================  =============
 equation               residual                                            paper
 =====================  ==================================================  =============
 body force             ``+ lambda``                                         eq. 3
-body moment            ``+ f_b x lambda + m``, ``f_b = theta_b x offset``   eqs. 3, 4
-line beams             ``- G(xi) W`` (test functions, smeared; eq. T6)      Sec. 4
-xi                     ``- l . lambda + sum_j mu_j e_bj . l_/xi``           eqs. 3, 4
+body moment            ``+ f_b x lambda + m``, ``f_b = theta_b x offset``   eqs. 3-5
+line beams             ``- G(xi) lambda`` (test functions, smeared; T6)     Sec. 4
+                       and ``- m`` shared by the nodes (below)
+xi                     ``- l . lambda + sum_j mu_j d g_j / d xi``           eqs. 3-5
 position               ``x_b - x(xi)``                                      eq. 1
-classical              ``e_b2 . l``, ``e_b3 . l``                           Sec. 3.2
+orientation            ``g_j``                                              Secs. 3.2-3.3
 =====================  ==================================================  =============
 
-The classical couple ``m`` enters the line beams through the rotation rows of the test
-functions, as a couple, not through ``d l / d q`` as a force dipole on the slope
-(``docs/sliders.md`` explains why: on shear-deformable beams the dipole form loses the
-couple under mesh refinement); the constraint itself stays on ``l``.
+Two orientation models (``docs/sliders.md`` compares them):
+
+* ``section`` (default; classical and spline): the constraints hold the body's axes to the
+  line's *section frame*, the reference frame turned by the section rotation ``theta_L(xi)``
+  interpolated linearly between the two nodes around ``xi``; the couple goes to those two
+  nodes with the same weights (consistent virtual work).  A correction for the kink that the
+  couple itself puts in the rotation makes the constraint second-order accurate.
+* ``slope`` (classical only): the paper's eq. (4) on the gradient ``l`` of the interpolated
+  centreline, the couple ``m = sum_j mu_j e_bj x l`` carried to the rotation dofs by the
+  test functions, as the reference implementation does; first-order accurate, and singular
+  when both sliders of the sliding-beams setup fall in one node's region.
+
+Neither routes the couple through ``d l / d q`` as a force dipole on the slope: on
+shear-deformable beams the dipole form loses the couple under mesh refinement.
 """
 
 from __future__ import annotations
@@ -32,10 +44,12 @@ import numpy as np
 
 from fvbeam.geometry import skew_matrices, vector3
 from fvbeam.statics import Structure
-from sliders.chain import BeamChain
-from sliders.lines import RigidLine
+from sliders.chain import BeamChain, LineRotation
+from sliders.lines import LinePoint, RigidLine, axial
 
-KINDS = ("spherical", "classical")
+KINDS = ("spherical", "classical", "spline")
+ORIENTATIONS = ("section", "slope")
+UNKNOWNS = ("xi", "lambda_x", "lambda_y", "lambda_z", "mu_2", "mu_3", "mu_1")
 
 
 @dataclass
@@ -45,7 +59,7 @@ class Slider:
     Parameters
     ----------
     kind
-        ``spherical`` or ``classical``.
+        ``spherical``, ``classical`` or ``spline``.
     line
         A :class:`BeamChain` of the same structure, or a rigid line.
     body
@@ -55,7 +69,10 @@ class Slider:
     frame
         Slider axes ``[e1, e2, e3]`` (columns) in the reference configuration.
     smearing, kernel
-        Spread of the reaction along the line (:mod:`fvbeam.smearing`).
+        Spread of the reaction force along the line (:mod:`fvbeam.smearing`); the couple of
+        the ``section`` orientation is shared linearly between nodes and never jumps.
+    orientation
+        ``section`` or ``slope`` (module docstring).
     name
         Label used in error messages.
     """
@@ -67,12 +84,19 @@ class Slider:
     frame: np.ndarray = field(default_factory=lambda: np.eye(3))
     smearing: float = 0.0
     kernel: str = "box"
+    orientation: str = "section"
     name: str = "slider"
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
             raise ValueError(f"{self.name}: kind must be one of {', '.join(KINDS)}, "
                              f"got {self.kind!r}")
+        if self.orientation not in ORIENTATIONS:
+            raise ValueError(f"{self.name}: orientation must be one of "
+                             f"{', '.join(ORIENTATIONS)}, got {self.orientation!r}")
+        if self.orientation == "slope" and self.kind != "classical":
+            raise ValueError(f"{self.name}: orientation 'slope' is the classical slider's "
+                             f"(paper eq. 4); a {self.kind} slider needs 'section'")
         self.offset = vector3(self.offset, f"{self.name}: offset")
         frame = np.asarray(self.frame, dtype=float)
         if frame.shape != (3, 3) or not np.allclose(frame.T @ frame, np.eye(3), atol=1e-12):
@@ -81,8 +105,14 @@ class Slider:
 
     @property
     def n_unknowns(self) -> int:
-        """``xi``, ``lambda`` and, for the classical slider, ``mu_2, mu_3``."""
-        return 4 if self.kind == "spherical" else 6
+        """``xi``, ``lambda``; ``mu_2, mu_3`` for the classical and spline sliders; ``mu_1``
+        for the spline slider."""
+        return {"spherical": 4, "classical": 6, "spline": 7}[self.kind]
+
+    @property
+    def unknown_names(self) -> tuple[str, ...]:
+        """Names of the joint's unknowns, in order (for messages and outputs)."""
+        return UNKNOWNS[:self.n_unknowns]
 
     def body_dofs(self, structure: Structure) -> np.ndarray:
         beam, node = self.body
@@ -102,20 +132,36 @@ class Slider:
             xi = self.line.project(point, q)
         else:
             xi = self.line.project(point)
+        if self.kind == "spline":
+            self._check_frame(xi)
         return np.concatenate([[xi], np.zeros(self.n_unknowns - 1)])
 
-    def _line(self, xi: float, q: np.ndarray):
-        """Line geometry, interpolation dofs and coefficients, and load transfer at ``xi``."""
+    def _check_frame(self, xi: float) -> None:
+        """The spline slider's constraint is linearised about the line's frame: the slider
+        frame must match it at the starting ``xi`` (within 0.1 rad)."""
+        R0 = (self.line.rotation(xi).R0 if isinstance(self.line, BeamChain)
+              else self.line.at(xi).R)
+        angle = np.arccos(np.clip((np.trace(self.frame @ R0.T) - 1) / 2, -1.0, 1.0))
+        if angle > 0.1:
+            raise ValueError(f"{self.name}: a spline slider's frame must match the line's frame "
+                             f"at xi = {xi:.6g} (columns {np.round(R0, 6).tolist()}); it is "
+                             f"turned {angle:.3g} rad from it")
+
+    def _line(self, xi: float, q: np.ndarray) -> _LineState:
+        """The line's geometry, interpolation and load transfer at ``xi``."""
         if isinstance(self.line, BeamChain):
             interp = self.line.interpolation(xi)
             x, l, l_xi = interp.geometry(q)  # noqa: E741
             dofs, G, dG = self.line.transfer(xi, self.smearing, self.kernel)
-            return (x, l, l_xi, np.zeros(3), interp.dofs, interp.N, interp.dN, interp.d2N,
-                    dofs, G, dG)
+            rotation = (self.line.rotation(xi) if self.kind != "spherical"
+                        and self.orientation == "section" else None)
+            return _LineState(x, l, l_xi, np.zeros(3), interp.dofs, interp.N, interp.dN,
+                              interp.d2N, dofs, G, dG, rotation, None)
         p = self.line.at(xi)
         none = np.zeros(0, dtype=int)
-        return (p.x, p.l, p.l_xi, p.l_xixi, none.reshape(0, 3), np.zeros(0), np.zeros(0),
-                np.zeros(0), none, np.zeros((0, 6)), np.zeros((0, 6)))
+        return _LineState(p.x, p.l, p.l_xi, p.l_xixi, none.reshape(0, 3), np.zeros(0),
+                          np.zeros(0), np.zeros(0), none, np.zeros((0, 6)), np.zeros((0, 6)),
+                          None, p)
 
     def assemble(self, structure: Structure, q: np.ndarray, y: np.ndarray):
         """Residual and Jacobian of the joint on the structure dofs it touches.
@@ -127,71 +173,182 @@ class Slider:
         r_y : (n_unknowns,) the joint's own equations
         J : (t + n_unknowns, t + n_unknowns) derivative of ``[r_q; r_y]`` in ``[q_t; y]``
         """
-        xi, lam, mu = float(y[0]), y[1:4], y[4:]
-        (x, l, l_xi, l_xixi, interp_dofs, N, dN, d2N,  # noqa: E741
-         load_dofs, G, dG) = self._line(xi, q)
+        xi, lam = float(y[0]), y[1:4]
+        line = self._line(xi, q)
         body = self.body_dofs(structure)
-        dofs, where = np.unique(np.concatenate([body, interp_dofs.ravel(), load_dofs]),
+        rotation_dofs = (line.rotation.dofs.ravel() if line.rotation is not None
+                         else np.zeros(0, dtype=int))
+        dofs, where = np.unique(np.concatenate([body, line.interp_dofs.ravel(),
+                                                line.load_dofs, rotation_dofs]),
                                 return_inverse=True)
         t = len(dofs)
-        ib, it_ = where[:3], where[3:6]
-        iu = where[6:6 + interp_dofs.size].reshape(-1, 3)
-        ig = where[6 + interp_dofs.size:]
-        n = t + self.n_unknowns
-        r = np.zeros(n)
-        J = np.zeros((n, n))
-        k_xi, k_lam, k_pos = t, slice(t + 1, t + 4), slice(t + 1, t + 4)  # rows = cols
+        at = _Layout(t, where, line.interp_dofs.size, len(line.load_dofs))
+        r = np.zeros(t + self.n_unknowns)
+        J = np.zeros((len(r), len(r)))
         theta = q[body[3:]]
         f_b = np.cross(theta, self.offset)
         x_b = self.reference_point(structure) + q[body[:3]] + f_b
-        axes = self.frame[:, 1:1 + len(mu)]
+        # body force and moment (eq. 3)
+        r[at.body] += lam
+        r[at.turn] += np.cross(self.offset + f_b, lam)
+        J[at.body, at.lam] += np.eye(3)
+        J[np.ix_(at.turn, at.turn)] += skew_matrices(lam) @ skew_matrices(self.offset)
+        J[at.turn, at.lam] += skew_matrices(self.offset + f_b)
+        # the force on the line (Sec. 4, eq. T6)
+        G, dG = line.G[:, :3], line.dG[:, :3]
+        np.add.at(r, at.load, -G @ lam)
+        J[at.load, at.xi] -= dG @ lam
+        J[at.load, at.lam] -= G
+        # xi equation and position constraint (eqs. 1, 3)
+        r[at.xi] = -line.l @ lam
+        J[at.xi, at.xi] = -line.l_xi @ lam
+        J[at.xi, at.lam] = -line.l
+        r[at.lam] = x_b - line.x
+        J[at.lam, at.body] += np.eye(3)
+        J[at.lam, at.turn] -= skew_matrices(self.offset)
+        J[at.lam, at.xi] = -line.l
+        for a in range(len(line.N)):
+            J[at.lam, at.interp[a]] -= line.N[a] * np.eye(3)
+            J[at.xi, at.interp[a]] -= line.dN[a] * lam
+        if self.kind == "spherical":
+            pass
+        elif self.orientation == "slope":
+            self._slope_orientation(q, y, theta, line, at, r, J)
+        else:
+            self._section_orientation(q, y, theta, line, at, r, J)
+        return dofs, r[:t], r[t:], J
+
+    def _slope_orientation(self, q, y, theta, line, at, r, J) -> None:
+        """Classical slider on the line's gradient, ``e_bj . l = 0`` (paper eq. 4), its couple
+        ``m = sum mu_j e_bj x l`` carried by the test functions to the rotation dofs."""
+        mu = y[4:]
+        axes = self.frame[:, 1:3]
         e_b = axes + np.cross(theta, axes.T).T
-        m = np.cross(e_b.T, l).T @ mu if len(mu) else np.zeros(3)
-        W = np.concatenate([lam, m])
-        # body force and moment
-        r[ib] += lam
-        r[it_] += np.cross(self.offset + f_b, lam) + m
-        J[ib, k_lam] += np.eye(3)
-        J[np.ix_(it_, it_)] += skew_matrices(lam) @ skew_matrices(self.offset)
-        J[it_, k_lam] += skew_matrices(self.offset + f_b)
-        # line reaction
-        np.add.at(r, ig, -G @ W)
-        J[ig, k_xi] -= dG @ W
-        J[np.ix_(ig, np.arange(k_lam.start, k_lam.stop))] -= G[:, :3]
-        # xi equation and position constraint
-        r[k_xi] = -l @ lam
-        J[k_xi, k_xi] = -l_xi @ lam
-        J[k_xi, k_lam] = -l
-        r[k_pos] = x_b - x
-        J[k_pos, ib] += np.eye(3)
-        J[np.ix_(np.arange(k_pos.start, k_pos.stop), it_)] -= skew_matrices(self.offset)
-        J[k_pos, k_xi] = -l
-        for a in range(len(N)):
-            J[np.ix_(np.arange(k_pos.start, k_pos.stop), iu[a])] -= N[a] * np.eye(3)
-            J[k_xi, iu[a]] -= dN[a] * lam
-        # classical: couple and rotation constraints
-        for j in range(len(mu)):
-            e, e0, row = e_b[:, j], axes[:, j], t + 4 + j
+        l, l_xi, G = line.l, line.l_xi, line.G[:, 3:]  # noqa: E741
+        m = np.cross(e_b.T, l).T @ mu
+        r[at.turn] += m
+        np.add.at(r, at.load, -G @ m)
+        J[at.load, at.xi] -= line.dG[:, 3:] @ m
+        for j in range(2):
+            e, e0, row = e_b[:, j], axes[:, j], at.t + 4 + j
             dm_dtheta = mu[j] * skew_matrices(l) @ skew_matrices(e0)
             dm_dxi = mu[j] * np.cross(e, l_xi)
             dm_dmu = np.cross(e, l)
-            J[np.ix_(it_, it_)] += dm_dtheta
-            J[it_, k_xi] += dm_dxi
-            J[it_, row] += dm_dmu
-            J[np.ix_(ig, it_)] -= G[:, 3:] @ dm_dtheta
-            J[ig, k_xi] -= G[:, 3:] @ dm_dxi
-            J[ig, row] -= G[:, 3:] @ dm_dmu
-            r[k_xi] += mu[j] * e @ l_xi
-            J[k_xi, it_] += mu[j] * np.cross(e0, l_xi)
-            J[k_xi, k_xi] += mu[j] * e @ l_xixi
-            J[k_xi, row] += e @ l_xi
+            J[np.ix_(at.turn, at.turn)] += dm_dtheta
+            J[at.turn, at.xi] += dm_dxi
+            J[at.turn, row] += dm_dmu
+            J[np.ix_(at.load, at.turn)] -= G @ dm_dtheta
+            J[at.load, at.xi] -= G @ dm_dxi
+            J[at.load, row] -= G @ dm_dmu
+            r[at.xi] += mu[j] * e @ l_xi
+            J[at.xi, at.turn] += mu[j] * np.cross(e0, l_xi)
+            J[at.xi, at.xi] += mu[j] * e @ line.l_xixi
+            J[at.xi, row] += e @ l_xi
             r[row] = e @ l
-            J[row, it_] += np.cross(e0, l)
-            J[row, k_xi] += e @ l_xi
-            for a in range(len(N)):
-                dm_du = mu[j] * skew_matrices(e) * dN[a]
-                J[np.ix_(it_, iu[a])] += dm_du
-                J[np.ix_(ig, iu[a])] -= G[:, 3:] @ dm_du
-                J[k_xi, iu[a]] += mu[j] * d2N[a] * e
-                J[row, iu[a]] += dN[a] * e
-        return dofs, r[:t], r[t:], J
+            J[row, at.turn] += np.cross(e0, l)
+            J[row, at.xi] += e @ l_xi
+            for a in range(len(line.N)):
+                dm_du = mu[j] * skew_matrices(e) * line.dN[a]
+                J[np.ix_(at.turn, at.interp[a])] += dm_du
+                J[np.ix_(at.load, at.interp[a])] -= G @ dm_du
+                J[at.xi, at.interp[a]] += mu[j] * line.d2N[a] * e
+                J[row, at.interp[a]] += line.dN[a] * e
+
+    def _section_orientation(self, q, y, theta, line, at, r, J) -> None:
+        """Orientation constraints on the line's section frame, linear in the rotations.
+
+        ``g_j = g0_j(xi) + n_j(xi) . (theta_b - theta_L)``: classical (``j = 2, 3``)
+        ``g0 = e_j . t0``, ``n = e_j x t0``; spline (``j = 1``) ``g0 = t0 . ax(F R0^T)``,
+        ``n = t0`` -- eqs. (4), (5) and Sec. 4 linearised, with ``R0 = [t0, ...]`` the line's
+        reference frame and ``F`` the slider frame.  The virtual work of ``sum mu_j g_j``
+        gives the couple ``m = sum mu_j n_j`` on the body, ``-w_a m`` on the two line nodes
+        that carry ``theta_L`` and the ``xi`` row.  The constraint reads ``theta_L`` plus
+        ``kink C m``: the exact rotation at a couple lies off the linear interpolation of its
+        nodal values by that much (``docs/sliders.md``).
+        """
+        mu = y[4:]
+        if line.rotation is None:
+            p = line.point
+            R0, k0, k0_xi = p.R, p.k, p.k_xi
+            theta_L = theta_L_xi = np.zeros(3)
+            w = w_xi = np.zeros(0)
+            kink = kink_xi = 0.0
+            compliance = np.zeros((3, 3))
+        else:
+            rot = line.rotation
+            R0, k0, k0_xi = rot.R0, rot.k0, rot.k0_xi
+            nodal = q[rot.dofs]
+            w, w_xi = rot.w, rot.w_xi
+            theta_L, theta_L_xi = w @ nodal, w_xi @ nodal
+            kink, kink_xi, compliance = rot.kink, rot.kink_xi, rot.compliance
+        t0 = R0[:, 0]
+        t1 = np.cross(k0, t0)
+        t2 = np.cross(k0_xi, t0) + np.cross(k0, t1)
+        axes = self.frame[:, 1:3].T
+        n = [np.cross(axes, t0), np.cross(axes, t1), np.cross(axes, t2)]
+        g = [axes @ t0, axes @ t1, axes @ t2]
+        if self.kind == "spline":
+            B = self.frame @ R0.T
+            dB = -B @ skew_matrices(k0)
+            ddB = -dB @ skew_matrices(k0) - B @ skew_matrices(k0_xi)
+            a0, a1, a2 = axial(B), axial(dB), axial(ddB)
+            n = [np.vstack([n[0], t0]), np.vstack([n[1], t1]), np.vstack([n[2], t2])]
+            g = [np.append(g[0], t0 @ a0), np.append(g[1], t1 @ a0 + t0 @ a1),
+                 np.append(g[2], t2 @ a0 + 2 * t1 @ a1 + t0 @ a2)]
+        n0, n1, n2 = n
+        d = theta - theta_L
+        m, m_xi = n0.T @ mu, n1.T @ mu
+        shift = kink * compliance @ m
+        rows = at.t + 4 + np.arange(len(mu))
+        r[at.turn] += m
+        J[at.turn, at.xi] += m_xi
+        J[np.ix_(at.turn, rows)] += n0.T
+        along = g[1] + n1 @ d - n0 @ theta_L_xi
+        r[at.xi] += mu @ along
+        J[at.xi, at.turn] += m_xi
+        J[at.xi, at.xi] += mu @ (g[2] + n2 @ d - 2 * n1 @ theta_L_xi)
+        J[at.xi, rows] += along
+        r[rows] = g[0] + n0 @ (d - shift)
+        J[np.ix_(rows, at.turn)] += n0
+        J[rows, at.xi] += (along - n1 @ shift
+                           - n0 @ (compliance @ (kink_xi * m + kink * m_xi)))
+        J[np.ix_(rows, rows)] -= kink * n0 @ compliance @ n0.T
+        for a in range(len(w)):
+            node = at.rotation[a]
+            r[node] -= w[a] * m
+            J[node, at.xi] -= w_xi[a] * m + w[a] * m_xi
+            J[np.ix_(node, rows)] -= w[a] * n0.T
+            J[at.xi, node] -= w[a] * m_xi + w_xi[a] * m
+            J[np.ix_(rows, node)] -= w[a] * n0
+
+
+@dataclass(frozen=True)
+class _LineState:
+    """What the joint needs of the line at ``xi``: geometry, the interpolation (chains), the
+    load transfer, the section rotation (chains) or the rigid line's point."""
+
+    x: np.ndarray
+    l: np.ndarray  # noqa: E741
+    l_xi: np.ndarray
+    l_xixi: np.ndarray
+    interp_dofs: np.ndarray
+    N: np.ndarray
+    dN: np.ndarray
+    d2N: np.ndarray
+    load_dofs: np.ndarray
+    G: np.ndarray
+    dG: np.ndarray
+    rotation: LineRotation | None
+    point: LinePoint | None
+
+
+class _Layout:
+    """Positions in the joint's local arrays: body translations and rotations, the line's
+    interpolation, load and rotation dofs, then ``xi``, ``lambda`` and the multipliers."""
+
+    def __init__(self, t: int, where: np.ndarray, n_interp: int, n_load: int) -> None:
+        self.t, self.body, self.turn = t, where[:3], where[3:6]
+        self.interp = where[6:6 + n_interp].reshape(-1, 3)
+        self.load = where[6 + n_interp:6 + n_interp + n_load]
+        self.rotation = where[6 + n_interp + n_load:].reshape(-1, 3)
+        self.xi, self.lam = t, slice(t + 1, t + 4)
