@@ -23,11 +23,13 @@ from fvbeam.statics import Structure
 from sliders.lines import curvature_rate, frame_and_curvature, project
 
 
-#: Lag of an fv3 mid-node rotation under a couple ``M`` at the mid-node, per ``h C M``:
-#: ``1/4 - sqrt(3)/8``.  The curvature, linear in the element and exact at the evaluation
-#: points, integrates from a vertex to the mid-node to ``(1/4 + sqrt(3)/8) h C M`` where the
-#: exact step gives ``h C M / 2`` (``docs/sliders.md``).
-MID_NODE_LAG = 0.25 - np.sqrt(3.0) / 8
+#: Lag of a 3-node element's mid-node rotation under a couple ``M`` at the mid-node, per
+#: ``h C M`` (the exact rotation steps its rate by ``C M`` there, the elements cannot):
+#: fv3, ``1/4 - sqrt(3)/8``: the curvature, linear in the element and exact at the
+#: evaluation points, integrates from a vertex to the mid-node to ``(1/4 + sqrt(3)/8) h C M``
+#: where the exact step gives ``h C M / 2``; Galerkin P2, ``1/16``: the quadratic minimising
+#: the energy with the couple at the mid-node reaches ``7/16 h C M`` there.
+MID_NODE_LAG = {"fv": 0.25 - np.sqrt(3.0) / 8, "galerkin": 1.0 / 16}
 
 
 def second_derivatives(nodes_per_element: int) -> np.ndarray:
@@ -92,7 +94,7 @@ class BeamChain:
         beam formulation: the weights are continuous along the chain, so a couple carried by
         them never jumps.  ``kink`` is how far the exact rotation at a couple ``M`` lies off
         that interpolation, per unit ``C M``: ``w0 w1 span`` for exact nodal rotations, plus
-        ``MID_NODE_LAG h w_mid^2`` on an fv3 element, whose mid-node rotation lags by that
+        ``MID_NODE_LAG h w_mid^2`` on a 3-node element, whose mid-node rotation lags by that
         much under the share ``w_mid M`` it carries (``docs/sliders.md``).  The reference frame ``R0``, its curvature
         ``k0`` and ``k0_/xi`` come from the element's reference interpolation and the mesh's
         ``up``.  ``C`` is the section's bending-and-torsion compliance (the rotational block
@@ -112,7 +114,8 @@ class BeamChain:
         t = (X - along[pair[0]]) * h / span
         w = np.array([1 - t, t])
         mid = np.flatnonzero(pair == 2)
-        shift = MID_NODE_LAG * h if isinstance(beam.formulation, FiniteVolume) else 0.0
+        family = "fv" if isinstance(beam.formulation, FiniteVolume) else "galerkin"
+        shift = MID_NODE_LAG[family] * h
         kink, kink_xi = t * (1 - t) * span, 1 - 2 * t
         if mid.size:
             kink += shift * w[mid[0]] ** 2
