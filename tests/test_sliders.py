@@ -58,22 +58,31 @@ def fd_jacobian(slider, structure, q, y):
     return J, np.column_stack(columns)
 
 
-@pytest.mark.parametrize("kind", ["spherical", "classical"])
+def check_jacobian(slider, structure, seed, shift=0.0):
+    """Jacobian against differences in a random deformed state (displacements ~1e-3) with
+    random multipliers, ``xi`` ``shift`` off the projected point."""
+    rng = np.random.default_rng(seed)
+    q = rng.standard_normal(structure.n_dofs) * 1e-3
+    y = slider.initial_unknowns(structure, q)
+    y[0] += shift
+    y[1:] = rng.standard_normal(len(y) - 1)
+    J, J_fd = fd_jacobian(slider, structure, q, y)
+    np.testing.assert_allclose(J, J_fd, atol=FD * max(1.0, np.abs(J).max() * 1e-2))
+
+
+@pytest.mark.parametrize("kind,orientation", [("spherical", "section"),
+                                              ("classical", "section"), ("classical", "slope")])
 @pytest.mark.parametrize("name", ["fv2", "fv3", "galerkin-p1", "galerkin-p2"])
 @pytest.mark.parametrize("smearing,kernel", [(0.0, "box"), (0.02, "box"), (0.02, "hat")])
 @pytest.mark.parametrize("where", [0.013, 0.0])
-def test_joint_jacobian_matches_finite_differences(kind, name, smearing, kernel, where):
-    """Deformed state, random multipliers; xi inside an element (0.013 off the projection)
-    or at the projected point, on fv, Galerkin, with and without smearing."""
-    structure, _, sliders, _ = sliding_beams_model(0.3, 3, kind, name, smearing, kernel)
-    rng = np.random.default_rng(0)
-    q = rng.standard_normal(structure.n_dofs) * 1e-3
-    for slider in sliders:
-        y = slider.initial_unknowns(structure, q)
-        y[0] += where
-        y[1:] = rng.standard_normal(len(y) - 1)
-        J, J_fd = fd_jacobian(slider, structure, q, y)
-        np.testing.assert_allclose(J, J_fd, atol=FD * max(1.0, np.abs(J).max() * 1e-2))
+def test_joint_jacobian_matches_finite_differences(kind, orientation, name, smearing, kernel,
+                                                   where):
+    """xi inside an element (0.013 off the projection) or at the projected point, on fv,
+    Galerkin, with and without smearing, both orientation forms."""
+    structure, _, sliders, _ = sliding_beams_model(0.3, 3, kind, name, smearing, kernel,
+                                                   orientation)
+    for seed, slider in enumerate(sliders):
+        check_jacobian(slider, structure, seed, where)
 
 
 @pytest.mark.parametrize("kind", ["spherical", "classical"])
