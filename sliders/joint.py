@@ -73,6 +73,11 @@ class Slider:
         the ``section`` orientation is shared linearly between nodes and never jumps.
     orientation
         ``section`` or ``slope`` (module docstring).
+    end_stops
+        Stops at both ends of the line.  Without them, ``xi`` leaving the line is an error
+        naming it; with them, the sliding point rests at the end (``xi`` held there, the
+        reaction's tangential part ``l . lambda`` is the stop's force) while the stop pushes,
+        and leaves it when the stop would have to pull.
     name
         Label used in error messages.
     """
@@ -85,6 +90,7 @@ class Slider:
     smearing: float = 0.0
     kernel: str = "box"
     orientation: str = "section"
+    end_stops: bool = False
     name: str = "slider"
 
     def __post_init__(self) -> None:
@@ -174,6 +180,8 @@ class Slider:
         J : (t + n_unknowns, t + n_unknowns) derivative of ``[r_q; r_y]`` in ``[q_t; y]``
         """
         xi, lam = float(y[0]), y[1:4]
+        if self.end_stops:
+            xi = min(max(xi, 0.0), self.line.length)
         line = self._line(xi, q)
         body = self.body_dofs(structure)
         rotation_dofs = (line.rotation.dofs.ravel() if line.rotation is not None
@@ -216,7 +224,24 @@ class Slider:
             self._slope_orientation(q, y, theta, line, at, r, J)
         else:
             self._section_orientation(q, y, theta, line, at, r, J)
+        if self.end_stops:
+            self._end_stop(float(y[0]), lam, line, at, r, J)
         return dofs, r[:t], r[t:], J
+
+    def _end_stop(self, xi: float, lam: np.ndarray, line: _LineState, at: _Layout,
+                  r: np.ndarray, J: np.ndarray) -> None:
+        """Replace the ``xi`` equation by ``xi = end`` beyond an end, or at an end where the
+        stop pushes: the force on the body, ``-lambda``, points back into the line
+        (``l . lambda > 0`` at the far end, ``< 0`` at the start).  At the end itself the
+        derivatives in ``xi`` are the one-sided ones of the line."""
+        length = self.line.length
+        for end, sign in ((0.0, -1.0), (length, 1.0)):
+            beyond = sign * (xi - end) > 0
+            pushing = abs(xi - end) <= 1e-12 * length and sign * (line.l @ lam) > 0
+            if beyond or pushing:
+                r[at.xi] = xi - end
+                J[at.xi] = 0.0
+                J[at.xi, at.xi] = 1.0
 
     def _slope_orientation(self, q, y, theta, line, at, r, J) -> None:
         """Classical slider on the line's gradient, ``e_bj . l = 0`` (paper eq. 4), its couple
