@@ -88,10 +88,9 @@ class Structure:
 
     def __init__(self, beams: Sequence[Beam], ties: Sequence[tuple] = (),
                  bodies: Sequence[RigidBody] = ()) -> None:
-        self.beams = list(beams)
-        if not self.beams:
-            raise ValueError("a structure needs at least one beam")
-        self.bodies = list(bodies)
+        self.beams, self.bodies = list(beams), list(bodies)
+        if not self.beams and not self.bodies:
+            raise ValueError("a structure needs at least one beam or body")
         for i, body in enumerate(self.bodies):
             if not isinstance(body, RigidBody):
                 raise ValueError(f"bodies[{i}] must be a RigidBody, got {type(body).__name__}")
@@ -226,7 +225,7 @@ class Structure:
 
     def tangent(self, q: np.ndarray) -> sp.csr_matrix:
         """Global tangent: the beams' tangents scattered on the global dofs."""
-        rows, cols, vals = [], [], []
+        rows, cols, vals = [np.zeros(0, dtype=int)], [np.zeros(0, dtype=int)], [np.zeros(0)]
         for beam, dofs in zip(self.beams, self.dof_maps):
             K = beam.tangent(q[dofs]).tocoo()
             rows.append(dofs[K.row])

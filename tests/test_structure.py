@@ -194,3 +194,5 @@ def test_bad_body_input_names_the_item():
         RigidBody("hub", (0, 0, 0), frame=np.diag([1.0, 2.0, 1.0]))
     with pytest.raises(ValueError, match="non-empty string"):
         RigidBody("", (0, 0, 0))
+    with pytest.raises(ValueError, match="at least one beam or body"):
+        Structure([])
