@@ -79,9 +79,10 @@ class SlidingBody:
         return structure
 
     def response(self, s: float) -> np.ndarray:
-        """``[xi - s, lambda (3), tip displacement (3)]``.  Newton starts from rest each time
-        (a start from a neighbouring solution can stall: see the report on the q-increment
-        test of SliderStatics)."""
+        """``[xi - s, lambda (3), tip displacement (3)]``.  Newton starts from rest each time:
+        started from a neighbouring solution it cannot stop when the answer is q = 0 (contact
+        in the clamped node's region), because SliderStatics measures the q increments
+        relative to max |q|."""
         structure = self.model(s)
         solution = self.statics.solve(structure.nodal_load("body", force=FORCE))
         y = solution.unknowns[0]
