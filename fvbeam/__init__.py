@@ -10,10 +10,12 @@ Typical use::
 """
 
 from fvbeam.beam import Beam, InternalForces
+from fvbeam.body import RigidBody
 from fvbeam.formulations import FORMULATIONS, formulation
 from fvbeam.mesh import BeamMesh, arc, from_curve, read_beams, straight
 from fvbeam.section import Section
 from fvbeam.statics import LinearStatics, Structure, Support
 
-__all__ = ["Beam", "BeamMesh", "FORMULATIONS", "InternalForces", "LinearStatics", "Section",
-           "Structure", "Support", "arc", "formulation", "from_curve", "read_beams", "straight"]
+__all__ = ["Beam", "BeamMesh", "FORMULATIONS", "InternalForces", "LinearStatics", "RigidBody",
+           "Section", "Structure", "Support", "arc", "formulation", "from_curve", "read_beams",
+           "straight"]

@@ -18,7 +18,7 @@ from skfem import CellBasis, MeshLine1, asm
 
 from fvbeam.formulations import Formulation, composite_gauss, formulation as get_formulation
 from fvbeam.forms import distributed_load, generalised_strain, internal_work
-from fvbeam.geometry import vector3
+from fvbeam.geometry import vector3, wrench
 from fvbeam.mesh import BeamMesh, shape_functions
 from fvbeam.section import Section
 from fvbeam.smearing import check_smearing, density, kernel_breaks
@@ -160,8 +160,7 @@ class Beam:
                    moment=(0.0, 0.0, 0.0)) -> np.ndarray:
         """Load vector of a force and couple applied directly to a mesh node."""
         f = np.zeros(self.n_dofs)
-        f[self.node_dofs(node)] = np.concatenate([vector3(force, "force"),
-                                                  vector3(moment, "moment")])
+        f[self.node_dofs(node)] = wrench(force, moment)
         return f
 
     def point_load(self, xi: float, force=(0.0, 0.0, 0.0), moment=(0.0, 0.0, 0.0),
@@ -172,7 +171,7 @@ class Beam:
         (:mod:`fvbeam.smearing`) and integrated exactly against the test functions.
         """
         smearing = check_smearing(smearing, kernel)
-        load = np.concatenate([vector3(force, "force"), vector3(moment, "moment")])
+        load = wrench(force, moment)
         if smearing == 0:
             points, weights = np.array([float(xi)]), np.array([1.0])
         else:

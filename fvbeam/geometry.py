@@ -1,4 +1,5 @@
-"""Small helpers: input 3-vectors and abscissae, section frames from a tangent and a vector."""
+"""Small helpers: input 3-vectors, inertias and frames, abscissae, section frames from a tangent
+and a vector."""
 
 from __future__ import annotations
 
@@ -11,6 +12,42 @@ def vector3(value, name: str) -> np.ndarray:
     if v.shape != (3,) or not np.all(np.isfinite(v)):
         raise ValueError(f"{name} must be a finite 3-vector, got {value!r}")
     return v
+
+
+def wrench(force, moment) -> np.ndarray:
+    """``[force; moment]`` as a 6-vector from two finite 3-vectors (``ValueError`` naming the
+    bad one)."""
+    return np.concatenate([vector3(force, "force"), vector3(moment, "moment")])
+
+
+def inertia3(value, name: str) -> np.ndarray:
+    """``value`` as a finite, symmetric, positive semi-definite 3x3 matrix, or ``ValueError``
+    naming ``name``.
+
+    Symmetry is checked to 1e-12 of the largest entry and the smallest eigenvalue may be
+    negative by 1e-12 of the largest entry: an inertia computed in floating point is symmetric
+    and semi-definite to a few ulps of its entries, and any genuine defect is far larger.
+    """
+    J = np.array(value, dtype=float)
+    if J.shape != (3, 3) or not np.all(np.isfinite(J)):
+        raise ValueError(f"{name} must be a finite 3x3 matrix, got {value!r}")
+    scale = np.abs(J).max()
+    if np.abs(J - J.T).max() > 1e-12 * scale:
+        raise ValueError(f"{name} must be symmetric, got {value!r}")
+    if np.linalg.eigvalsh(J).min() < -1e-12 * scale:
+        raise ValueError(f"{name} must be positive semi-definite (eigenvalues "
+                         f"{np.linalg.eigvalsh(J)})")
+    return J
+
+
+def orthonormal3(value, name: str) -> np.ndarray:
+    """``value`` as an orthonormal 3x3 matrix (``R^T R = I`` to 1e-12), or ``ValueError``
+    naming ``name``."""
+    R = np.array(value, dtype=float)
+    if (R.shape != (3, 3) or not np.all(np.isfinite(R))
+            or not np.allclose(R.T @ R, np.eye(3), rtol=0, atol=1e-12)):
+        raise ValueError(f"{name} must be an orthonormal 3x3 matrix, got {value!r}")
+    return R
 
 
 def skew_matrices(v: np.ndarray) -> np.ndarray:

@@ -6,6 +6,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from fvbeam.geometry import inertia3
+
 #: Order of the generalised strains and stresses in the section frame (t, e2, e3):
 #: axial, two shears, twist, two bending curvatures.
 COMPONENTS = ("EA", "GAy", "GAz", "GJ", "EJy", "EJz")
@@ -51,11 +53,7 @@ class Section:
         m = float(self.mass_per_length)
         if not np.isfinite(m) or m < 0:
             raise ValueError(f"{self.name}: mass_per_length must be finite and >= 0, got {m}")
-        J = np.array(self.inertia, dtype=float)
-        if J.shape != (3, 3) or not np.all(np.isfinite(J)) or not np.allclose(J, J.T):
-            raise ValueError(f"{self.name}: inertia must be a finite symmetric 3x3 matrix")
-        if np.linalg.eigvalsh(J).min() < -1e-14 * max(np.abs(J).max(), 1.0):
-            raise ValueError(f"{self.name}: inertia must be positive semi-definite")
+        J = inertia3(self.inertia, f"{self.name}: inertia")
         object.__setattr__(self, "stiffness", K)
         object.__setattr__(self, "mass_per_length", m)
         object.__setattr__(self, "inertia", J)

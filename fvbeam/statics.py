@@ -1,4 +1,5 @@
-"""Structures of several beams, supports, and the linear static solve on a cached factorisation."""
+"""Structures of beams and rigid bodies, supports, and the linear static solve on a cached
+factorisation."""
 
 from __future__ import annotations
 
@@ -10,22 +11,45 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from fvbeam.beam import Beam
+from fvbeam.body import RigidBody
+from fvbeam.geometry import wrench
 
 #: Names of the six nodal dofs, in order.
 DOF_NAMES = ("ux", "uy", "uz", "rx", "ry", "rz")
 
 
+#: A structure node: ``(beam index, node)`` (node: index, ``'start'`` or ``'end'``) or the
+#: name of a rigid body.
+NodeRef = tuple[int, int | str] | str
+
+
 @dataclass(frozen=True)
 class Support:
     """A node held fixed: ``clamp`` (all six dofs), ``pin`` (the three translations), or the
-    dofs named and joined by ``+`` (from ``ux uy uz rx ry rz``), e.g. ``"ux+rx"``."""
+    dofs named and joined by ``+`` (from ``ux uy uz rx ry rz``), e.g. ``"ux+rx"``.
 
-    beam: int
-    node: int | str
+    ``Support(beam, node, kind)`` holds a beam node; ``Support("hub", kind=...)`` holds the
+    rigid body named ``hub`` (a body is one node, so it takes no ``node``).
+    """
+
+    beam: int | str
+    node: int | str | None = None
     kind: str = "clamp"
 
     def __post_init__(self) -> None:
+        if isinstance(self.beam, str) and self.node is not None:
+            raise ValueError(f"support of body {self.beam!r}: a body is a single node, so no "
+                             f"node is given (got {self.node!r}); write the kind by keyword, "
+                             f"e.g. Support({self.beam!r}, kind='pin')")
+        if not isinstance(self.beam, str) and self.node is None:
+            raise ValueError(f"support of beam {self.beam!r} needs a node "
+                             "(index, 'start' or 'end')")
         self.dofs()
+
+    @property
+    def ref(self) -> NodeRef:
+        """The supported node as a structure node reference."""
+        return self.beam if isinstance(self.beam, str) else (self.beam, self.node)
 
     def dofs(self) -> np.ndarray:
         """Local dof indices (0..5) the support holds."""
@@ -42,22 +66,42 @@ class Support:
 
 
 class Structure:
-    """Beams joined at shared nodes into one set of global dofs.
+    """Beams and rigid bodies joined at shared nodes into one set of global dofs.
+
+    Global nodes are numbered beam nodes first (in beam order) and then the bodies, each node
+    with the six dofs ``ux uy uz rx ry rz``; tied nodes share one number.  Bodies add no
+    stiffness: their rows stay zero unless they are tied, supported or held by a joint.
 
     Parameters
     ----------
     beams
         The beams, each with its own dofs.
     ties
-        ``(beam_a, node_a, beam_b, node_b)``: the two nodes become one node (same dofs).
+        Pairs of nodes that become one node (same dofs): ``(ref_a, ref_b)`` with each ref
+        ``(beam, node)`` or a body name, or the form ``(beam_a, node_a, beam_b, node_b)``
+        (a body there as ``(..., "hub", None)``).  A tie involving a body must join
+        coincident points (to 1e-9 of the structure's size): merging the dofs of points
+        apart would not be a rigid joint.
+    bodies
+        :class:`~fvbeam.body.RigidBody` nodes, with unique names.
     """
 
-    def __init__(self, beams: Sequence[Beam], ties: Sequence[tuple] = ()) -> None:
-        self.beams = list(beams)
-        if not self.beams:
-            raise ValueError("a structure needs at least one beam")
-        offsets = np.cumsum([0] + [b.mesh.n_nodes for b in self.beams])
-        parent = np.arange(offsets[-1])
+    def __init__(self, beams: Sequence[Beam], ties: Sequence[tuple] = (),
+                 bodies: Sequence[RigidBody] = ()) -> None:
+        self.beams, self.bodies = list(beams), list(bodies)
+        if not self.beams and not self.bodies:
+            raise ValueError("a structure needs at least one beam or body")
+        for i, body in enumerate(self.bodies):
+            if not isinstance(body, RigidBody):
+                raise ValueError(f"bodies[{i}] must be a RigidBody, got {type(body).__name__}")
+        names = [body.name for body in self.bodies]
+        repeated = sorted({n for n in names if names.count(n) > 1})
+        if repeated:
+            raise ValueError(f"rigid body names must be unique, repeated: {', '.join(repeated)}")
+        self._body_index = {name: i for i, name in enumerate(names)}
+        self._offsets = np.cumsum([0] + [b.mesh.n_nodes for b in self.beams])
+        n_slots = self._offsets[-1] + len(self.bodies)
+        parent = np.arange(n_slots)
 
         def root(k: int) -> int:
             while parent[k] != k:
@@ -65,15 +109,46 @@ class Structure:
             return k
 
         for tie in ties:
-            a, na, b, nb = tie
-            ka = offsets[self.beam_index(a)] + self.beams[a].node_index(na)
-            kb = offsets[self.beam_index(b)] + self.beams[b].node_index(nb)
+            a, b = self._tie_ends(tie)
+            ka, kb = self._slot(a), self._slot(b)
+            if isinstance(a, str) or isinstance(b, str):
+                self._check_coincident(tie, a, b)
             parent[max(root(ka), root(kb))] = min(root(ka), root(kb))
-        roots = np.array([root(k) for k in range(offsets[-1])])
-        _, node_number = np.unique(roots, return_inverse=True)
-        self.n_nodes = int(node_number.max()) + 1
-        self.dof_maps = [(6 * node_number[offsets[i]:offsets[i + 1], None]
+        roots = np.array([root(k) for k in range(n_slots)])
+        _, self._node_number = np.unique(roots, return_inverse=True)
+        self.n_nodes = int(self._node_number.max()) + 1
+        self.dof_maps = [(6 * self._node_number[self._offsets[i]:self._offsets[i + 1], None]
                           + np.arange(6)).ravel() for i in range(len(self.beams))]
+
+    @staticmethod
+    def _tie_ends(tie: tuple) -> tuple[NodeRef, NodeRef]:
+        """The two node references of a tie in either accepted form."""
+        if isinstance(tie, (tuple, list)) and len(tie) == 2:
+            return tie[0], tie[1]
+        if isinstance(tie, (tuple, list)) and len(tie) == 4:
+            return tuple(x if isinstance(x, str) and n is None else (x, n)
+                         for x, n in (tie[:2], tie[2:]))
+        raise ValueError(f"tie {tie!r} must be (ref_a, ref_b), each (beam, node) or a body "
+                         "name, or (beam_a, node_a, beam_b, node_b)")
+
+    def _slot(self, ref: NodeRef) -> int:
+        """Index of a node reference before ties are merged (beam nodes, then bodies)."""
+        if isinstance(ref, str):
+            return int(self._offsets[-1]) + self.body_index(ref)
+        if isinstance(ref, (tuple, list)) and len(ref) == 2:
+            beam = self.beam_index(ref[0])
+            return int(self._offsets[beam]) + self.beams[beam].node_index(ref[1])
+        raise ValueError(f"node reference {ref!r} must be (beam, node) or a body name")
+
+    def _check_coincident(self, tie: tuple, a: NodeRef, b: NodeRef) -> None:
+        points = np.vstack([beam.mesh.points for beam in self.beams]
+                           + [body.position for body in self.bodies])
+        size = np.linalg.norm(points.max(axis=0) - points.min(axis=0))
+        gap = np.linalg.norm(self.node_position(a) - self.node_position(b))
+        if gap > 1e-9 * size:
+            raise ValueError(f"tie {tie!r}: the nodes are {gap:.6g} apart; a tie merges their "
+                             "dofs, which joins a body rigidly only at a coincident point "
+                             "(place the body there, or use a slider's offset)")
 
     def beam_index(self, i: int) -> int:
         if not (isinstance(i, (int, np.integer)) and 0 <= i < len(self.beams)):
@@ -81,14 +156,48 @@ class Structure:
                              f"{len(self.beams)} beams)")
         return int(i)
 
+    def body_index(self, name: str) -> int:
+        """Position of the body named ``name`` in :attr:`bodies`."""
+        if name not in self._body_index:
+            known = ", ".join(repr(n) for n in self._body_index) or "none"
+            raise ValueError(f"no rigid body named {name!r} (the structure's bodies: {known})")
+        return self._body_index[name]
+
+    def node_dofs(self, ref: NodeRef) -> np.ndarray:
+        """The six global dofs ``ux uy uz rx ry rz`` of a node: ``(beam, node)`` (node: index,
+        ``'start'`` or ``'end'``) or a body name."""
+        return 6 * int(self._node_number[self._slot(ref)]) + np.arange(6)
+
+    def node_position(self, ref: NodeRef) -> np.ndarray:
+        """Reference position of a node: ``(beam, node)`` or a body name."""
+        slot = self._slot(ref)
+        if isinstance(ref, str):
+            return self.bodies[slot - int(self._offsets[-1])].position.copy()
+        beam = self.beams[ref[0]]
+        return beam.mesh.points[beam.node_index(ref[1])].copy()
+
+    def dof_name(self, dof: int) -> str:
+        """A global dof by name, e.g. ``beam 0 node 3 uy`` or ``body 'hub' rx`` (the first
+        beam node or body holding it)."""
+        node, c = divmod(int(dof), 6)
+        slots = np.flatnonzero(self._node_number == node)
+        if not slots.size:
+            return f"dof {dof}"
+        slot = int(slots[0])
+        if slot >= self._offsets[-1]:
+            return f"body {self.bodies[slot - int(self._offsets[-1])].name!r} {DOF_NAMES[c]}"
+        beam = int(np.searchsorted(self._offsets, slot, side="right")) - 1
+        return f"beam {beam} node {slot - int(self._offsets[beam])} {DOF_NAMES[c]}"
+
     @property
     def n_dofs(self) -> int:
         return 6 * self.n_nodes
 
     @classmethod
-    def from_shared_points(cls, beams: Sequence[Beam]) -> "Structure":
+    def from_shared_points(cls, beams: Sequence[Beam],
+                           bodies: Sequence[RigidBody] = ()) -> "Structure":
         """Beams read together (:func:`fvbeam.mesh.read_beams`), joined where they share a
-        mesh point (equal ``point_ids``)."""
+        mesh point (equal ``point_ids``), and the rigid ``bodies`` (tied to nothing)."""
         first: dict[int, tuple[int, int]] = {}
         ties = []
         for b, beam in enumerate(beams):
@@ -97,7 +206,15 @@ class Structure:
                     ties.append(first[pid] + (b, node))
                 else:
                     first[pid] = (b, node)
-        return cls(beams, ties)
+        return cls(beams, ties, bodies)
+
+    def nodal_load(self, ref: NodeRef, force=(0.0, 0.0, 0.0),
+                   moment=(0.0, 0.0, 0.0)) -> np.ndarray:
+        """Global load vector of a force and couple applied to a node (``(beam, node)`` or a
+        body name)."""
+        f = np.zeros(self.n_dofs)
+        f[self.node_dofs(ref)] = wrench(force, moment)
+        return f
 
     def residual(self, q: np.ndarray) -> np.ndarray:
         """Internal force vector: the beams' residuals gathered on the global dofs."""
@@ -108,7 +225,7 @@ class Structure:
 
     def tangent(self, q: np.ndarray) -> sp.csr_matrix:
         """Global tangent: the beams' tangents scattered on the global dofs."""
-        rows, cols, vals = [], [], []
+        rows, cols, vals = [np.zeros(0, dtype=int)], [np.zeros(0, dtype=int)], [np.zeros(0)]
         for beam, dofs in zip(self.beams, self.dof_maps):
             K = beam.tangent(q[dofs]).tocoo()
             rows.append(dofs[K.row])
@@ -128,12 +245,8 @@ class Structure:
         return q[self.dof_maps[self.beam_index(beam)]]
 
     def support_dofs(self, supports: Sequence[Support]) -> np.ndarray:
-        fixed = []
-        for s in supports:
-            beam = self.beams[self.beam_index(s.beam)]
-            node = beam.node_index(s.node)
-            dofs = self.dof_maps[s.beam][6 * node:6 * node + 6]
-            fixed.append(dofs[s.dofs()])
+        """Global dofs held by ``supports``."""
+        fixed = [self.node_dofs(s.ref)[s.dofs()] for s in supports]
         return np.unique(np.concatenate(fixed)) if fixed else np.zeros(0, dtype=int)
 
 

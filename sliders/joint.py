@@ -63,7 +63,8 @@ class Slider:
     line
         A :class:`BeamChain` of the same structure, or a rigid line.
     body
-        ``(beam index, node)`` of the sliding node (node: index, ``'start'`` or ``'end'``).
+        The sliding node: ``(beam index, node)`` (node: index, ``'start'`` or ``'end'``) or
+        the name of a rigid body of the structure.
     offset
         Sliding point relative to the node, in global axes of the reference configuration.
     frame
@@ -84,7 +85,7 @@ class Slider:
 
     kind: str
     line: BeamChain | RigidLine
-    body: tuple[int, int | str]
+    body: tuple[int, int | str] | str
     offset: np.ndarray = field(default_factory=lambda: np.zeros(3))
     frame: np.ndarray = field(default_factory=lambda: np.eye(3))
     smearing: float = 0.0
@@ -121,15 +122,12 @@ class Slider:
         return UNKNOWNS[:self.n_unknowns]
 
     def body_dofs(self, structure: Structure) -> np.ndarray:
-        beam, node = self.body
-        index = structure.beams[structure.beam_index(beam)].node_index(node)
-        return structure.dof_maps[beam][6 * index:6 * index + 6]
+        """The six global dofs of the body node."""
+        return structure.node_dofs(self.body)
 
     def reference_point(self, structure: Structure) -> np.ndarray:
         """The sliding point in the reference configuration."""
-        beam, node = self.body
-        b = structure.beams[structure.beam_index(beam)]
-        return b.mesh.points[b.node_index(node)] + self.offset
+        return structure.node_position(self.body) + self.offset
 
     def initial_unknowns(self, structure: Structure, q: np.ndarray) -> np.ndarray:
         """``xi`` from projecting the sliding point on the line, multipliers 0."""

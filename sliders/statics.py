@@ -20,7 +20,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from fvbeam.statics import DOF_NAMES, Structure, Support
+from fvbeam.statics import Structure, Support
 from sliders.joint import Slider
 
 
@@ -156,7 +156,7 @@ class SliderStatics:
         _, sigma, Vt = np.linalg.svd(A)
         if sigma[-1] > 1e-12 * sigma[0]:
             return None
-        names = [self._dof_name(d) for d in self.free]
+        names = [self.structure.dof_name(d) for d in self.free]
         for s in self.sliders:
             names += [f"{s.name}.{u}" for u in ("xi", "lambda_x", "lambda_y", "lambda_z",
                                                 "mu_2", "mu_3")[:s.n_unknowns]]
@@ -165,11 +165,3 @@ class SliderStatics:
         moving = ", ".join(f"{names[i]} ({v[i]:+.2f})" for i in top if abs(v[i]) > 0.1)
         return ("singular configuration: the supports and sliders leave a free motion "
                 f"(null vector mostly along {moving})")
-
-    def _dof_name(self, dof: int) -> str:
-        for b, dofs in enumerate(self.structure.dof_maps):
-            hit = np.flatnonzero(dofs == dof)
-            if hit.size:
-                node, c = divmod(int(hit[0]), 6)
-                return f"beam {b} node {node} {DOF_NAMES[c]}"
-        return f"dof {dof}"
