@@ -33,6 +33,7 @@ from sliders.condensed import CondensedOperator
 from sliders.joint import Slider
 
 METHODS = ("bordered", "condensed")
+UNKNOWN_NAMES = ("xi", "lambda_x", "lambda_y", "lambda_z", "mu_2", "mu_3")
 
 
 @dataclass
@@ -239,8 +240,10 @@ class SliderStatics:
             return None
         names = [self._dof_name(d) for d in self.free]
         for s in self.sliders:
-            names += [f"{s.name}.{u}" for u in ("xi", "lambda_x", "lambda_y", "lambda_z",
-                                                "mu_2", "mu_3")[:s.n_unknowns]]
+            # joint.py is to provide Slider.unknown_names; until it does, the names of the
+            # spherical and classical sliders' unknowns, in order
+            unknowns = getattr(s, "unknown_names", UNKNOWN_NAMES[:s.n_unknowns])
+            names += [f"{s.name}.{u}" for u in unknowns]
         v = Vt[-1]
         top = np.argsort(-np.abs(v))[:3]
         moving = ", ".join(f"{names[i]} ({v[i]:+.2f})" for i in top if abs(v[i]) > 0.1)
