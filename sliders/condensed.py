@@ -135,14 +135,16 @@ class CondensedOperator:
         ``touched``: positions (in the free dofs) of the ``t`` touched dofs; ``J``: the
         sliders' Jacobian on ``[q_T; y]``, ``(t + m, t + m)``; ``r_free``, ``r_y``: residuals.
         """
-        t, k = len(touched), self.n_rigid
-        E, A = J[:t, :t], J[:t, t:]
+        t, k, m = len(touched), self.n_rigid, len(r_y)
         H = self.columns(touched)
         base = self.solve(r_free)
-        Hx, Hz, phi = H[touched], H[self.n_free:], self.phi[touched]
-        small = np.block([[np.eye(t) + Hx @ E, Hx @ A, -phi],
-                          [Hz @ E, Hz @ A, np.zeros((k, k))],
-                          [J[t:], np.zeros((len(r_y), k))]])
+        Hx, Hz = H[touched], H[self.n_free:]
+        small = np.zeros((t + m + k, t + m + k))
+        small[:t, :t + m] = Hx @ J[:t]                # [H_x,T E, H_x,T A]
+        small[np.arange(t), np.arange(t)] += 1.0
+        small[:t, t + m:] = -self.phi[touched]
+        small[t:t + k, :t + m] = Hz @ J[:t]
+        small[t + k:, :t + m] = J[t:]
         rhs = -np.concatenate([base[touched], base[self.n_free:], r_y])
         rows = np.abs(small).max(axis=1).clip(1e-300)
         small = small / rows[:, None]
@@ -155,7 +157,6 @@ class CondensedOperator:
         if not rcond >= SINGULAR_RCOND:
             return None
         z = la.lu_solve(lu, rhs / rows, check_finite=False) / cols
-        w, dy, a = z[:t], z[t:len(z) - k], z[len(z) - k:]
-        g = E @ w + A @ dy
-        dq = -base[:self.n_free] - H[:self.n_free] @ g + self.phi @ a
-        return dq, dy
+        g = J[:t] @ z[:t + m]                          # E w + A dy
+        dq = -base[:self.n_free] - H[:self.n_free] @ g + self.phi @ z[t + m:]
+        return dq, z[t:t + m]

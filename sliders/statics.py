@@ -208,17 +208,18 @@ class SliderStatics:
                         parts: list) -> tuple[np.ndarray, np.ndarray] | None:
         """Newton increments from the condensed system (:mod:`sliders.condensed`) on the
         touched free dofs; None if it is singular."""
-        touched = np.unique(np.concatenate([self._position[p[0]] for p in parts]))
+        where = [self._position[p[0]] for p in parts]
+        touched = np.unique(np.concatenate(where))
         touched = touched[touched >= 0]
         t, m = len(touched), sum(len(p[2]) for p in parts)
         J = np.zeros((t + m, t + m))
         offset = t
-        for dofs, _, ry, block in parts:
-            where = self._position[dofs]
-            index = np.concatenate([np.searchsorted(touched, where),
+        for w, (_, _, ry, block) in zip(where, parts):
+            keep = np.flatnonzero(w >= 0)
+            local = np.concatenate([keep, len(w) + np.arange(len(ry))])
+            index = np.concatenate([np.searchsorted(touched, w[keep]),
                                     offset + np.arange(len(ry))])
-            keep = np.concatenate([where >= 0, np.ones(len(ry), dtype=bool)])
-            J[np.ix_(index[keep], index[keep])] += block[np.ix_(keep, keep)]
+            J[np.ix_(index, index)] += block[np.ix_(local, local)]
             offset += len(ry)
         step = self._condensed.step(r_q[self.free], touched, J,
                                     np.concatenate([p[2] for p in parts]))
