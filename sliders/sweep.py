@@ -127,12 +127,12 @@ def _predict(statics: SliderStatics, value: Any,
     if not fitting:
         return None
     last = fitting[-1].solution
-    if len(fitting) == 2 and all(isinstance(v, Real) for v in (value, *(p.value for p in fitting))):
-        (v0, first), v1 = (fitting[0].value, fitting[0].solution), fitting[-1].value
-        if v1 != v0:
-            c = (value - v1) / (v1 - v0)
-            return (last.q + c * (last.q - first.q),
-                    [y1 + c * (y1 - y0) for y1, y0 in zip(last.unknowns, first.unknowns)])
+    values = [value] + [p.value for p in fitting]
+    if len(fitting) == 2 and all(isinstance(v, Real) for v in values) and values[1] != values[2]:
+        first = fitting[0].solution
+        c = (values[0] - values[2]) / (values[2] - values[1])
+        return (last.q + c * (last.q - first.q),
+                [y1 + c * (y1 - y0) for y1, y0 in zip(last.unknowns, first.unknowns)])
     return last.q, last.unknowns
 
 

@@ -16,7 +16,7 @@ residual; it still sits 4-5 orders below the solution.
 import numpy as np
 import pytest
 
-from fvbeam import Beam, Section, Structure, Support, straight
+from fvbeam import Beam, Structure, Support, straight
 from sliders.condensed import rigid_modes
 from sliders.joint import Slider
 from sliders.lines import CircularArc
