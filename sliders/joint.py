@@ -1,7 +1,7 @@
 """Slider joints: a node of the structure slides on a line (paper Secs. 3-4).
 
-The body is a node of the structure (a beam node, six dofs ``u_b, theta_b``, linear kinematics
-like the beams) carrying the sliding point at ``offset`` and the slider axes ``frame``
+The body is a node of the structure (a beam node or a rigid body, six dofs ``u_b, theta_b``,
+linear kinematics like the beams) carrying the sliding point at ``offset`` and the slider axes ``frame``
 (columns ``e1, e2, e3``; ``e1`` along the line).  The line is a :class:`BeamChain` or a rigid
 line.  Unknowns ``y = [xi, lambda (3), mu_2, mu_3, mu_1]``: ``mu_2, mu_3`` for the classical
 and spline sliders, ``mu_1`` for the spline slider.  With
@@ -42,7 +42,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from fvbeam.geometry import skew_matrices, vector3
+from fvbeam.geometry import orthonormal3, skew_matrices, vector3
 from fvbeam.statics import Structure
 from sliders.chain import BeamChain, LineRotation
 from sliders.lines import LinePoint, RigidLine, axial
@@ -105,10 +105,7 @@ class Slider:
             raise ValueError(f"{self.name}: orientation 'slope' is the classical slider's "
                              f"(paper eq. 4); a {self.kind} slider needs 'section'")
         self.offset = vector3(self.offset, f"{self.name}: offset")
-        frame = np.asarray(self.frame, dtype=float)
-        if frame.shape != (3, 3) or not np.allclose(frame.T @ frame, np.eye(3), atol=1e-12):
-            raise ValueError(f"{self.name}: frame must be an orthonormal 3x3 matrix")
-        self.frame = frame
+        self.frame = orthonormal3(self.frame, f"{self.name}: frame")
 
     @property
     def n_unknowns(self) -> int:

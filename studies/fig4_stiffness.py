@@ -32,7 +32,7 @@ from fvbeam.io import write_atomic
 from sliders.analytic import sliding_beams
 from sliders.chain import BeamChain
 from sliders.joint import Slider
-from sliders.statics import SliderStatics
+from sliders.statics import SliderSolution, SliderStatics
 
 EJ, GA, L, F = 4.1e4, 1.1e8, 0.6, 1.0
 SECTION = Section.diagonal(EA=10 * GA, GAy=GA, GAz=GA, GJ=EJ, EJy=EJ, EJz=EJ)
@@ -48,35 +48,50 @@ BOUNDS = {"spherical": ((1, 0.07, 0.07), (3, 0.02, 0.011), (5, 0.02, 0.011)),
 
 
 class SlidingBeams:
-    """The two beams built once; :meth:`stiffness` moves the piston and solves."""
+    """The two beams built once; :meth:`stiffness` moves the piston and solves.
+    ``orientation``: the classical sliders' form (:class:`sliders.joint.Slider`)."""
 
     def __init__(self, formulation: str, n_elements: int, kind: str,
-                 smearing: float = 0.0) -> None:
+                 smearing: float = 0.0, orientation: str = "section") -> None:
         npe = 2 if formulation in ("fv2", "galerkin-p1") else 3
         self.cylinder = Beam(straight((0, 0, 0), (L, 0, 0), n_elements, npe), SECTION,
                              formulation)
         self.piston = Beam(straight((0, 0, 0), (L, 0, 0), n_elements, npe), SECTION,
                            formulation)
         self.kind, self.smearing = kind, smearing * L / n_elements
+        self.orientation = orientation if kind == "classical" else "section"
         self.supports = [Support(0, "start"), Support(1, "start", "ux+rx")]
         self._previous: SliderStatics | None = None
         self.iterations: list[int] = []
 
-    def stiffness(self, s_over_L: float) -> float:
-        """Normalised tip stiffness ``F L^3 / (EJ v)`` with the piston at ``s = s_over_L L``."""
+    def problem(self, s_over_L: float) -> tuple[SliderStatics, np.ndarray]:
+        """The statics (condensed back end) and the tip load with the piston at
+        ``s = s_over_L L``."""
         piston = self.piston.translated((s_over_L * L, 0, 0))
         structure = Structure([self.cylinder, piston])
-        sliders = [Slider(self.kind, BeamChain(structure, [0], "C"), (1, "start"),
-                          smearing=self.smearing, name="A"),
-                   Slider(self.kind, BeamChain(structure, [1], "P"), (0, "end"),
-                          smearing=self.smearing, name="B")]
-        statics = SliderStatics(structure, self.supports, sliders, reuse=self._previous)
+        options = dict(smearing=self.smearing, orientation=self.orientation)
+        sliders = [Slider(self.kind, BeamChain(structure, [0], "C"), (1, "start"), name="A",
+                          **options),
+                   Slider(self.kind, BeamChain(structure, [1], "P"), (0, "end"), name="B",
+                          **options)]
+        statics = SliderStatics(structure, self.supports, sliders, reuse=self._previous,
+                                method="condensed")
         self._previous = statics
-        f = structure.gather(1, piston.nodal_load("end", (0, F, 0)))
+        return statics, structure.gather(1, piston.nodal_load("end", (0, F, 0)))
+
+    def stiffness(self, s_over_L: float) -> float:
+        """Normalised tip stiffness ``F L^3 / (EJ v)`` with the piston at ``s = s_over_L L``."""
+        statics, f = self.problem(s_over_L)
         solution = statics.solve(f)
         self.iterations.append(solution.iterations)
-        tip = piston.displacements(structure.local(1, solution.q), L)[0, 1]
-        return F / tip * L**3 / EJ
+        return tip_stiffness(statics, solution)
+
+
+def tip_stiffness(statics: SliderStatics, solution: SliderSolution) -> float:
+    """``F L^3 / (EJ v)`` from the piston's tip deflection ``v``."""
+    structure = statics.structure
+    tip = structure.beams[1].displacements(structure.local(1, solution.q), L)[0, 1]
+    return F / tip * L**3 / EJ
 
 
 def sweep(kind: str, formulation: str, n: int, smearing: float,

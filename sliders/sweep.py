@@ -1,0 +1,157 @@
+"""Continuation sweeps: a sequence of parameter values, each solved from the previous point.
+
+``build(value)`` returns the statics and the load of one point (a slider position moves the
+geometry, a load factor scales the load, ...); a list of load vectors on one structure is
+``sweep(loads, lambda f: (statics, f))``.  Each point starts from a prediction when the
+unknowns have the same shapes (continuation), else from the default start
+(:meth:`sliders.statics.SliderStatics.solve`): for real values, the secant through the last
+two converged points (``z + (v - v_1) / (v_1 - v_0) (z_1 - z_0)``, exact for unknowns
+linear in the value, such as the abscissae of a slider moved along its line); otherwise, or
+with a single converged point, the last converged point.
+
+Failures and interruptions keep what was computed:
+
+- a point whose ``build`` raises ``ValueError`` is recorded as failed with its message;
+- a point whose warm start fails (``ValueError``: singular configuration, no convergence) is
+  retried from the default start; if that fails too, its message is recorded in
+  :attr:`SweepPoint.error` and the sweep goes on (or stops, with ``stop_on_failure``), the
+  next point starting from the last converged one;
+- ``KeyboardInterrupt`` (in ``build`` or in Newton) ends the sweep: the completed points are
+  returned with :attr:`SweepResult.interrupted` set, and the caller decides what to do.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from numbers import Real
+from typing import Any, Callable, Iterable
+
+import numpy as np
+
+from sliders.statics import SliderSolution, SliderStatics
+
+Build = Callable[[Any], tuple[SliderStatics, np.ndarray]]
+
+
+@dataclass(frozen=True)
+class SweepPoint:
+    """One parameter ``value``: its ``solution``, or ``None`` and the ``error`` message;
+    ``warm`` when it converged from the predicted start."""
+
+    value: Any
+    solution: SliderSolution | None
+    error: str | None = None
+    warm: bool = False
+
+
+@dataclass
+class SweepResult:
+    """The points computed, in order; ``interrupted`` when a ``KeyboardInterrupt`` ended the
+    sweep, ``stopped`` when a failure did (``stop_on_failure``)."""
+
+    points: list[SweepPoint] = field(default_factory=list)
+    interrupted: bool = False
+    stopped: bool = False
+
+    @property
+    def values(self) -> list[Any]:
+        return [p.value for p in self.points]
+
+    @property
+    def solutions(self) -> list[SliderSolution | None]:
+        return [p.solution for p in self.points]
+
+    @property
+    def failures(self) -> list[tuple[Any, str]]:
+        """``(value, message)`` of every point that did not converge."""
+        return [(p.value, p.error) for p in self.points if p.error is not None]
+
+
+def sweep(values: Iterable[Any], build: Build, *, continuation: bool = True,
+          stop_on_failure: bool = False, progress: bool = True, desc: str = "sweep",
+          **solve_options: Any) -> SweepResult:
+    """Solve ``build(value)`` for every value, each point from the previous converged one.
+
+    Parameters
+    ----------
+    values
+        The parameter values, in the order of the continuation.
+    build
+        ``value -> (statics, load vector)``.
+    continuation
+        Start each point from the last converged one (``False``: every point cold).
+    stop_on_failure
+        End the sweep at the first point that fails from both starts.
+    progress
+        A tqdm progress bar on a terminal (never when the output is not a terminal).
+    **solve_options
+        Passed to :meth:`SliderStatics.solve` (``tol``, ``max_iterations``, ``load_steps``).
+
+    Returns
+    -------
+    SweepResult
+        The points computed (all of them, unless interrupted or stopped).
+    """
+    from tqdm import tqdm
+
+    if "start" in solve_options:
+        raise ValueError("sweep chooses each point's start; do not pass start")
+    result, converged = SweepResult(), []
+    values = list(values)
+    with tqdm(values, disable=None if progress else True, desc=desc) as bar:
+        try:
+            for value in bar:
+                try:
+                    statics, f = build(value)
+                except ValueError as exc:
+                    point = SweepPoint(value, None, str(exc))
+                else:
+                    start = _predict(statics, value, converged) if continuation else None
+                    point = _solve_point(statics, f, value, start, solve_options)
+                result.points.append(point)
+                if point.solution is not None:
+                    converged = converged[-1:] + [point]
+                elif stop_on_failure:
+                    result.stopped = True
+                    break
+        except KeyboardInterrupt:
+            result.interrupted = True
+    return result
+
+
+def _predict(statics: SliderStatics, value: Any,
+             converged: list[SweepPoint]) -> tuple[np.ndarray, list[np.ndarray]] | None:
+    """Start of the point at ``value`` from the last (up to two) converged points, or None
+    when they do not fit ``statics``' unknowns."""
+    fitting = [p for p in converged if _fits(statics, p.solution)]
+    if not fitting:
+        return None
+    last = fitting[-1].solution
+    values = [value] + [p.value for p in fitting]
+    if len(fitting) == 2 and all(isinstance(v, Real) for v in values) and values[1] != values[2]:
+        first = fitting[0].solution
+        c = (values[0] - values[2]) / (values[2] - values[1])
+        return (last.q + c * (last.q - first.q),
+                [y1 + c * (y1 - y0) for y1, y0 in zip(last.unknowns, first.unknowns)])
+    return last.q, last.unknowns
+
+
+def _solve_point(statics: SliderStatics, f: np.ndarray, value: Any,
+                 start: tuple[np.ndarray, list[np.ndarray]] | None,
+                 options: dict[str, Any]) -> SweepPoint:
+    """One point: from ``start`` if any, then cold; the failure message otherwise."""
+    if start is not None:
+        try:
+            return SweepPoint(value, statics.solve(f, start=start, **options), warm=True)
+        except ValueError:
+            pass
+    try:
+        return SweepPoint(value, statics.solve(f, **options))
+    except ValueError as exc:
+        return SweepPoint(value, None, str(exc))
+
+
+def _fits(statics: SliderStatics, solution: SliderSolution) -> bool:
+    """Whether ``solution`` has the shapes of ``statics``' unknowns."""
+    return (len(solution.q) == statics.structure.n_dofs
+            and [len(y) for y in solution.unknowns] == [s.n_unknowns for s in statics.sliders])
