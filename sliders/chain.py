@@ -11,7 +11,8 @@ positions and ``u_i`` their displacements, ``x(xi) = sum N_i (X_i + u_i)``,
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Sequence
+from functools import wraps
+from typing import Callable, Sequence
 
 import numpy as np
 
@@ -30,6 +31,23 @@ from sliders.lines import curvature_rate, frame_and_curvature, project
 #: where the exact step gives ``h C M / 2``; Galerkin P2, ``1/16``: the quadratic minimising
 #: the energy with the couple at the mid-node reaches ``7/16 h C M`` there.
 MID_NODE_LAG = {"fv": 0.25 - np.sqrt(3.0) / 8, "galerkin": 1.0 / 16}
+
+
+def memoised(method: Callable) -> Callable:
+    """Keep a chain method's results by its (positional) arguments: what the chain gives at
+    ``xi`` depends on the reference geometry only, and a Newton step asks for it several
+    times (the joint, its residual check).  The store is emptied when it reaches 512
+    entries.  Results are shared: callers must not modify them."""
+    @wraps(method)
+    def wrapper(self, *args):
+        key = (method.__name__,) + args
+        store = self._memo
+        if key not in store:
+            if len(store) >= 512:
+                store.clear()
+            store[key] = method(self, *args)
+        return store[key]
+    return wrapper
 
 
 def second_derivatives(nodes_per_element: int) -> np.ndarray:
@@ -57,12 +75,14 @@ class BeamChain:
                                  "(tie its end node to the next beam's start node)")
         self.offsets = np.concatenate([[0.0], np.cumsum([b.mesh.length for b in self.beams])])
         self.length = float(self.offsets[-1])
+        self._memo: dict = {}
 
     def locate(self, xi: float) -> tuple[int, float]:
         """Position in the chain of the beam holding ``xi``, and ``xi`` along that beam."""
         k, offset = locate_abscissa(float(xi), self.offsets, self.name, "the chain")
         return int(k), float(offset)
 
+    @memoised
     def interpolation(self, xi: float) -> Interpolation:
         """Where ``xi`` sits and how the line interpolates the beam there."""
         k, local = self.locate(xi)
@@ -86,6 +106,7 @@ class BeamChain:
                                          for offset, beam in zip(self.offsets, self.beams)]))
         return project(lambda xi: self.geometry(xi, q), grid, point)
 
+    @memoised
     def rotation(self, xi: float) -> LineRotation:
         """The section rotation of the chain at ``xi`` and its reference frame.
 
@@ -129,6 +150,7 @@ class BeamChain:
         return LineRotation(dofs, w, np.array([-1.0, 1.0]) / span, kink, kink_xi, compliance,
                             R0, k0, k0_xi)
 
+    @memoised
     def transfer(self, xi: float, smearing: float = 0.0,
                  kernel: str = "box") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """How a force and couple ``[F; M]`` at ``xi`` loads the chain (eq. T6).

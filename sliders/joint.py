@@ -42,7 +42,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from fvbeam.geometry import orthonormal3, skew_matrices, vector3
+from fvbeam.geometry import cross, orthonormal3, skew_matrices, vector3
 from fvbeam.statics import Structure
 from sliders.chain import BeamChain, LineRotation
 from sliders.lines import LinePoint, RigidLine, axial
@@ -189,11 +189,11 @@ class Slider:
         r = np.zeros(t + self.n_unknowns)
         J = np.zeros((len(r), len(r)))
         theta = q[body[3:]]
-        f_b = np.cross(theta, self.offset)
+        f_b = cross(theta, self.offset)
         x_b = self.reference_point(structure) + q[body[:3]] + f_b
         # body force and moment (eq. 3)
         r[at.body] += lam
-        r[at.turn] += np.cross(self.offset + f_b, lam)
+        r[at.turn] += cross(self.offset + f_b, lam)
         J[at.body, at.lam] += np.eye(3)
         J[np.ix_(at.turn, at.turn)] += skew_matrices(lam) @ skew_matrices(self.offset)
         J[at.turn, at.lam] += skew_matrices(self.offset + f_b)
@@ -243,17 +243,17 @@ class Slider:
         ``m = sum mu_j e_bj x l`` carried by the test functions to the rotation dofs."""
         mu = y[4:]
         axes = self.frame[:, 1:3]
-        e_b = axes + np.cross(theta, axes.T).T
+        e_b = axes + cross(theta, axes.T).T
         l, l_xi, G = line.l, line.l_xi, line.G[:, 3:]  # noqa: E741
-        m = np.cross(e_b.T, l).T @ mu
+        m = cross(e_b.T, l).T @ mu
         r[at.turn] += m
         np.add.at(r, at.load, -G @ m)
         J[at.load, at.xi] -= line.dG[:, 3:] @ m
         for j in range(2):
             e, e0, row = e_b[:, j], axes[:, j], at.t + 4 + j
             dm_dtheta = mu[j] * skew_matrices(l) @ skew_matrices(e0)
-            dm_dxi = mu[j] * np.cross(e, l_xi)
-            dm_dmu = np.cross(e, l)
+            dm_dxi = mu[j] * cross(e, l_xi)
+            dm_dmu = cross(e, l)
             J[np.ix_(at.turn, at.turn)] += dm_dtheta
             J[at.turn, at.xi] += dm_dxi
             J[at.turn, row] += dm_dmu
@@ -261,11 +261,11 @@ class Slider:
             J[at.load, at.xi] -= G @ dm_dxi
             J[at.load, row] -= G @ dm_dmu
             r[at.xi] += mu[j] * e @ l_xi
-            J[at.xi, at.turn] += mu[j] * np.cross(e0, l_xi)
+            J[at.xi, at.turn] += mu[j] * cross(e0, l_xi)
             J[at.xi, at.xi] += mu[j] * e @ line.l_xixi
             J[at.xi, row] += e @ l_xi
             r[row] = e @ l
-            J[row, at.turn] += np.cross(e0, l)
+            J[row, at.turn] += cross(e0, l)
             J[row, at.xi] += e @ l_xi
             for a in range(len(line.N)):
                 dm_du = mu[j] * skew_matrices(e) * line.dN[a]
@@ -302,10 +302,10 @@ class Slider:
             theta_L, theta_L_xi = w @ nodal, w_xi @ nodal
             kink, kink_xi, compliance = rot.kink, rot.kink_xi, rot.compliance
         t0 = R0[:, 0]
-        t1 = np.cross(k0, t0)
-        t2 = np.cross(k0_xi, t0) + np.cross(k0, t1)
+        t1 = cross(k0, t0)
+        t2 = cross(k0_xi, t0) + cross(k0, t1)
         axes = self.frame[:, 1:3].T
-        n = [np.cross(axes, t0), np.cross(axes, t1), np.cross(axes, t2)]
+        n = [cross(axes, t0), cross(axes, t1), cross(axes, t2)]
         g = [axes @ t0, axes @ t1, axes @ t2]
         if self.kind == "spline":
             B = self.frame @ R0.T

@@ -21,7 +21,7 @@ from typing import Callable
 import numpy as np
 from scipy.interpolate import CubicSpline as _ScipyCubicSpline
 
-from fvbeam.geometry import locate_abscissa, section_frames, vector3
+from fvbeam.geometry import cross, locate_abscissa, section_frames, vector3
 
 
 @dataclass(frozen=True)
@@ -58,7 +58,7 @@ def frame_and_curvature(l: np.ndarray, l_xi: np.ndarray,  # noqa: E741
     norm_n = np.linalg.norm(n)
     n_xi = -(up @ t_xi) * t - (up @ t) * t_xi
     e3_xi = (n_xi - (e3 @ n_xi) * e3) / norm_n
-    e2_xi = np.cross(e3_xi, t) + np.cross(e3, t_xi)
+    e2_xi = cross(e3_xi, t) + cross(e3, t_xi)
     R_xi = np.column_stack([t_xi, e2_xi, e3_xi])
     return R, axial(R_xi @ R.T)
 
