@@ -6,6 +6,13 @@ beam's start to the sum of the beam lengths; the chain finds the beam and elemen
 never keeps offsets or indices.  Deformed geometry (paper Sec. 4): with ``X_i`` the node
 positions and ``u_i`` their displacements, ``x(xi) = sum N_i (X_i + u_i)``,
 ``l = x_/xi`` and ``l_xi = l_/xi`` in the element's arc-length coordinate.
+
+The interpolated centreline is only C0 at the element vertices: its one-sided tangents differ
+there by the discretisation error of the slope (much more on shear-soft beams).  The
+frictionless condition ``l . lambda = 0`` then has no root for body positions in a band
+around the vertex, and Newton fails there.  The joint reads it on a *recovered* tangent
+instead, continuous along the chain (:meth:`BeamChain._tangent_recovery`); the position, the
+load transfer and the constraints keep the interpolation itself.
 """
 
 from __future__ import annotations
@@ -86,15 +93,68 @@ class BeamChain:
     def interpolation(self, xi: float) -> Interpolation:
         """Where ``xi`` sits and how the line interpolates the beam there."""
         k, local = self.locate(xi)
-        beam = self.beams[k]
-        mesh = beam.mesh
+        mesh = self.beams[k].mesh
         e, X = mesh.locate(local)
+        e, X = int(e), float(X)
         h = mesh.element_length[e]
-        nodes = mesh.cells[e]
-        N, dN = shape_functions(X, mesh.nodes_per_element)
+        dofs, points = self._element(k, e)
+        N, dN = shape_functions(np.array(X), mesh.nodes_per_element)
+        return Interpolation(dofs, points, N, dN / h,
+                             second_derivatives(mesh.nodes_per_element) / h**2,
+                             *self._tangent_recovery(k, e, X, dN / h))
+
+    def _element(self, k: int, e: int) -> tuple[np.ndarray, np.ndarray]:
+        """Translational dofs (npe, 3) and reference node positions of element ``e`` of the
+        chain's beam ``k``."""
+        beam = self.beams[k]
+        nodes = beam.mesh.cells[e]
         dofs = self.structure.dof_maps[self.indices[k]][6 * nodes[:, None] + np.arange(3)]
-        return Interpolation(dofs, mesh.points[nodes], N, dN / h,
-                             second_derivatives(mesh.nodes_per_element) / h**2)
+        return dofs, beam.mesh.points[nodes]
+
+    def _end_slope(self, k: int, e: int, end: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Dofs, node positions and ``dN/dxi`` at the start (``end = 0``) or the end
+        (``end = 1``) of element ``e`` of beam ``k``."""
+        mesh = self.beams[k].mesh
+        dN = shape_functions(np.array(float(end)), mesh.nodes_per_element)[1]
+        return (*self._element(k, e), dN / mesh.element_length[e])
+
+    def _neighbour(self, k: int, e: int, side: int) -> tuple[int, int] | None:
+        """The element before (``side = -1``) or after (``+1``) element ``e`` of beam ``k``
+        along the chain, across beam junctions; None at the chain's ends."""
+        e += side
+        if 0 <= e < self.beams[k].mesh.n_elements:
+            return k, e
+        k += side
+        if not 0 <= k < len(self.beams):
+            return None
+        return k, (self.beams[k].mesh.n_elements - 1 if side < 0 else 0)
+
+    def _tangent_recovery(self, k: int, e: int, X: float, dN: np.ndarray) -> tuple:
+        """Coefficients of the recovered tangent ``l~`` in element ``e`` (module docstring).
+
+        ``l~ = l + (1 - X) (l_a - l(a)) + X (l_b - l(b))`` where ``l_a, l_b`` are the means
+        of the one-sided tangents at the element's vertices (unchanged at the chain's ends):
+        continuous along the chain, equal to ``l`` where the interpolated centreline has no
+        corner.  Returns the dofs (m, 3), node positions (m, 3) and the coefficients of
+        ``l~`` and of ``l~_/xi`` (m,) on them."""
+        h = self.beams[k].mesh.element_length[e]
+        dofs, points = self._element(k, e)
+        blocks = [(dofs, points, dN.copy(), np.zeros_like(dN) + self._own_curvature(k, e))]
+        for side, weight, weight_xi, end in ((-1, 1 - X, -1 / h, 0), (1, X, 1 / h, 1)):
+            other = self._neighbour(k, e, side)
+            if other is None:
+                continue
+            _, _, own = self._end_slope(k, e, end)
+            d, p, theirs = self._end_slope(*other, 1 - end)
+            blocks[0][2][:] -= 0.5 * weight * own
+            blocks[0][3][:] -= 0.5 * weight_xi * own
+            blocks.append((d, p, 0.5 * weight * theirs, 0.5 * weight_xi * theirs))
+        return tuple(np.concatenate(part) for part in zip(*blocks))
+
+    def _own_curvature(self, k: int, e: int) -> np.ndarray:
+        """``d^2 N / dxi^2`` of element ``e`` of beam ``k`` (constant in the element)."""
+        mesh = self.beams[k].mesh
+        return second_derivatives(mesh.nodes_per_element) / mesh.element_length[e] ** 2
 
     def geometry(self, xi: float, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``x``, ``l = x_/xi`` and ``l_/xi`` of the deformed chain (global dofs ``q``)."""
@@ -218,13 +278,23 @@ class BeamChain:
 class Interpolation:
     """The line near ``xi``: translational ``dofs`` (npe, 3) of the element holding it, node
     positions ``X`` (npe, 3), and the shape functions ``N`` with their first and second
-    derivatives in ``xi``."""
+    derivatives in ``xi``; the recovered tangent's dofs (m, 3), node positions (m, 3) and
+    coefficients ``T``, ``T_xi`` (m,) (:meth:`BeamChain._tangent_recovery`)."""
 
     dofs: np.ndarray
     X: np.ndarray
     N: np.ndarray
     dN: np.ndarray
     d2N: np.ndarray
+    tangent_dofs: np.ndarray
+    tangent_X: np.ndarray
+    T: np.ndarray
+    T_xi: np.ndarray
+
+    def tangent(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The recovered tangent ``l~`` and ``l~_/xi`` of the deformed line."""
+        current = self.tangent_X + q[self.tangent_dofs]
+        return self.T @ current, self.T_xi @ current
 
     def geometry(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``x``, ``l`` and ``l_/xi`` of the deformed line."""

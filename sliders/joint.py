@@ -156,13 +156,15 @@ class Slider:
             dofs, G, dG = self.line.transfer(xi, self.smearing, self.kernel)
             rotation = (self.line.rotation(xi) if self.kind != "spherical"
                         and self.orientation == "section" else None)
+            tangent, tangent_xi = interp.tangent(q)
             return _LineState(x, l, l_xi, np.zeros(3), interp.dofs, interp.N, interp.dN,
-                              interp.d2N, dofs, G, dG, rotation, None)
+                              interp.d2N, dofs, G, dG, rotation, None, tangent, tangent_xi,
+                              interp.tangent_dofs, interp.T, interp.T_xi)
         p = self.line.at(xi)
         none = np.zeros(0, dtype=int)
         return _LineState(p.x, p.l, p.l_xi, p.l_xixi, none.reshape(0, 3), np.zeros(0),
                           np.zeros(0), np.zeros(0), none, np.zeros((0, 6)), np.zeros((0, 6)),
-                          None, p)
+                          None, p, p.l, p.l_xi, none.reshape(0, 3), np.zeros(0), np.zeros(0))
 
     def assemble(self, structure: Structure, q: np.ndarray, y: np.ndarray):
         """Residual and Jacobian of the joint on the structure dofs it touches.
@@ -182,10 +184,11 @@ class Slider:
         rotation_dofs = (line.rotation.dofs.ravel() if line.rotation is not None
                          else np.zeros(0, dtype=int))
         dofs, where = np.unique(np.concatenate([body, line.interp_dofs.ravel(),
-                                                line.load_dofs, rotation_dofs]),
+                                                line.load_dofs, rotation_dofs,
+                                                line.tangent_dofs.ravel()]),
                                 return_inverse=True)
         t = len(dofs)
-        at = _Layout(t, where, line.interp_dofs.size, len(line.load_dofs))
+        at = _Layout(t, where, line.interp_dofs.size, len(line.load_dofs), rotation_dofs.size)
         r = np.zeros(t + self.n_unknowns)
         J = np.zeros((len(r), len(r)))
         theta = q[body[3:]]
@@ -202,17 +205,18 @@ class Slider:
         np.add.at(r, at.load, -G @ lam)
         J[at.load, at.xi] -= dG @ lam
         J[at.load, at.lam] -= G
-        # xi equation and position constraint (eqs. 1, 3)
-        r[at.xi] = -line.l @ lam
-        J[at.xi, at.xi] = -line.l_xi @ lam
-        J[at.xi, at.lam] = -line.l
+        # xi equation (eq. 3, on the recovered tangent) and position constraint (eq. 1)
+        r[at.xi] = -line.tangent @ lam
+        J[at.xi, at.xi] = -line.tangent_xi @ lam
+        J[at.xi, at.lam] = -line.tangent
+        for c in range(len(line.T)):
+            J[at.xi, at.tangent[c]] -= line.T[c] * lam
         r[at.lam] = x_b - line.x
         J[at.lam, at.body] += np.eye(3)
         J[at.lam, at.turn] -= skew_matrices(self.offset)
         J[at.lam, at.xi] = -line.l
         for a in range(len(line.N)):
             J[at.lam, at.interp[a]] -= line.N[a] * np.eye(3)
-            J[at.xi, at.interp[a]] -= line.dN[a] * lam
         if self.kind == "spherical":
             pass
         elif self.orientation == "slope":
@@ -345,7 +349,9 @@ class Slider:
 @dataclass(frozen=True)
 class _LineState:
     """What the joint needs of the line at ``xi``: geometry, the interpolation (chains), the
-    load transfer, the section rotation (chains) or the rigid line's point."""
+    load transfer, the section rotation (chains) or the rigid line's point, and the tangent
+    of the frictionless condition with its dofs and coefficients (chains: the recovered
+    tangent, :meth:`sliders.chain.BeamChain._tangent_recovery`; rigid lines: ``l``)."""
 
     x: np.ndarray
     l: np.ndarray  # noqa: E741
@@ -360,15 +366,24 @@ class _LineState:
     dG: np.ndarray
     rotation: LineRotation | None
     point: LinePoint | None
+    tangent: np.ndarray
+    tangent_xi: np.ndarray
+    tangent_dofs: np.ndarray
+    T: np.ndarray
+    T_xi: np.ndarray
 
 
 class _Layout:
     """Positions in the joint's local arrays: body translations and rotations, the line's
-    interpolation, load and rotation dofs, then ``xi``, ``lambda`` and the multipliers."""
+    interpolation, load, rotation and tangent dofs, then ``xi``, ``lambda`` and the
+    multipliers."""
 
-    def __init__(self, t: int, where: np.ndarray, n_interp: int, n_load: int) -> None:
+    def __init__(self, t: int, where: np.ndarray, n_interp: int, n_load: int,
+                 n_rotation: int) -> None:
         self.t, self.body, self.turn = t, where[:3], where[3:6]
         self.interp = where[6:6 + n_interp].reshape(-1, 3)
-        self.load = where[6 + n_interp:6 + n_interp + n_load]
-        self.rotation = where[6 + n_interp + n_load:].reshape(-1, 3)
+        start = 6 + n_interp + n_load
+        self.load = where[6 + n_interp:start]
+        self.rotation = where[start:start + n_rotation].reshape(-1, 3)
+        self.tangent = where[start + n_rotation:].reshape(-1, 3)
         self.xi, self.lam = t, slice(t + 1, t + 4)

@@ -43,6 +43,7 @@ from fvbeam import Beam, RigidBody, Section, Structure, Support, straight
 from sliders.chain import BeamChain
 from sliders.joint import Slider
 from sliders.statics import SliderStatics
+from test_sliders import check_jacobian
 
 EJ, GA, H = 4.1e4, 1.0e5, 0.6          # shear-soft enough for the fv jumps to show
 CHAIN_SECTION = Section.diagonal(EA=10 * GA, GAy=GA, GAz=GA, GJ=EJ, EJy=EJ, EJz=EJ)
@@ -151,3 +152,30 @@ def test_body_past_the_chain_end_names_the_chain():
     body = SlidingBody(0.0)
     with pytest.raises(ValueError, match="rail: xi = .* outside the chain"):
         body.response(3 * H + 0.1)
+
+
+def test_contact_crosses_a_junction_corner_smoothly():
+    """The interpolated chain has a corner at the junction (one-sided tangents differ by about
+    6e-4 rad here): on the raw tangent the frictionless condition l . lambda = 0 has no root
+    in a band of body positions around it, and Newton failed at s = 0.6 - 1e-6.  On the
+    recovered tangent (continuous, the mean of the one-sided ones at the vertex) it converges
+    everywhere, and the slip has no jump: over steps of 1e-7 .. 1e-5 it changes by at most
+    L0 |ds| + ROUNDOFF, L0 the larger slope measured on the outer 1e-5 steps, one on each
+    side.  (A body held at the corner, or a jump of the contact, would change it by about
+    the band's width, 1e-6.)"""
+    body = SlidingBody(0.0)
+    positions = 0.6 + np.array([-2e-5, -1e-5, -1e-6, -1e-7, 0.0, 1e-7, 1e-6, 1e-5, 2e-5])
+    slip = np.array([body.response(s)[0] for s in positions])
+    changes, steps = np.abs(np.diff(slip)), np.diff(positions)
+    slope = max(changes[0] / steps[0], changes[-1] / steps[-1])
+    assert np.all(changes[1:-1] <= slope * steps[1:-1] + ROUNDOFF)
+
+
+@pytest.mark.parametrize("xi", [0.6 - 1e-3, 0.6 + 1e-3, 0.6 - 0.15, 1.2 + 0.31])
+def test_jacobian_next_to_vertices_and_junctions(xi):
+    """The recovered tangent reaches into the neighbouring elements, across junctions: the
+    joint's Jacobian against differences there (tests/test_sliders.py)."""
+    body = SlidingBody(0.01 * H)
+    structure = body.model(xi)
+    slider = body.statics.sliders[0]
+    check_jacobian(slider, structure, 4)
