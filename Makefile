@@ -3,8 +3,11 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 RESULTS ?= results
+# What the vtk wheel loads at run time to render off-screen without a display: glvnd's EGL,
+# Mesa's EGL vendor library and Mesa's software rasteriser (llvmpipe).
+RENDER_DEBS := libegl1 libegl-mesa0 libgl1-mesa-dri
 
-.PHONY: demo test bench clean
+.PHONY: demo test bench clean render-libs
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV) || { \
@@ -16,12 +19,22 @@ $(VENV)/.installed-%: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install -q -e ".[$*]"
 	touch $@
 
-test: $(VENV)/.installed-test
+# Debian only (dpkg-query); elsewhere EGL or OSMesa must be installed by hand.
+render-libs:
+	@command -v dpkg-query >/dev/null || { echo "not Debian: install EGL or OSMesa"; exit 0; }; \
+	missing=$$(for p in $(RENDER_DEBS); do \
+	  dpkg-query -W -f='$${db:Status-Status}' $$p 2>/dev/null | grep -qx installed \
+	  || echo $$p; done); \
+	[ -z "$$missing" ] || { echo "VTK renders off-screen through EGL: installing" $$missing; \
+	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing; }
+
+test: render-libs $(VENV)/.installed-test
 	$(BIN)/python -m pytest -q
 
-demo: $(VENV)/.installed-all
+demo: render-libs $(VENV)/.installed-all
 	$(BIN)/python -m studies.fig1_tip_response --out $(RESULTS)
 	$(BIN)/python -m studies.fig4_stiffness --out $(RESULTS)
+	$(BIN)/python -m studies.render --out $(RESULTS)
 
 bench: $(VENV)/.installed-all
 	$(BIN)/python -m studies.bench --out $(RESULTS)/bench.json

@@ -1,0 +1,327 @@
+"""VTU snapshots of a solved structure with its sliders, and ParaView ``.pvd`` series.
+
+One VTU (written with meshio) holds, as points in the *reference* configuration:
+
+=================  ============================================  ======================
+points             what                                          cells (block)
+=================  ============================================  ======================
+beam nodes         every beam's mesh nodes, beam after beam       ``line`` / ``line3``
+                   (vertices, then mid nodes, as in the mesh)     per beam, mesh order
+evaluation points  every beam's recovery points (fv: evaluation   ``vertex``
+                   points; Galerkin: Gauss points)
+sliders            each slider's contact point on its line        ``vertex``
+rigid bodies       each body's node                               ``vertex``
+=================  ============================================  ======================
+
+Point data: ``displacement`` and ``rotation`` (N, 3) from ``q`` through the structure's dof
+maps (beam nodes: their dofs; evaluation points: the beam's trial interpolation; sliders:
+the line's displacement at ``xi`` and the body's rotation; bodies: their dofs), so that the
+reference points warped by ``displacement`` (ParaView's *Warp By Vector*, any scale) are the
+deformed configuration, sliders on their deformed lines; ``radius`` (N,) for tubes.
+
+Cell data, one value per cell of every block (meshio needs every name on every block; a
+value that does not apply is NaN, or -1 for integers):
+
+* ``part``: 0 beam element, 1 evaluation point, 2 slider, 3 rigid body (VTU readers merge
+  consecutive blocks of one cell type, so this, not the block, tells them apart);
+* ``id``: the beam's, slider's or body's index in ``structure.beams``, ``sliders``,
+  ``structure.bodies``;
+* ``element``: the element in its beam (beam elements, evaluation points);
+* ``xi``: abscissa of an evaluation point along its beam, or a slider's along its line;
+* ``force``, ``moment`` (section axes: axial, two shears; torsion, two bending moments) and
+  ``force_global``, ``moment_global`` (global axes): the internal forces at an evaluation
+  point (:meth:`fvbeam.beam.Beam.internal_forces`);
+* ``reaction``: a slider's ``lambda``; ``couple``: the couple ``m`` of its orientation
+  constraints (zero for a spherical slider).  Both as they enter the body's residual
+  (:mod:`sliders.joint`): the joint pushes the body with ``-lambda, -m`` and the line with
+  ``+lambda, +m``.
+"""
+
+from __future__ import annotations
+
+import os
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Iterable, Sequence
+
+import meshio
+import numpy as np
+
+from fvbeam.io import write_atomic, write_directory_atomic
+from fvbeam.statics import Structure
+from sliders.chain import BeamChain
+from sliders.joint import Slider
+
+#: Default tube radius as a fraction of the diagonal of the structure's bounding box.
+RADIUS_FRACTION = 0.01
+#: Values of the ``part`` cell field.
+PARTS = {"beam": 0, "evaluation point": 1, "slider": 2, "body": 3}
+FLOAT_CELL_FIELDS = {"xi": 1, "force": 3, "moment": 3, "force_global": 3, "moment_global": 3,
+                     "reaction": 3, "couple": 3}
+INT_CELL_FIELDS = ("part", "id", "element")
+
+
+def structure_size(structure: Structure) -> float:
+    """Diagonal of the bounding box of the beams' nodes and the bodies, reference
+    configuration."""
+    points = np.vstack([beam.mesh.points for beam in structure.beams]
+                       + [body.position[None, :] for body in structure.bodies])
+    return float(np.linalg.norm(np.ptp(points, axis=0)))
+
+
+def tube_radii(structure: Structure,
+               radius: float | Sequence[float] | None) -> tuple[np.ndarray, float]:
+    """One tube radius per beam, and the radius of the vertex markers (the largest).
+
+    ``radius``: one value for all, one per beam, or ``None`` for ``RADIUS_FRACTION`` times
+    :func:`structure_size`.
+    """
+    n = len(structure.beams)
+    if radius is None:
+        size = structure_size(structure)
+        if size == 0:
+            raise ValueError("radius: the structure has no extent, so there is no default "
+                             "radius; give one")
+        radius = RADIUS_FRACTION * size
+    try:
+        values = np.array(radius, dtype=float, ndmin=1)
+    except (TypeError, ValueError):
+        values = np.array([np.nan])
+    if values.size == 1:
+        values = np.full(max(n, 1), values[0])
+    if values.shape != (max(n, 1),) or not np.all(np.isfinite(values)) or np.any(values <= 0):
+        raise ValueError(f"radius must be one positive number or one per beam ({n}), "
+                         f"got {radius!r}")
+    return values[:n], float(values.max())
+
+
+def check_solution(structure: Structure, q: np.ndarray, sliders: Sequence[Slider],
+                   unknowns: Sequence[np.ndarray]) -> tuple[np.ndarray, list[np.ndarray]]:
+    """``q`` and the sliders' unknowns as float arrays; ``ValueError`` naming the item whose
+    size or values do not fit."""
+    q = np.asarray(q, dtype=float)
+    if q.shape != (structure.n_dofs,) or not np.all(np.isfinite(q)):
+        raise ValueError(f"q must be {structure.n_dofs} finite values (the structure's dofs), "
+                         f"got shape {q.shape}")
+    if len(unknowns) != len(sliders):
+        raise ValueError(f"unknowns: {len(unknowns)} arrays for {len(sliders)} sliders")
+    ys = []
+    for i, (slider, given) in enumerate(zip(sliders, unknowns)):
+        try:
+            y = np.asarray(given, dtype=float)
+        except (TypeError, ValueError):
+            y = np.full(0, np.nan)
+        if y.shape != (slider.n_unknowns,) or not np.all(np.isfinite(y)):
+            raise ValueError(f"unknowns[{i}] (slider {slider.name!r}): expected "
+                             f"{slider.n_unknowns} finite values "
+                             f"({', '.join(slider.unknown_names)}), got {given!r}")
+        ys.append(y)
+    return q, ys
+
+
+def contact_point(slider: Slider, q: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Reference point and displacement of the line at the slider's ``xi``; their sum is
+    the deformed contact point ``x(xi)``."""
+    xi = float(y[0])
+    if isinstance(slider.line, BeamChain):
+        interp = slider.line.interpolation(xi)
+        return interp.N @ interp.X, interp.N @ q[interp.dofs]
+    return slider.line.at(xi).x, np.zeros(3)
+
+
+def slider_couple(slider: Slider, structure: Structure, q: np.ndarray,
+                  y: np.ndarray) -> np.ndarray:
+    """The couple ``m`` of the slider's orientation constraints, as it enters the body's
+    residual (zero for a spherical slider).
+
+    ``m`` is linear in the multipliers ``mu``, so it is read off the joint's exact Jacobian:
+    ``m = (d r_body_rotation / d mu) mu``.  That column holds ``m`` alone unless the body
+    is a node of its own line, which is refused.
+    """
+    if slider.kind == "spherical":
+        return np.zeros(3)
+    body = slider.body_dofs(structure)
+    if isinstance(slider.line, BeamChain) and np.isin(
+            body, np.concatenate([structure.dof_maps[b] for b in slider.line.indices])).any():
+        raise ValueError(f"slider {slider.name!r}: its body is a node of its own line "
+                         f"{slider.line.name!r}")
+    dofs, _, _, J = slider.assemble(structure, q, y)
+    turn = np.searchsorted(dofs, body[3:])
+    return J[turn, len(dofs) + 4:] @ y[4:]
+
+
+class _Blocks:
+    """Points, point data, cell blocks and cell data, gathered block by block."""
+
+    def __init__(self) -> None:
+        self.points, self.displacement, self.rotation, self.radius = [], [], [], []
+        self.cells: list[tuple[str, np.ndarray]] = []
+        self.data: dict[str, list[np.ndarray]] = {name: [] for name in
+                                                  (*INT_CELL_FIELDS, *FLOAT_CELL_FIELDS)}
+        self.n_points = 0
+
+    def add(self, kind: str, connectivity: np.ndarray, points: np.ndarray, motion: np.ndarray,
+            radius: np.ndarray, **cell_data: np.ndarray) -> None:
+        """One cell block; ``connectivity`` indexes ``points``; ``motion`` (n, 6);
+        ``cell_data`` any subset of the cell fields (the rest are filled)."""
+        n_cells = len(connectivity)
+        self.cells.append((kind, connectivity + self.n_points))
+        self.points.append(points)
+        self.displacement.append(motion[:, :3])
+        self.rotation.append(motion[:, 3:])
+        self.radius.append(np.broadcast_to(radius, (len(points),)))
+        self.n_points += len(points)
+        for name in INT_CELL_FIELDS:
+            self.data[name].append(np.broadcast_to(cell_data.get(name, -1), (n_cells,))
+                                   .astype(np.int64))
+        for name, width in FLOAT_CELL_FIELDS.items():
+            shape = (n_cells,) if width == 1 else (n_cells, width)
+            self.data[name].append(np.broadcast_to(cell_data.get(name, np.nan), shape)
+                                   .astype(float))
+
+    def mesh(self) -> meshio.Mesh:
+        point_data = {"displacement": np.vstack(self.displacement),
+                      "rotation": np.vstack(self.rotation),
+                      "radius": np.concatenate(self.radius)}
+        return meshio.Mesh(np.vstack(self.points), self.cells, point_data=point_data,
+                           cell_data=self.data)
+
+
+def to_meshio(structure: Structure, q: np.ndarray, sliders: Sequence[Slider] = (),
+              unknowns: Sequence[np.ndarray] = (),
+              radius: float | Sequence[float] | None = None) -> meshio.Mesh:
+    """The solved structure as a meshio mesh (layout and fields: module docstring).
+
+    Parameters
+    ----------
+    structure
+        Beams and rigid bodies.
+    q
+        Global displacements, ``(structure.n_dofs,)``.
+    sliders, unknowns
+        The sliders and their unknowns ``[xi, lambda, mu...]`` in the same order
+        (:class:`sliders.statics.SliderSolution` ``.unknowns``).
+    radius
+        Tube radius: one value, one per beam, or ``None`` for ``RADIUS_FRACTION`` of the
+        structure's size; sliders and bodies carry the largest beam radius.
+    """
+    q, ys = check_solution(structure, q, sliders, unknowns)
+    radii, marker = tube_radii(structure, radius)
+    blocks = _Blocks()
+    for b, (beam, dofs, r) in enumerate(zip(structure.beams, structure.dof_maps, radii)):
+        mesh, q_beam = beam.mesh, q[dofs]
+        kind = "line" if mesh.nodes_per_element == 2 else "line3"
+        blocks.add(kind, mesh.cells, mesh.points, q_beam.reshape(-1, 6), r,
+                   part=PARTS["beam"], id=b, element=np.arange(mesh.n_elements))
+        forces = beam.internal_forces(q_beam)
+        e, X = mesh.locate(forces.xi)
+        blocks.add("vertex", np.arange(len(e))[:, None], mesh.positions(e, X),
+                   beam.displacements(q_beam, forces.xi), r, part=PARTS["evaluation point"],
+                   id=b, element=e, xi=forces.xi, force=forces.force, moment=forces.moment,
+                   force_global=forces.force_global, moment_global=forces.moment_global)
+    if sliders:
+        contact = [contact_point(s, q, y) for s, y in zip(sliders, ys)]
+        motion = np.array([np.concatenate([u, q[s.body_dofs(structure)[3:]]])
+                           for s, (_, u) in zip(sliders, contact)])
+        blocks.add("vertex", np.arange(len(sliders))[:, None],
+                   np.array([x for x, _ in contact]), motion, marker,
+                   part=PARTS["slider"], id=np.arange(len(sliders)),
+                   xi=np.array([y[0] for y in ys]), reaction=np.array([y[1:4] for y in ys]),
+                   couple=np.array([slider_couple(s, structure, q, y)
+                                    for s, y in zip(sliders, ys)]))
+    if structure.bodies:
+        blocks.add("vertex", np.arange(len(structure.bodies))[:, None],
+                   np.array([body.position for body in structure.bodies]),
+                   np.array([q[structure.node_dofs(body.name)] for body in structure.bodies]),
+                   marker, part=PARTS["body"], id=np.arange(len(structure.bodies)))
+    return blocks.mesh()
+
+
+def write_vtu(path: str | Path, structure: Structure, q: np.ndarray,
+              sliders: Sequence[Slider] = (), unknowns: Sequence[np.ndarray] = (),
+              radius: float | Sequence[float] | None = None) -> None:
+    """Write the solved structure to the VTU file ``path`` atomically
+    (:func:`fvbeam.io.write_atomic`); arguments as :func:`to_meshio`."""
+    path = Path(path)
+    if path.suffix != ".vtu":
+        raise ValueError(f"path {str(path)!r} must end in .vtu")
+    mesh = to_meshio(structure, q, sliders, unknowns, radius)
+    write_atomic(path, lambda tmp: meshio.write(tmp, mesh, file_format="vtu"))
+
+
+def write_pvd(path: str | Path, steps: Sequence[tuple[float, str | Path]]) -> None:
+    """Write a ParaView collection ``path`` (``.pvd``) listing ``steps`` = ``[(time,
+    vtu_path)]`` atomically.
+
+    Each ``vtu_path`` (absolute or relative to the working directory, as any path) must
+    exist; the index names it relative to the ``.pvd``'s directory, so the two move
+    together.  Times must be finite and distinct (ParaView shows one data set per time).
+    """
+    path = Path(path)
+    if path.suffix != ".pvd":
+        raise ValueError(f"path {str(path)!r} must end in .pvd")
+    root = ET.Element("VTKFile", type="Collection", version="0.1", byte_order="LittleEndian")
+    collection = ET.SubElement(root, "Collection")
+    seen: dict[float, int] = {}
+    for i, step in enumerate(steps):
+        if not (isinstance(step, (tuple, list)) and len(step) == 2):
+            raise ValueError(f"steps[{i}] must be (time, vtu_path), got {step!r}")
+        time, file = step
+        try:
+            time = float(time)
+        except (TypeError, ValueError):
+            time = np.nan
+        if not np.isfinite(time):
+            raise ValueError(f"steps[{i}]: time must be a finite number, got {step[0]!r}")
+        if time in seen:
+            raise ValueError(f"steps[{i}]: time {time!r} repeats steps[{seen[time]}]")
+        seen[time] = i
+        if not Path(file).is_file():
+            raise ValueError(f"steps[{i}]: file {str(file)!r} does not exist")
+        relative = Path(os.path.relpath(Path(file).resolve(), path.parent.resolve()))
+        ET.SubElement(collection, "DataSet", timestep=repr(time), group="", part="0",
+                      file=relative.as_posix())
+    tree = ET.ElementTree(root)
+    ET.indent(tree)
+    write_atomic(path, lambda tmp: tree.write(tmp, encoding="utf-8", xml_declaration=True))
+
+
+@dataclass(frozen=True)
+class Frame:
+    """One output step of a series: the time (or swept parameter) and the solved structure
+    with its sliders (arguments of :func:`to_meshio`)."""
+
+    time: float
+    structure: Structure
+    q: np.ndarray
+    sliders: Sequence[Slider] = ()
+    unknowns: Sequence[np.ndarray] = ()
+
+
+def write_series(directory: str | Path, frames: Iterable[Frame],
+                 radius: float | Sequence[float] | None = None) -> Path:
+    """Write a whole series: ``directory/NAME.pvd`` (``NAME`` the directory's name) and one
+    ``directory/step_NNNNNN.vtu`` per frame, in frame order.
+
+    The files are written into a new temporary directory, which then takes the place of
+    ``directory`` as a whole (:func:`fvbeam.io.write_directory_atomic`): an error or an
+    interruption while frames are computed or written leaves the previous series untouched,
+    and a re-run never leaves a mix of old and new files.  ``frames`` may be a generator
+    (the frames are written as they come).  Returns the ``.pvd`` path.
+    """
+    directory = Path(directory)
+    index = directory / f"{directory.name}.pvd"
+
+    def write(tmp: Path) -> None:
+        steps = []
+        for k, frame in enumerate(frames):
+            if not isinstance(frame, Frame):
+                raise ValueError(f"frames[{k}] must be a Frame, got {type(frame).__name__}")
+            file = tmp / f"step_{k:06d}.vtu"
+            write_vtu(file, frame.structure, frame.q, frame.sliders, frame.unknowns, radius)
+            steps.append((frame.time, file))
+        write_pvd(tmp / index.name, steps)
+
+    write_directory_atomic(directory, write)
+    return index

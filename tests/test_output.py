@@ -1,0 +1,284 @@
+"""VTU snapshots and PVD series (:mod:`sliders.output`): every field read back with meshio
+against the arrays it came from, cell counts, the PVD index, atomic writes, bad input.
+
+Exactness: VTU stores float64 in binary, so a value copied from an array must come back
+bit for bit (``array_equal``).  Values the writer *computes* are compared with their
+definition to roundoff: a point ``sum_a N_a X_a`` of a 2- or 3-node element carries at most
+``3 eps`` relative rounding per term and the abscissa round trip ``X = (xi - s_e) / h_e`` one
+more, so ``8 eps`` times the coordinates' scale bounds the difference (``POSITION``).
+"""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import meshio
+import numpy as np
+import pytest
+
+from fvbeam import Beam, RigidBody, Section, Structure, straight
+from sliders.chain import BeamChain
+from sliders.joint import Slider
+from sliders.lines import StraightLine
+from sliders.output import (PARTS, RADIUS_FRACTION, Frame, to_meshio, write_pvd,
+                            write_series, write_vtu)
+from studies.fig4_stiffness import SlidingBeams
+
+EPS = np.finfo(float).eps
+POSITION = 8 * EPS
+S_OVER_L, L = 0.3, 0.6
+SECTION = Section.diagonal(EA=1e3, GAy=2e2, GAz=2e2, GJ=5.0, EJy=7.0, EJz=7.0)
+
+
+@pytest.fixture(scope="module")
+def sliding():
+    """The sliding-beams setup (classical sliders, fv3, 5 elements) solved at s/L = 0.3."""
+    statics, load = SlidingBeams("fv3", 5, "classical").problem(S_OVER_L)
+    return statics, statics.solve(load)
+
+
+def mixed():
+    """A ``line`` beam (galerkin-p1) tied to a ``line3`` beam (fv3), a rigid body, a
+    spherical slider of the body on a rigid line and a classical slider of a beam node on
+    the line3 beam; random ``q`` and unknowns (the writer maps arrays, solved or not)."""
+    a = Beam(straight((0, 0, 0), (1.0, 0.5, 0), 4, 2), SECTION, "galerkin-p1")
+    b = Beam(straight((1.0, 0.5, 0), (1.0, 0.5, 1.2), 3, 3), SECTION, "fv3")
+    hub = RigidBody("hub", (0.3, -0.4, 0.2))
+    structure = Structure([a, b], [(0, "end", 1, "start")], [hub])
+    rail = StraightLine((0, -0.4, 0.2), (1.0, -0.4, 0.2), name="rail")
+    sliders = [Slider("spherical", rail, "hub", name="S"),
+               Slider("classical", BeamChain(structure, [1], "B"), (0, 2), name="C")]
+    rng = np.random.default_rng(7)
+    q = rng.normal(size=structure.n_dofs)
+    unknowns = [np.array([0.35, *rng.normal(size=3)]),
+                np.array([0.8, *rng.normal(size=5)])]
+    return structure, q, sliders, unknowns
+
+
+def flat(mesh: meshio.Mesh) -> tuple[list[np.ndarray], np.ndarray, dict[str, np.ndarray]]:
+    """Per cell: connectivity, cell type, and every cell field, over all blocks."""
+    conn = [row for block in mesh.cells for row in block.data]
+    types = np.array([block.type for block in mesh.cells for _ in block.data])
+    data = {name: np.concatenate(blocks) for name, blocks in mesh.cell_data.items()}
+    return conn, types, data
+
+
+def pick(mesh: meshio.Mesh, part: str, index: int):
+    """Cell positions, connectivities and cell types of one beam / slider / body."""
+    conn, types, data = flat(mesh)
+    where = np.flatnonzero((data["part"] == PARTS[part]) & (data["id"] == index))
+    return where, np.array([conn[k] for k in where]), types[where], data
+
+
+def assert_beams(mesh: meshio.Mesh, structure: Structure, q: np.ndarray, *kinds: str) -> None:
+    """Every beam's cells, nodal motion and evaluation points against the arrays they come
+    from (straight beams: an evaluation point lies at ``start + xi t``)."""
+    _, _, data = flat(mesh)
+    for b, (beam, kind) in enumerate(zip(structure.beams, kinds)):
+        q_beam = structure.local(b, q)
+        where, cells, types, _ = pick(mesh, "beam", b)
+        assert set(types) == {kind}
+        assert data["element"][where].tolist() == list(range(beam.mesh.n_elements))
+        nodal = q_beam.reshape(-1, 6)[beam.mesh.cells]
+        assert np.array_equal(mesh.points[cells], beam.mesh.points[beam.mesh.cells])
+        assert np.array_equal(mesh.point_data["displacement"][cells], nodal[..., :3])
+        assert np.array_equal(mesh.point_data["rotation"][cells], nodal[..., 3:])
+        assert np.isnan(data["force"][where]).all() and np.isnan(data["xi"][where]).all()
+        forces = beam.internal_forces(q_beam)
+        where, cells, _, _ = pick(mesh, "evaluation point", b)
+        for name in ("xi", "force", "moment", "force_global", "moment_global"):
+            assert np.array_equal(data[name][where], getattr(forces, name))
+        points = cells[:, 0]
+        start, end = beam.mesh.points[0], beam.mesh.points[beam.mesh.n_elements]
+        expected = start + np.outer(forces.xi, (end - start) / beam.mesh.length)
+        scale = np.abs(beam.mesh.points).max()
+        assert np.abs(mesh.points[points] - expected).max() <= POSITION * scale
+        motion = beam.displacements(q_beam, forces.xi)
+        assert np.array_equal(mesh.point_data["displacement"][points], motion[:, :3])
+        assert np.array_equal(mesh.point_data["rotation"][points], motion[:, 3:])
+        assert np.isnan(data["reaction"][where]).all()
+
+
+def test_sliding_beams_fields_read_back(sliding, tmp_path):
+    statics, solution = sliding
+    structure, q = statics.structure, solution.q
+    path = tmp_path / "state.vtu"
+    write_vtu(path, structure, q, statics.sliders, solution.unknowns)
+    mesh = meshio.read(path)
+    conn, types, data = flat(mesh)
+    # fv3: two evaluation points per element (docs/theory.md), 5 elements per beam
+    assert (types == "line3").sum() == 10 and (types == "vertex").sum() == 2 * 2 * 5 + 2
+    assert np.bincount(data["part"]).tolist() == [10, 20, 2]
+    size = S_OVER_L * L + L
+    assert np.allclose(mesh.point_data["radius"], RADIUS_FRACTION * size, rtol=4 * EPS, atol=0)
+    assert_beams(mesh, structure, q, "line3")
+    for i, (slider, y) in enumerate(zip(statics.sliders, solution.unknowns)):
+        where, cells, kinds, _ = pick(mesh, "slider", i)
+        assert kinds.tolist() == ["vertex"] and data["element"][where].tolist() == [-1]
+        assert data["xi"][where][0] == y[0]
+        assert np.array_equal(data["reaction"][where][0], y[1:4])
+        # straight line along x, slider axes = global axes: m = mu_2 e2 x t + mu_3 e3 x t
+        mu_2, mu_3 = y[4:]
+        couple = np.array([0.0, mu_3, -mu_2])
+        assert np.abs(data["couple"][where][0] - couple).max() <= 4 * EPS * np.abs(y[4:]).max()
+        point = cells[0, 0]
+        x, _, _ = slider.line.geometry(y[0], q)
+        warped = mesh.points[point] + mesh.point_data["displacement"][point]
+        assert np.abs(warped - x).max() <= POSITION * size
+        assert np.array_equal(mesh.point_data["rotation"][point],
+                              q[slider.body_dofs(structure)[3:]])
+
+
+def test_mixed_structure_body_and_rigid_line(tmp_path):
+    structure, q, sliders, unknowns = mixed()
+    path = tmp_path / "mixed.vtu"
+    write_vtu(path, structure, q, sliders, unknowns, radius=[0.02, 0.01])
+    mesh = meshio.read(path)
+    conn, types, data = flat(mesh)
+    assert (types == "line").sum() == 4 and (types == "line3").sum() == 3
+    # galerkin-p1 reduced: one Gauss point per element; fv3: two evaluation points
+    assert (data["part"] == PARTS["evaluation point"]).sum() == 4 * 1 + 3 * 2
+    assert_beams(mesh, structure, q, "line", "line3")
+    radius = mesh.point_data["radius"]
+    for b, r in enumerate((0.02, 0.01)):
+        _, cells, _, _ = pick(mesh, "beam", b)
+        assert np.all(radius[cells] == r)
+    # the tied node: written once per beam, the same dofs
+    _, cells_a, _, _ = pick(mesh, "beam", 0)
+    _, cells_b, _, _ = pick(mesh, "beam", 1)
+    tip, root = cells_a[-1, 1], cells_b[0, 0]
+    assert np.array_equal(mesh.points[tip], mesh.points[root])
+    tied = q[structure.node_dofs((0, "end"))]
+    assert np.array_equal(mesh.point_data["displacement"][[tip, root]], [tied[:3]] * 2)
+    where, cells, _, _ = pick(mesh, "body", 0)
+    hub = structure.bodies[0]
+    assert np.array_equal(mesh.points[cells[0, 0]], hub.position)
+    dofs = structure.node_dofs("hub")
+    assert np.array_equal(mesh.point_data["displacement"][cells[0, 0]], q[dofs[:3]])
+    assert np.array_equal(mesh.point_data["rotation"][cells[0, 0]], q[dofs[3:]])
+    assert radius[cells[0, 0]] == 0.02 and np.isnan(data["reaction"][where]).all()
+    where, cells, _, _ = pick(mesh, "slider", 0)
+    assert np.array_equal(mesh.points[cells[0, 0]], sliders[0].line.at(0.35).x)
+    assert np.array_equal(mesh.point_data["displacement"][cells[0, 0]], np.zeros(3))
+    assert np.array_equal(data["couple"][where][0], np.zeros(3))
+    where, cells, _, _ = pick(mesh, "slider", 1)
+    x, _, _ = sliders[1].line.geometry(0.8, q)
+    warped = mesh.points[cells[0, 0]] + mesh.point_data["displacement"][cells[0, 0]]
+    assert np.abs(warped - x).max() <= POSITION * np.abs(x).max()
+
+
+def test_pyvista_reads_line3_as_quadratic_edges(sliding, tmp_path):
+    pv = pytest.importorskip("pyvista")
+    statics, solution = sliding
+    path = tmp_path / "state.vtu"
+    write_vtu(path, statics.structure, solution.q, statics.sliders, solution.unknowns)
+    grid = pv.read(path)
+    kinds = np.asarray(grid.celltypes)
+    assert (kinds == pv.CellType.QUADRATIC_EDGE).sum() == 10
+    assert (kinds == pv.CellType.VERTEX).sum() == 22
+    assert {"displacement", "rotation", "radius"} <= set(grid.point_data)
+    warped = grid.warp_by_vector("displacement")
+    assert np.array_equal(warped.points, grid.points + grid.point_data["displacement"])
+
+
+def test_bad_input_names_the_item(sliding, tmp_path):
+    statics, solution = sliding
+    structure, sliders, ys = statics.structure, statics.sliders, solution.unknowns
+    with pytest.raises(ValueError, match=rf"q must be {structure.n_dofs} finite values"):
+        to_meshio(structure, solution.q[:-1], sliders, ys)
+    with pytest.raises(ValueError, match=r"unknowns: 1 arrays for 2 sliders"):
+        to_meshio(structure, solution.q, sliders, ys[:1])
+    with pytest.raises(ValueError, match=r"unknowns\[1\] \(slider 'B'\): expected 6 finite "
+                                         r"values \(xi, lambda_x"):
+        to_meshio(structure, solution.q, sliders, [ys[0], ys[1][:4]])
+    with pytest.raises(ValueError, match=r"radius must be one positive number or one per "
+                                         r"beam \(2\)"):
+        to_meshio(structure, solution.q, sliders, ys, radius=[0.1, -0.1])
+    with pytest.raises(ValueError, match=r"must end in \.vtu"):
+        write_vtu(tmp_path / "x.vtk", structure, solution.q, sliders, ys)
+    with pytest.raises(ValueError, match=r"unknowns\[0\] \(slider 'A'\): .* got 'xi'"):
+        to_meshio(structure, solution.q, sliders, ["xi", ys[1]])
+    structure, q, sliders, unknowns = mixed()
+    itself = Slider("classical", sliders[1].line, (1, 1), name="itself")
+    with pytest.raises(ValueError, match=r"slider 'itself': its body is a node of its own "
+                                         r"line 'B'"):
+        to_meshio(structure, q, [itself], [unknowns[1]])
+
+
+def test_failed_write_keeps_the_old_file(sliding, tmp_path, monkeypatch):
+    statics, solution = sliding
+    path = tmp_path / "state.vtu"
+    write_vtu(path, statics.structure, solution.q, statics.sliders, solution.unknowns)
+    before = path.read_bytes()
+
+    def broken(target, *args, **kwargs):
+        Path(target).write_bytes(b"<VTKFile truncated")
+        raise OSError("disk full")
+
+    monkeypatch.setattr(meshio, "write", broken)
+    with pytest.raises(OSError, match="disk full"):
+        write_vtu(path, statics.structure, 2 * solution.q, statics.sliders, solution.unknowns)
+    assert path.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["state.vtu"]
+
+
+def frames(times, structure, q, sliders, unknowns):
+    return [Frame(t, structure, (1 + k) * q, sliders, unknowns) for k, t in enumerate(times)]
+
+
+def test_pvd_lists_the_steps(tmp_path):
+    structure, q, sliders, unknowns = mixed()
+    times = [0.0, 0.1, 0.30000000000000004]
+    index = write_series(tmp_path / "run", frames(times, structure, q, sliders, unknowns))
+    assert index == tmp_path / "run" / "run.pvd"
+    root = ET.parse(index).getroot()
+    assert root.tag == "VTKFile" and root.get("type") == "Collection"
+    sets = root.findall("./Collection/DataSet")
+    assert [float(s.get("timestep")) for s in sets] == times
+    names = [s.get("file") for s in sets]
+    assert names == [f"step_{k:06d}.vtu" for k in range(3)]
+    for k, name in enumerate(names):
+        mesh = meshio.read(index.parent / name)
+        _, cells, _, _ = pick(mesh, "body", 0)
+        dofs = structure.node_dofs("hub")
+        assert np.array_equal(mesh.point_data["displacement"][cells[0, 0]], (1 + k) * q[dofs[:3]])
+    other = tmp_path / "elsewhere" / "index.pvd"
+    write_pvd(other, [(1.5, index.parent / names[0])])
+    dataset = ET.parse(other).getroot().find("./Collection/DataSet")
+    assert dataset.get("file") == "../run/step_000000.vtu" and dataset.get("timestep") == "1.5"
+
+
+def test_pvd_bad_input(tmp_path):
+    structure, q, sliders, unknowns = mixed()
+    vtu = tmp_path / "a.vtu"
+    write_vtu(vtu, structure, q, sliders, unknowns)
+    with pytest.raises(ValueError, match=r"steps\[1\]: time 0.5 repeats steps\[0\]"):
+        write_pvd(tmp_path / "a.pvd", [(0.5, vtu), (0.5, vtu)])
+    with pytest.raises(ValueError, match=r"steps\[0\]: time must be a finite number"):
+        write_pvd(tmp_path / "a.pvd", [(float("nan"), vtu)])
+    with pytest.raises(ValueError, match=r"steps\[0\]: file .*missing.vtu' does not exist"):
+        write_pvd(tmp_path / "a.pvd", [(0.0, tmp_path / "missing.vtu")])
+    with pytest.raises(ValueError, match=r"frames\[1\] must be a Frame"):
+        write_series(tmp_path / "run", [frames([0.0], structure, q, sliders, unknowns)[0], 3])
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.vtu"]
+
+
+def test_series_is_replaced_as_a_whole(tmp_path):
+    structure, q, sliders, unknowns = mixed()
+    run = tmp_path / "run"
+    write_series(run, frames([0.0, 1.0, 2.0], structure, q, sliders, unknowns))
+    old = {p.name: p.read_bytes() for p in run.iterdir()}
+
+    def interrupted():
+        yield from frames([0.0, 1.0], structure, -q, sliders, unknowns)
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        write_series(run, interrupted())
+    assert {p.name: p.read_bytes() for p in run.iterdir()} == old
+    assert [p.name for p in tmp_path.iterdir()] == ["run"]
+    write_series(run, frames([5.0, 6.0], structure, -q, sliders, unknowns))
+    assert sorted(p.name for p in run.iterdir()) == ["run.pvd", "step_000000.vtu",
+                                                      "step_000001.vtu"]
+    assert [p.name for p in tmp_path.iterdir()] == ["run"]

@@ -1,0 +1,129 @@
+"""Headless pyvista render (:mod:`studies.render`) of the sliding-beams setup, and the
+promise that importing the packages does not import pyvista.
+
+The render runs in a child process without ``DISPLAY`` and without
+``VTK_DEFAULT_OPENGL_WINDOW``, as in CI, so the EGL fallback is what is tested.  The image
+is compared with what its geometry predicts.  VTK's ``ResetCamera`` puts the camera at
+``R / sin(15 deg)`` from the centre of the bounding box (``R`` half its diagonal, view angle
+30 deg), so the image height ``H`` spans ``2 R / cos(15 deg)``: a tube of radius ``r`` and
+visible length ``l`` covers ``(H cos15 / 2R)^2 2 r l`` pixels, a sphere ``pi (...)^2``.
+Up to two pixel rows along each silhouette edge can fall out of the colour test
+(anti-aliasing, dark shading at grazing light): with a tube about 11 pixels wide that is
+35 % of its area, and the bounding box estimated below (ghost, markers) is good to about
+10 %, hence the lower bounds at half the prediction.  The upper bound, 1.25 times, allows
+that 10 % twice over (the area goes with the square of the scale).
+"""
+
+from __future__ import annotations
+
+import ctypes.util
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from sliders.output import RADIUS_FRACTION
+from studies.fig4_stiffness import L, SlidingBeams
+from studies.render import AUTO_FRACTION, SPHERE_FACTOR, render
+
+S_OVER_L = 0.3
+WINDOW = (1200, 600)
+ROOT = Path(__file__).resolve().parents[1]
+
+CHILD = """
+import json, os, sys
+from pathlib import Path
+from studies.fig4_stiffness import SlidingBeams
+from studies.render import render
+out = Path(sys.argv[1])
+statics, load = SlidingBeams("fv3", 5, "classical").problem({s})
+solution = statics.solve(load)
+scale = render(out / "scene.png", statics.structure, solution.q, statics.sliders,
+               solution.unknowns, window_size={window}, scalar_bar=False)
+import pyvista as pv
+blank = pv.Plotter(off_screen=True, window_size=list({window}))
+blank.set_background("white")
+blank.screenshot(str(out / "blank.png"))
+print(json.dumps(dict(scale=scale, window=blank.ren_win.GetClassName(),
+                      variable=os.environ.get("VTK_DEFAULT_OPENGL_WINDOW"))))
+blank.close()
+"""
+
+
+def hsv(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """RGB in [0, 1] and its HSV of a PNG."""
+    import matplotlib.colors as mcolors
+    import matplotlib.image as mimage
+
+    rgb = mimage.imread(path)[..., :3]
+    return rgb, mcolors.rgb_to_hsv(rgb)
+
+
+@pytest.fixture(scope="module")
+def rendered(tmp_path_factory):
+    out = tmp_path_factory.mktemp("render")
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("DISPLAY", "WAYLAND_DISPLAY", "VTK_DEFAULT_OPENGL_WINDOW")}
+    child = subprocess.run([sys.executable, "-c", CHILD.format(s=S_OVER_L, window=WINDOW),
+                            str(out)], cwd=ROOT, env=env, capture_output=True, text=True,
+                           timeout=120)
+    assert child.returncode == 0, child.stderr
+    return out, json.loads(child.stdout.splitlines()[-1]), child.stderr
+
+
+def test_headless_render_uses_egl_without_x(rendered):
+    _, info, stderr = rendered
+    assert "X server" not in stderr
+    if ctypes.util.find_library("EGL"):
+        assert info["variable"] == "vtkEGLRenderWindow"
+        assert info["window"] == "vtkEGLRenderWindow"
+
+
+def test_render_is_not_blank_and_shows_tube_and_sliders(rendered):
+    out, info, _ = rendered
+    rgb, image_hsv = hsv(out / "scene.png")
+    h, s, v = np.moveaxis(image_hsv, -1, 0)
+    blank, _ = hsv(out / "blank.png")
+    assert rgb.shape[:2] == (WINDOW[1], WINDOW[0])
+    assert blank.std() == 0.0 and rgb.std() > blank.std()
+    size = S_OVER_L * L + L
+    r = RADIUS_FRACTION * size
+    box = np.array([size, AUTO_FRACTION * size + 2 * r, 2 * SPHERE_FACTOR * r])
+    pixels_per_m = WINDOW[1] * np.cos(np.radians(15)) / np.linalg.norm(box)
+    tube = pixels_per_m**2 * 2 * r * (size - 2 * 2 * SPHERE_FACTOR * r)
+    sphere = 2 * np.pi * (SPHERE_FACTOR * r * pixels_per_m) ** 2
+    # viridis runs through hues 0.15 (yellow) .. 0.80 (purple) at saturation >= 0.51 and
+    # value >= 0.33 (matplotlib's table); red markers sit at hue 0; grey and white at
+    # saturation 0.
+    viridis = (s > 0.3) & (h > 0.1) & (h < 0.85) & (v > 0.1)
+    red = (s > 0.5) & ((h < 0.05) | (h > 0.95))
+    assert 0.5 * tube <= viridis.sum() <= 1.25 * tube
+    assert 0.5 * sphere <= red.sum() <= 1.25 * sphere
+    assert info["scale"] > 1.0
+
+
+def test_render_bad_input(tmp_path):
+    statics, load = SlidingBeams("fv3", 1, "spherical").problem(S_OVER_L)
+    solution = statics.solve(load)
+    args = (statics.structure, solution.q, statics.sliders, solution.unknowns)
+    with pytest.raises(ValueError, match=r"must end in \.png"):
+        render(tmp_path / "a.jpg", *args)
+    with pytest.raises(ValueError, match=r"view must be one of xy, xz, yz, iso, got 'top'"):
+        render(tmp_path / "a.png", *args, view="top")
+    with pytest.raises(ValueError, match=r"magnification must be a positive number, got -2"):
+        render(tmp_path / "a.png", *args, magnification=-2)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_packages_import_without_pyvista():
+    code = ("import sys, fvbeam, sliders.output, studies.render; "
+            "print(sorted(m for m in ('pyvista', 'vtk', 'vtkmodules', 'matplotlib') "
+            "if m in sys.modules))")
+    child = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
+                           text=True, timeout=60)
+    assert child.returncode == 0, child.stderr
+    assert child.stdout.strip() == "[]"
