@@ -1,8 +1,10 @@
-"""Atomic file output: a result file is either the old one or the complete new one."""
+"""Atomic file output: a result file (or directory of files) is either the old one or the
+complete new one."""
 
 from __future__ import annotations
 
 import os
+import shutil
 import tempfile
 from pathlib import Path
 from typing import Callable
@@ -28,3 +30,37 @@ def write_atomic(path: str | Path, write: Callable[[Path], None]) -> None:
         os.replace(tmp, path)
     finally:
         tmp.unlink(missing_ok=True)
+
+
+def replace_directory(path: str | Path, fill: Callable[[Path], None], marker: str) -> None:
+    """Call ``fill(tmp)`` on a new temporary directory beside ``path``, then put it in the
+    place of ``path``: afterwards ``path`` holds exactly what ``fill`` wrote, never a mix of
+    old and new files.
+
+    ``path`` must be absent, empty, or hold the file ``marker``, which this function writes
+    into every directory it fills (so that it never replaces a directory it did not write);
+    otherwise ``ValueError`` and nothing changes.  On any error in ``fill`` the temporary
+    directory is removed and ``path`` is left untouched.  The old directory is renamed aside
+    before the new one takes its name, then removed: an interruption between the two renames
+    leaves ``path`` missing and both directories beside it, not a mix.
+    """
+    path = Path(path)
+    if path.exists() and (not path.is_dir() or (any(path.iterdir())
+                                                and not (path / marker).is_file())):
+        raise ValueError(f"{path} exists and was not written by this program (no {marker} "
+                         "in it); choose another output directory")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", dir=path.parent))
+    try:
+        fill(tmp)
+        (tmp / marker).write_text("written by fvslider; the whole directory is replaced on "
+                                  "the next run\n")
+        if path.exists():
+            old = Path(tempfile.mkdtemp(prefix=f".{path.name}.old.", dir=path.parent))
+            os.replace(path, old)
+            os.replace(tmp, path)
+            shutil.rmtree(old)
+        else:
+            os.replace(tmp, path)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
