@@ -139,11 +139,10 @@ class Model:
         return mesh.points[0 if ref[1] == "start" else mesh.n_elements].copy()
 
     def _slider(self, spec: SliderSpec, structure: Structure) -> Slider:
-        if isinstance(spec.line, str) and spec.line in self.lines:
-            line = self.lines[spec.line]
+        if spec.line[0] in self.lines:
+            line = self.lines[spec.line[0]]
         else:
-            chain = (spec.line,) if isinstance(spec.line, str) else spec.line
-            line = BeamChain(structure, [self.index[b] for b in chain], "+".join(chain))
+            line = BeamChain(structure, [self.index[b] for b in spec.line], "+".join(spec.line))
         return Slider(spec.kind, line, self.ref(spec.body), np.array(spec.offset),
                       np.array(spec.frame).T, spec.smearing, spec.kernel, spec.orientation,
                       spec.end_stops, spec.name)
@@ -222,8 +221,9 @@ class Model:
             if bad:
                 v, g, t = bad[0]
                 more = f" (and {len(bad) - 1} more values)" if len(bad) > 1 else ""
-                problems.add(where, f"at {v:g}{more}: slider '{slider.name}''s sliding point "
-                             f"is {g:.3g} m from line '{slider.line.name}' (allowed {t:.3g} m)",
+                problems.add(where, f"at {v:g}{more}: the sliding point of slider "
+                             f"'{slider.name}' is {g:.3g} m from line '{slider.line.name}' "
+                             f"(allowed {t:.3g} m)",
                              float(v))
 
     def _slider_names(self) -> list[str]:
@@ -236,9 +236,7 @@ class Model:
         return self.beams[self.index[load.beam]].mesh.length
 
     def _line_moves(self, i: int, moved: set[str]) -> bool:
-        line = self.scene.slider[i].line
-        first = line if isinstance(line, str) else line[0]
-        return first in moved
+        return self.scene.slider[i].line[0] in moved
 
     # -- the study's points -----------------------------------------------------------------
     def moved_parts(self) -> set[str]:

@@ -18,7 +18,6 @@ second ``[[slider]]`` table.
 
 from __future__ import annotations
 
-import re
 import tomllib
 from pathlib import Path
 from typing import Annotated, Any, Literal, Union
@@ -55,9 +54,10 @@ Rows3 = Annotated[tuple[Vec3, ...], Field(min_length=3, max_length=3,
 
 
 def _diagonal(value: Any) -> Any:
-    """Three numbers stand for a diagonal matrix."""
-    if isinstance(value, list) and len(value) == 3 and all(
-            isinstance(v, (int, float)) and not isinstance(v, bool) for v in value):
+    """Three entries that are not all rows stand for a diagonal matrix (a wrong entry is then
+    reported at ``[i][i]``)."""
+    if isinstance(value, list) and len(value) == 3 and not all(
+            isinstance(v, (list, tuple)) for v in value):
         return [[value[0], 0.0, 0.0], [0.0, value[1], 0.0], [0.0, 0.0, value[2]]]
     return value
 
@@ -79,20 +79,14 @@ Frame = Annotated[Rows3, AfterValidator(_frame),
                   Field(description="the axes [e1, e2, e3], each 3 numbers, orthonormal")]
 
 
-def _line_ref(value: Any) -> Any:
-    """A rigid line's or a beam's name, or a list of beam names (a chain), as a tuple."""
-    def name(v: Any) -> bool:
-        return isinstance(v, str) and re.match(NAME_PATTERN, v) is not None
-
-    if name(value):
-        return value
-    if isinstance(value, (list, tuple)) and value and all(name(v) for v in value):
-        return tuple(value)
-    raise ValueError("must be a rigid line's or a beam's name, or a non-empty list of beam "
-                     "names (a chain, joined end to start)")
+def _one_name(value: Any) -> Any:
+    """A single name stands for a list of one."""
+    return [value] if isinstance(value, str) else value
 
 
-LineRef = Annotated[Union[str, tuple[str, ...]], BeforeValidator(_line_ref)]
+LineRef = Annotated[tuple[Name, ...], BeforeValidator(_one_name), Field(
+    min_length=1, description="a rigid line's name, or a beam's name or a list of beam "
+                              "names (a chain, joined end to start)")]
 
 
 def _resolve(path: str, info: ValidationInfo) -> str:

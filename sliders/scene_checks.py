@@ -95,16 +95,18 @@ def reference_problems(scene: Scene) -> list[Problem]:
     if not scene.beam and not scene.body:
         problems.add("", "a scene needs at least one [[beam]] or [[body]]")
     _check_beams(scene, names, problems)
+    ties_ok = True
     for i, tie in enumerate(scene.tie):
         ok = all([names.node(f"tie[{i}].nodes[{k}]", n, problems)
                   for k, n in enumerate(tie.nodes)])
         if ok and tie.nodes[0] == tie.nodes[1]:
             problems.add(f"tie[{i}].nodes", "ties a node to itself", list(tie.nodes))
+        ties_ok = ties_ok and ok
     for i, support in enumerate(scene.support):
         names.node(f"support[{i}].node", support.node, problems)
         _check_support_kind(f"support[{i}].kind", support.kind, problems)
     for i, slider in enumerate(scene.slider):
-        _check_slider(scene, i, names, problems)
+        _check_slider(scene, i, names, problems, ties_ok)
     for i, load in enumerate(scene.load):
         if load.kind == "nodal":
             names.node(f"load[{i}].node", load.node, problems)
@@ -143,9 +145,12 @@ def _check_support_kind(path: str, kind: str, problems: Problems) -> None:
             return
 
 
-def _check_slider(scene: Scene, i: int, names: _Names, problems: Problems) -> None:
+def _check_slider(scene: Scene, i: int, names: _Names, problems: Problems,
+                  ties_ok: bool) -> None:
+    """A slider's line, body and orientation (its chain's joints only when every tie is
+    valid: a broken tie is reported once, where it is)."""
     slider, path = scene.slider[i], f"slider[{i}]"
-    chain = _check_line(scene, path, slider.line, names, problems)
+    chain = _check_line(scene, path, slider.line, names, problems, ties_ok)
     if names.node(f"{path}.body", slider.body, problems) and part_of(slider.body) in chain:
         problems.add(f"{path}.body", f"is a node of its own line's beam '{part_of(slider.body)}'",
                      slider.body)
@@ -154,29 +159,31 @@ def _check_slider(scene: Scene, i: int, names: _Names, problems: Problems) -> No
                      f"a {slider.kind} slider needs 'section'", slider.orientation)
 
 
-def _check_line(scene: Scene, path: str, line, names: _Names, problems: Problems) -> list[str]:
+def _check_line(scene: Scene, path: str, line: tuple[str, ...], names: _Names,
+                problems: Problems, ties_ok: bool) -> list[str]:
     """Check a slider's line; return the beams of its chain (empty for a rigid line)."""
-    if isinstance(line, str):
-        if line in names.lines:
-            return []
-        if line in names.beams:
-            return [line]
-        problems.add(f"{path}.line", f"no line or beam named '{line}'"
-                     f"{suggest(line, list(names.lines) + list(names.beams))}", line)
+    if len(line) == 1 and line[0] in names.lines:
         return []
-    ok = all([names.beam(f"{path}.line[{k}]", b, problems) for k, b in enumerate(line)])
+    for k, name in enumerate(line):
+        if name in names.lines:
+            problems.add(f"{path}.line[{k}]", f"'{name}' is a rigid line: a chain holds beams "
+                         "only (a rigid line is a line of its own)", name)
+        elif name not in names.beams:
+            choices = list(names.beams) + (list(names.lines) if len(line) == 1 else [])
+            problems.add(f"{path}.line[{k}]", f"no {'line or ' if len(line) == 1 else ''}"
+                         f"beam named '{name}'{suggest(name, choices)}", name)
     repeated = sorted({b for b in line if line.count(b) > 1})
     if repeated:
         problems.add(f"{path}.line", f"lists beam {', '.join(repeated)} more than once",
                      list(line))
-    elif ok:
+    elif ties_ok and all(name in names.beams for name in line):
         ties = {frozenset(t.nodes) for t in scene.tie}
         for a, b in zip(line[:-1], line[1:]):
             if frozenset((f"{a}.end", f"{b}.start")) not in ties:
                 problems.add(f"{path}.line", f"beams '{a}' and '{b}' are not joined: a chain "
                              f"needs a [[tie]] with nodes = ['{a}.end', '{b}.start']",
                              list(line))
-    return list(line)
+    return [name for name in line if name in names.beams]
 
 
 def _check_study(scene: Scene, names: _Names, problems: Problems) -> None:
@@ -220,12 +227,9 @@ def _check_abscissa(scene: Scene, of: str, names: _Names, problems: Problems) ->
     path = "study.parameter.of"
     if of in names.sliders:
         slider = scene.slider[names.sliders[of]]
-        if isinstance(slider.line, str) and slider.line in names.lines:
-            return
-        chain = {slider.line} if isinstance(slider.line, str) else set(slider.line)
-        carried = tied_parts(scene, part_of(slider.body)) & chain
+        carried = tied_parts(scene, part_of(slider.body)) & set(slider.line)
         if carried:
-            problems.add(path, f"moving slider '{of}''s body would move its own line (beam "
+            problems.add(path, f"moving the body of slider '{of}' would move its own line (beam "
                          f"{', '.join(sorted(carried))} is tied to the body)", of)
         return
     if of in names.loads and isinstance(scene.load[names.loads[of]], PointLoad):
