@@ -22,7 +22,7 @@ from fvbeam import Beam, BeamMesh, RigidBody, Section, Structure, Support, arc, 
 from fvbeam.statics import NodeRef
 from sliders.chain import BeamChain
 from sliders.joint import Slider
-from sliders.lines import CircularArc, CubicSpline, Helix, RigidLine, StraightLine
+from sliders.lines import CircularArc, CubicSpline, Helix, RigidLine, StraightLine, project
 from sliders.scene import (Abscissa, BeamSpec, LoadFactor, PointLoad, Scene, SliderSpec,
                            SweepStudy, Translation)
 from sliders.scene_checks import part_of, tied_parts
@@ -68,6 +68,31 @@ def _rigid_line(spec) -> RigidLine:
     if spec.kind == "helix":
         return Helix(spec.center, spec.radius, spec.pitch, spec.turns, name=spec.name)
     return CubicSpline(spec.points, spec.up, name=spec.name)
+
+
+class _Probe:
+    """Distances from points to a slider's line in its reference configuration (``zero``:
+    no displacement), and the on-line tolerance (module docstring)."""
+
+    def __init__(self, line: BeamChain | RigidLine, zero: np.ndarray) -> None:
+        if isinstance(line, BeamChain):
+            self.curve = lambda xi: line.geometry(xi, zero)
+            self.project = lambda point: line.project(point, zero)
+        else:
+            self.curve = lambda xi: line.derivatives(xi)[:3]
+            self.project = line.project
+        self.length = line.length
+        ends = [np.linalg.norm(self.curve(xi)[0]) for xi in (0.0, line.length)]
+        self.size = max([line.length] + ends)
+
+    def gap(self, point: np.ndarray, start: float | None = None) -> tuple[float, float, float]:
+        """Distance from ``point`` to the line, the tolerance, and the abscissa of the closest
+        point; from the abscissa ``start`` of a nearby point when given (a continuation along
+        a sweep), else from the line's own search."""
+        xi = (self.project(point) if start is None
+              else project(self.curve, np.array([start, self.length]), point))
+        gap = float(np.linalg.norm(point - self.curve(xi)[0]))
+        return gap, ON_LINE * max(self.size, float(np.linalg.norm(point))), xi
 
 
 class Model:
@@ -177,7 +202,8 @@ class Model:
             xi = problems.attempt(f"slider[{i}]",
                                   lambda: slider.initial_unknowns(self.structure, zero)[0])
             if xi is not None:
-                gap, tol = self.gap(slider, np.zeros(3))
+                gap, tol, _ = _Probe(slider.line, zero).gap(slider.reference_point(
+                    self.structure))
                 if gap > tol:
                     problems.add(f"slider[{i}].body", f"its sliding point is {gap:.3g} m from "
                                  f"line '{slider.line.name}' (allowed {tol:.3g} m)",
@@ -185,20 +211,6 @@ class Model:
         study = self.scene.study
         if not problems and isinstance(study, SweepStudy):
             self._check_sweep(study, problems)
-
-    def gap(self, slider: Slider, shift: np.ndarray) -> tuple[float, float]:
-        """Distance from the slider's reference sliding point, moved by ``shift``, to its
-        reference line, and the tolerance (module docstring)."""
-        point = slider.reference_point(self.structure) + shift
-        if isinstance(slider.line, BeamChain):
-            zero = np.zeros(self.structure.n_dofs)
-            ends = [slider.line.geometry(x, zero)[0] for x in (0.0, slider.line.length)]
-            closest = slider.line.geometry(slider.line.project(point, zero), zero)[0]
-        else:
-            ends = [slider.line.at(x).x for x in (0.0, slider.line.length)]
-            closest = slider.line.at(slider.line.project(point)).x
-        size = max([slider.line.length, np.linalg.norm(point)] + [np.linalg.norm(e) for e in ends])
-        return float(np.linalg.norm(point - closest)), ON_LINE * size
 
     def _check_sweep(self, study: SweepStudy, problems: Problems) -> None:
         where = "study.values" if study.values is not None else "study.range"
@@ -216,15 +228,18 @@ class Model:
             sign = (part_of(self.scene.slider[i].body) in moved) - self._line_moves(i, moved)
             if not moved or sign == 0:
                 continue
-            bad = [(v, g, t) for v in values
-                   for g, t in [self.gap(slider, sign * self.offset(v))] if g > t]
+            probe = _Probe(slider.line, np.zeros(self.structure.n_dofs))
+            point, xi, bad = slider.reference_point(self.structure), None, []
+            for v in values:
+                gap, tol, xi = probe.gap(point + sign * self.offset(v), xi)
+                if gap > tol:
+                    bad.append((v, gap, tol))
             if bad:
                 v, g, t = bad[0]
                 more = f" (and {len(bad) - 1} more values)" if len(bad) > 1 else ""
                 problems.add(where, f"at {v:g}{more}: the sliding point of slider "
                              f"'{slider.name}' is {g:.3g} m from line '{slider.line.name}' "
-                             f"(allowed {t:.3g} m)",
-                             float(v))
+                             f"(allowed {t:.3g} m)", float(v))
 
     def _slider_names(self) -> list[str]:
         return [s.name for s in self.scene.slider]

@@ -227,31 +227,38 @@ class SliderSpec(Table):
     end_stops: Flag = False
 
 
-class NodalLoad(Table):
-    kind: Literal["nodal"]
-    name: Name | None = None
-    node: NodeRef
+class Wrench(Table):
+    """A force and a couple, global axes (N, N m; per unit length for a distributed load)."""
+
     force: Vec3 = (0.0, 0.0, 0.0)
     moment: Vec3 = (0.0, 0.0, 0.0)
 
 
-class PointLoad(Table):
+class NodalLoad(Wrench):
+    """``[[load]]`` on a node."""
+
+    kind: Literal["nodal"]
+    name: Name | None = None
+    node: NodeRef
+
+
+class PointLoad(Wrench):
+    """``[[load]]`` at the abscissa ``at`` (m) of a beam, spread by ``smearing``."""
+
     kind: Literal["point"]
     name: Name | None = None
     beam: Name
     at: NonNegative
-    force: Vec3 = (0.0, 0.0, 0.0)
-    moment: Vec3 = (0.0, 0.0, 0.0)
     smearing: NonNegative = 0.0
     kernel: Literal["box", "hat"] = "box"
 
 
-class DistributedLoad(Table):
+class DistributedLoad(Wrench):
+    """``[[load]]`` per unit length on a whole beam."""
+
     kind: Literal["distributed"]
     name: Name | None = None
     beam: Name
-    force: Vec3 = (0.0, 0.0, 0.0)
-    moment: Vec3 = (0.0, 0.0, 0.0)
 
 
 LoadSpec = Annotated[Union[NodalLoad, PointLoad, DistributedLoad], Field(discriminator="kind")]

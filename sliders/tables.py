@@ -49,14 +49,14 @@ def _head(sample: Sample) -> list:
     return [sample.index, sample.value]
 
 
-def samples_rows(results: Results) -> Iterator[list]:
+def _samples_rows(results: Results) -> Iterator[list]:
     for s in results.samples:
         converged = s.solution is not None
         yield _head(s) + [str(converged).lower(),
                           s.solution.iterations if converged else None, s.error]
 
 
-def nodes_rows(results: Results) -> Iterator[list]:
+def _nodes_rows(results: Results) -> Iterator[list]:
     for s in _converged(results):
         structure, q = s.statics.structure, s.solution.q
         for i, spec in enumerate(results.scene.beam):
@@ -70,7 +70,7 @@ def nodes_rows(results: Results) -> Iterator[list]:
                               *q[structure.node_dofs(body.name)]]
 
 
-def sliders_rows(results: Results) -> Iterator[list]:
+def _sliders_rows(results: Results) -> Iterator[list]:
     for s in _converged(results):
         q = s.solution.q
         for slider, y in zip(s.statics.sliders, s.solution.unknowns):
@@ -81,7 +81,7 @@ def sliders_rows(results: Results) -> Iterator[list]:
             yield _head(s) + [slider.name, float(y[0]), *x, *y[1:4], *mu]
 
 
-def internal_forces_rows(results: Results) -> Iterator[list]:
+def _internal_forces_rows(results: Results) -> Iterator[list]:
     for s in _converged(results):
         structure = s.statics.structure
         for i, spec in enumerate(results.scene.beam):
@@ -90,7 +90,7 @@ def internal_forces_rows(results: Results) -> Iterator[list]:
                 yield _head(s) + [spec.name, xi, *f, *m]
 
 
-def reactions_rows(results: Results) -> Iterator[list]:
+def _reactions_rows(results: Results) -> Iterator[list]:
     for s in _converged(results):
         structure, q = s.statics.structure, s.solution.q
         residual = s.statics.K @ q - s.load
@@ -109,8 +109,8 @@ def _converged(results: Results) -> Iterator[Sample]:
     return (s for s in results.samples if s.solution is not None)
 
 
-ROWS = {"samples": samples_rows, "nodes": nodes_rows, "sliders": sliders_rows,
-        "internal_forces": internal_forces_rows, "reactions": reactions_rows}
+ROWS = {"samples": _samples_rows, "nodes": _nodes_rows, "sliders": _sliders_rows,
+        "internal_forces": _internal_forces_rows, "reactions": _reactions_rows}
 
 
 def _cell(value) -> str:

@@ -71,10 +71,12 @@ def test_fig1_scene_is_the_paper_closed_form():
         assert np.all(np.abs(got - [v, rz]) <= bound[where] + 4 * EPS * np.abs([v, rz]))
 
 
-def test_end_stops_scene():
+def test_end_stops_scene(tmp_path):
     """tests/test_end_stops.py's closed forms: pulled inwards the tip slides by the end
     deflection F L^3 / 3EJ + F L / GA (relative 1e-9, roundoff); pushed, it rests at the
-    end and the stop takes the force (relative 1e-12)."""
+    end and the stop takes the force (relative 1e-12).  The clamp's reactions in
+    reactions.csv balance what the stop does not take: the force and its moment about the
+    clamp, 1 m away along y (relative 1e-9; the stop's share is 0 or all of it)."""
     results = run(Model(load_scene(SCENES / "end_stops.toml")), progress=False)
     EJ_arm, GA_arm, F = 4e4, 1e8, 50.0
     for sample in results.samples:
@@ -84,6 +86,13 @@ def test_end_stops_scene():
             assert xi == pytest.approx(1 + force / (3 * EJ_arm) + force / GA_arm, rel=1e-9)
         else:
             assert xi == 1.0 and lam[0] == pytest.approx(force, rel=1e-12)
+    write_results(results, tmp_path / "out")
+    for row in read_csv(tmp_path / "out" / "reactions.csv")[1:]:
+        row = dict(zip(COLUMNS["reactions"], row))
+        force = float(row["value"]) * F
+        held = -force if force < 0 else 0.0
+        assert float(row["fx"]) == pytest.approx(held, rel=1e-9, abs=1e-9 * F)
+        assert float(row["mz"]) == pytest.approx(-held, rel=1e-9, abs=1e-9 * F)
 
 
 def test_spline_slider_scene_twists_by_T_a_over_GJ():

@@ -115,6 +115,10 @@ def test_unreadable_mesh_file(tmp_path):
     scene["beam"][0]["mesh"] = "missing.msh"
     (problem,) = problems(scene, tmp_path)
     assert problem.path == "beam[0].mesh" and "does not exist" in problem.message
+    scene = data("arch_mesh")
+    scene["formulation"] = "fv2"
+    (problem,) = problems(scene)
+    assert problem.path == "beam[0].mesh" and "needs 2-node elements" in problem.message
 
 
 def test_not_toml(tmp_path):
