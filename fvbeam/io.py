@@ -32,6 +32,16 @@ def write_atomic(path: str | Path, write: Callable[[Path], None]) -> None:
         tmp.unlink(missing_ok=True)
 
 
+def check_replaceable(path: str | Path, marker: str) -> None:
+    """``ValueError`` unless :func:`replace_directory` may replace ``path``: absent, an empty
+    directory, or a directory holding the file ``marker``."""
+    path = Path(path)
+    if path.exists() and (not path.is_dir() or (any(path.iterdir())
+                                                and not (path / marker).is_file())):
+        raise ValueError(f"{path} exists and was not written by this program (no {marker} "
+                         "in it); choose another output directory")
+
+
 def replace_directory(path: str | Path, fill: Callable[[Path], None], marker: str) -> None:
     """Call ``fill(tmp)`` on a new temporary directory beside ``path``, then put it in the
     place of ``path``: afterwards ``path`` holds exactly what ``fill`` wrote, never a mix of
@@ -45,10 +55,7 @@ def replace_directory(path: str | Path, fill: Callable[[Path], None], marker: st
     leaves ``path`` missing and both directories beside it, not a mix.
     """
     path = Path(path)
-    if path.exists() and (not path.is_dir() or (any(path.iterdir())
-                                                and not (path / marker).is_file())):
-        raise ValueError(f"{path} exists and was not written by this program (no {marker} "
-                         "in it); choose another output directory")
+    check_replaceable(path, marker)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", dir=path.parent))
     try:

@@ -55,17 +55,19 @@ def _check(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
+    from fvbeam.io import check_replaceable
     from sliders.run import run
-    from sliders.tables import write_results
+    from sliders.tables import MARKER, write_results
 
     model = _load(args.scene)
     out = args.out if args.out is not None else Path("results") / args.scene.stem
-    results = run(model, progress=True)
     try:
-        write_results(results, out)
+        check_replaceable(out, MARKER)
     except ValueError as exc:
         print(f"fvslider: {exc}", file=sys.stderr)
         return 2
+    results = run(model, progress=True)
+    write_results(results, out)
     done = len(results.samples)
     print(f"{done} of {results.planned} samples in {results.seconds:.2f} s, written to {out}")
     for sample in results.failures[:5]:

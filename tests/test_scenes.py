@@ -88,6 +88,13 @@ def test_references_name_what_exists():
     assert "['c1.end', 'c3.start']" in found["slider[0].line"]
 
 
+def test_names_are_unique_across_beams_bodies_and_lines():
+    scene = data("rigid_lines")
+    scene["line"].append(dict(scene["line"][0], name="a"))
+    (problem,) = problems(scene)
+    assert problem.path == "line[4].name" and problem.message == "already the name of beam[0]"
+
+
 def test_a_broken_tie_is_reported_once():
     """A tie naming a beam instead of its end is an error there; the chain that relies on
     ties is not reported as unjoined on top of it."""
