@@ -112,7 +112,7 @@ class Model:
     """
 
     def __init__(self, scene: Scene, source: str = "scene") -> None:
-        self.scene, self.source = scene, source
+        self.scene = scene
         problems = Problems()
         sections = {s.name: problems.attempt(f"section[{i}]", lambda s=s: _section(s))
                     for i, s in enumerate(scene.section)}
