@@ -32,9 +32,7 @@ test: render-libs $(VENV)/.installed-test
 	$(BIN)/python -m pytest -q
 
 demo: render-libs $(VENV)/.installed-all
-	$(BIN)/python -m studies.fig1_tip_response --out $(RESULTS)
-	$(BIN)/python -m studies.fig4_stiffness --out $(RESULTS)
-	$(BIN)/python -m studies.render --out $(RESULTS)
+	$(BIN)/fvslider reproduce --out $(RESULTS)
 
 bench: $(VENV)/.installed-all
 	$(BIN)/python -m studies.bench --out $(RESULTS)/bench.json

@@ -1,4 +1,5 @@
-"""Atomic file output: a result file is either the old one or the complete new one."""
+"""Atomic file output: a result file (or directory of files) is either the old one or the
+complete new one."""
 
 from __future__ import annotations
 
@@ -36,27 +37,43 @@ def write_atomic(path: str | Path, write: Callable[[Path], None]) -> None:
         tmp.unlink(missing_ok=True)
 
 
-def write_directory_atomic(path: str | Path, write: Callable[[Path], None]) -> None:
-    """Call ``write(tmp)`` on a new temporary directory beside ``path``, then put it in the
-    place of the directory ``path`` as a whole.
+#: The file :func:`replace_directory` leaves in every directory it fills.
+OUTPUT_MARKER = ".fvslider-output"
 
-    On any error in ``write`` the temporary directory is removed and ``path`` is left
-    untouched, so ``path`` never holds a mix of old and new files.  An existing ``path`` is
-    first renamed aside (``.NAME.old-*``), the new directory renamed onto ``path``, and the
-    old one deleted: a process killed between the two renames leaves no ``path`` and the
-    complete old directory under the ``.old-*`` name (POSIX has no atomic exchange of two
-    directories).  ``ValueError`` if ``path`` exists and is not a directory.
+
+def check_replaceable(path: str | Path, marker: str = OUTPUT_MARKER) -> None:
+    """``ValueError`` unless :func:`replace_directory` may replace ``path``: absent, an empty
+    directory, or a directory holding the file ``marker``."""
+    path = Path(path)
+    if path.exists() and (not path.is_dir() or (any(path.iterdir())
+                                                and not (path / marker).is_file())):
+        raise ValueError(f"{path} exists and was not written by this program (no {marker} "
+                         "in it); choose another output directory")
+
+
+def replace_directory(path: str | Path, fill: Callable[[Path], None],
+                      marker: str = OUTPUT_MARKER) -> None:
+    """Call ``fill(tmp)`` on a new temporary directory beside ``path``, then put it in the
+    place of ``path``: afterwards ``path`` holds exactly what ``fill`` wrote, never a mix of
+    old and new files.
+
+    ``path`` must be absent, empty, or hold the file ``marker``, which this function writes
+    into every directory it fills (so that it never replaces a directory it did not write);
+    otherwise ``ValueError`` and nothing changes.  On any error in ``fill`` the temporary
+    directory is removed and ``path`` is left untouched.  The old directory is renamed aside
+    before the new one takes its name, then removed: an interruption between the two renames
+    leaves ``path`` missing and both directories beside it, not a mix.
     """
     path = Path(path)
-    if path.exists() and not path.is_dir():
-        raise ValueError(f"{path} exists and is not a directory; it cannot hold a series")
+    check_replaceable(path, marker)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.new-", dir=path.parent))
+    tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", dir=path.parent))
     try:
-        write(tmp)
-        os.chmod(tmp, 0o777 & ~_umask())
+        fill(tmp)
+        (tmp / marker).write_text("written by fvslider; the whole directory is replaced on "
+                                  "the next run\n")
         if path.exists():
-            old = Path(tempfile.mkdtemp(prefix=f".{path.name}.old-", dir=path.parent))
+            old = Path(tempfile.mkdtemp(prefix=f".{path.name}.old.", dir=path.parent))
             os.replace(path, old)
             os.replace(tmp, path)
             shutil.rmtree(old)

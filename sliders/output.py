@@ -48,7 +48,7 @@ from typing import Iterable, Sequence
 import meshio
 import numpy as np
 
-from fvbeam.io import write_atomic, write_directory_atomic
+from fvbeam.io import replace_directory, write_atomic
 from fvbeam.statics import Structure
 from sliders.chain import BeamChain
 from sliders.joint import Slider
@@ -305,7 +305,7 @@ def write_series(directory: str | Path, frames: Iterable[Frame],
     ``directory/step_NNNNNN.vtu`` per frame, in frame order.
 
     The files are written into a new temporary directory, which then takes the place of
-    ``directory`` as a whole (:func:`fvbeam.io.write_directory_atomic`): an error or an
+    ``directory`` as a whole (:func:`fvbeam.io.replace_directory`): an error or an
     interruption while frames are computed or written leaves the previous series untouched,
     and a re-run never leaves a mix of old and new files.  ``frames`` may be a generator
     (the frames are written as they come).  Returns the ``.pvd`` path.
@@ -323,5 +323,5 @@ def write_series(directory: str | Path, frames: Iterable[Frame],
             steps.append((frame.time, file))
         write_pvd(tmp / index.name, steps)
 
-    write_directory_atomic(directory, write)
+    replace_directory(directory, write)
     return index

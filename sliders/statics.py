@@ -140,8 +140,8 @@ class SliderStatics:
             parts = [s.assemble(self.structure, q, y) for s, y in zip(self.sliders, ys)]
             for dofs, rq, _, _ in parts:
                 np.add.at(r_q, dofs, rq)
-            r_y = np.concatenate([p[2] for p in parts])
-            residuals.append(float(max(np.abs(r_q[self.free]).max(), np.abs(r_y).max())
+            r_y = np.concatenate([np.zeros(0)] + [p[2] for p in parts])
+            residuals.append(float(max(np.abs(r_q[self.free]).max(), np.abs(r_y).max(initial=0))
                                    / scale))
             if first is None:
                 first = parts

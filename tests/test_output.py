@@ -17,6 +17,8 @@ import meshio
 import numpy as np
 import pytest
 
+from fvbeam.io import OUTPUT_MARKER
+
 from fvbeam import Beam, RigidBody, Section, Structure, straight
 from sliders.chain import BeamChain
 from sliders.joint import Slider
@@ -279,6 +281,6 @@ def test_series_is_replaced_as_a_whole(tmp_path):
     assert {p.name: p.read_bytes() for p in run.iterdir()} == old
     assert [p.name for p in tmp_path.iterdir()] == ["run"]
     write_series(run, frames([5.0, 6.0], structure, -q, sliders, unknowns))
-    assert sorted(p.name for p in run.iterdir()) == ["run.pvd", "step_000000.vtu",
-                                                      "step_000001.vtu"]
+    assert sorted(p.name for p in run.iterdir()) == sorted(
+        [OUTPUT_MARKER, "run.pvd", "step_000000.vtu", "step_000001.vtu"])
     assert [p.name for p in tmp_path.iterdir()] == ["run"]

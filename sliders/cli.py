@@ -1,0 +1,173 @@
+"""The ``fvslider`` command: check and run scenes, list and reproduce the paper's studies.
+
+Exit codes: 0 success; 1 a run that did not fully succeed (a solve failed, a sweep point
+failed; what was computed is written); 2 an invalid scene or command line (the message on
+stderr); 130 interrupted by Ctrl-C (a sweep writes the points it completed).
+
+Start-up stays light: the modules here are imported when a command needs them, and
+``fvslider --help`` and ``fvslider check`` never import matplotlib or pyvista.
+"""
+
+from __future__ import annotations
+
+import argparse
+import ast
+import importlib
+import importlib.util
+import sys
+import time
+from pathlib import Path
+
+EXAMPLES = """\
+examples:
+  fvslider check studies/scenes/fig4_sliding_beams.toml
+  fvslider run studies/scenes/fig4_sliding_beams.toml --out results/sliding_beams
+  fvslider studies
+  fvslider reproduce fig1
+  fvslider reproduce               # every figure into results/ (about 2 minutes)
+
+scenes are documented in docs/scenes.md; exit codes: 0 ok, 1 a solve failed,
+2 invalid scene or arguments, 130 interrupted (Ctrl-C keeps what was computed)
+"""
+
+#: The paper's figure studies by name (``fig4`` draws Figures 4 and 5).
+STUDIES = {"fig1": "studies.fig1_tip_response", "fig4": "studies.fig4_stiffness"}
+ALIASES = {"fig5": "fig4"}
+
+
+def _load(path: Path):
+    """The scene at ``path`` validated and built (raises ``SceneError``)."""
+    from sliders.model import Model
+    from sliders.scene import load_scene
+
+    return Model(load_scene(path), source=str(path))
+
+
+def _check(args: argparse.Namespace) -> int:
+    model = _load(args.scene)
+    scene = model.scene
+    study = scene.study.kind
+    if study == "sweep":
+        study += f" over {scene.study.parameter.kind}, {len(scene.study.sweep_values())} values"
+    print(f"{args.scene}: valid ({len(scene.beam)} beams, {len(scene.body)} bodies, "
+          f"{len(scene.slider)} sliders; {study})")
+    return 0
+
+
+def _run(args: argparse.Namespace) -> int:
+    from fvbeam.io import check_replaceable
+    from sliders.run import run
+    from sliders.tables import MARKER, write_results
+
+    model = _load(args.scene)
+    out = args.out if args.out is not None else Path("results") / args.scene.stem
+    try:
+        check_replaceable(out, MARKER)
+    except ValueError as exc:
+        print(f"fvslider: {exc}", file=sys.stderr)
+        return 2
+    results = run(model, progress=True)
+    write_results(results, out)
+    done = len(results.samples)
+    print(f"{done} of {results.planned} samples in {results.seconds:.2f} s, written to {out}")
+    for sample in results.failures[:5]:
+        value = "" if sample.value is None else f" (value {sample.value:g})"
+        print(f"  sample {sample.index}{value} failed: {sample.error}", file=sys.stderr)
+    if len(results.failures) > 5:
+        print(f"  ... {len(results.failures) - 5} more failures in samples.csv",
+              file=sys.stderr)
+    if results.interrupted:
+        print("interrupted: the completed samples are written", file=sys.stderr)
+        return 130
+    return 1 if results.failures else 0
+
+
+def describe(key: str) -> str:
+    """The first line of a study's docstring, read without importing it."""
+    origin = importlib.util.find_spec(STUDIES[key]).origin
+    doc = ast.get_docstring(ast.parse(Path(origin).read_text())) or ""
+    return doc.splitlines()[0] if doc else ""
+
+
+def _studies(args: argparse.Namespace) -> int:
+    for key, module in STUDIES.items():
+        path = "/".join(module.split(".")) + ".py"
+        print(f"{key:5s} {path:30s} {describe(key)}")
+    return 0
+
+
+def _reproduce(args: argparse.Namespace) -> int:
+    keys = list(dict.fromkeys(args.figures or STUDIES))
+    plot = importlib.util.find_spec("matplotlib") is not None
+    if not plot:
+        print("matplotlib is not installed: CSV only (pip install 'fvslider[plot]' for the "
+              "PNGs)", file=sys.stderr)
+    table = []
+    for key in keys:
+        module = importlib.import_module(STUDIES[key])
+        start = time.perf_counter()
+        rows = module.reproduce(args.out, plot_png=plot)
+        seconds = time.perf_counter() - start
+        table += [(key, case, error, reference, seconds) for case, error, reference in rows]
+    print(f"\n{'figure':7s}{'case':40s}{'max error':>11s}  {'seconds':>8s}  reference")
+    for key, case, error, reference, seconds in table:
+        print(f"{key:7s}{case:40s}{error:11.3g}  {seconds:8.1f}  {reference}")
+    print(f"written to {args.out}")
+    return 0
+
+
+def _figure(name: str) -> str:
+    """A figure name as its study's key (``fig5`` is drawn by ``fig4``)."""
+    key = ALIASES.get(name, name)
+    if key not in STUDIES:
+        choices = ", ".join(list(STUDIES) + list(ALIASES))
+        raise argparse.ArgumentTypeError(f"unknown figure {name!r} (choose from {choices})")
+    return key
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="fvslider", description="Finite-volume beams and deformable slider joints: "
+        "run scenes (TOML) and the paper's studies.", epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    commands = parser.add_subparsers(title="commands", required=True, metavar="COMMAND")
+    run = commands.add_parser("run", help="validate a scene, solve its study, write its CSV "
+                              "tables", epilog=EXAMPLES,
+                              formatter_class=argparse.RawDescriptionHelpFormatter)
+    run.add_argument("scene", type=Path, metavar="SCENE.toml")
+    run.add_argument("--out", type=Path, help="output directory, replaced whole "
+                     "(default results/SCENE)")
+    run.set_defaults(command=_run)
+    check = commands.add_parser("check", help="validate a scene without solving it")
+    check.add_argument("scene", type=Path, metavar="SCENE.toml")
+    check.set_defaults(command=_check)
+    studies = commands.add_parser("studies", help="list the paper's figure studies")
+    studies.set_defaults(command=_studies)
+    reproduce = commands.add_parser("reproduce", help="run the paper's figure studies and "
+                                    "print their errors against the closed forms")
+    reproduce.add_argument("figures", nargs="*", metavar="FIG", type=_figure,
+                           help=f"figures to run, from {', '.join(list(STUDIES) + list(ALIASES))}"
+                           " (default: all)")
+    reproduce.add_argument("--out", type=Path, default=Path("results"),
+                           help="output directory (default results/)")
+    reproduce.set_defaults(command=_reproduce)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line ``argv`` (default ``sys.argv[1:]``); return the exit code."""
+    args = _parser().parse_args(argv)
+    from sliders.scene_errors import SceneError
+
+    try:
+        return args.command(args)
+    except SceneError as exc:
+        print(exc, file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,319 @@
+"""A validated scene as fvbeam and sliders objects, and the problem of each study point.
+
+:class:`Model` builds the sections, beams, bodies, rigid lines, supports and sliders of a
+:class:`~sliders.scene.Scene` by name, and checks the geometry (phase 3 of validation): the
+library's own checks on every part, ties between coincident nodes, point loads on their
+beams, and every slider's body on its line, in the scene and at every value of a sweep that
+moves it.  Nothing is assembled or solved until :meth:`Model.problem` is called.
+
+The body-on-line tolerance is ``1e-6`` of the line's size (the largest of its length and of
+the distances from the origin of its ends and of the sliding point): coordinates written with
+six significant digits are off by at most ``5e-7`` of their magnitude, so a point meant to be
+on the line passes, and a point a millionth of the line away is a mistake, not rounding.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from fvbeam import Beam, BeamMesh, RigidBody, Section, Structure, Support, arc, straight
+from fvbeam.statics import NodeRef
+from sliders.chain import BeamChain
+from sliders.joint import Slider
+from sliders.lines import CircularArc, CubicSpline, Helix, RigidLine, StraightLine, project
+from sliders.scene import (Abscissa, BeamSpec, LoadFactor, PointLoad, Scene, SliderSpec,
+                           SweepStudy, Translation)
+from sliders.scene_checks import part_of, tied_parts
+from sliders.scene_errors import Problems
+from sliders.statics import SliderStatics
+
+#: Body-on-line tolerance, relative to the line's size (module docstring).
+ON_LINE = 1e-6
+#: Ties join coincident nodes to this fraction of the scene's size (as fvbeam.Structure does
+#: for bodies).
+COINCIDENT = 1e-9
+TWO_NODE = ("fv2", "galerkin-p1")
+
+
+def _section(spec) -> Section:
+    return Section.diagonal(spec.EA, spec.GAy, spec.GAz, spec.GJ, spec.EJy, spec.EJz,
+                            mass_per_length=spec.mass_per_length or 0.0,
+                            inertia=np.array(spec.inertia or np.zeros((3, 3))), name=spec.name)
+
+
+def _mesh(spec: BeamSpec, formulation: str) -> BeamMesh:
+    npe = 2 if formulation in TWO_NODE else 3
+    if spec.straight is not None:
+        s = spec.straight
+        return straight(s.start, s.end, s.elements, npe, up=spec.up, name=spec.name)
+    if spec.arc is not None:
+        a = spec.arc
+        return arc(a.center, a.radius, a.angle0, a.angle1, a.elements, npe, name=spec.name)
+    return BeamMesh.read(spec.mesh, up=spec.up or (0.0, 0.0, 1.0), name=spec.name)
+
+
+def _body(spec) -> RigidBody:
+    frame = None if spec.frame is None else np.array(spec.frame).T
+    return RigidBody(spec.name, np.array(spec.position), spec.mass or 0.0,
+                     np.array(spec.inertia or np.zeros((3, 3))), frame)
+
+
+def _rigid_line(spec) -> RigidLine:
+    if spec.kind == "straight":
+        return StraightLine(spec.start, spec.end, spec.up, name=spec.name)
+    if spec.kind == "arc":
+        return CircularArc(spec.center, spec.radius, spec.angle0, spec.angle1, name=spec.name)
+    if spec.kind == "helix":
+        return Helix(spec.center, spec.radius, spec.pitch, spec.turns, name=spec.name)
+    return CubicSpline(spec.points, spec.up, name=spec.name)
+
+
+class _Probe:
+    """Distances from points to a slider's line in its reference configuration (``zero``:
+    no displacement), and the on-line tolerance (module docstring)."""
+
+    def __init__(self, line: BeamChain | RigidLine, zero: np.ndarray) -> None:
+        if isinstance(line, BeamChain):
+            self.curve = lambda xi: line.geometry(xi, zero)
+            self.project = lambda point: line.project(point, zero)
+        else:
+            self.curve = lambda xi: line.derivatives(xi)[:3]
+            self.project = line.project
+        self.length = line.length
+        ends = [np.linalg.norm(self.curve(xi)[0]) for xi in (0.0, line.length)]
+        self.size = max([line.length] + ends)
+
+    def gap(self, point: np.ndarray, start: float | None = None) -> tuple[float, float, float]:
+        """Distance from ``point`` to the line, the tolerance, and the abscissa of the closest
+        point; from the abscissa ``start`` of a nearby point when given (a continuation along
+        a sweep), else from the line's own search."""
+        xi = (self.project(point) if start is None
+              else project(self.curve, np.array([start, self.length]), point))
+        gap = float(np.linalg.norm(point - self.curve(xi)[0]))
+        return gap, ON_LINE * max(self.size, float(np.linalg.norm(point))), xi
+
+
+class Model:
+    """The scene's objects, built once; :meth:`problem` gives each study point's statics.
+
+    Parameters
+    ----------
+    scene
+        A scene that passed :func:`sliders.scene.parse_scene`.
+    source
+        Name of the scene in error messages.
+
+    Raises
+    ------
+    SceneError
+        Listing every geometric problem (validation phase 3).
+    """
+
+    def __init__(self, scene: Scene, source: str = "scene") -> None:
+        self.scene = scene
+        problems = Problems()
+        sections = {s.name: problems.attempt(f"section[{i}]", lambda s=s: _section(s))
+                    for i, s in enumerate(scene.section)}
+        self.beams: list[Beam] = []
+        for i, spec in enumerate(scene.beam):
+            form = spec.formulation or scene.formulation
+            where = f"beam[{i}].mesh" if spec.mesh is not None else f"beam[{i}]"
+            mesh = problems.attempt(where, lambda: _mesh(spec, form))
+            if mesh is not None and sections[spec.section] is not None:
+                self.beams.append(problems.attempt(where, lambda: Beam(
+                    mesh, sections[spec.section], form, scene.integration)))
+        self.bodies = [problems.attempt(f"body[{i}]", lambda s=s: _body(s))
+                       for i, s in enumerate(scene.body)]
+        self.lines = {s.name: problems.attempt(f"line[{i}]", lambda s=s: _rigid_line(s))
+                      for i, s in enumerate(scene.line)}
+        problems.raise_if_any(source)
+        self.index = {spec.name: i for i, spec in enumerate(scene.beam)}
+        self._check_ties(problems)
+        self._check_point_loads(problems)
+        problems.raise_if_any(source)
+        self.ties = [tuple(self.ref(n) for n in tie.nodes) for tie in scene.tie]
+        self.supports = [self._support(s.node, s.kind) for s in scene.support]
+        self.structure = Structure(self.beams, self.ties, self.bodies)
+        self.sliders = [problems.attempt(f"slider[{i}]",
+                                         lambda s=s: self._slider(s, self.structure))
+                        for i, s in enumerate(scene.slider)]
+        problems.raise_if_any(source)
+        self._check_on_lines(problems)
+        problems.raise_if_any(source)
+        self._previous: SliderStatics | None = None
+
+    # -- references -------------------------------------------------------------------------
+    def ref(self, node: str) -> NodeRef:
+        """A scene node reference (``'beam.start'``, ``'beam.end'``, a body name) as the
+        structure's (``(beam index, 'start' | 'end')`` or the body name)."""
+        name, _, end = node.partition(".")
+        return (self.index[name], end) if end else name
+
+    def _support(self, node: str, kind: str) -> Support:
+        ref = self.ref(node)
+        return Support(ref, kind=kind) if isinstance(ref, str) else Support(*ref, kind)
+
+    def position(self, node: str) -> np.ndarray:
+        """Reference position of a scene node."""
+        ref = self.ref(node)
+        if isinstance(ref, str):
+            return self.bodies[[b.name for b in self.bodies].index(ref)].position.copy()
+        mesh = self.beams[ref[0]].mesh
+        return mesh.points[0 if ref[1] == "start" else mesh.n_elements].copy()
+
+    def _slider(self, spec: SliderSpec, structure: Structure) -> Slider:
+        if spec.line[0] in self.lines:
+            line = self.lines[spec.line[0]]
+        else:
+            line = BeamChain(structure, [self.index[b] for b in spec.line], "+".join(spec.line))
+        return Slider(spec.kind, line, self.ref(spec.body), np.array(spec.offset),
+                      np.array(spec.frame).T, spec.smearing, spec.kernel, spec.orientation,
+                      spec.end_stops, spec.name)
+
+    # -- geometric checks -------------------------------------------------------------------
+    def _size(self) -> float:
+        points = np.vstack([b.mesh.points for b in self.beams]
+                           + [b.position for b in self.bodies])
+        return float(np.linalg.norm(points.max(axis=0) - points.min(axis=0)))
+
+    def _check_ties(self, problems: Problems) -> None:
+        tol = COINCIDENT * self._size()
+        for i, tie in enumerate(self.scene.tie):
+            gap = float(np.linalg.norm(self.position(tie.nodes[0]) - self.position(tie.nodes[1])))
+            if gap > tol:
+                problems.add(f"tie[{i}].nodes", f"the nodes are {gap:.6g} m apart; a tie joins "
+                             f"coincident nodes (to {COINCIDENT:g} of the scene's size, "
+                             f"{tol:.3g} m)", list(tie.nodes))
+
+    def _check_point_loads(self, problems: Problems) -> None:
+        for i, load in enumerate(self.scene.load):
+            if isinstance(load, PointLoad):
+                length = self.beams[self.index[load.beam]].mesh.length
+                if load.at > length * (1 + 1e-12):
+                    problems.add(f"load[{i}].at", f"beyond the end of beam '{load.beam}' "
+                                 f"(length {length:.6g} m)", load.at)
+
+    def _check_on_lines(self, problems: Problems) -> None:
+        """Every slider's body on its line, in the scene and at every sweep value."""
+        zero = np.zeros(self.structure.n_dofs)
+        for i, slider in enumerate(self.sliders):
+            xi = problems.attempt(f"slider[{i}]",
+                                  lambda: slider.initial_unknowns(self.structure, zero)[0])
+            if xi is not None:
+                gap, tol, _ = _Probe(slider.line, zero).gap(slider.reference_point(
+                    self.structure))
+                if gap > tol:
+                    problems.add(f"slider[{i}].body", f"its sliding point is {gap:.3g} m from "
+                                 f"line '{slider.line.name}' (allowed {tol:.3g} m)",
+                                 self.scene.slider[i].body)
+        study = self.scene.study
+        if not problems and isinstance(study, SweepStudy):
+            self._check_sweep(study, problems)
+
+    def _check_sweep(self, study: SweepStudy, problems: Problems) -> None:
+        where = "study.values" if study.values is not None else "study.range"
+        values = study.sweep_values()
+        parameter = study.parameter
+        if isinstance(parameter, Abscissa):
+            length = self._abscissa_length(parameter.of)
+            outside = [v for v in values if not -1e-12 * length <= v <= length * (1 + 1e-12)]
+            if outside:
+                problems.add(where, f"the abscissa of '{parameter.of}' must lie in "
+                             f"[0, {length:.6g}] m (the length of its line)", outside[0])
+                return
+        moved = self.moved_parts()
+        for i, slider in enumerate(self.sliders):
+            sign = (part_of(self.scene.slider[i].body) in moved) - self._line_moves(i, moved)
+            if not moved or sign == 0:
+                continue
+            probe = _Probe(slider.line, np.zeros(self.structure.n_dofs))
+            point, xi, bad = slider.reference_point(self.structure), None, []
+            for v in values:
+                gap, tol, xi = probe.gap(point + sign * self.offset(v), xi)
+                if gap > tol:
+                    bad.append((v, gap, tol))
+            if bad:
+                v, g, t = bad[0]
+                more = f" (and {len(bad) - 1} more values)" if len(bad) > 1 else ""
+                problems.add(where, f"at {v:g}{more}: the sliding point of slider "
+                             f"'{slider.name}' is {g:.3g} m from line '{slider.line.name}' "
+                             f"(allowed {t:.3g} m)", float(v))
+
+    def _slider_names(self) -> list[str]:
+        return [s.name for s in self.scene.slider]
+
+    def _abscissa_length(self, of: str) -> float:
+        if of in self._slider_names():
+            return self.sliders[self._slider_names().index(of)].line.length
+        load = next(load for load in self.scene.load if load.name == of)
+        return self.beams[self.index[load.beam]].mesh.length
+
+    def _line_moves(self, i: int, moved: set[str]) -> bool:
+        return self.scene.slider[i].line[0] in moved
+
+    # -- the study's points -----------------------------------------------------------------
+    def moved_parts(self) -> set[str]:
+        """The beams and bodies a sweep moves (none for a static study or a load sweep)."""
+        study = self.scene.study
+        if not isinstance(study, SweepStudy):
+            return set()
+        parameter = study.parameter
+        if isinstance(parameter, Translation):
+            return set(parameter.move)
+        if isinstance(parameter, Abscissa) and parameter.of in self._slider_names():
+            spec = self.scene.slider[self._slider_names().index(parameter.of)]
+            return tied_parts(self.scene, part_of(spec.body))
+        return set()
+
+    def offset(self, value: float) -> np.ndarray:
+        """How far a sweep value moves the moved parts from their scene placement."""
+        parameter = self.scene.study.parameter
+        if isinstance(parameter, Translation):
+            direction = np.array(parameter.direction)
+            return value * direction / np.linalg.norm(direction)
+        slider = self.sliders[self._slider_names().index(parameter.of)]
+        zero = np.zeros(self.structure.n_dofs)
+        target = (slider.line.geometry(value, zero)[0] if isinstance(slider.line, BeamChain)
+                  else slider.line.at(value).x)
+        return target - slider.reference_point(self.structure)
+
+    def problem(self, value: float | None = None) -> tuple[SliderStatics, np.ndarray]:
+        """The statics and the load vector of the study point ``value`` (``None``: the scene
+        as written)."""
+        moved = self.moved_parts() if value is not None else set()
+        method = self.scene.study.method
+        if moved or self._previous is None:
+            shift = self.offset(value) if moved else np.zeros(3)
+            beams = [b.translated(shift) if s.name in moved else b
+                     for s, b in zip(self.scene.beam, self.beams)]
+            bodies = [dataclasses.replace(b, position=b.position + shift) if b.name in moved
+                      else b for b in self.bodies]
+            structure = Structure(beams, self.ties, bodies)
+            sliders = [self._slider(s, structure) for s in self.scene.slider]
+            self._previous = SliderStatics(structure, self.supports, sliders,
+                                           reuse=self._previous, method=method)
+        return self._previous, self.load_vector(self._previous.structure, value)
+
+    def load_vector(self, structure: Structure, value: float | None) -> np.ndarray:
+        """The scene's loads on ``structure`` at the study point ``value``."""
+        study = self.scene.study
+        parameter = study.parameter if isinstance(study, SweepStudy) else None
+        f = np.zeros(structure.n_dofs)
+        for spec in self.scene.load:
+            if spec.kind == "nodal":
+                f += structure.nodal_load(self.ref(spec.node), spec.force, spec.moment)
+                continue
+            i = self.index[spec.beam]
+            beam = structure.beams[i]
+            if spec.kind == "distributed":
+                f += structure.gather(i, beam.distributed_load(spec.force, spec.moment))
+                continue
+            moves = (isinstance(parameter, Abscissa) and parameter.of == spec.name
+                     and value is not None)
+            f += structure.gather(i, beam.point_load(value if moves else spec.at, spec.force,
+                                                     spec.moment, spec.smearing, spec.kernel))
+        if isinstance(parameter, LoadFactor) and value is not None:
+            f *= value
+        return f

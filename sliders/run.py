@@ -1,0 +1,95 @@
+"""Running a scene's study: every sample's solution (or failure) in memory.
+
+A static study has one sample; a sweep has one per parameter value, solved as a continuation
+(:func:`sliders.sweep.sweep`: a progress bar on a terminal, failed points recorded with their
+message, Ctrl-C keeping the completed points).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from sliders.model import Model
+from sliders.scene import Scene, SweepStudy
+from sliders.statics import SliderSolution, SliderStatics
+from sliders.sweep import sweep
+
+
+@dataclass(frozen=True)
+class Sample:
+    """One study point: the parameter ``value`` (``None`` for a static study), its
+    ``statics`` and ``load`` vector, and the ``solution`` or the ``error`` message."""
+
+    index: int
+    value: float | None
+    statics: SliderStatics | None
+    load: np.ndarray | None
+    solution: SliderSolution | None
+    error: str | None = None
+
+
+@dataclass
+class Results:
+    """The samples computed for ``model``, in order; ``interrupted`` when Ctrl-C ended a
+    sweep early; ``planned`` samples were asked for; ``seconds`` of wall time."""
+
+    model: Model
+    samples: list[Sample] = field(default_factory=list)
+    planned: int = 1
+    interrupted: bool = False
+    seconds: float = 0.0
+
+    @property
+    def scene(self) -> Scene:
+        return self.model.scene
+
+    @property
+    def failures(self) -> list[Sample]:
+        """The samples that did not converge (or could not be built)."""
+        return [s for s in self.samples if s.solution is None]
+
+
+def run(model: Model, progress: bool = True) -> Results:
+    """Solve the scene's study.
+
+    Parameters
+    ----------
+    model
+        The built scene.
+    progress
+        A progress bar on sweeps (shown only on a terminal).
+
+    Returns
+    -------
+    Results
+        Every sample, converged or not (a static study that fails has one failed sample).
+    """
+    study = model.scene.study
+    options = dict(tol=study.tol, max_iterations=study.max_iterations,
+                   load_steps=study.load_steps)
+    start = time.perf_counter()
+    if not isinstance(study, SweepStudy):
+        statics, f = model.problem()
+        try:
+            sample = Sample(0, None, statics, f, statics.solve(f, **options))
+        except ValueError as exc:
+            sample = Sample(0, None, statics, f, None, str(exc))
+        return Results(model, [sample], seconds=time.perf_counter() - start)
+    built: list = []
+
+    def build(value: float) -> tuple[SliderStatics, np.ndarray]:
+        built.append((None, None))
+        built[-1] = model.problem(float(value))
+        return built[-1]
+
+    values = study.sweep_values()
+    result = sweep(values, build, continuation=study.continuation,
+                   stop_on_failure=study.stop_on_failure, progress=progress,
+                   desc=model.scene.title or study.parameter.kind, **options)
+    samples = [Sample(k, float(p.value), *built[k], p.solution, p.error)
+               for k, p in enumerate(result.points)]
+    return Results(model, samples, len(values), result.interrupted,
+                   time.perf_counter() - start)

@@ -1,0 +1,412 @@
+"""Scenes: one TOML file describes one model and one study (``docs/scenes.md``).
+
+A scene is read with :mod:`tomllib` and validated into frozen pydantic models before anything
+is built or solved, in three phases, each reporting all its problems at once in one
+:class:`~sliders.scene_errors.SceneError`:
+
+1. the schema (this module): keys, types, finite numbers, positive stiffnesses and masses,
+   allowed kinds, with a did-you-mean for unknown keys and kinds;
+2. references and consistency (:mod:`sliders.scene_checks`): every name refers to something
+   that exists, chains are tied end to start, the study's parameter makes sense;
+3. geometry (:class:`sliders.model.Model`): mesh files, the library's own checks, every
+   slider's body on its line (also at every value of a sweep that moves it).
+
+Everything is referred to by name; units are SI (m, N, N m, kg, rad).  Arrays of tables carry
+singular names (``[[beam]]``, ``[[slider]]``), so an error at ``slider[1].smearing`` is in the
+second ``[[slider]]`` table.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+from typing import Annotated, Any, Literal, Union
+
+import numpy as np
+from pydantic import (AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, Strict,
+                      ValidationError, ValidationInfo)
+
+from fvbeam.geometry import inertia3, orthonormal3
+from sliders.scene_errors import Problem, SceneError, schema_problems
+
+NAME_PATTERN = r"^[A-Za-z_][A-Za-z0-9_\-]*$"
+FORMULATIONS = ("fv2", "fv3", "galerkin-p1", "galerkin-p2")
+#: The CSV tables a run can write (:mod:`sliders.tables`).
+TABLES = ("samples", "nodes", "sliders", "internal_forces", "reactions")
+
+Number = Annotated[float, Strict(), Field(allow_inf_nan=False, description="a finite number")]
+Positive = Annotated[float, Strict(), Field(allow_inf_nan=False, gt=0,
+                                            description="a finite number > 0")]
+NonNegative = Annotated[float, Strict(), Field(allow_inf_nan=False, ge=0,
+                                               description="a finite number >= 0")]
+Count = Annotated[int, Strict(), Field(ge=1, description="an integer >= 1")]
+Flag = Annotated[bool, Strict(), Field(description="true or false")]
+Text = Annotated[str, Strict(), Field(description="a string")]
+Name = Annotated[str, Strict(), Field(pattern=NAME_PATTERN, description=(
+    "a name: a letter or _, then letters, digits, _ or -"))]
+NodeRef = Annotated[str, Strict(), Field(
+    pattern=NAME_PATTERN[:-1] + r"(\.(start|end))?$",
+    description="a node: a body's name, or a beam's end as 'beam.start' or 'beam.end'")]
+Vec3 = Annotated[tuple[Number, ...], Field(min_length=3, max_length=3,
+                                           description="3 numbers [x, y, z]")]
+Rows3 = Annotated[tuple[Vec3, ...], Field(min_length=3, max_length=3,
+                                          description="3 rows of 3 numbers")]
+
+
+def _diagonal(value: Any) -> Any:
+    """Three entries that are not all rows stand for a diagonal matrix (a wrong entry is then
+    reported at ``[i][i]``)."""
+    if isinstance(value, list) and len(value) == 3 and not all(
+            isinstance(v, (list, tuple)) for v in value):
+        return [[value[0], 0.0, 0.0], [0.0, value[1], 0.0], [0.0, 0.0, value[2]]]
+    return value
+
+
+def _inertia(value: tuple) -> tuple:
+    inertia3(value, "an inertia")
+    return value
+
+
+def _frame(value: tuple) -> tuple:
+    orthonormal3(value, "the axes [e1, e2, e3]")
+    return value
+
+
+Inertia = Annotated[Rows3, BeforeValidator(_diagonal), AfterValidator(_inertia),
+                    Field(description="3 numbers (diagonal) or 3 rows of 3 numbers, "
+                                      "symmetric positive semi-definite")]
+Frame = Annotated[Rows3, AfterValidator(_frame),
+                  Field(description="the axes [e1, e2, e3], each 3 numbers, orthonormal")]
+
+
+def _one_name(value: Any) -> Any:
+    """A single name stands for a list of one."""
+    return [value] if isinstance(value, str) else value
+
+
+LineRef = Annotated[tuple[Name, ...], BeforeValidator(_one_name), Field(
+    min_length=1, description="a rigid line's name, or a beam's name or a list of beam "
+                              "names (a chain, joined end to start)")]
+
+
+def _resolve(path: str, info: ValidationInfo) -> str:
+    """A mesh path relative to the scene file's folder, made absolute."""
+    base = (info.context or {}).get("base")
+    return str((Path(base) / path).resolve()) if base is not None else path
+
+
+MeshPath = Annotated[str, Strict(), AfterValidator(_resolve),
+                     Field(description="a mesh file's path (relative to the scene file)")]
+
+
+class Table(BaseModel):
+    """A TOML table: unknown keys are errors, values are frozen once validated."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+# -- model --------------------------------------------------------------------------------------
+class SectionSpec(Table):
+    """``[[section]]``: a beam section, uncoupled (``fvbeam.Section.diagonal``)."""
+
+    name: Name
+    EA: Positive
+    GAy: Positive
+    GAz: Positive
+    GJ: Positive
+    EJy: Positive
+    EJz: Positive
+    mass_per_length: Positive | None = None
+    inertia: Inertia | None = None
+
+
+class StraightSpec(Table):
+    """A straight beam from ``start`` to ``end`` in ``elements`` equal elements."""
+
+    start: Vec3
+    end: Vec3
+    elements: Count
+
+
+class ArcSpec(Table):
+    """A circular arc about ``center`` in the plane normal to z, ``angle0`` to ``angle1``
+    (radians)."""
+
+    center: Vec3
+    radius: Positive
+    angle0: Number
+    angle1: Number
+    elements: Count
+
+
+class BeamSpec(Table):
+    """``[[beam]]``: one beam; exactly one of ``straight``, ``arc``, ``mesh``."""
+
+    name: Name
+    section: Name
+    formulation: Literal[FORMULATIONS] | None = None
+    straight: StraightSpec | None = None
+    arc: ArcSpec | None = None
+    mesh: MeshPath | None = None
+    up: Vec3 | None = None
+
+
+class BodySpec(Table):
+    """``[[body]]``: a rigid body (``fvbeam.RigidBody``), one six-dof node."""
+
+    name: Name
+    position: Vec3
+    mass: Positive | None = None
+    inertia: Inertia | None = None
+    frame: Frame | None = None
+
+
+class TieSpec(Table):
+    """``[[tie]]``: two coincident nodes made one."""
+
+    nodes: Annotated[tuple[NodeRef, ...], Field(min_length=2, max_length=2,
+                                                 description="two nodes")]
+
+
+class SupportSpec(Table):
+    """``[[support]]``: a node held: ``clamp``, ``pin`` or dof names joined by ``+``."""
+
+    node: NodeRef
+    kind: Text = "clamp"
+
+
+class StraightLineSpec(Table):
+    kind: Literal["straight"]
+    name: Name
+    start: Vec3
+    end: Vec3
+    up: Vec3 = (0.0, 0.0, 1.0)
+
+
+class ArcLineSpec(Table):
+    kind: Literal["arc"]
+    name: Name
+    center: Vec3
+    radius: Positive
+    angle0: Number
+    angle1: Number
+
+
+class HelixLineSpec(Table):
+    kind: Literal["helix"]
+    name: Name
+    center: Vec3
+    radius: Positive
+    pitch: Number
+    turns: Positive
+
+
+class SplineLineSpec(Table):
+    kind: Literal["cubic-spline"]
+    name: Name
+    points: Annotated[tuple[Vec3, ...], Field(min_length=3, description="3 or more points")]
+    up: Vec3 = (0.0, 0.0, 1.0)
+
+
+LineSpec = Annotated[Union[StraightLineSpec, ArcLineSpec, HelixLineSpec, SplineLineSpec],
+                     Field(discriminator="kind")]
+
+
+class SliderSpec(Table):
+    """``[[slider]]``: a node sliding on a line (``sliders.joint.Slider``)."""
+
+    name: Name
+    kind: Literal["spherical", "classical", "spline"]
+    line: LineRef
+    body: NodeRef
+    offset: Vec3 = (0.0, 0.0, 0.0)
+    frame: Frame = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+    smearing: NonNegative = 0.0
+    kernel: Literal["box", "hat"] = "box"
+    orientation: Literal["section", "slope"] = "section"
+    end_stops: Flag = False
+
+
+class Wrench(Table):
+    """A force and a couple, global axes (N, N m; per unit length for a distributed load)."""
+
+    force: Vec3 = (0.0, 0.0, 0.0)
+    moment: Vec3 = (0.0, 0.0, 0.0)
+
+
+class NodalLoad(Wrench):
+    """``[[load]]`` on a node."""
+
+    kind: Literal["nodal"]
+    name: Name | None = None
+    node: NodeRef
+
+
+class PointLoad(Wrench):
+    """``[[load]]`` at the abscissa ``at`` (m) of a beam, spread by ``smearing``."""
+
+    kind: Literal["point"]
+    name: Name | None = None
+    beam: Name
+    at: NonNegative
+    smearing: NonNegative = 0.0
+    kernel: Literal["box", "hat"] = "box"
+
+
+class DistributedLoad(Wrench):
+    """``[[load]]`` per unit length on a whole beam."""
+
+    kind: Literal["distributed"]
+    name: Name | None = None
+    beam: Name
+
+
+LoadSpec = Annotated[Union[NodalLoad, PointLoad, DistributedLoad], Field(discriminator="kind")]
+
+
+# -- study ---------------------------------------------------------------------------------------
+class Solver(Table):
+    """Newton options (:meth:`sliders.statics.SliderStatics.solve`)."""
+
+    method: Literal["bordered", "condensed"] = "bordered"
+    tol: Positive = 1e-8
+    max_iterations: Count = 25
+    load_steps: Count = 1
+
+
+class StaticStudy(Solver):
+    kind: Literal["static"]
+
+
+class LoadFactor(Table):
+    """Every load times the value."""
+
+    kind: Literal["load_factor"]
+
+
+class Translation(Table):
+    """The beams and bodies ``move`` translated by the value (m) along ``direction``."""
+
+    kind: Literal["translation"]
+    move: Annotated[tuple[Name, ...], Field(min_length=1, description="beam and body names")]
+    direction: Vec3
+
+
+class Abscissa(Table):
+    """The abscissa (m) of a slider's body on its line, or of a point load on its beam."""
+
+    kind: Literal["abscissa"]
+    of: Name
+
+
+Parameter = Annotated[Union[LoadFactor, Translation, Abscissa], Field(discriminator="kind")]
+
+
+class Range(Table):
+    """``num`` values evenly spaced from ``start`` to ``stop``, both included."""
+
+    start: Number
+    stop: Number
+    num: Count
+
+
+class SweepStudy(Solver):
+    kind: Literal["sweep"]
+    parameter: Parameter
+    values: Annotated[tuple[Number, ...], Field(min_length=1)] | None = None
+    range: Range | None = None
+    continuation: Flag = True
+    stop_on_failure: Flag = False
+
+    def sweep_values(self) -> np.ndarray:
+        """The parameter's values, in order."""
+        if self.values is not None:
+            return np.array(self.values)
+        return np.linspace(self.range.start, self.range.stop, self.range.num)
+
+
+class DynamicStudy(BaseModel):
+    """Reserved for time integration (issue 4); rejected by :mod:`sliders.scene_checks`."""
+
+    model_config = ConfigDict(extra="allow", frozen=True)
+    kind: Literal["dynamic"]
+
+
+Study = Annotated[Union[StaticStudy, SweepStudy, DynamicStudy], Field(discriminator="kind")]
+
+
+class Output(Table):
+    """``[output]``: the CSV tables to write (:mod:`sliders.tables`)."""
+
+    csv: tuple[Literal[TABLES], ...] = TABLES
+
+
+class Scene(Table):
+    """A whole scene: the model's parts, the study and the outputs."""
+
+    title: Text = ""
+    formulation: Literal[FORMULATIONS] = "fv3"
+    integration: Literal["reduced", "full"] = "reduced"
+    section: tuple[SectionSpec, ...] = ()
+    beam: tuple[BeamSpec, ...] = ()
+    body: tuple[BodySpec, ...] = ()
+    line: tuple[LineSpec, ...] = ()
+    tie: tuple[TieSpec, ...] = ()
+    support: tuple[SupportSpec, ...] = ()
+    slider: tuple[SliderSpec, ...] = ()
+    load: tuple[LoadSpec, ...] = ()
+    study: Study
+    output: Output = Output()
+
+
+def parse_scene(data: dict, base: str | Path | None = None, source: str = "scene") -> Scene:
+    """Validate a scene given as the dict ``tomllib`` reads (phases 1 and 2).
+
+    Parameters
+    ----------
+    data
+        The TOML document as a dict.
+    base
+        Folder that relative mesh paths start from (the scene file's).
+    source
+        Name of the scene in error messages.
+
+    Raises
+    ------
+    SceneError
+        Listing every problem of the first phase that finds any.
+    """
+    from sliders.scene_checks import reference_problems
+
+    if not isinstance(data, dict):
+        raise SceneError(source, [Problem("", "a scene is a TOML document (a table)")])
+    try:
+        scene = Scene.model_validate(data, context={"base": base})
+    except ValidationError as exc:
+        raise SceneError(source, schema_problems(exc, Scene)) from None
+    problems = reference_problems(scene)
+    if problems:
+        raise SceneError(source, problems)
+    return scene
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Read and validate a scene file (phases 1 and 2; :class:`sliders.model.Model` does the
+    geometry).  Raises :class:`SceneError` for an unreadable or invalid file."""
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text())
+    except OSError as exc:
+        raise SceneError(str(path), [Problem("", f"cannot read the file: {exc.strerror}")]) \
+            from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise SceneError(str(path), [Problem("", f"not valid TOML: {exc}")]) from None
+    return parse_scene(data, path.parent, str(path))
+
+
+def dump_scene(scene: Scene) -> str:
+    """The scene as TOML text; :func:`parse_scene` of it gives an equal scene (mesh paths are
+    written absolute)."""
+    import tomli_w
+
+    return tomli_w.dumps(scene.model_dump(mode="python", exclude_none=True))

@@ -1,0 +1,242 @@
+"""Phase 2 of scene validation: names, references and consistency, on the data alone.
+
+Every name a scene uses must be defined (with a did-you-mean when it is not), chains must be
+tied end to start, a slider must not slide on its own beam, and the study's parameter must
+refer to something it can move.  Nothing is built here: the geometry is checked by
+:class:`sliders.model.Model`.
+"""
+
+from __future__ import annotations
+
+from typing import Iterable
+
+from fvbeam.statics import DOF_NAMES
+from sliders.scene import (Abscissa, DynamicStudy, PointLoad, Scene, SweepStudy, Translation)
+from sliders.scene_errors import Problem, Problems, suggest
+
+
+def part_of(ref: str) -> str:
+    """The beam or body a node reference belongs to (``'piston.end'`` -> ``'piston'``)."""
+    return ref.split(".")[0]
+
+
+def tied_parts(scene: Scene, part: str) -> set[str]:
+    """The beams and bodies joined to ``part`` by ties, directly or through others."""
+    group, grown = {part}, True
+    while grown:
+        grown = False
+        for tie in scene.tie:
+            a, b = (part_of(n) for n in tie.nodes)
+            if (a in group) != (b in group):
+                group |= {a, b}
+                grown = True
+    return group
+
+
+class _Names:
+    """The scene's names by kind, and the checks of references to them."""
+
+    def __init__(self, scene: Scene, problems: Problems) -> None:
+        self.sections = self._unique("section", scene.section, problems)
+        parts = [("beam", scene.beam), ("body", scene.body), ("line", scene.line)]
+        self.beams, self.bodies, self.lines = self._unique_across(parts, problems)
+        actors = [("slider", scene.slider), ("load", scene.load)]
+        self.sliders, self.loads = self._unique_across(actors, problems)
+
+    @staticmethod
+    def _unique(key: str, items: Iterable, problems: Problems) -> dict[str, int]:
+        return _Names._unique_across([(key, items)], problems)[0]
+
+    @staticmethod
+    def _unique_across(groups, problems: Problems) -> list[dict[str, int]]:
+        """Names of several kinds that share one namespace: ``{name: index}`` per kind."""
+        seen: dict[str, str] = {}
+        out = []
+        for key, items in groups:
+            names: dict[str, int] = {}
+            for i, item in enumerate(items):
+                name = getattr(item, "name", None)
+                if name is None:
+                    continue
+                if name in seen:
+                    problems.add(f"{key}[{i}].name", f"already the name of {seen[name]}", name)
+                    continue
+                seen[name], names[name] = f"{key}[{i}]", i
+            out.append(names)
+        return out
+
+    def node(self, path: str, ref: str, problems: Problems) -> bool:
+        """Check a node reference; record a problem and return False if it is wrong."""
+        name, _, end = ref.partition(".")
+        if end and name not in self.beams:
+            hint = (f"'{name}' is a body: refer to it as '{name}'" if name in self.bodies
+                    else f"no beam named '{name}'{suggest(name, self.beams)}")
+            problems.add(path, hint, ref)
+            return False
+        if not end and name not in self.bodies:
+            hint = (f"'{name}' is a beam: name one of its ends, '{name}.start' or "
+                    f"'{name}.end'" if name in self.beams
+                    else f"no body named '{name}'{suggest(name, self.bodies)}")
+            problems.add(path, hint, ref)
+            return False
+        return True
+
+    def beam(self, path: str, name: str, problems: Problems) -> bool:
+        if name in self.beams:
+            return True
+        problems.add(path, f"no beam named '{name}'{suggest(name, self.beams)}", name)
+        return False
+
+
+def reference_problems(scene: Scene) -> list[Problem]:
+    """Every problem of names, references and consistency in ``scene`` (phase 2)."""
+    problems = Problems()
+    names = _Names(scene, problems)
+    if not scene.beam and not scene.body:
+        problems.add("", "a scene needs at least one [[beam]] or [[body]]")
+    _check_beams(scene, names, problems)
+    ties_ok = True
+    for i, tie in enumerate(scene.tie):
+        ok = all([names.node(f"tie[{i}].nodes[{k}]", n, problems)
+                  for k, n in enumerate(tie.nodes)])
+        if ok and tie.nodes[0] == tie.nodes[1]:
+            problems.add(f"tie[{i}].nodes", "ties a node to itself", list(tie.nodes))
+        ties_ok = ties_ok and ok
+    for i, support in enumerate(scene.support):
+        names.node(f"support[{i}].node", support.node, problems)
+        _check_support_kind(f"support[{i}].kind", support.kind, problems)
+    for i, slider in enumerate(scene.slider):
+        _check_slider(scene, i, names, problems, ties_ok)
+    for i, load in enumerate(scene.load):
+        if load.kind == "nodal":
+            names.node(f"load[{i}].node", load.node, problems)
+        else:
+            names.beam(f"load[{i}].beam", load.beam, problems)
+    _check_study(scene, names, problems)
+    repeated = sorted({t for t in scene.output.csv if scene.output.csv.count(t) > 1})
+    if repeated:
+        problems.add("output.csv", f"lists {', '.join(repeated)} more than once",
+                     list(scene.output.csv))
+    return list(problems)
+
+
+def _check_beams(scene: Scene, names: _Names, problems: Problems) -> None:
+    for i, beam in enumerate(scene.beam):
+        given = [k for k in ("straight", "arc", "mesh") if getattr(beam, k) is not None]
+        if len(given) != 1:
+            problems.add(f"beam[{i}]", "give exactly one of straight, arc, mesh "
+                         f"(found {', '.join(given) or 'none'})")
+        if beam.section not in names.sections:
+            problems.add(f"beam[{i}].section", f"no section named '{beam.section}'"
+                         f"{suggest(beam.section, names.sections)}", beam.section)
+        if beam.arc is not None and beam.up is not None:
+            problems.add(f"beam[{i}].up", "an arc lies in a plane normal to z, which is its "
+                         "up: leave up out", list(beam.up))
+
+
+def _check_support_kind(path: str, kind: str, problems: Problems) -> None:
+    if kind in ("clamp", "pin"):
+        return
+    for part in kind.split("+"):
+        if part not in DOF_NAMES:
+            choices = ("clamp", "pin") + DOF_NAMES
+            problems.add(path, f"must be 'clamp', 'pin' or dof names from "
+                         f"{' '.join(DOF_NAMES)} joined by '+'{suggest(part, choices)}", kind)
+            return
+
+
+def _check_slider(scene: Scene, i: int, names: _Names, problems: Problems,
+                  ties_ok: bool) -> None:
+    """A slider's line, body and orientation (its chain's joints only when every tie is
+    valid: a broken tie is reported once, where it is)."""
+    slider, path = scene.slider[i], f"slider[{i}]"
+    chain = _check_line(scene, path, slider.line, names, problems, ties_ok)
+    if names.node(f"{path}.body", slider.body, problems) and part_of(slider.body) in chain:
+        problems.add(f"{path}.body", f"is a node of its own line's beam '{part_of(slider.body)}'",
+                     slider.body)
+    if slider.orientation == "slope" and slider.kind != "classical":
+        problems.add(f"{path}.orientation", "'slope' is the classical slider's (paper eq. 4); "
+                     f"a {slider.kind} slider needs 'section'", slider.orientation)
+
+
+def _check_line(scene: Scene, path: str, line: tuple[str, ...], names: _Names,
+                problems: Problems, ties_ok: bool) -> list[str]:
+    """Check a slider's line; return the beams of its chain (empty for a rigid line)."""
+    if len(line) == 1 and line[0] in names.lines:
+        return []
+    for k, name in enumerate(line):
+        if name in names.lines:
+            problems.add(f"{path}.line[{k}]", f"'{name}' is a rigid line: a chain holds beams "
+                         "only (a rigid line is a line of its own)", name)
+        elif name not in names.beams:
+            choices = list(names.beams) + (list(names.lines) if len(line) == 1 else [])
+            problems.add(f"{path}.line[{k}]", f"no {'line or ' if len(line) == 1 else ''}"
+                         f"beam named '{name}'{suggest(name, choices)}", name)
+    repeated = sorted({b for b in line if line.count(b) > 1})
+    if repeated:
+        problems.add(f"{path}.line", f"lists beam {', '.join(repeated)} more than once",
+                     list(line))
+    elif ties_ok and all(name in names.beams for name in line):
+        ties = {frozenset(t.nodes) for t in scene.tie}
+        for a, b in zip(line[:-1], line[1:]):
+            if frozenset((f"{a}.end", f"{b}.start")) not in ties:
+                problems.add(f"{path}.line", f"beams '{a}' and '{b}' are not joined: a chain "
+                             f"needs a [[tie]] with nodes = ['{a}.end', '{b}.start']",
+                             list(line))
+    return [name for name in line if name in names.beams]
+
+
+def _check_study(scene: Scene, names: _Names, problems: Problems) -> None:
+    study = scene.study
+    if isinstance(study, DynamicStudy):
+        problems.add("study.kind", "not available yet: time integration is issue 4; use "
+                     "'static' or 'sweep'", "dynamic")
+        return
+    if study.method == "condensed" and not scene.slider:
+        problems.add("study.method", "'condensed' eliminates slider unknowns and needs at "
+                     "least one slider; use 'bordered'", study.method)
+    if not isinstance(study, SweepStudy):
+        return
+    if (study.values is None) == (study.range is None):
+        problems.add("study", "give exactly one of values, range")
+    if isinstance(study.parameter, Translation):
+        _check_translation(scene, study.parameter, names, problems)
+    elif isinstance(study.parameter, Abscissa):
+        _check_abscissa(scene, study.parameter.of, names, problems)
+
+
+def _check_translation(scene: Scene, parameter: Translation, names: _Names,
+                       problems: Problems) -> None:
+    path = "study.parameter"
+    moved = set(parameter.move)
+    for k, name in enumerate(parameter.move):
+        if name not in names.beams and name not in names.bodies:
+            problems.add(f"{path}.move[{k}]", f"no beam or body named '{name}'"
+                         f"{suggest(name, list(names.beams) + list(names.bodies))}", name)
+    if not any(parameter.direction):
+        problems.add(f"{path}.direction", "must not be zero", list(parameter.direction))
+    for k, tie in enumerate(scene.tie):
+        a, b = (part_of(n) for n in tie.nodes)
+        if (a in moved) != (b in moved):
+            problems.add(f"{path}.move", f"moves '{a if a in moved else b}' but not "
+                         f"'{b if a in moved else a}', tied to it by tie[{k}]: move both or "
+                         "neither", list(parameter.move))
+
+
+def _check_abscissa(scene: Scene, of: str, names: _Names, problems: Problems) -> None:
+    path = "study.parameter.of"
+    if of in names.sliders:
+        slider = scene.slider[names.sliders[of]]
+        carried = tied_parts(scene, part_of(slider.body)) & set(slider.line)
+        if carried:
+            problems.add(path, f"moving the body of slider '{of}' would move its own line (beam "
+                         f"{', '.join(sorted(carried))} is tied to the body)", of)
+        return
+    if of in names.loads and isinstance(scene.load[names.loads[of]], PointLoad):
+        return
+    if of in names.loads:
+        problems.add(path, f"load '{of}' is not a point load: only a point load has an "
+                     "abscissa", of)
+        return
+    problems.add(path, f"no slider or named point load '{of}'"
+                 f"{suggest(of, list(names.sliders) + list(names.loads))}", of)

@@ -1,0 +1,140 @@
+"""CSV tables of a run, tidy: one row per sample and per node, slider, recovery point or
+support (``docs/scenes.md`` documents every column).  Units SI; a blank cell is a value that
+does not apply (the ``value`` of a static study, ``mu_1`` of a classical slider, the free
+components of a support).
+
+* ``samples``: ``sample, value, converged, iterations, error``
+* ``nodes``: ``sample, value, part, xi, x, y, z, ux, uy, uz, rx, ry, rz`` -- every beam node
+  (in order along the beam, ``xi`` its abscissa) and every body (``xi`` blank); ``x, y, z``
+  its reference position at that sample, then its displacement and small rotation
+* ``sliders``: ``sample, value, slider, xi, x, y, z, lambda_x, lambda_y, lambda_z, mu_2,
+  mu_3, mu_1`` -- the abscissa of the contact, its deformed position, the reaction force on
+  the body and the couples of the orientation constraints
+* ``internal_forces``: ``sample, value, beam, xi, N, V2, V3, T, M2, M3`` -- at the beam's
+  recovery points, in the section frame ``(t, e2, e3)``: axial force, shears, twisting and
+  bending moments
+* ``reactions``: ``sample, value, node, fx, fy, fz, mx, my, mz`` -- what each support exerts
+  on its node, global axes, on the dofs it holds
+
+A run writes its tables, and ``scene.toml`` (the scene as it was validated), into a new
+directory that then replaces the output directory (:func:`fvbeam.io.replace_directory`).
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+from typing import Iterator, Sequence
+
+import numpy as np
+
+from fvbeam.io import OUTPUT_MARKER as MARKER, replace_directory
+from sliders.chain import BeamChain
+from sliders.run import Results, Sample
+from sliders.scene import dump_scene
+
+COLUMNS = {
+    "samples": ("sample", "value", "converged", "iterations", "error"),
+    "nodes": ("sample", "value", "part", "xi", "x", "y", "z", "ux", "uy", "uz", "rx", "ry",
+              "rz"),
+    "sliders": ("sample", "value", "slider", "xi", "x", "y", "z", "lambda_x", "lambda_y",
+                "lambda_z", "mu_2", "mu_3", "mu_1"),
+    "internal_forces": ("sample", "value", "beam", "xi", "N", "V2", "V3", "T", "M2", "M3"),
+    "reactions": ("sample", "value", "node", "fx", "fy", "fz", "mx", "my", "mz"),
+}
+
+
+def _head(sample: Sample) -> list:
+    return [sample.index, sample.value]
+
+
+def _samples_rows(results: Results) -> Iterator[list]:
+    for s in results.samples:
+        converged = s.solution is not None
+        yield _head(s) + [str(converged).lower(),
+                          s.solution.iterations if converged else None, s.error]
+
+
+def _nodes_rows(results: Results) -> Iterator[list]:
+    for s in _converged(results):
+        structure, q = s.statics.structure, s.solution.q
+        for i, spec in enumerate(results.scene.beam):
+            mesh = structure.beams[i].mesh
+            u = structure.local(i, q).reshape(-1, 6)
+            xi = mesh.node_abscissae()
+            for k in np.argsort(xi, kind="stable"):
+                yield _head(s) + [spec.name, xi[k], *mesh.points[k], *u[k]]
+        for body in structure.bodies:
+            yield _head(s) + [body.name, None, *body.position,
+                              *q[structure.node_dofs(body.name)]]
+
+
+def _sliders_rows(results: Results) -> Iterator[list]:
+    for s in _converged(results):
+        q = s.solution.q
+        for slider, y in zip(s.statics.sliders, s.solution.unknowns):
+            xi = min(max(float(y[0]), 0.0), slider.line.length)
+            x = (slider.line.geometry(xi, q)[0] if isinstance(slider.line, BeamChain)
+                 else slider.line.at(xi).x)
+            mu = list(y[4:]) + [None] * (7 - len(y))
+            yield _head(s) + [slider.name, float(y[0]), *x, *y[1:4], *mu]
+
+
+def _internal_forces_rows(results: Results) -> Iterator[list]:
+    for s in _converged(results):
+        structure = s.statics.structure
+        for i, spec in enumerate(results.scene.beam):
+            forces = structure.beams[i].internal_forces(structure.local(i, s.solution.q))
+            for xi, f, m in zip(forces.xi, forces.force, forces.moment):
+                yield _head(s) + [spec.name, xi, *f, *m]
+
+
+def _reactions_rows(results: Results) -> Iterator[list]:
+    for s in _converged(results):
+        structure, q = s.statics.structure, s.solution.q
+        residual = s.statics.K @ q - s.load
+        for slider, y in zip(s.statics.sliders, s.solution.unknowns):
+            dofs, r_q, _, _ = slider.assemble(structure, q, y)
+            np.add.at(residual, dofs, r_q)
+        for spec, support in zip(results.scene.support, results.model.supports):
+            held = support.dofs()
+            values: list = [None] * 6
+            for c, dof in zip(held, structure.node_dofs(support.ref)[held]):
+                values[c] = residual[dof]
+            yield _head(s) + [spec.node, *values]
+
+
+def _converged(results: Results) -> Iterator[Sample]:
+    return (s for s in results.samples if s.solution is not None)
+
+
+ROWS = {"samples": _samples_rows, "nodes": _nodes_rows, "sliders": _sliders_rows,
+        "internal_forces": _internal_forces_rows, "reactions": _reactions_rows}
+
+
+def _cell(value) -> str:
+    if value is None:
+        return ""
+    return repr(float(value)) if isinstance(value, (float, np.floating)) else str(value)
+
+
+def write_table(results: Results, name: str, path: Path) -> None:
+    """Write the table ``name`` of ``results`` to ``path``."""
+    with open(path, "w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(COLUMNS[name])
+        for row in ROWS[name](results):
+            writer.writerow([_cell(v) for v in row])
+
+
+def write_results(results: Results, out: str | Path, tables: Sequence[str] | None = None) -> None:
+    """Write ``tables`` (default: the scene's ``output.csv``) and ``scene.toml`` into a new
+    directory that replaces ``out`` whole."""
+    tables = results.scene.output.csv if tables is None else tables
+
+    def fill(directory: Path) -> None:
+        (directory / "scene.toml").write_text(dump_scene(results.scene))
+        for name in tables:
+            write_table(results, name, directory / f"{name}.csv")
+
+    replace_directory(out, fill, MARKER)
