@@ -34,6 +34,10 @@ Two orientation models (``docs/sliders.md`` compares them):
 
 Neither routes the couple through ``d l / d q`` as a force dipole on the slope: on
 shear-deformable beams the dipole form loses the couple under mesh refinement.
+
+The equations are written once, in :meth:`SliderBatch.evaluate`, for ``B`` members at once
+(arrays with a leading member axis, fixed slots per member); :meth:`Slider.assemble` is the
+case ``B = 1``.
 """
 
 from __future__ import annotations

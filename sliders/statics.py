@@ -16,6 +16,10 @@ supports are eliminated).  Two linear-algebra back ends share one Newton loop:
     factorises ``K``, bordered by the free parts' rigid motions, once per structure and
     support set, and solves a small dense system on ``T``, ``y`` and the rigid amplitudes
     per step (:mod:`sliders.condensed`).
+
+:func:`newton_many` is the Newton loop, for independent members of one shape at once
+(:func:`solve_many`; the condensed steps of all members are one stacked solve); a single
+solve is its one-member case.
 """
 
 from __future__ import annotations

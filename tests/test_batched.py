@@ -10,14 +10,11 @@ counts and the same failure messages.
 import numpy as np
 import pytest
 
-from fvbeam import Beam, Structure, Support, straight
-from sliders.joint import Slider
-from sliders.lines import CircularArc
+from fvbeam import Support
 from sliders.statics import SliderStatics, solve_many
 from sliders.sweep import sweep_batched
 from studies.fig4_stiffness import SlidingBeams
-from test_condensed import agreement_bound, state
-from test_sliders import SECTION
+from test_condensed import agreement_bound, state, tip_on_an_arc
 from test_spline_slider import line_with_body
 
 STATIONS = np.array([0.0, 0.13, 0.4, 0.77, 0.95])
@@ -85,13 +82,8 @@ def test_spline_slider_on_a_chain_under_several_torques(method):
 @pytest.mark.parametrize("kind", ["spherical", "classical"])
 def test_rigid_line_under_several_loads(kind):
     """A clamped beam's tip on a rigid arc (tests/test_condensed.py) under three loads."""
-    beam = Beam(straight((0, 0, 0), (1, 0, 0), 4, 3), SECTION, "fv3")
-    structure = Structure([beam])
-    frame = np.column_stack([[-1.0, 0, 0], [0, 1.0, 0], [0, 0, -1.0]])
-    slider = Slider(kind, CircularArc((1, -2, 0), 2.0, np.pi / 2 - 0.3, np.pi / 2 + 0.3),
-                    (0, "end"), frame=frame, name="tip")
+    structure, slider, f = tip_on_an_arc(kind)
     statics = SliderStatics(structure, [Support(0, "start")], [slider], method="condensed")
-    f = structure.gather(0, beam.nodal_load("end", force=(3.0, 1.0e3, 2.0e2)))
     loads = [c * f for c in (1.0, 0.5, 2.0)]
     for g, b in zip(loads, solve_many([statics] * 3, loads)):
         agree(statics, statics.solve(g), b, g)
