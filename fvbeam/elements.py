@@ -21,7 +21,7 @@ from skfem.element import DiscreteField, Element
 from skfem.refdom import RefLine
 
 from fvbeam.geometry import skew_matrices
-from fvbeam.mesh import BeamMesh
+from fvbeam.mesh import BeamMesh, shape_functions
 
 _E = np.eye(3)
 #: Distance (reference coordinate) within which a point counts as on a region boundary.
@@ -90,6 +90,13 @@ def _region_blocks(chi: np.ndarray, lever: np.ndarray) -> np.ndarray:
 
 def rigid_motions(mesh: BeamMesh, e: np.ndarray, X: np.ndarray, chi: np.ndarray,
                   dchi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Values and derivatives of the fv test functions (eq. T4) in elements ``e`` of
+    ``mesh``: :func:`rigid_motions_at` on their node positions."""
+    return rigid_motions_at(mesh.points[mesh.cells[e]], mesh.element_length[e], X, chi, dchi)
+
+
+def rigid_motions_at(nodes: np.ndarray, h: np.ndarray, X: np.ndarray, chi: np.ndarray,
+                     dchi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Values and derivatives of the fv test functions (eq. T4), shape ``P + (6 npe, 6)``.
 
     Row ``6a + c`` is test function ``c`` of local node ``a`` as the 6-vector ``(w, psi)``:
@@ -100,14 +107,19 @@ def rigid_motions(mesh: BeamMesh, e: np.ndarray, X: np.ndarray, chi: np.ndarray,
 
     Parameters
     ----------
-    e, X
-        Element indices and reference coordinates, broadcast to a common shape ``P``.
+    nodes
+        Node positions of the element holding each point, ``P + (npe, 3)``.
+    h
+        Element lengths, shape ``P``.
+    X
+        Reference coordinates, shape ``P``.
     chi, dchi
         Indicator values and their derivatives in ``xi``, shape ``(npe,) + P``.
     """
-    lever = mesh.positions(e, X)[..., None, :] - mesh.points[mesh.cells[e]]
-    dx = mesh.tangent_vectors(e, X) / mesh.element_length[e][..., None]
-    turn = np.zeros(chi.shape[1:] + (mesh.nodes_per_element, 6, 6))
+    N, dN = shape_functions(X, nodes.shape[-2])
+    lever = np.einsum("a...,...ak->...k", N, nodes)[..., None, :] - nodes
+    dx = np.einsum("a...,...ak->...k", dN, nodes) / np.asarray(h)[..., None]
+    turn = np.zeros(chi.shape[1:] + (nodes.shape[-2], 6, 6))
     turn[..., 3:, :3] = skew_matrices(dx)[..., None, :, :]
     turn *= np.moveaxis(chi, 0, -1)[..., None, None]
     grad = _region_blocks(dchi, lever) + turn.reshape(turn.shape[:-3] + (-1, 6))

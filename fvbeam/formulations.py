@@ -22,7 +22,7 @@ import numpy as np
 from skfem.element import Element, ElementLineP1, ElementLineP2, ElementVector
 
 from fvbeam.elements import (ElementBeamFV, evaluation_points, indicator, influence_regions,
-                             jumps, rigid_motions)
+                             jumps, rigid_motions, rigid_motions_at)
 from fvbeam.mesh import BeamMesh, shape_functions
 
 
@@ -65,8 +65,17 @@ class Formulation:
 
         Row ``6a + c`` is test function ``c`` of local node ``a`` as the 6-vector
         ``(w, psi)``; read as a matrix, it carries a force and couple ``[F; M]`` applied at the
-        point to the element's nodes (eq. T6).
+        point to the element's nodes (eq. T6).  :meth:`transfer_at` on the node positions of
+        the elements ``e``.
         """
+        e, X = np.broadcast_arrays(np.asarray(e), np.asarray(X, dtype=float))
+        return self.transfer_at(mesh.points[mesh.cells[e]], mesh.element_length[e], X)
+
+    def transfer_at(self, nodes: np.ndarray, h: np.ndarray,
+                    X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`transfer` in elements given by their node positions ``P + (npe, 3)`` and
+        lengths ``P``, at reference coordinates ``X`` (shape ``P``): elements of several
+        meshes at once (the members of a batch, :mod:`sliders.stack`)."""
         raise NotImplementedError
 
     def breakpoints(self) -> np.ndarray:
@@ -109,11 +118,10 @@ class FiniteVolume(Formulation):
         X, W = composite_gauss(self.breakpoints(), 4)
         return X[None, :], W
 
-    def transfer(self, mesh: BeamMesh, e: np.ndarray,
-                 X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        e, X = np.broadcast_arrays(np.asarray(e), np.asarray(X, dtype=float))
+    def transfer_at(self, nodes: np.ndarray, h: np.ndarray,
+                    X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         chi = indicator(X, self.nodes_per_element)
-        return rigid_motions(mesh, e, X, chi, np.zeros_like(chi))
+        return rigid_motions_at(nodes, h, X, chi, np.zeros_like(chi))
 
 
 @dataclass(frozen=True)
@@ -139,11 +147,11 @@ class Galerkin(Formulation):
         X, W = gauss(4)
         return X[None, :], W
 
-    def transfer(self, mesh: BeamMesh, e: np.ndarray,
-                 X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        e, X = np.broadcast_arrays(np.asarray(e), np.asarray(X, dtype=float))
+    def transfer_at(self, nodes: np.ndarray, h: np.ndarray,
+                    X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        X = np.asarray(X, dtype=float)
         N, dN = shape_functions(X, self.nodes_per_element)
-        dN = dN / mesh.element_length[e]
+        dN = dN / h
         shape = X.shape + (6 * self.nodes_per_element, 6)
 
         def blocks(f: np.ndarray) -> np.ndarray:

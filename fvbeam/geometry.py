@@ -99,10 +99,11 @@ def section_frames(tangents: np.ndarray, up: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     tangents : (..., 3) array, need not be unit vectors
-    up : (3,) array
+    up : (3,) array, or (..., 3) broadcast with the tangents
     """
     t = tangents / np.linalg.norm(tangents, axis=-1, keepdims=True)
-    e3 = up - (t @ up)[..., None] * t
+    up = np.broadcast_to(up, t.shape)
+    e3 = up - np.sum(t * up, axis=-1, keepdims=True) * t
     weak = np.linalg.norm(e3, axis=-1) < 1e-6
     if np.any(weak):
         axis = np.eye(3)[np.argmin(np.abs(t[weak]), axis=-1)]

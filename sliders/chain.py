@@ -11,33 +11,22 @@ The interpolated centreline is only C0 at the element vertices: its one-sided ta
 there by the discretisation error of the slope (much more on shear-soft beams).  The
 frictionless condition ``l . lambda = 0`` then has no root for body positions in a band
 around the vertex, and Newton fails there.  The joint reads it on a *recovered* tangent
-instead, continuous along the chain (:meth:`BeamChain._tangent_recovery`); the position, the
-load transfer and the constraints keep the interpolation itself.
+instead, continuous along the chain (:meth:`sliders.stack.ChainStack.interpolation`); the
+position, the load transfer and the constraints keep the interpolation itself.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from functools import wraps
+from functools import cached_property, wraps
 from typing import Callable, Sequence
 
 import numpy as np
 
-from fvbeam.formulations import FiniteVolume, composite_gauss
+from fvbeam.formulations import composite_gauss
 from fvbeam.geometry import locate_abscissa
-from fvbeam.mesh import shape_functions
 from fvbeam.smearing import check_smearing, density
 from fvbeam.statics import Structure
-from sliders.lines import curvature_rate, frame_and_curvature, project
-
-
-#: Lag of a 3-node element's mid-node rotation under a couple ``M`` at the mid-node, per
-#: ``h C M`` (the exact rotation steps its rate by ``C M`` there, the elements cannot):
-#: fv3, ``1/4 - sqrt(3)/8``: the curvature, linear in the element and exact at the
-#: evaluation points, integrates from a vertex to the mid-node to ``(1/4 + sqrt(3)/8) h C M``
-#: where the exact step gives ``h C M / 2``; Galerkin P2, ``1/16``: the quadratic minimising
-#: the energy with the couple at the mid-node reaches ``7/16 h C M`` there.
-MID_NODE_LAG = {"fv": 0.25 - np.sqrt(3.0) / 8, "galerkin": 1.0 / 16}
+from sliders.stack import ChainStack, Interpolation, LineRotation
 
 
 def memoised(method: Callable) -> Callable:
@@ -55,11 +44,6 @@ def memoised(method: Callable) -> Callable:
             store[key] = method(self, *args)
         return store[key]
     return wrapper
-
-
-def second_derivatives(nodes_per_element: int) -> np.ndarray:
-    """d^2 N / dX^2 of the Lagrange shape functions on [0, 1] (constant)."""
-    return np.zeros(2) if nodes_per_element == 2 else np.array([4.0, 4.0, -8.0])
 
 
 class BeamChain:
@@ -89,72 +73,16 @@ class BeamChain:
         k, offset = locate_abscissa(float(xi), self.offsets, self.name, "the chain")
         return int(k), float(offset)
 
+    @cached_property
+    def _stack(self) -> ChainStack:
+        """This chain alone as a stack: its point queries are the ``B = 1`` case."""
+        return ChainStack([self])
+
     @memoised
     def interpolation(self, xi: float) -> Interpolation:
-        """Where ``xi`` sits and how the line interpolates the beam there."""
-        k, local = self.locate(xi)
-        mesh = self.beams[k].mesh
-        e, X = mesh.locate(local)
-        e, X = int(e), float(X)
-        h = mesh.element_length[e]
-        dofs, points = self._element(k, e)
-        N, dN = shape_functions(np.array(X), mesh.nodes_per_element)
-        return Interpolation(dofs, points, N, dN / h,
-                             second_derivatives(mesh.nodes_per_element) / h**2,
-                             *self._tangent_recovery(k, e, X, dN / h))
-
-    def _element(self, k: int, e: int) -> tuple[np.ndarray, np.ndarray]:
-        """Translational dofs (npe, 3) and reference node positions of element ``e`` of the
-        chain's beam ``k``."""
-        beam = self.beams[k]
-        nodes = beam.mesh.cells[e]
-        dofs = self.structure.dof_maps[self.indices[k]][6 * nodes[:, None] + np.arange(3)]
-        return dofs, beam.mesh.points[nodes]
-
-    def _end_slope(self, k: int, e: int, end: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Dofs, node positions and ``dN/dxi`` at the start (``end = 0``) or the end
-        (``end = 1``) of element ``e`` of beam ``k``."""
-        mesh = self.beams[k].mesh
-        dN = shape_functions(np.array(float(end)), mesh.nodes_per_element)[1]
-        return (*self._element(k, e), dN / mesh.element_length[e])
-
-    def _neighbour(self, k: int, e: int, side: int) -> tuple[int, int] | None:
-        """The element before (``side = -1``) or after (``+1``) element ``e`` of beam ``k``
-        along the chain, across beam junctions; None at the chain's ends."""
-        e += side
-        if 0 <= e < self.beams[k].mesh.n_elements:
-            return k, e
-        k += side
-        if not 0 <= k < len(self.beams):
-            return None
-        return k, (self.beams[k].mesh.n_elements - 1 if side < 0 else 0)
-
-    def _tangent_recovery(self, k: int, e: int, X: float, dN: np.ndarray) -> tuple:
-        """Coefficients of the recovered tangent ``l~`` in element ``e`` (module docstring).
-
-        ``l~ = l + (1 - X) (l_a - l(a)) + X (l_b - l(b))`` where ``l_a, l_b`` are the means
-        of the one-sided tangents at the element's vertices (unchanged at the chain's ends):
-        continuous along the chain, equal to ``l`` where the interpolated centreline has no
-        corner.  Returns the dofs (m, 3), node positions (m, 3) and the coefficients of
-        ``l~`` and of ``l~_/xi`` (m,) on them."""
-        h = self.beams[k].mesh.element_length[e]
-        dofs, points = self._element(k, e)
-        blocks = [(dofs, points, dN.copy(), np.zeros_like(dN) + self._own_curvature(k, e))]
-        for side, weight, weight_xi, end in ((-1, 1 - X, -1 / h, 0), (1, X, 1 / h, 1)):
-            other = self._neighbour(k, e, side)
-            if other is None:
-                continue
-            _, _, own = self._end_slope(k, e, end)
-            d, p, theirs = self._end_slope(*other, 1 - end)
-            blocks[0][2][:] -= 0.5 * weight * own
-            blocks[0][3][:] -= 0.5 * weight_xi * own
-            blocks.append((d, p, 0.5 * weight * theirs, 0.5 * weight_xi * theirs))
-        return tuple(np.concatenate(part) for part in zip(*blocks))
-
-    def _own_curvature(self, k: int, e: int) -> np.ndarray:
-        """``d^2 N / dxi^2`` of element ``e`` of beam ``k`` (constant in the element)."""
-        mesh = self.beams[k].mesh
-        return second_derivatives(mesh.nodes_per_element) / mesh.element_length[e] ** 2
+        """Where ``xi`` sits and how the line interpolates the beam there, with the
+        recovered tangent (module docstring; :meth:`ChainStack.interpolation`)."""
+        return self._stack.interpolation(np.array([float(xi)])).member(0)
 
     def geometry(self, xi: float, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``x``, ``l = x_/xi`` and ``l_/xi`` of the deformed chain (global dofs ``q``)."""
@@ -162,53 +90,13 @@ class BeamChain:
 
     def project(self, point: np.ndarray, q: np.ndarray) -> float:
         """Abscissa of the point of the deformed chain closest to ``point``."""
-        grid = np.unique(np.concatenate([offset + beam.mesh.node_abscissae()
-                                         for offset, beam in zip(self.offsets, self.beams)]))
-        return project(lambda xi: self.geometry(xi, q), grid, point)
+        return float(self._stack.project(np.asarray(point, dtype=float)[None], q[None])[0])
 
     @memoised
     def rotation(self, xi: float) -> LineRotation:
-        """The section rotation of the chain at ``xi`` and its reference frame.
-
-        The rotation is interpolated linearly between the two consecutive nodes that bracket
-        ``xi`` (the element's vertices, and its mid-node for 3-node elements), whatever the
-        beam formulation: the weights are continuous along the chain, so a couple carried by
-        them never jumps.  ``kink`` is how far the exact rotation at a couple ``M`` lies off
-        that interpolation, per unit ``C M``: ``w0 w1 span`` for exact nodal rotations, plus
-        ``MID_NODE_LAG h w_mid^2`` on a 3-node element, whose mid-node rotation lags by that
-        much under the share ``w_mid M`` it carries (``docs/sliders.md``).  The reference frame ``R0``, its curvature
-        ``k0`` and ``k0_/xi`` come from the element's reference interpolation and the mesh's
-        ``up``.  ``C`` is the section's bending-and-torsion compliance (the rotational block
-        of the inverse section stiffness) in global axes, taken in the element's reference
-        frame at ``xi``.
-        """
-        k, local = self.locate(xi)
-        beam = self.beams[k]
-        mesh = beam.mesh
-        e, X = mesh.locate(local)
-        h, X, nodes = float(mesh.element_length[e]), float(X), mesh.cells[e]
-        along = np.array([0.0, 1.0, 0.5])[:len(nodes)]
-        order = np.argsort(along)
-        j = min(int(np.searchsorted(along[order], X, side="right")) - 1, len(nodes) - 2)
-        pair = order[j:j + 2]
-        span = (along[pair[1]] - along[pair[0]]) * h
-        t = (X - along[pair[0]]) * h / span
-        w = np.array([1 - t, t])
-        mid = np.flatnonzero(pair == 2)
-        family = "fv" if isinstance(beam.formulation, FiniteVolume) else "galerkin"
-        shift = MID_NODE_LAG[family] * h
-        kink, kink_xi = t * (1 - t) * span, 1 - 2 * t
-        if mid.size:
-            kink += shift * w[mid[0]] ** 2
-            kink_xi += 2 * shift * w[mid[0]] * (1 if mid[0] else -1) / span
-        interp = self.interpolation(xi)
-        l0, l0_xi = interp.dN @ interp.X, interp.d2N @ interp.X
-        R0, k0 = frame_and_curvature(l0, l0_xi, mesh.up)
-        k0_xi = curvature_rate(l0, l0_xi, np.zeros(3), mesh.up)
-        compliance = np.linalg.inv(beam.section.global_stiffness(R0[None])[0])[3:, 3:]
-        dofs = self.structure.dof_maps[self.indices[k]][6 * nodes[pair][:, None] + np.arange(3, 6)]
-        return LineRotation(dofs, w, np.array([-1.0, 1.0]) / span, kink, kink_xi, compliance,
-                            R0, k0, k0_xi)
+        """The section rotation of the chain at ``xi`` and its reference frame
+        (:meth:`ChainStack.rotation`)."""
+        return self._stack.rotation(np.array([float(xi)])).member(0)
 
     @memoised
     def transfer(self, xi: float, smearing: float = 0.0,
@@ -222,13 +110,12 @@ class BeamChain:
         ``G = int K(r) H(xi + r) dr / int K(r) dr`` over the part of the kernel on the chain,
         it is the kernel average of ``H'`` plus ``K(b - xi) [H](b)`` at every jump ``b`` of
         the test functions (fv evaluation points, chain ends), minus ``G`` times the same
-        end terms of the normalisation.
+        end terms of the normalisation.  Without smearing, :meth:`ChainStack.transfer`.
         """
         smearing = check_smearing(smearing, kernel)
         if smearing == 0:
-            k, local = self.locate(xi)
-            dofs, H, dH = self.beams[k].transfer(np.array([local]))
-            return self.structure.dof_maps[self.indices[k]][dofs[0]], H[0], dH[0]
+            dofs, G, dG = self._stack.transfer(np.array([float(xi)]))
+            return dofs[0], G[0], dG[0]
         self.locate(xi)
         lo, hi = max(xi - smearing, 0.0), min(xi + smearing, self.length)
         dofs, N, dN, weight = [], [], [], 0.0
@@ -272,50 +159,3 @@ class BeamChain:
         inner = self.offsets[k] + mesh.abscissae(np.arange(mesh.n_elements)[:, None], local)
         points = np.concatenate([[a, b, xi], inner.ravel()])
         return np.unique(points[(points >= a) & (points <= b)])
-
-
-@dataclass(frozen=True)
-class Interpolation:
-    """The line near ``xi``: translational ``dofs`` (npe, 3) of the element holding it, node
-    positions ``X`` (npe, 3), and the shape functions ``N`` with their first and second
-    derivatives in ``xi``; the recovered tangent's dofs (m, 3), node positions (m, 3) and
-    coefficients ``T``, ``T_xi`` (m,) (:meth:`BeamChain._tangent_recovery`)."""
-
-    dofs: np.ndarray
-    X: np.ndarray
-    N: np.ndarray
-    dN: np.ndarray
-    d2N: np.ndarray
-    tangent_dofs: np.ndarray
-    tangent_X: np.ndarray
-    T: np.ndarray
-    T_xi: np.ndarray
-
-    def tangent(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The recovered tangent ``l~`` and ``l~_/xi`` of the deformed line."""
-        current = self.tangent_X + q[self.tangent_dofs]
-        return self.T @ current, self.T_xi @ current
-
-    def geometry(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``x``, ``l`` and ``l_/xi`` of the deformed line."""
-        current = self.X + q[self.dofs]
-        return self.N @ current, self.dN @ current, self.d2N @ current
-
-
-@dataclass(frozen=True)
-class LineRotation:
-    """Section rotation of the line at ``xi``: ``theta = w @ q[dofs]``, with ``dofs`` (2, 3)
-    the rotation dofs of the bracketing nodes, ``w`` their weights and ``w_xi`` their
-    derivatives; ``kink = w0 w1 span`` and ``kink_xi`` its derivative (the correction for a
-    couple at ``xi``, :class:`sliders.joint.Slider`); the section ``compliance`` (3, 3); the
-    reference frame ``R0``, its curvature vector ``k0`` and ``k0_xi``."""
-
-    dofs: np.ndarray
-    w: np.ndarray
-    w_xi: np.ndarray
-    kink: float
-    kink_xi: float
-    compliance: np.ndarray
-    R0: np.ndarray
-    k0: np.ndarray
-    k0_xi: np.ndarray

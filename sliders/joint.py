@@ -34,18 +34,25 @@ Two orientation models (``docs/sliders.md`` compares them):
 
 Neither routes the couple through ``d l / d q`` as a force dipole on the slope: on
 shear-deformable beams the dipole form loses the couple under mesh refinement.
+
+The equations are written once, in :meth:`SliderBatch.evaluate`, for ``B`` members at once
+(arrays with a leading member axis, fixed slots per member); :meth:`Slider.assemble` is the
+case ``B = 1``.
 """
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass, field
+from typing import Sequence
 
 import numpy as np
 
 from fvbeam.geometry import cross, orthonormal3, skew_matrices, vector3
 from fvbeam.statics import Structure
-from sliders.chain import BeamChain, LineRotation
-from sliders.lines import LinePoint, RigidLine, axial
+from sliders.chain import BeamChain
+from sliders.lines import RigidLine, axial
+from sliders.stack import ChainStack, LineRotation, gather
 
 KINDS = ("spherical", "classical", "spline")
 ORIENTATIONS = ("section", "slope")
@@ -106,6 +113,7 @@ class Slider:
                              f"(paper eq. 4); a {self.kind} slider needs 'section'")
         self.offset = vector3(self.offset, f"{self.name}: offset")
         self.frame = orthonormal3(self.frame, f"{self.name}: frame")
+        self._batch: SliderBatch | None = None
 
     @property
     def n_unknowns(self) -> int:
@@ -126,17 +134,6 @@ class Slider:
         """The sliding point in the reference configuration."""
         return structure.node_position(self.body) + self.offset
 
-    def initial_unknowns(self, structure: Structure, q: np.ndarray) -> np.ndarray:
-        """``xi`` from projecting the sliding point on the line, multipliers 0."""
-        point = self.reference_point(structure) + q[self.body_dofs(structure)[:3]]
-        if isinstance(self.line, BeamChain):
-            xi = self.line.project(point, q)
-        else:
-            xi = self.line.project(point)
-        if self.kind == "spline":
-            self._check_frame(xi)
-        return np.concatenate([[xi], np.zeros(self.n_unknowns - 1)])
-
     def _check_frame(self, xi: float) -> None:
         """The spline slider's constraint is linearised about the line's frame: the slider
         frame must match it at the starting ``xi`` (within 0.1 rad)."""
@@ -148,135 +145,234 @@ class Slider:
                              f"at xi = {xi:.6g} (columns {np.round(R0, 6).tolist()}); it is "
                              f"turned {angle:.3g} rad from it")
 
-    def _line(self, xi: float, q: np.ndarray) -> _LineState:
-        """The line's geometry, interpolation and load transfer at ``xi``."""
-        if isinstance(self.line, BeamChain):
-            interp = self.line.interpolation(xi)
-            x, l, l_xi = interp.geometry(q)  # noqa: E741
-            dofs, G, dG = self.line.transfer(xi, self.smearing, self.kernel)
-            rotation = (self.line.rotation(xi) if self.kind != "spherical"
-                        and self.orientation == "section" else None)
-            tangent, tangent_xi = interp.tangent(q)
-            return _LineState(x, l, l_xi, np.zeros(3), interp.dofs, interp.N, interp.dN,
-                              interp.d2N, dofs, G, dG, rotation, None, tangent, tangent_xi,
-                              interp.tangent_dofs, interp.T, interp.T_xi)
-        p = self.line.at(xi)
-        none = np.zeros(0, dtype=int)
-        return _LineState(p.x, p.l, p.l_xi, p.l_xixi, none.reshape(0, 3), np.zeros(0),
-                          np.zeros(0), np.zeros(0), none, np.zeros((0, 6)), np.zeros((0, 6)),
-                          None, p, p.l, p.l_xi, none.reshape(0, 3), np.zeros(0), np.zeros(0))
+    def batch(self, structure: Structure) -> SliderBatch:
+        """This slider alone as a batch (kept for the last ``structure``)."""
+        if self._batch is None or self._batch.structures[0] is not structure:
+            self._batch = SliderBatch([self], [structure])
+        return self._batch
 
-    def assemble(self, structure: Structure, q: np.ndarray, y: np.ndarray):
-        """Residual and Jacobian of the joint on the structure dofs it touches.
+    def initial_unknowns(self, structure: Structure, q: np.ndarray) -> np.ndarray:
+        """``xi`` from projecting the sliding point on the line, multipliers 0."""
+        return self.batch(structure).initial_unknowns(q[None])[0]
+
+    def assemble(self, structure: Structure, q: np.ndarray,
+                 y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Residual and Jacobian of the joint on the structure dofs it touches: the ``B = 1``
+        case of :meth:`SliderBatch.evaluate`, duplicate dofs summed.
 
         Returns
         -------
-        dofs : (t,) global dofs touched
+        dofs : (t,) global dofs touched, sorted
         r_q : (t,) contribution to the structure residual on them
         r_y : (n_unknowns,) the joint's own equations
         J : (t + n_unknowns, t + n_unknowns) derivative of ``[r_q; r_y]`` in ``[q_t; y]``
         """
-        xi, lam = float(y[0]), y[1:4]
-        if self.end_stops:
-            xi = min(max(xi, 0.0), self.line.length)
+        y = np.asarray(y, dtype=float)
+        dofs, r, J = self.batch(structure).evaluate(q[None], y[None])
+        dofs, r, J = dofs[0], r[0], J[0]
+        unique, where = np.unique(dofs, return_inverse=True)
+        t, m, s = len(unique), self.n_unknowns, len(dofs)
+        P = np.zeros((s + m, t + m))
+        P[np.arange(s), where] = 1.0
+        P[s + np.arange(m), t + np.arange(m)] = 1.0
+        r = P.T @ r
+        return unique, r[:t], r[t:], P.T @ J @ P
+
+
+class SliderBatch:
+    """``B`` sliders alike (kind, orientation, smearing, offset, frame, end stops), one per
+    member of a batch of structures of one topology, on lines of one topology
+    (:class:`sliders.stack.ChainStack`, or rigid lines): the joint equations of all members
+    at once (module docstring).
+
+    Raises ``ValueError`` naming the first slider that differs from the first one.
+    """
+
+    def __init__(self, sliders: Sequence[Slider], structures: Sequence[Structure]) -> None:
+        self.sliders, self.structures = list(sliders), list(structures)
+        first = self.sliders[0]
+        for b, s in enumerate(self.sliders[1:], start=1):
+            if not (s.kind == first.kind and s.orientation == first.orientation
+                    and s.smearing == first.smearing and s.kernel == first.kernel
+                    and s.end_stops == first.end_stops
+                    and np.array_equal(s.offset, first.offset)
+                    and np.array_equal(s.frame, first.frame)
+                    and isinstance(s.line, BeamChain) == isinstance(first.line, BeamChain)):
+                raise ValueError(f"{s.name}: slider of member {b} of the batch differs from "
+                                 "member 0 (kind, orientation, smearing, offset, frame, end "
+                                 "stops or kind of line)")
+        self.kind, self.orientation = first.kind, first.orientation
+        self.smearing, self.kernel, self.end_stops = first.smearing, first.kernel, first.end_stops
+        self.offset, self.frame, self.n_unknowns = first.offset, first.frame, first.n_unknowns
+        self.length = first.line.length
+        self.body = np.stack([s.body_dofs(st) for s, st in zip(self.sliders, self.structures)])
+        self.reference = np.stack([s.reference_point(st)
+                                   for s, st in zip(self.sliders, self.structures)])
+        self.chains = (ChainStack([s.line for s in self.sliders])
+                       if isinstance(first.line, BeamChain) else None)
+
+    def __len__(self) -> int:
+        return len(self.sliders)
+
+    def subset(self, members: np.ndarray) -> SliderBatch:
+        """The batch of the given members only."""
+        out = copy.copy(self)
+        out.sliders = [self.sliders[b] for b in members]
+        out.structures = [self.structures[b] for b in members]
+        out.body, out.reference = self.body[members], self.reference[members]
+        out.chains = self.chains.subset(members) if self.chains is not None else None
+        return out
+
+    def initial_unknowns(self, q: np.ndarray) -> np.ndarray:
+        """``xi`` from projecting each member's sliding point on its line (states ``q``,
+        (B, n)), multipliers 0: (B, n_unknowns)."""
+        points = self.reference + gather(q, self.body[:, :3])
+        if self.chains is not None:
+            xi = self.chains.project(points, q)
+        else:
+            xi = np.array([s.line.project(p) for s, p in zip(self.sliders, points)])
+        if self.kind == "spline":
+            for s, x in zip(self.sliders, xi):
+                s._check_frame(float(x))
+        return np.column_stack([xi, np.zeros((len(xi), self.n_unknowns - 1))])
+
+    def _line(self, xi: np.ndarray, q: np.ndarray) -> _LineState:
+        """The lines' geometry, interpolation and load transfer at ``xi`` (B,)."""
+        B = len(xi)
+        if self.chains is not None:
+            interp = self.chains.interpolation(xi)
+            x, l, l_xi = interp.geometry(q)  # noqa: E741
+            dofs, G, dG = self.chains.transfer(xi, self.smearing, self.kernel)
+            rotation = (self.chains.rotation(xi) if self.kind != "spherical"
+                        and self.orientation == "section" else None)
+            tangent, tangent_xi = interp.tangent(q)
+            return _LineState(x, l, l_xi, np.zeros((B, 3)), interp.dofs.reshape(B, -1),
+                              interp.N, interp.dN, interp.d2N, dofs, G, dG, rotation, None,
+                              tangent, tangent_xi, interp.tangent_dofs.reshape(B, -1),
+                              interp.T, interp.T_xi)
+        p = [s.line.at(float(x)) for s, x in zip(self.sliders, xi)]
+        x, l, l_xi, l_xixi, R, k, k_xi = (np.array([getattr(a, f) for a in p]) for f in
+                                          ("x", "l", "l_xi", "l_xixi", "R", "k", "k_xi"))
+        none, empty = np.zeros((B, 0), dtype=int), np.zeros((B, 0))
+        return _LineState(x, l, l_xi, l_xixi, none, empty, empty, empty, none,
+                          np.zeros((B, 0, 6)), np.zeros((B, 0, 6)), None, (R, k, k_xi),
+                          l, l_xi, none, empty, empty)
+
+    def evaluate(self, q: np.ndarray,
+                 y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Residuals and Jacobians of the joints of all members (module docstring table).
+
+        ``q`` (B, n): the members' structure states; ``y`` (B, n_unknowns): their joint
+        unknowns.  Each member's local arrays have fixed slots: the body (6), the line's
+        interpolation (3 npe), load (k), rotation (6, section orientation on a chain) and
+        recovered-tangent (9 npe) dofs, then ``xi``, ``lambda`` and the multipliers.  A dof
+        may hold several slots (sum them, e.g. :meth:`Slider.assemble`); padded slots carry
+        zeros.
+
+        Returns
+        -------
+        dofs : (B, s) global dof of each slot
+        r : (B, s + n_unknowns) the structure residual on the slots, then the joint's own
+        J : (B, s + n_unknowns, s + n_unknowns) derivative of ``r`` in ``[q_slots; y]``
+        """
+        B = len(y)
+        lam = y[:, 1:4]
+        xi = np.clip(y[:, 0], 0.0, self.length) if self.end_stops else y[:, 0]
         line = self._line(xi, q)
-        body = self.body_dofs(structure)
-        rotation_dofs = (line.rotation.dofs.ravel() if line.rotation is not None
-                         else np.zeros(0, dtype=int))
-        dofs, where = np.unique(np.concatenate([body, line.interp_dofs.ravel(),
-                                                line.load_dofs, rotation_dofs,
-                                                line.tangent_dofs.ravel()]),
-                                return_inverse=True)
-        t = len(dofs)
-        at = _Layout(t, where, line.interp_dofs.size, len(line.load_dofs), rotation_dofs.size)
-        r = np.zeros(t + self.n_unknowns)
-        J = np.zeros((len(r), len(r)))
-        theta = q[body[3:]]
-        f_b = cross(theta, self.offset)
-        x_b = self.reference_point(structure) + q[body[:3]] + f_b
+        rotation_dofs = (line.rotation.dofs.reshape(B, -1) if line.rotation is not None
+                         else np.zeros((B, 0), dtype=int))
+        dofs = np.concatenate([self.body, line.interp_dofs, line.load_dofs, rotation_dofs,
+                               line.tangent_dofs], axis=1)
+        at = _Layout(line.interp_dofs.shape[1], line.load_dofs.shape[1],
+                     rotation_dofs.shape[1], line.tangent_dofs.shape[1], self.n_unknowns)
+        r = np.zeros((B, at.t + self.n_unknowns))
+        J = np.zeros((B, r.shape[1], r.shape[1]))
+        eye, offset = np.eye(3), self.offset
+        theta = gather(q, self.body[:, 3:])
+        f_b = cross(theta, offset)
+        x_b = self.reference + gather(q, self.body[:, :3]) + f_b
         # body force and moment (eq. 3)
-        r[at.body] += lam
-        r[at.turn] += cross(self.offset + f_b, lam)
-        J[at.body, at.lam] += np.eye(3)
-        J[np.ix_(at.turn, at.turn)] += skew_matrices(lam) @ skew_matrices(self.offset)
-        J[at.turn, at.lam] += skew_matrices(self.offset + f_b)
+        r[:, at.body] += lam
+        r[:, at.turn] += cross(offset + f_b, lam)
+        J[:, at.body, at.lam] += eye
+        J[:, at.turn, at.turn] += skew_matrices(lam) @ skew_matrices(offset)
+        J[:, at.turn, at.lam] += skew_matrices(offset + f_b)
         # the force on the line (Sec. 4, eq. T6)
-        G, dG = line.G[:, :3], line.dG[:, :3]
-        np.add.at(r, at.load, -G @ lam)
-        J[at.load, at.xi] -= dG @ lam
-        J[at.load, at.lam] -= G
+        G, dG = line.G[..., :3], line.dG[..., :3]
+        r[:, at.load] -= np.einsum("bkj,bj->bk", G, lam)
+        J[:, at.load, at.xi] -= np.einsum("bkj,bj->bk", dG, lam)
+        J[:, at.load, at.lam] -= G
         # xi equation (eq. 3, on the recovered tangent) and position constraint (eq. 1)
-        r[at.xi] = -line.tangent @ lam
-        J[at.xi, at.xi] = -line.tangent_xi @ lam
-        J[at.xi, at.lam] = -line.tangent
-        for c in range(len(line.T)):
-            J[at.xi, at.tangent[c]] -= line.T[c] * lam
-        r[at.lam] = x_b - line.x
-        J[at.lam, at.body] += np.eye(3)
-        J[at.lam, at.turn] -= skew_matrices(self.offset)
-        J[at.lam, at.xi] = -line.l
-        for a in range(len(line.N)):
-            J[at.lam, at.interp[a]] -= line.N[a] * np.eye(3)
+        r[:, at.xi] = -_dot(line.tangent, lam)
+        J[:, at.xi, at.xi] = -_dot(line.tangent_xi, lam)
+        J[:, at.xi, at.lam] = -line.tangent
+        J[:, at.xi, at.tangent] -= (line.T[:, :, None] * lam[:, None, :]).reshape(B, -1)
+        r[:, at.lam] = x_b - line.x
+        J[:, at.lam, at.body] += eye
+        J[:, at.lam, at.turn] -= skew_matrices(offset)
+        J[:, at.lam, at.xi] = -line.l
+        J[:, at.lam, at.interp] -= (line.N[:, None, :, None]
+                                    * eye[None, :, None, :]).reshape(B, 3, -1)
         if self.kind == "spherical":
             pass
         elif self.orientation == "slope":
-            self._slope_orientation(q, y, theta, line, at, r, J)
+            self._slope_orientation(y, theta, line, at, r, J)
         else:
             self._section_orientation(q, y, theta, line, at, r, J)
         if self.end_stops:
-            self._end_stop(float(y[0]), lam, line, at, r, J)
-        return dofs, r[:t], r[t:], J
+            self._end_stop(y[:, 0], lam, line, at, r, J)
+        return dofs, r, J
 
-    def _end_stop(self, xi: float, lam: np.ndarray, line: _LineState, at: _Layout,
+    def _end_stop(self, xi: np.ndarray, lam: np.ndarray, line: _LineState, at: _Layout,
                   r: np.ndarray, J: np.ndarray) -> None:
         """Replace the ``xi`` equation by ``xi = end`` beyond an end, or at an end where the
         stop pushes: the force on the body, ``-lambda``, points back into the line
         (``l . lambda > 0`` at the far end, ``< 0`` at the start).  At the end itself the
         derivatives in ``xi`` are the one-sided ones of the line."""
-        length = self.line.length
-        for end, sign in ((0.0, -1.0), (length, 1.0)):
+        for end, sign in ((0.0, -1.0), (self.length, 1.0)):
             beyond = sign * (xi - end) > 0
-            pushing = abs(xi - end) <= 1e-12 * length and sign * (line.l @ lam) > 0
-            if beyond or pushing:
-                r[at.xi] = xi - end
-                J[at.xi] = 0.0
-                J[at.xi, at.xi] = 1.0
+            pushing = (np.abs(xi - end) <= 1e-12 * self.length) & (sign * _dot(line.l, lam) > 0)
+            hit = beyond | pushing
+            r[hit, at.xi] = xi[hit] - end
+            J[hit, at.xi] = 0.0
+            J[hit, at.xi, at.xi] = 1.0
 
-    def _slope_orientation(self, q, y, theta, line, at, r, J) -> None:
+    def _slope_orientation(self, y, theta, line, at, r, J) -> None:
         """Classical slider on the line's gradient, ``e_bj . l = 0`` (paper eq. 4), its couple
         ``m = sum mu_j e_bj x l`` carried by the test functions to the rotation dofs."""
-        mu = y[4:]
-        axes = self.frame[:, 1:3]
-        e_b = axes + cross(theta, axes.T).T
-        l, l_xi, G = line.l, line.l_xi, line.G[:, 3:]  # noqa: E741
-        m = cross(e_b.T, l).T @ mu
-        r[at.turn] += m
-        np.add.at(r, at.load, -G @ m)
-        J[at.load, at.xi] -= line.dG[:, 3:] @ m
+        B, mu = len(y), y[:, 4:]
+        axes = self.frame[:, 1:3].T
+        e_b = axes + cross(theta[:, None, :], axes)
+        l, l_xi, G, dG = line.l, line.l_xi, line.G[..., 3:], line.dG[..., 3:]  # noqa: E741
+        m = np.einsum("bj,bjk->bk", mu, cross(e_b, l[:, None, :]))
+        r[:, at.turn] += m
+        r[:, at.load] -= np.einsum("bkj,bj->bk", G, m)
+        J[:, at.load, at.xi] -= np.einsum("bkj,bj->bk", dG, m)
         for j in range(2):
-            e, e0, row = e_b[:, j], axes[:, j], at.t + 4 + j
-            dm_dtheta = mu[j] * skew_matrices(l) @ skew_matrices(e0)
-            dm_dxi = mu[j] * cross(e, l_xi)
+            e, e0, row, mu_j = e_b[:, j], axes[j], at.t + 4 + j, mu[:, j]
+            dm_dtheta = mu_j[:, None, None] * (skew_matrices(l) @ skew_matrices(e0))
+            dm_dxi = mu_j[:, None] * cross(e, l_xi)
             dm_dmu = cross(e, l)
-            J[np.ix_(at.turn, at.turn)] += dm_dtheta
-            J[at.turn, at.xi] += dm_dxi
-            J[at.turn, row] += dm_dmu
-            J[np.ix_(at.load, at.turn)] -= G @ dm_dtheta
-            J[at.load, at.xi] -= G @ dm_dxi
-            J[at.load, row] -= G @ dm_dmu
-            r[at.xi] += mu[j] * e @ l_xi
-            J[at.xi, at.turn] += mu[j] * cross(e0, l_xi)
-            J[at.xi, at.xi] += mu[j] * e @ line.l_xixi
-            J[at.xi, row] += e @ l_xi
-            r[row] = e @ l
-            J[row, at.turn] += cross(e0, l)
-            J[row, at.xi] += e @ l_xi
-            for a in range(len(line.N)):
-                dm_du = mu[j] * skew_matrices(e) * line.dN[a]
-                J[np.ix_(at.turn, at.interp[a])] += dm_du
-                J[np.ix_(at.load, at.interp[a])] -= G @ dm_du
-                J[at.xi, at.interp[a]] += mu[j] * line.d2N[a] * e
-                J[row, at.interp[a]] += line.dN[a] * e
+            dm_du = (mu_j[:, None, None, None] * skew_matrices(e)[:, :, None, :]
+                     * line.dN[:, None, :, None]).reshape(B, 3, -1)
+            J[:, at.turn, at.turn] += dm_dtheta
+            J[:, at.turn, at.xi] += dm_dxi
+            J[:, at.turn, row] += dm_dmu
+            J[:, at.turn, at.interp] += dm_du
+            J[:, at.load, at.turn] -= G @ dm_dtheta
+            J[:, at.load, at.xi] -= np.einsum("bkj,bj->bk", G, dm_dxi)
+            J[:, at.load, row] -= np.einsum("bkj,bj->bk", G, dm_dmu)
+            J[:, at.load, at.interp] -= G @ dm_du
+            r[:, at.xi] += mu_j * _dot(e, l_xi)
+            J[:, at.xi, at.turn] += mu_j[:, None] * cross(e0, l_xi)
+            J[:, at.xi, at.xi] += mu_j * _dot(e, line.l_xixi)
+            J[:, at.xi, row] += _dot(e, l_xi)
+            J[:, at.xi, at.interp] += (mu_j[:, None, None] * line.d2N[:, :, None]
+                                       * e[:, None, :]).reshape(B, -1)
+            r[:, row] = _dot(e, l)
+            J[:, row, at.turn] += cross(e0, l)
+            J[:, row, at.xi] += _dot(e, l_xi)
+            J[:, row, at.interp] += (line.dN[:, :, None] * e[:, None, :]).reshape(B, -1)
 
     def _section_orientation(self, q, y, theta, line, at, r, J) -> None:
         """Orientation constraints on the line's section frame, linear in the rotations.
@@ -290,68 +386,83 @@ class Slider:
         ``kink C m``: the exact rotation at a couple lies off the linear interpolation of its
         nodal values by that much (``docs/sliders.md``).
         """
-        mu = y[4:]
+        B, mu = len(y), y[:, 4:]
         if line.rotation is None:
-            p = line.point
-            R0, k0, k0_xi = p.R, p.k, p.k_xi
-            theta_L = theta_L_xi = np.zeros(3)
-            w = w_xi = np.zeros(0)
-            kink = kink_xi = 0.0
-            compliance = np.zeros((3, 3))
+            R0, k0, k0_xi = line.frame
+            theta_L = theta_L_xi = np.zeros((B, 3))
+            w = w_xi = np.zeros((B, 0))
+            kink = kink_xi = np.zeros(B)
+            compliance = np.zeros((B, 3, 3))
         else:
             rot = line.rotation
             R0, k0, k0_xi = rot.R0, rot.k0, rot.k0_xi
-            nodal = q[rot.dofs]
+            nodal = gather(q, rot.dofs)
             w, w_xi = rot.w, rot.w_xi
-            theta_L, theta_L_xi = w @ nodal, w_xi @ nodal
+            theta_L = np.einsum("ba,bak->bk", w, nodal)
+            theta_L_xi = np.einsum("ba,bak->bk", w_xi, nodal)
             kink, kink_xi, compliance = rot.kink, rot.kink_xi, rot.compliance
-        t0 = R0[:, 0]
+        t0 = R0[..., 0]
         t1 = cross(k0, t0)
         t2 = cross(k0_xi, t0) + cross(k0, t1)
         axes = self.frame[:, 1:3].T
-        n = [cross(axes, t0), cross(axes, t1), cross(axes, t2)]
-        g = [axes @ t0, axes @ t1, axes @ t2]
+        n = [cross(axes, t[:, None, :]) for t in (t0, t1, t2)]
+        g = [t @ axes.T for t in (t0, t1, t2)]
         if self.kind == "spline":
-            B = self.frame @ R0.T
-            dB = -B @ skew_matrices(k0)
-            ddB = -dB @ skew_matrices(k0) - B @ skew_matrices(k0_xi)
-            a0, a1, a2 = axial(B), axial(dB), axial(ddB)
-            n = [np.vstack([n[0], t0]), np.vstack([n[1], t1]), np.vstack([n[2], t2])]
-            g = [np.append(g[0], t0 @ a0), np.append(g[1], t1 @ a0 + t0 @ a1),
-                 np.append(g[2], t2 @ a0 + 2 * t1 @ a1 + t0 @ a2)]
+            F = self.frame @ np.swapaxes(R0, -1, -2)
+            dF = -F @ skew_matrices(k0)
+            ddF = -dF @ skew_matrices(k0) - F @ skew_matrices(k0_xi)
+            a0, a1, a2 = axial(F), axial(dF), axial(ddF)
+            n = [np.concatenate([n_i, t[:, None, :]], axis=1) for n_i, t in zip(n, (t0, t1, t2))]
+            g = [np.column_stack([g[0], _dot(t0, a0)]),
+                 np.column_stack([g[1], _dot(t1, a0) + _dot(t0, a1)]),
+                 np.column_stack([g[2], _dot(t2, a0) + 2 * _dot(t1, a1) + _dot(t0, a2)])]
         n0, n1, n2 = n
+        n0T = np.swapaxes(n0, 1, 2)
         d = theta - theta_L
-        m, m_xi = n0.T @ mu, n1.T @ mu
-        shift = kink * compliance @ m
-        rows = at.t + 4 + np.arange(len(mu))
-        r[at.turn] += m
-        J[at.turn, at.xi] += m_xi
-        J[np.ix_(at.turn, rows)] += n0.T
-        along = g[1] + n1 @ d - n0 @ theta_L_xi
-        r[at.xi] += mu @ along
-        J[at.xi, at.turn] += m_xi
-        J[at.xi, at.xi] += mu @ (g[2] + n2 @ d - 2 * n1 @ theta_L_xi)
-        J[at.xi, rows] += along
-        r[rows] = g[0] + n0 @ (d - shift)
-        J[np.ix_(rows, at.turn)] += n0
-        J[rows, at.xi] += (along - n1 @ shift
-                           - n0 @ (compliance @ (kink_xi * m + kink * m_xi)))
-        J[np.ix_(rows, rows)] -= kink * n0 @ compliance @ n0.T
-        for a in range(len(w)):
-            node = at.rotation[a]
-            r[node] -= w[a] * m
-            J[node, at.xi] -= w_xi[a] * m + w[a] * m_xi
-            J[np.ix_(node, rows)] -= w[a] * n0.T
-            J[at.xi, node] -= w[a] * m_xi + w_xi[a] * m
-            J[np.ix_(rows, node)] -= w[a] * n0
+        m, m_xi = np.einsum("bjk,bj->bk", n0, mu), np.einsum("bjk,bj->bk", n1, mu)
+        shift = kink[:, None] * np.einsum("bij,bj->bi", compliance, m)
+        rows = at.mu
+        r[:, at.turn] += m
+        J[:, at.turn, at.xi] += m_xi
+        J[:, at.turn, rows] += n0T
+        along = g[1] + _apply(n1, d) - _apply(n0, theta_L_xi)
+        r[:, at.xi] += _dot(mu, along)
+        J[:, at.xi, at.turn] += m_xi
+        J[:, at.xi, at.xi] += _dot(mu, g[2] + _apply(n2, d) - 2 * _apply(n1, theta_L_xi))
+        J[:, at.xi, rows] += along
+        r[:, rows] = g[0] + _apply(n0, d - shift)
+        J[:, rows, at.turn] += n0
+        J[:, rows, at.xi] += (along - _apply(n1, shift) - _apply(n0, np.einsum(
+            "bij,bj->bi", compliance, kink_xi[:, None] * m + kink[:, None] * m_xi)))
+        J[:, rows, rows] -= kink[:, None, None] * (n0 @ compliance @ n0T)
+        if w.shape[1]:
+            r[:, at.rotation] -= (w[:, :, None] * m[:, None, :]).reshape(B, -1)
+            J[:, at.rotation, at.xi] -= (w_xi[:, :, None] * m[:, None, :]
+                                         + w[:, :, None] * m_xi[:, None, :]).reshape(B, -1)
+            J[:, at.rotation, rows] -= (w[:, :, None, None] * n0T[:, None]).reshape(B, 6, -1)
+            J[:, at.xi, at.rotation] -= (w[:, :, None] * m_xi[:, None, :]
+                                         + w_xi[:, :, None] * m[:, None, :]).reshape(B, -1)
+            J[:, rows, at.rotation] -= (w[:, None, :, None] * n0[:, :, None, :]).reshape(
+                B, n0.shape[1], -1)
+
+
+def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise dot products of (B, k) arrays."""
+    return np.einsum("bk,bk->b", a, b)
+
+
+def _apply(n: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """``n_b @ v_b`` for (B, j, 3) and (B, 3)."""
+    return np.einsum("bjk,bk->bj", n, v)
 
 
 @dataclass(frozen=True)
 class _LineState:
-    """What the joint needs of the line at ``xi``: geometry, the interpolation (chains), the
-    load transfer, the section rotation (chains) or the rigid line's point, and the tangent
-    of the frictionless condition with its dofs and coefficients (chains: the recovered
-    tangent, :meth:`sliders.chain.BeamChain._tangent_recovery`; rigid lines: ``l``)."""
+    """What the joint needs of the lines at ``xi``, per member (leading axis B): geometry,
+    the interpolation dofs and shape functions (chains), the load transfer, the section
+    rotation (chains, section orientation) or the rigid line's frame ``(R, k, k_xi)``, and
+    the tangent of the frictionless condition with its dofs and coefficients (chains: the
+    recovered tangent, :meth:`sliders.stack.ChainStack.interpolation`; rigid lines: ``l``)."""
 
     x: np.ndarray
     l: np.ndarray  # noqa: E741
@@ -365,7 +476,7 @@ class _LineState:
     G: np.ndarray
     dG: np.ndarray
     rotation: LineRotation | None
-    point: LinePoint | None
+    frame: tuple[np.ndarray, np.ndarray, np.ndarray] | None
     tangent: np.ndarray
     tangent_xi: np.ndarray
     tangent_dofs: np.ndarray
@@ -374,16 +485,17 @@ class _LineState:
 
 
 class _Layout:
-    """Positions in the joint's local arrays: body translations and rotations, the line's
+    """Slots of a member's local arrays: body translations and rotations, the line's
     interpolation, load, rotation and tangent dofs, then ``xi``, ``lambda`` and the
-    multipliers."""
+    multipliers ``mu``."""
 
-    def __init__(self, t: int, where: np.ndarray, n_interp: int, n_load: int,
-                 n_rotation: int) -> None:
-        self.t, self.body, self.turn = t, where[:3], where[3:6]
-        self.interp = where[6:6 + n_interp].reshape(-1, 3)
-        start = 6 + n_interp + n_load
-        self.load = where[6 + n_interp:start]
-        self.rotation = where[start:start + n_rotation].reshape(-1, 3)
-        self.tangent = where[start + n_rotation:].reshape(-1, 3)
-        self.xi, self.lam = t, slice(t + 1, t + 4)
+    def __init__(self, n_interp: int, n_load: int, n_rotation: int, n_tangent: int,
+                 n_unknowns: int) -> None:
+        self.body, self.turn = slice(0, 3), slice(3, 6)
+        start = 6
+        self.interp, start = slice(start, start + n_interp), start + n_interp
+        self.load, start = slice(start, start + n_load), start + n_load
+        self.rotation, start = slice(start, start + n_rotation), start + n_rotation
+        self.tangent, start = slice(start, start + n_tangent), start + n_tangent
+        self.t = self.xi = start
+        self.lam, self.mu = slice(start + 1, start + 4), slice(start + 4, start + n_unknowns)

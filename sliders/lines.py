@@ -39,8 +39,14 @@ class LinePoint:
 
 
 def axial(A: np.ndarray) -> np.ndarray:
-    """``ax(A)``: the vector of the skew-symmetric part of a 3x3 matrix."""
-    return 0.5 * np.array([A[2, 1] - A[1, 2], A[0, 2] - A[2, 0], A[1, 0] - A[0, 1]])
+    """``ax(A)``: the vector of the skew-symmetric part of 3x3 matrices ``(..., 3, 3)``."""
+    return 0.5 * np.stack([A[..., 2, 1] - A[..., 1, 2], A[..., 0, 2] - A[..., 2, 0],
+                           A[..., 1, 0] - A[..., 0, 1]], axis=-1)
+
+
+def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``a . b`` over the last axis, kept as a length-1 axis for broadcasting."""
+    return np.sum(a * b, axis=-1, keepdims=True)
 
 
 def frame_and_curvature(l: np.ndarray, l_xi: np.ndarray,  # noqa: E741
@@ -48,58 +54,73 @@ def frame_and_curvature(l: np.ndarray, l_xi: np.ndarray,  # noqa: E741
     """Frame ``R = [t, e2, e3]`` from the direction and ``up``, and ``k = ax(R_/xi R^T)``.
 
     With ``t = l / |l|`` and ``n = up - (up . t) t``, ``e3 = n / |n|``, ``e2 = e3 x t``;
-    the derivatives follow by the chain rule from ``l_xi``.
+    the derivatives follow by the chain rule from ``l_xi``.  Vectors of shape ``(..., 3)``
+    (``up`` broadcast); returns ``(..., 3, 3)`` and ``(..., 3)``.
     """
     R = section_frames(l, up)
-    t, e3 = R[:, 0], R[:, 2]
-    norm_l = np.linalg.norm(l)
-    t_xi = (l_xi - (t @ l_xi) * t) / norm_l
-    n = up - (up @ t) * t
-    norm_n = np.linalg.norm(n)
-    n_xi = -(up @ t_xi) * t - (up @ t) * t_xi
-    e3_xi = (n_xi - (e3 @ n_xi) * e3) / norm_n
+    t, e3 = R[..., 0], R[..., 2]
+    norm_l = np.linalg.norm(l, axis=-1, keepdims=True)
+    t_xi = (l_xi - _dot(t, l_xi) * t) / norm_l
+    n = up - _dot(up, t) * t
+    norm_n = np.linalg.norm(n, axis=-1, keepdims=True)
+    n_xi = -_dot(up, t_xi) * t - _dot(up, t) * t_xi
+    e3_xi = (n_xi - _dot(e3, n_xi) * e3) / norm_n
     e2_xi = cross(e3_xi, t) + cross(e3, t_xi)
-    R_xi = np.column_stack([t_xi, e2_xi, e3_xi])
-    return R, axial(R_xi @ R.T)
+    R_xi = np.stack([t_xi, e2_xi, e3_xi], axis=-1)
+    return R, axial(R_xi @ np.swapaxes(R, -1, -2))
 
 
 def curvature_rate(l: np.ndarray, l_xi: np.ndarray, l_xixi: np.ndarray,  # noqa: E741
                    up: np.ndarray) -> np.ndarray:
-    """``k_/xi``, the derivative of the frame's curvature vector.
+    """``k_/xi``, the derivative of the frame's curvature vector (vectors ``(..., 3)``).
 
     A central difference of :func:`frame_and_curvature` over ``xi +- d``, the direction and its
     derivative carried there by their Taylor expansions (``l_xixi`` taken constant), with
     ``d = 1e-4 / |l_xi|`` (a hundredth of a per cent of the radius of curvature): the
     error is ``d^2 k''' / 6``, about 1e-9 of ``|k|``.  Zero on straight parts.
     """
-    scale = np.linalg.norm(l_xi)
-    if scale <= 1e-12 * np.linalg.norm(l):
-        return np.zeros(3)
-    d = 1e-4 / scale
+    scale = np.linalg.norm(l_xi, axis=-1, keepdims=True)
+    curved = scale > 1e-12 * np.linalg.norm(l, axis=-1, keepdims=True)
+    if not np.any(curved):
+        return np.zeros(np.broadcast_shapes(l.shape, l_xi.shape))
+    d = 1e-4 / np.where(curved, scale, 1.0)
     ahead = frame_and_curvature(l + d * l_xi + 0.5 * d * d * l_xixi, l_xi + d * l_xixi, up)[1]
     behind = frame_and_curvature(l - d * l_xi + 0.5 * d * d * l_xixi, l_xi - d * l_xixi, up)[1]
-    return (ahead - behind) / (2 * d)
+    return np.where(curved, (ahead - behind) / (2 * d), 0.0)
 
 
-def project(curve: Callable[[float], tuple[np.ndarray, ...]], grid: np.ndarray,
-            point: np.ndarray) -> float:
-    """Abscissa of the point of a curve closest to ``point``.
+def project(curve: Callable[[np.ndarray], tuple[np.ndarray, ...]], grid: np.ndarray,
+            points: np.ndarray) -> np.ndarray:
+    """Abscissae of the points of ``B`` curves closest to ``points`` ``(B, 3)``, one each.
 
-    ``curve(xi)`` returns ``x, l, l_xi``.  The closest of the sample abscissae ``grid``
-    (increasing, from 0 to the length) starts Newton on ``l . (x - point) = 0``, which stays
-    within the ends.
+    ``curve(xi)`` returns ``x, l, l_xi`` ``(B, 3)`` of the curves at abscissae ``xi``
+    ``(B,)``.  The closest of the sample abscissae ``grid`` (increasing, from 0 to the length)
+    starts Newton on ``l . (x - point) = 0``, which stays within the ends.
     """
-    point = np.asarray(point, dtype=float)
+    points = np.asarray(points, dtype=float)
     length = grid[-1]
-    xi = grid[int(np.argmin([np.sum((curve(s)[0] - point) ** 2) for s in grid]))]
+    distance = np.array([np.sum((curve(np.full(len(points), s))[0] - points) ** 2, axis=1)
+                         for s in grid])
+    xi = grid[np.argmin(distance, axis=0)]
     for _ in range(50):
         x, l, l_xi = curve(xi)  # noqa: E741
-        h = l @ l + l_xi @ (x - point)
-        step = -(l @ (x - point)) / h if h > 0 else 0.0
-        xi = min(max(xi + step, 0.0), length)
-        if abs(step) <= 1e-14 * max(length, 1.0):
+        gap = x - points
+        h = np.sum(l * l + l_xi * gap, axis=1)
+        step = np.where(h > 0, -np.sum(l * gap, axis=1) / np.where(h > 0, h, 1.0), 0.0)
+        xi = np.clip(xi + step, 0.0, length)
+        if np.all(np.abs(step) <= 1e-14 * max(length, 1.0)):
             break
-    return float(xi)
+    return xi
+
+
+def project_one(curve: Callable[[float], tuple[np.ndarray, ...]], grid: np.ndarray,
+                point: np.ndarray) -> float:
+    """:func:`project` for one curve given point by point: ``curve(xi)`` returns ``x, l, l_xi``
+    (3,) at a scalar ``xi``."""
+    def batched(xi: np.ndarray) -> tuple[np.ndarray, ...]:
+        return tuple(v[None] for v in curve(float(xi[0])))
+
+    return float(project(batched, grid, np.asarray(point, dtype=float)[None])[0])
 
 
 class RigidLine:
@@ -128,8 +149,8 @@ class RigidLine:
 
     def project(self, point: np.ndarray) -> float:
         """Abscissa of the point of the line closest to ``point`` (initial ``xi``)."""
-        return project(lambda xi: self.derivatives(xi)[:3], np.linspace(0, self.length, 65),
-                       point)
+        return project_one(lambda xi: self.derivatives(xi)[:3],
+                           np.linspace(0, self.length, 65), point)
 
 
 def _check_positive(value: float, what: str, name: str) -> float:

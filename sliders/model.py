@@ -22,7 +22,8 @@ from fvbeam import Beam, BeamMesh, RigidBody, Section, Structure, Support, arc, 
 from fvbeam.statics import NodeRef
 from sliders.chain import BeamChain
 from sliders.joint import Slider
-from sliders.lines import CircularArc, CubicSpline, Helix, RigidLine, StraightLine, project
+from sliders.lines import (CircularArc, CubicSpline, Helix, RigidLine, StraightLine,
+                           project_one)
 from sliders.scene import (Abscissa, BeamSpec, LoadFactor, PointLoad, Scene, SliderSpec,
                            SweepStudy, Translation)
 from sliders.scene_checks import part_of, tied_parts
@@ -90,7 +91,7 @@ class _Probe:
         point; from the abscissa ``start`` of a nearby point when given (a continuation along
         a sweep), else from the line's own search."""
         xi = (self.project(point) if start is None
-              else project(self.curve, np.array([start, self.length]), point))
+              else project_one(self.curve, np.array([start, self.length]), point))
         gap = float(np.linalg.norm(point - self.curve(xi)[0]))
         return gap, ON_LINE * max(self.size, float(np.linalg.norm(point))), xi
 

@@ -16,6 +16,10 @@ supports are eliminated).  Two linear-algebra back ends share one Newton loop:
     factorises ``K``, bordered by the free parts' rigid motions, once per structure and
     support set, and solves a small dense system on ``T``, ``y`` and the rigid amplitudes
     per step (:mod:`sliders.condensed`).
+
+:func:`newton_many` is the Newton loop, for independent members of one shape at once
+(:func:`solve_many`; the condensed steps of all members are one stacked solve); a single
+solve is its one-member case.
 """
 
 from __future__ import annotations
@@ -30,7 +34,7 @@ import scipy.sparse.linalg as spla
 
 from fvbeam.statics import Structure, Support
 from sliders.condensed import CondensedOperator
-from sliders.joint import Slider
+from sliders.joint import Slider, SliderBatch
 
 METHODS = ("bordered", "condensed")
 
@@ -129,53 +133,49 @@ class SliderStatics:
 
     def _newton(self, f: np.ndarray, start: tuple[np.ndarray, list[np.ndarray]] | None,
                 tol: float, max_iterations: int) -> tuple[np.ndarray, list, list[float]]:
-        """One Newton solve: converged ``q``, slider unknowns and residual history."""
-        n = self.structure.n_dofs
-        q = np.zeros(n) if start is None else start[0].copy()
-        ys = self.initial_unknowns(q) if start is None else [y.copy() for y in start[1]]
+        """One Newton solve: converged ``q``, slider unknowns and residual history (the
+        ``B = 1`` case of :func:`newton_many`); ``ValueError`` with its diagnostic.  Without
+        sliders the problem is linear: one solve on the free dofs."""
+        if not self.sliders:
+            return self._linear(f)
+        batches = [s.batch(self.structure) for s in self.sliders]
+        outcome = newton_many([self], batches, f[None], [start], tol, max_iterations)[0]
+        if isinstance(outcome, str):
+            raise ValueError(outcome)
+        return outcome
+
+    def _linear(self, f: np.ndarray) -> tuple[np.ndarray, list, list[float]]:
+        """``K q = f`` on the free dofs (a structure without sliders), with the residual
+        history ``[1, |K q - f| / |f|]``."""
+        K = self.K[self.free][:, self.free].tocsc()
+        try:
+            z = spla.splu(K).solve(f[self.free])
+        except RuntimeError:
+            z = np.full(len(self.free), np.nan)
+        if not np.all(np.isfinite(z)):
+            raise ValueError(self._singular(K) or "the stiffness has no finite solution")
+        q = np.zeros(self.structure.n_dofs)
+        q[self.free] = z
         scale = max(np.abs(f).max(), 1e-300)
-        residuals, first, reach = [], None, np.abs(q).max(initial=0.0)
-        for _ in range(max_iterations + 1):
-            r_q = self.K @ q - f
-            parts = [s.assemble(self.structure, q, y) for s, y in zip(self.sliders, ys)]
-            for dofs, rq, _, _ in parts:
-                np.add.at(r_q, dofs, rq)
-            r_y = np.concatenate([np.zeros(0)] + [p[2] for p in parts])
-            residuals.append(float(max(np.abs(r_q[self.free]).max(), np.abs(r_y).max(initial=0))
-                                   / scale))
-            if first is None:
-                first = parts
-            elif converged:
-                return q, ys, residuals
-            step = (self._condensed_step(r_q, parts) if self.method == "condensed"
-                    else self._bordered_step(r_q, parts))
-            if step is None:
-                raise ValueError(self._singular(self._bordered(parts)[0])
-                                 or f"the {self.method} system has no finite solution")
-            dq, dy = step
-            q += dq
-            reach = max(reach, np.abs(dq).max(initial=0.0), np.abs(q).max(initial=0.0))
-            offsets = np.cumsum([0] + [len(y) for y in ys])
-            ys = [y + dy[a:b] for y, a, b in zip(ys, offsets[:-1], offsets[1:])]
-            force = max([scale] + [np.abs(y[1:]).max() for y in ys])
-            steps = np.split(dy, offsets[1:-1])
-            converged = (np.abs(dq).max() <= tol * max(reach, 1e-300)
-                         and all(abs(d[0]) <= tol * s.line.length
-                                 and np.abs(d[1:]).max() <= tol * force
-                                 for d, s in zip(steps, self.sliders)))
-        raise ValueError(self._singular(self._bordered(first)[0]) or
-                         f"Newton did not converge in {max_iterations} iterations "
-                         f"(scaled residual {residuals[-1]:.3g})")
+        return q, [], [1.0, float(np.abs((self.K @ q - f)[self.free]).max() / scale)]
 
     def jacobian(self, q: np.ndarray, unknowns: Sequence[np.ndarray]) -> sp.csc_matrix:
         """The Newton matrix at ``q`` and the sliders' ``unknowns``: rows and columns are the
         free dofs (in order) followed by each slider's unknowns."""
-        parts = [s.assemble(self.structure, q, y) for s, y in zip(self.sliders, unknowns)]
-        return self._bordered(parts)[0]
+        return self._bordered(self._parts(q, unknowns))[0]
+
+    def _parts(self, q: np.ndarray, unknowns: Sequence[np.ndarray]) -> list:
+        """Each slider's ``(dofs, r_q, r_y, J)`` on its slots (:meth:`SliderBatch.evaluate`)."""
+        parts = []
+        for s, y in zip(self.sliders, unknowns):
+            dofs, r, J = s.batch(self.structure).evaluate(q[None], np.asarray(y)[None])
+            t = dofs.shape[1]
+            parts.append((dofs[0], r[0, :t], r[0, t:], J[0]))
+        return parts
 
     def _bordered(self, parts: list) -> tuple[sp.csc_matrix, list[np.ndarray]]:
-        """The bordered matrix on the free dofs and slider unknowns, and the sliders'
-        residuals ``r_y``."""
+        """The bordered matrix on the free dofs and slider unknowns (a dof held by several
+        slots sums them), and the sliders' residuals ``r_y``."""
         nf = len(self.free)
         rows, cols, vals = [self.K_free.row], [self.K_free.col], [self.K_free.data]
         r_y, offset = [], nf
@@ -206,30 +206,38 @@ class SliderStatics:
         dq[self.free] = z[:len(self.free)]
         return dq, z[len(self.free):]
 
-    def _condensed_step(self, r_q: np.ndarray,
-                        parts: list) -> tuple[np.ndarray, np.ndarray] | None:
-        """Newton increments from the condensed system (:mod:`sliders.condensed`) on the
-        touched free dofs; None if it is singular."""
-        where = [self._position[p[0]] for p in parts]
-        touched = np.unique(np.concatenate(where))
-        touched = touched[touched >= 0]
-        t, m = len(touched), sum(len(p[2]) for p in parts)
-        J = np.zeros((t + m, t + m))
-        offset = t
-        for w, (_, _, ry, block) in zip(where, parts):
-            keep = np.flatnonzero(w >= 0)
-            local = np.concatenate([keep, len(w) + np.arange(len(ry))])
-            index = np.concatenate([np.searchsorted(touched, w[keep]),
-                                    offset + np.arange(len(ry))])
-            J[np.ix_(index, index)] += block[np.ix_(local, local)]
-            offset += len(ry)
-        step = self._condensed.step(r_q[self.free], touched, J,
-                                    np.concatenate([p[2] for p in parts]))
-        if step is None:
-            return None
-        dq = np.zeros_like(r_q)
-        dq[self.free] = step[0]
-        return dq, step[1]
+    def _steps(self, members: Sequence[SliderStatics], R: np.ndarray, parts: list,
+               r_y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Newton increments ``dq`` (B, n), ``dy`` (B, m) of ``members`` (this one's
+        operator; their residuals ``R`` (B, n), ``r_y`` and the joints' slot arrays
+        ``parts``), and which are regular."""
+        B = len(R)
+        dq, dy = np.zeros_like(R), np.zeros_like(r_y)
+        if self.method == "bordered":
+            regular = np.zeros(B, dtype=bool)
+            for b, member in enumerate(members):
+                step = member._bordered_step(R[b], _member(parts, b))
+                if step is not None:
+                    (dq[b], dy[b]), regular[b] = step, True
+            return dq, dy, regular
+        sizes = [d.shape[1] for d, _, _ in parts]
+        s, m = sum(sizes), r_y.shape[1]
+        J = np.zeros((B, s + m, s + m))
+        at, ay = np.cumsum([0] + sizes), s + np.cumsum([0] + [r.shape[1] - t for (_, r, _), t
+                                                              in zip(parts, sizes)])
+        for i, (_, _, block) in enumerate(parts):
+            t = sizes[i]
+            q_i, y_i = slice(at[i], at[i + 1]), slice(ay[i], ay[i + 1])
+            J[:, q_i, q_i], J[:, q_i, y_i] = block[:, :t, :t], block[:, :t, t:]
+            J[:, y_i, q_i], J[:, y_i, y_i] = block[:, t:, :t], block[:, t:, t:]
+        slots = self._position[np.concatenate([d for d, _, _ in parts], axis=1)]
+        dq_free, dy, regular = self._condensed.step(R[:, self.free], slots, J, r_y)
+        dq[:, self.free] = dq_free
+        return dq, dy, regular
+
+    def _diagnose(self, parts: list, fallback: str) -> str:
+        """The singular-configuration message of the bordered matrix, or ``fallback``."""
+        return self._singular(self._bordered(parts)[0]) or fallback
 
     def _singular(self, S: sp.spmatrix) -> str | None:
         """If the bordered matrix is singular once its rows and columns are equilibrated
@@ -249,3 +257,133 @@ class SliderStatics:
         moving = ", ".join(f"{names[i]} ({v[i]:+.2f})" for i in top if abs(v[i]) > 0.1)
         return ("singular configuration: the supports and sliders leave a free motion "
                 f"(null vector mostly along {moving})")
+
+
+def _member(parts: list, b: int) -> list:
+    """Member ``b``'s ``(dofs, r_q, r_y, J)`` per slider from the stacked slot arrays."""
+    out = []
+    for dofs, r, J in parts:
+        t = dofs.shape[1]
+        out.append((dofs[b], r[b, :t], r[b, t:], J[b]))
+    return out
+
+
+def converged(dq: np.ndarray, dy: np.ndarray, sizes: Sequence[int],
+              lengths: Sequence[float], reach: np.ndarray, force: np.ndarray,
+              tol: float) -> np.ndarray:
+    """Newton's convergence rule, per member: every increment below ``tol`` relative to its
+    scale -- ``q`` to ``reach`` (the largest displacement met), each ``xi`` to its line's
+    length, the multipliers to ``force`` (the largest of them and of the load).  ``dq``
+    (B, n), ``dy`` (B, m) with the sliders' ``sizes`` and line ``lengths``."""
+    ok = np.abs(dq).max(axis=1, initial=0.0) <= tol * np.maximum(reach, 1e-300)
+    for d, length in zip(np.split(dy, np.cumsum(sizes)[:-1], axis=1), lengths):
+        ok &= (np.abs(d[:, 0]) <= tol * length) & (np.abs(d[:, 1:]).max(axis=1) <= tol * force)
+    return ok
+
+
+def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch],
+                loads: np.ndarray, starts: Sequence[tuple | None], tol: float,
+                max_iterations: int) -> list[tuple[np.ndarray, list, list[float]] | str]:
+    """Newton on ``B`` independent members at once: the one Newton loop of the package.
+
+    ``members`` share the first one's operator (stiffness, supports, back end); ``batches``
+    holds, per slider, the members' sliders (:class:`~sliders.joint.SliderBatch`);
+    ``loads`` (B, n); ``starts``: per member ``(q, unknowns)`` or None (no displacement,
+    projected ``xi``).  Each member stops when it has converged (:func:`converged`, then
+    one more residual), or fails on its own.  Returns per member the converged ``q``, slider
+    unknowns and scaled residual history, or the message of its failure: the
+    singular-configuration diagnostic naming the free motion, or the last residual when
+    Newton does not converge in ``max_iterations``.
+    """
+    lead = members[0]
+    B, n = loads.shape
+    sizes = [b.n_unknowns for b in batches]
+    lengths = [b.length for b in batches]
+    Q, Y = np.zeros((B, n)), np.zeros((B, sum(sizes)))
+    warm = np.array([s is not None for s in starts], dtype=bool)
+    for b in np.flatnonzero(warm):
+        Q[b], Y[b] = starts[b][0], np.concatenate(starts[b][1])
+    cold = np.flatnonzero(~warm)
+    if cold.size:
+        Y[cold] = np.concatenate([(b if cold.size == B else b.subset(cold)).initial_unknowns(
+            Q[cold]) for b in batches], axis=1)
+    Q0, Y0 = Q.copy(), Y.copy()
+    scale = np.maximum(np.abs(loads).max(axis=1), 1e-300)
+    reach = np.abs(Q).max(axis=1, initial=0.0)
+    done = np.zeros(B, dtype=bool)
+    residuals: list[list[float]] = [[] for _ in range(B)]
+    outcome: list = [None] * B
+    active, view = np.arange(B), list(batches)
+    multipliers = np.ones(sum(sizes), dtype=bool)
+    multipliers[np.cumsum([0] + sizes[:-1])] = False
+    for _ in range(max_iterations + 1):
+        R = (lead.K @ Q[active].T).T - loads[active]
+        parts = [v.evaluate(Q[active], Y[active][:, a:b]) for v, a, b in
+                 zip(view, np.cumsum([0] + sizes[:-1]), np.cumsum(sizes))]
+        for dofs, r, _ in parts:
+            np.add.at(R, (np.arange(len(active))[:, None], dofs), r[:, :dofs.shape[1]])
+        r_y = np.concatenate([r[:, d.shape[1]:] for d, r, _ in parts], axis=1)
+        measure = np.maximum(np.abs(R[:, lead.free]).max(axis=1), np.abs(r_y).max(axis=1))
+        for b, value in zip(active, measure / scale[active]):
+            residuals[b].append(float(value))
+        for b in active[done[active]]:
+            outcome[b] = (Q[b].copy(), np.split(Y[b].copy(), np.cumsum(sizes)[:-1]),
+                          residuals[b])
+        going = ~done[active]
+        dq, dy, regular = lead._steps([members[b] for b in active[going]], R[going],
+                                      [(d[going], r[going], J[going]) for d, r, J in parts],
+                                      r_y[going])
+        for i in np.flatnonzero(~regular):
+            b = active[going][i]
+            outcome[b] = members[b]._diagnose(
+                _member([(d[going], r[going], J[going]) for d, r, J in parts], i),
+                f"the {lead.method} system has no finite solution")
+        active = active[going][regular]
+        if not active.size:
+            break
+        dq, dy = dq[regular], dy[regular]
+        Q[active] += dq
+        Y[active] += dy
+        reach[active] = np.maximum.reduce([reach[active], np.abs(dq).max(axis=1),
+                                           np.abs(Q[active]).max(axis=1)])
+        force = np.maximum(scale[active], np.abs(Y[active][:, multipliers]).max(axis=1))
+        done[active] = converged(dq, dy, sizes, lengths, reach[active], force, tol)
+        if len(active) < len(view[0]):
+            view = [b.subset(active) for b in batches]
+    for b in active:
+        first = members[b]._parts(Q0[b], np.split(Y0[b], np.cumsum(sizes)[:-1]))
+        outcome[b] = members[b]._diagnose(
+            first, f"Newton did not converge in {max_iterations} iterations "
+                   f"(scaled residual {residuals[b][-1]:.3g})")
+    return outcome
+
+
+def solve_many(members: Sequence[SliderStatics], loads: Sequence[np.ndarray], tol: float = 1e-8,
+               max_iterations: int = 25) -> list[SliderSolution | str]:
+    """Solve independent problems of one shape together, each from its default start.
+
+    ``members``: statics sharing the first one's operator (built with ``reuse``: the same
+    stiffness, dof maps, supports and back end; e.g. a piston moved along its cylinder) with
+    alike sliders (:class:`~sliders.joint.SliderBatch`); ``loads``: one load vector each.
+    The joints are evaluated for all members at once and, with the ``condensed`` back end,
+    the Newton steps are one stacked solve (:func:`newton_many`, the loop and convergence
+    rule of :meth:`SliderStatics.solve`).  Returns per member its :class:`SliderSolution`, or
+    the message :meth:`SliderStatics.solve` would raise.  Raises ``ValueError`` when the
+    members do not share the operator.
+    """
+    lead = members[0]
+    for b, member in enumerate(members):
+        if not (member.K is lead.K and member.method == lead.method
+                and np.array_equal(member.free, lead.free)
+                and len(member.sliders) == len(lead.sliders)):
+            raise ValueError(f"member {b} does not share member 0's operator (build it with "
+                             "reuse=, the same supports, back end and number of sliders)")
+    loads = np.array(loads, dtype=float)
+    if loads.shape != (len(members), lead.structure.n_dofs) or not np.all(np.isfinite(loads)):
+        raise ValueError(f"loads must be {len(members)} finite vectors of "
+                         f"{lead.structure.n_dofs} rows")
+    batches = [SliderBatch([m.sliders[i] for m in members], [m.structure for m in members])
+               for i in range(len(lead.sliders))]
+    outcomes = newton_many(members, batches, loads, [None] * len(members), tol, max_iterations)
+    return [o if isinstance(o, str) else SliderSolution(o[0], o[1], o[2], [len(o[2]) - 1])
+            for o in outcomes]

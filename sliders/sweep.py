@@ -28,7 +28,7 @@ from typing import Any, Callable, Iterable
 
 import numpy as np
 
-from sliders.statics import SliderSolution, SliderStatics
+from sliders.statics import SliderSolution, SliderStatics, solve_many
 
 Build = Callable[[Any], tuple[SliderStatics, np.ndarray]]
 
@@ -155,3 +155,39 @@ def _fits(statics: SliderStatics, solution: SliderSolution) -> bool:
     """Whether ``solution`` has the shapes of ``statics``' unknowns."""
     return (len(solution.q) == statics.structure.n_dofs
             and [len(y) for y in solution.unknowns] == [s.n_unknowns for s in statics.sliders])
+
+
+def sweep_batched(values: Iterable[Any], build: Build, *, tol: float = 1e-8,
+                  max_iterations: int = 25) -> SweepResult:
+    """Solve ``build(value)`` for every value, all points at once (no continuation).
+
+    The points are independent problems; those whose statics share an operator (built with
+    ``reuse``, as :class:`studies.fig4_stiffness.SlidingBeams` does) are solved together by
+    :func:`sliders.statics.solve_many`, each from its default start, each converging or
+    failing on its own.  Same points, solutions and failure messages as
+    ``sweep(values, build, continuation=False)`` (to roundoff); a point whose ``build``
+    raises ``ValueError`` is recorded as failed.  ``KeyboardInterrupt`` returns the groups
+    completed, with :attr:`SweepResult.interrupted` set.
+    """
+    values = list(values)
+    points: list[SweepPoint | None] = [None] * len(values)
+    groups: dict[int, list[tuple[int, SliderStatics, np.ndarray]]] = {}
+    result = SweepResult()
+    try:
+        for i, value in enumerate(values):
+            try:
+                statics, f = build(value)
+            except ValueError as exc:
+                points[i] = SweepPoint(value, None, str(exc))
+                continue
+            groups.setdefault(id(statics.K), []).append((i, statics, f))
+        for group in groups.values():
+            outcomes = solve_many([g[1] for g in group], [g[2] for g in group], tol=tol,
+                                  max_iterations=max_iterations)
+            for (i, _, _), outcome in zip(group, outcomes):
+                points[i] = (SweepPoint(values[i], None, outcome) if isinstance(outcome, str)
+                             else SweepPoint(values[i], outcome))
+    except KeyboardInterrupt:
+        result.interrupted = True
+    result.points = [p for p in points if p is not None]
+    return result

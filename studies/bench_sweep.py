@@ -9,8 +9,11 @@ factorisation and its cached columns are inside.  Two ways of running the positi
     :func:`sliders.sweep.sweep`, each position from the secant prediction of the last two
     (the main sweep, whose total is compared with the target);
 ``cold``
-    :meth:`SlidingBeams.stiffness` per position, Newton from the projected abscissae (what
-    the Figures 4-5 study does).
+    :meth:`SlidingBeams.stiffness` per position, Newton from the projected abscissae;
+``batched``
+    :func:`sliders.statics.solve_many`: all 96 positions of a sweep at once, each from the
+    projected abscissae (what the Figures 4-5 study does); ``build_seconds`` is the part
+    spent building the positions' structures and sliders (:meth:`SlidingBeams.problem`).
 
 Reported beside each time: the mean Newton iterations per converged position, the singular
 positions, and the largest error against the analytic two-beam stiffness.  ``--profile N``
@@ -32,19 +35,33 @@ from typing import Any
 import numpy as np
 
 from sliders.analytic import sliding_beams
+from sliders.statics import solve_many
 from sliders.sweep import sweep
 from studies.bench import environment, write_merged
 from studies.fig4_stiffness import EJ, GA, KINDS, L, STATIONS, SlidingBeams, tip_stiffness
 
 KEY = "fig4_sweep"
+#: The per-position modes (the default of :func:`bench`); ``main`` runs ``batched`` first.
 MODES = ("continuation", "cold")
+ALL_MODES = ("batched",) + MODES
 
 
-def run(kind: str, n: int, mode: str) -> tuple[float, np.ndarray, list[int]]:
-    """One timed sweep: seconds, ``k_norm`` per station (NaN where singular) and the Newton
-    iterations of the converged positions.  Raises ``KeyboardInterrupt`` if interrupted."""
+def run(kind: str, n: int, mode: str) -> tuple[float, float | None, np.ndarray, list[int]]:
+    """One timed sweep: seconds, of which building the positions (batched mode; else None),
+    ``k_norm`` per station (NaN where singular) and the Newton iterations of the converged
+    positions.  Raises ``KeyboardInterrupt`` if interrupted."""
     model = SlidingBeams("fv3", n, kind)
     k = np.full(len(STATIONS), np.nan)
+    if mode == "batched":
+        start = time.perf_counter()
+        built = [model.problem(s) for s in STATIONS]
+        middle = time.perf_counter()
+        outcomes = solve_many([b[0] for b in built], [b[1] for b in built])
+        elapsed = time.perf_counter() - start
+        solved = [(i, o) for i, o in enumerate(outcomes) if not isinstance(o, str)]
+        for i, solution in solved:
+            k[i] = tip_stiffness(built[i][0], solution)
+        return elapsed, middle - start, k, [o.iterations for _, o in solved]
     if mode == "continuation":
         start = time.perf_counter()
         result = sweep(STATIONS, model.problem, progress=False)
@@ -55,14 +72,14 @@ def run(kind: str, n: int, mode: str) -> tuple[float, np.ndarray, list[int]]:
         for i, solution in enumerate(solutions):
             if solution is not None:
                 k[i] = tip_stiffness(model._previous, solution)
-        return elapsed, k, [s.iterations for s in solutions if s is not None]
+        return elapsed, None, k, [s.iterations for s in solutions if s is not None]
     start = time.perf_counter()
     for i, s in enumerate(STATIONS):
         try:
             k[i] = model.stiffness(s)
         except ValueError:
             model._previous = None
-    return time.perf_counter() - start, k, model.iterations
+    return time.perf_counter() - start, None, k, model.iterations
 
 
 def bench(elements: tuple[int, ...] = (1, 3, 5), modes: tuple[str, ...] = MODES,
@@ -80,9 +97,10 @@ def bench(elements: tuple[int, ...] = (1, 3, 5), modes: tuple[str, ...] = MODES,
     jobs = [(mode, kind, n) for mode in modes for kind in KINDS for n in elements]
     try:
         for mode, kind, n in tqdm(jobs, disable=None if progress else True, desc="sweeps"):
-            elapsed, k, iterations = run(kind, n, mode)
+            elapsed, build, k, iterations = run(kind, n, mode)
             rows.append({"mode": mode, "slider": kind, "n_elements": n,
                          "positions": len(STATIONS), "seconds": elapsed,
+                         "build_seconds": build,
                          "us_per_position": 1e6 * elapsed / len(STATIONS),
                          "mean_newton_iterations": float(np.mean(iterations)),
                          "singular_positions": int(np.isnan(k).sum()),
@@ -94,14 +112,16 @@ def bench(elements: tuple[int, ...] = (1, 3, 5), modes: tuple[str, ...] = MODES,
     except KeyboardInterrupt:
         interrupted = True
     total = {mode: sum(r["seconds"] for r in rows if r["mode"] == mode) for mode in modes}
-    return {"rows": rows, "total_seconds": total, "target_seconds": 0.1,
+    building = sum(r["build_seconds"] for r in rows if r["build_seconds"] is not None)
+    return {"rows": rows, "total_seconds": total, "batched_build_seconds": building,
+            "target_seconds": 0.1,
             "solver": "condensed", "interrupted": interrupted}
 
 
 def profile(top: int) -> None:
-    """cProfile of the main sweep (continuation, all kinds and meshes), cumulative time."""
+    """cProfile of the main sweep (batched, all kinds and meshes), cumulative time."""
     profiler = cProfile.Profile()
-    profiler.runcall(bench, modes=("continuation",), progress=False)
+    profiler.runcall(bench, modes=ALL_MODES[:1], progress=False)
     pstats.Stats(profiler).sort_stats("cumulative").print_stats(top)
 
 
@@ -114,7 +134,7 @@ def main(argv: list[str] | None = None) -> None:
     if args.profile:
         profile(args.profile)
         return
-    result = bench()
+    result = bench(modes=ALL_MODES)
     write_merged(args.out, {"environment": environment(), KEY: result})
     totals = ", ".join(f"{mode} {t:.2f} s" for mode, t in result["total_seconds"].items())
     print(f"whole sweep: {totals} (target {result['target_seconds']} s)"

@@ -34,6 +34,7 @@ from sliders.analytic import sliding_beams
 from sliders.chain import BeamChain
 from sliders.joint import Slider
 from sliders.statics import SliderSolution, SliderStatics
+from sliders.sweep import sweep_batched
 
 EJ, GA, L, F = 4.1e4, 1.1e8, 0.6, 1.0
 SECTION = Section.diagonal(EA=10 * GA, GAy=GA, GAz=GA, GJ=EJ, EJy=EJ, EJz=EJ)
@@ -97,14 +98,15 @@ def tip_stiffness(statics: SliderStatics, solution: SliderSolution) -> float:
 
 def sweep(kind: str, formulation: str, n: int, smearing: float,
           stations: np.ndarray = STATIONS) -> tuple[np.ndarray, SlidingBeams]:
-    """``k_norm`` at every station; NaN where the configuration is singular."""
+    """``k_norm`` at every station (all solved at once, :func:`sliders.sweep.sweep_batched`);
+    NaN where the configuration is singular."""
     model = SlidingBeams(formulation, n, kind, smearing)
+    result = sweep_batched(stations, model.problem)
     out = np.full(len(stations), np.nan)
-    for i, s in enumerate(stations):
-        try:
-            out[i] = model.stiffness(s)
-        except ValueError:
-            model._previous = None
+    for i, solution in enumerate(result.solutions):
+        if solution is not None:
+            out[i] = tip_stiffness(model._previous, solution)
+            model.iterations.append(solution.iterations)
     return out, model
 
 

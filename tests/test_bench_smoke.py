@@ -55,3 +55,21 @@ def test_sweep_benchmark_reports_time_iterations_and_error():
     for row in result["rows"]:
         assert row["positions"] == 96 and row["mean_newton_iterations"] >= 1
         assert row["max_abs_rel_error"] < 1.0
+
+
+def test_batched_sweep_benchmark_reports_its_building_time():
+    """The batched mode: one row per kind, the time spent building the positions within it,
+    the same worst errors as the per-position solves: their states agree within the bound of
+    tests/test_condensed.py, at most 1e-4 of the solution, so ``k`` to 1e-4 relative and the
+    relative errors (below 1) to 2e-4."""
+    from studies.bench_sweep import ALL_MODES, bench
+
+    result = bench(elements=(1,), modes=ALL_MODES[:2], progress=False)
+    batched = [r for r in result["rows"] if r["mode"] == "batched"]
+    per_point = [r for r in result["rows"] if r["mode"] == "continuation"]
+    assert len(batched) == 2
+    for a, b in zip(batched, per_point):
+        assert 0 < a["build_seconds"] < a["seconds"]
+        assert a["singular_positions"] == b["singular_positions"] == 0
+        assert abs(a["max_abs_rel_error"] - b["max_abs_rel_error"]) <= 2e-4
+    assert result["batched_build_seconds"] == sum(r["build_seconds"] for r in batched)

@@ -57,15 +57,21 @@ def test_condensed_equals_bordered_on_sliding_beams(kind, name, s):
     assert np.all(difference <= agreement_bound(bordered, a, b, f))
 
 
-@pytest.mark.parametrize("kind", ["spherical", "classical"])
-def test_condensed_equals_bordered_without_free_parts(kind):
-    """A clamped beam's tip on a rigid arc: K is regular (no rigid modes), C_TT = K^-1_TT."""
+def tip_on_an_arc(kind):
+    """A beam clamped at its start, its tip sliding on a rigid arc; the tip load."""
     beam = Beam(straight((0, 0, 0), (1, 0, 0), 4, 3), SECTION, "fv3")
     structure = Structure([beam])
     frame = np.column_stack([[-1.0, 0, 0], [0, 1.0, 0], [0, 0, -1.0]])
     slider = Slider(kind, CircularArc((1, -2, 0), 2.0, np.pi / 2 - 0.3, np.pi / 2 + 0.3),
                     (0, "end"), frame=frame, name="tip")
-    f = structure.gather(0, beam.nodal_load("end", force=(3.0, 1.0e3, 2.0e2)))
+    return structure, slider, structure.gather(0, beam.nodal_load("end", force=(3.0, 1.0e3,
+                                                                                  2.0e2)))
+
+
+@pytest.mark.parametrize("kind", ["spherical", "classical"])
+def test_condensed_equals_bordered_without_free_parts(kind):
+    """A clamped beam's tip on a rigid arc: K is regular (no rigid modes), C_TT = K^-1_TT."""
+    structure, slider, f = tip_on_an_arc(kind)
     bordered = SliderStatics(structure, [Support(0, "start")], [slider])
     condensed = SliderStatics(structure, [Support(0, "start")], [slider], method="condensed")
     assert condensed._condensed.n_rigid == 0

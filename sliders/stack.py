@@ -1,0 +1,324 @@
+"""What a chain gives at ``xi`` for many chains of one topology at once (paper Sec. 4, T6).
+
+A sweep solves many independent problems of the same shape: the same beams moved rigidly
+(:meth:`fvbeam.beam.Beam.translated`), with the same dof maps, connectivity, element lengths,
+formulations and sections, differing only in the reference node positions.  A
+:class:`ChainStack` holds ``B`` such :class:`~sliders.chain.BeamChain` members and answers
+their queries at abscissae ``xi`` of shape ``(B,)`` (one per member) with arrays of leading
+dimension ``B``:
+
+* :meth:`ChainStack.interpolation`: the element holding ``xi``, its shape functions
+  ``x(xi) = sum N_i (X_i + u_i)`` and the recovered tangent
+  ``l~ = l + (1 - X) (l_a - l(a)) + X (l_b - l(b))`` (``docs/sliders.md``), its neighbours
+  padded with zero coefficients at the chain's ends (fixed ``3 npe`` entries);
+* :meth:`ChainStack.rotation`: the section rotation interpolated between the two nodes around
+  ``xi``, the kink correction ``kappa = w0 w1 l + lag h w_mid^2`` and the reference frame;
+* :meth:`ChainStack.transfer`: the test functions at ``xi`` read as load-transfer matrices
+  ``G(xi)`` (eq. T6) and ``dG/dxi``; with smearing, each member's
+  :meth:`~sliders.chain.BeamChain.transfer` padded to a common size with zero rows;
+* :meth:`ChainStack.project`: the initial ``xi`` by projection.
+
+The single-point queries of :class:`~sliders.chain.BeamChain` are the ``B = 1`` case.  The
+chain's beams must all have the same number of nodes per element (fixed-size slots).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Sequence
+
+import numpy as np
+
+from fvbeam.formulations import FiniteVolume
+from fvbeam.geometry import locate_abscissa
+from fvbeam.mesh import shape_functions
+from sliders.lines import curvature_rate, frame_and_curvature, project
+
+if TYPE_CHECKING:
+    from sliders.chain import BeamChain
+
+#: Lag of a 3-node element's mid-node rotation under a couple ``M`` at the mid-node, per
+#: ``h C M`` (the exact rotation steps its rate by ``C M`` there, the elements cannot):
+#: fv3, ``1/4 - sqrt(3)/8``: the curvature, linear in the element and exact at the
+#: evaluation points, integrates from a vertex to the mid-node to ``(1/4 + sqrt(3)/8) h C M``
+#: where the exact step gives ``h C M / 2``; Galerkin P2, ``1/16``: the quadratic minimising
+#: the energy with the couple at the mid-node reaches ``7/16 h C M`` there.
+MID_NODE_LAG = {"fv": 0.25 - np.sqrt(3.0) / 8, "galerkin": 1.0 / 16}
+
+#: Relative tolerance on the element lengths of the members: a rigid move recomputes them
+#: from the moved nodes (8-point Gauss rule on ``|dx/dX|``), with a roundoff of some ``eps``.
+LENGTH_TIE = 1e-12
+
+
+def second_derivatives(nodes_per_element: int) -> np.ndarray:
+    """d^2 N / dX^2 of the Lagrange shape functions on [0, 1] (constant)."""
+    return np.zeros(2) if nodes_per_element == 2 else np.array([4.0, 4.0, -8.0])
+
+
+def gather(q: np.ndarray, dofs: np.ndarray) -> np.ndarray:
+    """``q[dofs]`` for one state ``q`` (n,), or each member's own for states ``(B, n)`` and
+    dofs ``(B, ...)``."""
+    if q.ndim == 1:
+        return q[dofs]
+    return q[np.arange(len(q)).reshape((-1,) + (1,) * (dofs.ndim - 1)), dofs]
+
+
+@dataclass(frozen=True)
+class Interpolation:
+    """The line near ``xi``: translational ``dofs`` (..., npe, 3) of the element holding it,
+    node positions ``X`` (..., npe, 3), and the shape functions ``N`` with their first and
+    second derivatives in ``xi`` (..., npe); the recovered tangent's dofs (..., m, 3), node
+    positions (..., m, 3) and coefficients ``T``, ``T_xi`` (..., m), ``m = 3 npe`` (the
+    element, the one before and the one after; zero coefficients where there is none).  The
+    leading axis, if any, runs over the members of a :class:`ChainStack`."""
+
+    dofs: np.ndarray
+    X: np.ndarray
+    N: np.ndarray
+    dN: np.ndarray
+    d2N: np.ndarray
+    tangent_dofs: np.ndarray
+    tangent_X: np.ndarray
+    T: np.ndarray
+    T_xi: np.ndarray
+
+    def tangent(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The recovered tangent ``l~`` and ``l~_/xi`` of the deformed line."""
+        current = self.tangent_X + gather(q, self.tangent_dofs)
+        return (np.einsum("...a,...ak->...k", self.T, current),
+                np.einsum("...a,...ak->...k", self.T_xi, current))
+
+    def geometry(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``x``, ``l`` and ``l_/xi`` of the deformed line."""
+        current = self.X + gather(q, self.dofs)
+        return tuple(np.einsum("...a,...ak->...k", f, current)
+                     for f in (self.N, self.dN, self.d2N))
+
+    def member(self, b: int) -> Interpolation:
+        """Member ``b`` of a stacked interpolation."""
+        return Interpolation(*(getattr(self, f)[b] for f in self.__dataclass_fields__))
+
+
+@dataclass(frozen=True)
+class LineRotation:
+    """Section rotation of the line at ``xi``: ``theta = w @ q[dofs]``, with ``dofs`` (2, 3)
+    the rotation dofs of the bracketing nodes, ``w`` their weights and ``w_xi`` their
+    derivatives; ``kink = w0 w1 span`` and ``kink_xi`` its derivative (the correction for a
+    couple at ``xi``, :class:`sliders.joint.Slider`); the section ``compliance`` (3, 3); the
+    reference frame ``R0``, its curvature vector ``k0`` and ``k0_xi``.  Stacked: a leading
+    member axis on every field."""
+
+    dofs: np.ndarray
+    w: np.ndarray
+    w_xi: np.ndarray
+    kink: np.ndarray
+    kink_xi: np.ndarray
+    compliance: np.ndarray
+    R0: np.ndarray
+    k0: np.ndarray
+    k0_xi: np.ndarray
+
+    def member(self, b: int) -> LineRotation:
+        """Member ``b`` of a stacked rotation."""
+        return LineRotation(*(getattr(self, f)[b] for f in self.__dataclass_fields__))
+
+
+class ChainStack:
+    """``B`` chains of one topology (module docstring), queried together; each
+    member keeps its own element lengths and abscissae (equal to :data:`LENGTH_TIE`).
+
+    Raises ``ValueError`` naming the first member that differs from the first chain in
+    anything but its node positions, or a chain mixing element sizes.
+    """
+
+    def __init__(self, chains: Sequence[BeamChain]) -> None:
+        self.chains = list(chains)
+        first = self.chains[0]
+        self.name, self.beams, self.offsets = first.name, first.beams, first.offsets
+        self.length = first.length
+        npe = {beam.mesh.nodes_per_element for beam in first.beams}
+        if len(npe) != 1:
+            raise ValueError(f"{first.name}: the beams of a chain must have the same number of "
+                             f"nodes per element, got {sorted(npe)}")
+        self.npe = npe.pop()
+        for b, chain in enumerate(self.chains[1:], start=1):
+            if not _same_topology(first, chain):
+                raise ValueError(f"{chain.name}: member {b} of the batch differs from member 0 "
+                                 "in more than its node positions (beams, dof maps, element "
+                                 "lengths, formulations, sections)")
+        counts = [beam.mesh.n_elements for beam in self.beams]
+        self.first_element = np.concatenate([[0], np.cumsum(counts)])
+        nodes = np.concatenate([[0], np.cumsum([beam.mesh.n_nodes for beam in self.beams])])
+        self.cells = np.concatenate([beam.mesh.cells + n for beam, n in zip(self.beams, nodes)])
+        self.dofs = np.concatenate([
+            first.structure.dof_maps[i][6 * beam.mesh.cells[:, :, None] + np.arange(6)]
+            for i, beam in zip(first.indices, self.beams)])
+        self.breaks = np.stack([chain.offsets for chain in self.chains])
+        self.vertices = [np.stack([chain.beams[j].mesh.vertex_s for chain in self.chains])
+                         for j in range(len(self.beams))]
+        self.h = np.concatenate([np.diff(v, axis=1) for v in self.vertices], axis=1)
+        self.up = np.concatenate([np.tile(beam.mesh.up, (n, 1))
+                                  for beam, n in zip(self.beams, counts)])
+        self.lag = np.concatenate([np.full(n, MID_NODE_LAG[
+            "fv" if isinstance(beam.formulation, FiniteVolume) else "galerkin"])
+            for beam, n in zip(self.beams, counts)])
+        self.points = np.stack([np.concatenate([beam.mesh.points for beam in chain.beams])
+                                for chain in self.chains])
+        self.members = np.arange(len(self.chains))
+
+    def subset(self, members: np.ndarray) -> ChainStack:
+        """The stack of the given members only."""
+        return ChainStack([self.chains[b] for b in members])
+
+    def __len__(self) -> int:
+        return len(self.chains)
+
+    def locate(self, xi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Beam (position in the chain), element of the chain (global index) and reference
+        coordinate ``X`` of each member's abscissa ``xi`` (B,), on the member's own abscissae
+        (as :func:`fvbeam.geometry.locate_abscissa` and :meth:`fvbeam.mesh.BeamMesh.locate`,
+        which report an abscissa off the chain)."""
+        locate_abscissa(xi, self.offsets, self.name, "the chain")
+        k = _interval(self.breaks, xi)
+        rows = self.members
+        local = np.clip(xi - self.breaks[rows, k], 0.0,
+                        self.breaks[rows, k + 1] - self.breaks[rows, k])
+        element, X = np.zeros(len(xi), dtype=int), np.zeros(len(xi))
+        for j in np.unique(k):
+            on = k == j
+            vertex = self.vertices[j][on]
+            e = _interval(vertex, local[on])
+            inside = np.arange(len(e))
+            offset = np.clip(local[on] - vertex[inside, e], 0.0,
+                             vertex[inside, e + 1] - vertex[inside, e])
+            element[on] = self.first_element[j] + e
+            X[on] = np.clip(offset / self.h[rows[on], element[on]], 0.0, 1.0)
+        return k, element, X
+
+    def _nodes(self, element: np.ndarray) -> np.ndarray:
+        """Reference node positions ``(B, npe, 3)`` of each member's ``element``."""
+        return self.points[self.members[:, None], self.cells[element]]
+
+    def interpolation(self, xi: np.ndarray) -> Interpolation:
+        """Where each member's ``xi`` sits and how the line interpolates there."""
+        _, element, X = self.locate(xi)
+        h = self.h[self.members, element][:, None]
+        N, dN = (f.T for f in shape_functions(X, self.npe))
+        dN = dN / h
+        d2N = second_derivatives(self.npe) / h**2
+        T, T_xi = [dN], [d2N.copy()]
+        dofs, nodes = [self.dofs[element][:, :, :3]], [self._nodes(element)]
+        ends = shape_functions(np.array([0.0, 1.0]), self.npe)[1].T
+        for side, weight, weight_xi, end in ((-1, 1 - X, -1 / h[:, 0], 0),
+                                             (1, X, 1 / h[:, 0], 1)):
+            other = element + side
+            there = (other >= 0) & (other < self.h.shape[1])
+            other = np.where(there, other, element)
+            weight, weight_xi = 0.5 * weight * there, 0.5 * weight_xi * there
+            own = ends[end] / h
+            T[0] = T[0] - weight[:, None] * own
+            T_xi[0] = T_xi[0] - weight_xi[:, None] * own
+            theirs = ends[1 - end] / self.h[self.members, other][:, None]
+            T.append(weight[:, None] * theirs)
+            T_xi.append(weight_xi[:, None] * theirs)
+            dofs.append(self.dofs[other][:, :, :3])
+            nodes.append(self._nodes(other))
+        return Interpolation(dofs[0], nodes[0], N, dN, d2N, np.concatenate(dofs, axis=1),
+                             np.concatenate(nodes, axis=1), np.concatenate(T, axis=1),
+                             np.concatenate(T_xi, axis=1))
+
+    def rotation(self, xi: np.ndarray) -> LineRotation:
+        """The section rotation at ``xi`` and its reference frame, per member.
+
+        The rotation is interpolated linearly between the two consecutive nodes that bracket
+        ``xi`` (the element's vertices, and its mid-node for 3-node elements), whatever the
+        beam formulation: the weights are continuous along the chain, so a couple carried by
+        them never jumps.  ``kink`` is how far the exact rotation at a couple ``M`` lies off
+        that interpolation, per unit ``C M``: ``w0 w1 span`` for exact nodal rotations, plus
+        ``MID_NODE_LAG h w_mid^2`` on a 3-node element, whose mid-node rotation lags by that
+        much under the share ``w_mid M`` it carries (``docs/sliders.md``).  The reference
+        frame ``R0``, its curvature ``k0`` and ``k0_/xi`` come from the element's reference
+        interpolation and the mesh's ``up``.  ``C`` is the section's bending-and-torsion
+        compliance (the rotational block of the inverse section stiffness) in global axes,
+        taken in the element's reference frame at ``xi``.
+        """
+        beam, element, X = self.locate(xi)
+        h = self.h[self.members, element]
+        along = np.array([0.0, 1.0, 0.5])[:self.npe]
+        order = np.argsort(along)
+        j = np.minimum(np.searchsorted(along[order], X, side="right") - 1, self.npe - 2)
+        pair = np.stack([order[j], order[j + 1]], axis=1)
+        span = (along[pair[:, 1]] - along[pair[:, 0]]) * h
+        t = (X - along[pair[:, 0]]) * h / span
+        w = np.stack([1 - t, t], axis=1)
+        mid = pair == 2
+        shift = self.lag[element] * h
+        w_mid = np.sum(w * mid, axis=1)
+        kink = t * (1 - t) * span + shift * w_mid**2
+        kink_xi = 1 - 2 * t + 2 * shift * w_mid * (mid[:, 1] * 1.0 - mid[:, 0]) / span
+        nodes = self._nodes(element)
+        dN = shape_functions(X, self.npe)[1].T / h[:, None]
+        l0 = np.einsum("ba,bak->bk", dN, nodes)
+        l0_xi = np.einsum("a,bak->bk", second_derivatives(self.npe), nodes) / h[:, None] ** 2
+        R0, k0 = frame_and_curvature(l0, l0_xi, self.up[element])
+        k0_xi = curvature_rate(l0, l0_xi, np.zeros(3), self.up[element])
+        compliance = np.zeros((len(xi), 3, 3))
+        for b in np.unique(beam):
+            on = beam == b
+            stiffness = self.beams[b].section.global_stiffness(R0[on])
+            compliance[on] = np.linalg.inv(stiffness)[:, 3:, 3:]
+        dofs = self.dofs[element[:, None], pair][:, :, 3:]
+        return LineRotation(dofs, w, np.stack([-1 / span, 1 / span], axis=1), kink, kink_xi,
+                            compliance, R0, k0, k0_xi)
+
+    def transfer(self, xi: np.ndarray, smearing: float = 0.0,
+                 kernel: str = "box") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """How a force and couple ``[F; M]`` at each member's ``xi`` loads its chain (T6).
+
+        Returns global ``dofs`` (B, k), ``G`` (B, k, 6) and ``dG/dxi`` (B, k, 6) as
+        :meth:`sliders.chain.BeamChain.transfer` (which gives the smeared loads, padded here
+        to a common ``k`` with zero rows on the member's first dof).
+        """
+        if smearing > 0:
+            parts = [chain.transfer(float(x), smearing, kernel)
+                     for chain, x in zip(self.chains, xi)]
+            size = max(len(p[0]) for p in parts)
+            dofs = np.array([np.pad(d, (0, size - len(d)), mode="edge") for d, _, _ in parts])
+            G, dG = (np.array([np.pad(p[i], ((0, size - len(p[0])), (0, 0))) for p in parts])
+                     for i in (1, 2))
+            return dofs, G, dG
+        beam, element, X = self.locate(xi)
+        G = np.zeros((len(xi), 6 * self.npe, 6))
+        dG = np.zeros_like(G)
+        nodes, h = self._nodes(element), self.h[self.members, element]
+        for b in np.unique(beam):
+            on = beam == b
+            G[on], dG[on] = self.beams[b].formulation.transfer_at(nodes[on], h[on], X[on])
+        return self.dofs[element].reshape(len(xi), -1), G, dG
+
+    def project(self, points: np.ndarray, q: np.ndarray) -> np.ndarray:
+        """Abscissae of the points of the deformed chains (states ``q``, (B, n)) closest to
+        ``points`` (B, 3)."""
+        grid = np.unique(np.concatenate([offset + beam.mesh.node_abscissae()
+                                         for offset, beam in zip(self.offsets, self.beams)]))
+        return project(lambda xi: self.interpolation(xi).geometry(q), grid, points)
+
+
+def _same_topology(a: BeamChain, b: BeamChain) -> bool:
+    """Whether chains ``a`` and ``b`` differ at most in their node positions."""
+    return (len(a.beams) == len(b.beams)
+            and np.allclose(a.offsets, b.offsets, rtol=LENGTH_TIE, atol=0)
+            and all(np.array_equal(a.structure.dof_maps[i], b.structure.dof_maps[j])
+                    for i, j in zip(a.indices, b.indices))
+            and all(x.formulation == y.formulation and x.section is y.section
+                    and np.array_equal(x.mesh.cells, y.mesh.cells)
+                    and np.allclose(x.mesh.element_length, y.mesh.element_length,
+                                    rtol=LENGTH_TIE, atol=0)
+                    and np.array_equal(x.mesh.up, y.mesh.up)
+                    for x, y in zip(a.beams, b.beams)))
+
+
+def _interval(breaks: np.ndarray, xi: np.ndarray) -> np.ndarray:
+    """Per row, the interval of ``breaks`` (B, n + 1), increasing, holding ``xi`` (B,):
+    ``searchsorted(side="right") - 1`` clipped to ``0 .. n - 1``."""
+    return np.clip(np.sum(breaks <= xi[:, None], axis=1) - 1, 0, breaks.shape[1] - 2)

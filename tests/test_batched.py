@@ -1,0 +1,98 @@
+"""Batched Newton (``solve_many``, ``sweep_batched``) against the per-point solver.
+
+Both run the same joint equations (the per-point evaluation is the batch of one) and the same
+Newton loop and convergence rule; they differ in the order of floating-point operations (a
+stacked solve of all members).  Two converged states therefore agree to the first-order
+roundoff bound of tests/test_condensed.py (``agreement_bound``), with the same iteration
+counts and the same failure messages.
+"""
+
+import numpy as np
+import pytest
+
+from fvbeam import Support
+from sliders.statics import SliderStatics, solve_many
+from sliders.sweep import sweep_batched
+from studies.fig4_stiffness import SlidingBeams
+from test_condensed import agreement_bound, state, tip_on_an_arc
+from test_spline_slider import line_with_body
+
+STATIONS = np.array([0.0, 0.13, 0.4, 0.77, 0.95])
+
+
+def agree(statics, a, b, f):
+    assert b.iterations == a.iterations
+    difference = np.abs(state(statics, a) - state(statics, b))
+    assert np.all(difference <= agreement_bound(statics, a, b, f))
+
+
+def same_outcome(statics, f, outcome):
+    """The per-point solve's solution (within the bound) or its error message."""
+    try:
+        expected = statics.solve(f)
+    except ValueError as exc:
+        assert outcome == str(exc)
+        return False
+    agree(statics, expected, outcome, f)
+    return True
+
+
+@pytest.mark.parametrize("kind", ["spherical", "classical"])
+@pytest.mark.parametrize("name", ["fv2", "fv3", "galerkin-p2"])
+@pytest.mark.parametrize("smearing", [0.0, 0.01])
+def test_sliding_beams_sweep_equals_per_point_solves(kind, name, smearing):
+    """The piston at several positions (one element per beam and three), solved together
+    and one by one, on the condensed back end (fv2 with one element has singular classical
+    pairs for short overlaps: the same message)."""
+    for n in (1, 3):
+        model = SlidingBeams(name, n, kind, smearing)
+        built = [model.problem(s) for s in STATIONS]
+        points = iter(built)
+        batched = sweep_batched(STATIONS, lambda s: next(points))
+        assert batched.values == list(STATIONS)
+        converged = [same_outcome(statics, f, p.solution or p.error)
+                     for (statics, f), p in zip(built, batched.points)]
+        assert sum(converged) >= 3
+
+
+def test_failures_carry_the_per_point_message():
+    """The slope form's singular pair on one fv3 element (docs/sliders.md): the batch
+    reports, per member, the message the per-point solve raises; the others converge."""
+    model = SlidingBeams("fv3", 1, "classical", orientation="slope")
+    stations = [0.5, 0.9, 0.6, 0.95]
+    built = [model.problem(s) for s in stations]
+    outcomes = solve_many([b[0] for b in built], [b[1] for b in built])
+    converged = [same_outcome(statics, f, outcome)
+                 for (statics, f), outcome in zip(built, outcomes)]
+    assert converged == [True, False, True, False]
+    assert all("singular configuration" in outcomes[i] for i in (1, 3))
+
+
+@pytest.mark.parametrize("method", ["bordered", "condensed"])
+def test_spline_slider_on_a_chain_under_several_torques(method):
+    """The twist test's problem (tests/test_spline_slider.py) under three torques: one
+    statics shared by three members."""
+    structure, supports, slider, f = line_with_body("fv3", 4, 0.37, 100.0)
+    statics = SliderStatics(structure, supports, [slider], method=method)
+    loads = [c * f for c in (1.0, -0.5, 3.0)]
+    for g, b in zip(loads, solve_many([statics] * 3, loads)):
+        agree(statics, statics.solve(g), b, g)
+
+
+@pytest.mark.parametrize("kind", ["spherical", "classical"])
+def test_rigid_line_under_several_loads(kind):
+    """A clamped beam's tip on a rigid arc (tests/test_condensed.py) under three loads."""
+    structure, slider, f = tip_on_an_arc(kind)
+    statics = SliderStatics(structure, [Support(0, "start")], [slider], method="condensed")
+    loads = [c * f for c in (1.0, 0.5, 2.0)]
+    for g, b in zip(loads, solve_many([statics] * 3, loads)):
+        agree(statics, statics.solve(g), b, g)
+
+
+def test_members_must_share_the_operator():
+    one, f = SlidingBeams("fv3", 3, "spherical").problem(0.2)
+    other, g = SlidingBeams("fv3", 3, "spherical").problem(0.4)
+    with pytest.raises(ValueError, match="does not share member 0's operator"):
+        solve_many([one, other], [f, g])
+    with pytest.raises(ValueError, match="loads must be 2 finite vectors"):
+        solve_many([one, one], [f])
