@@ -63,6 +63,8 @@ def _run(args: argparse.Namespace) -> int:
     out = args.out if args.out is not None else Path("results") / args.scene.stem
     try:
         check_replaceable(out, MARKER)
+        if model.scene.output.png != "none" and importlib.util.find_spec("pyvista") is None:
+            raise ValueError("output.png needs pyvista: pip install 'fvslider[render]'")
     except ValueError as exc:
         print(f"fvslider: {exc}", file=sys.stderr)
         return 2

@@ -336,9 +336,14 @@ Study = Annotated[Union[StaticStudy, SweepStudy, DynamicStudy], Field(discrimina
 
 
 class Output(Table):
-    """``[output]``: the CSV tables to write (:mod:`sliders.tables`)."""
+    """``[output]``: the CSV tables to write (:mod:`sliders.tables`); ``vtu``: a VTU per
+    converged sample and their ``.pvd`` index (:mod:`sliders.output`); ``png``: pyvista
+    renders of the deformed configuration, of the ``last`` converged sample or of ``all``
+    (:mod:`studies.render`, needs the ``render`` extra)."""
 
     csv: tuple[Literal[TABLES], ...] = TABLES
+    vtu: bool = False
+    png: Literal["none", "last", "all"] = "none"
 
 
 class Scene(Table):

@@ -16,13 +16,17 @@ components of a support).
 * ``reactions``: ``sample, value, node, fx, fy, fz, mx, my, mz`` -- what each support exerts
   on its node, global axes, on the dofs it holds
 
-A run writes its tables, and ``scene.toml`` (the scene as it was validated), into a new
-directory that then replaces the output directory (:func:`fvbeam.io.replace_directory`).
+A run writes its tables, ``scene.toml`` (the scene as it was validated) and the states and
+renders the scene asks for (``states/states.pvd`` with ``states/step_NNNNNN.vtu``, one per
+converged sample, the sample's value as its time, or its index for a static study or
+repeated values; ``render_NNNNNN.png``) into a new directory that then replaces the output
+directory (:func:`fvbeam.io.replace_directory`).
 """
 
 from __future__ import annotations
 
 import csv
+import importlib.util
 from pathlib import Path
 from typing import Iterator, Sequence
 
@@ -30,6 +34,7 @@ import numpy as np
 
 from fvbeam.io import OUTPUT_MARKER as MARKER, replace_directory
 from sliders.chain import BeamChain
+from sliders.output import Frame, write_series
 from sliders.run import Results, Sample
 from sliders.scene import dump_scene
 
@@ -130,11 +135,39 @@ def write_table(results: Results, name: str, path: Path) -> None:
 def write_results(results: Results, out: str | Path, tables: Sequence[str] | None = None) -> None:
     """Write ``tables`` (default: the scene's ``output.csv``) and ``scene.toml`` into a new
     directory that replaces ``out`` whole."""
-    tables = results.scene.output.csv if tables is None else tables
+    output = results.scene.output
+    tables = output.csv if tables is None else tables
+    converged = [s for s in results.samples if s.solution is not None]
+    rendered = {"none": [], "last": converged[-1:], "all": converged}[output.png]
+    if rendered and importlib.util.find_spec("pyvista") is None:
+        raise ValueError("output.png needs pyvista: pip install 'fvslider[render]'")
 
     def fill(directory: Path) -> None:
         (directory / "scene.toml").write_text(dump_scene(results.scene))
         for name in tables:
             write_table(results, name, directory / f"{name}.csv")
+        if output.vtu:
+            write_series(directory / "states", (_frame(s, converged) for s in converged))
+        for sample in rendered:
+            _render(sample, directory / f"render_{sample.index:06d}.png", results.scene.title)
 
     replace_directory(out, fill, MARKER)
+
+
+def _frame(sample: Sample, converged: list[Sample]) -> Frame:
+    """A converged sample as a state of the series: its value as the time, or its index when
+    the values are absent or repeat."""
+    values = [s.value for s in converged]
+    distinct = None not in values and len(set(values)) == len(values)
+    statics, solution = sample.statics, sample.solution
+    return Frame(float(sample.value) if distinct else float(sample.index), statics.structure,
+                 solution.q, statics.sliders, solution.unknowns)
+
+
+def _render(sample: Sample, path: Path, title: str) -> None:
+    from studies.render import render
+
+    value = "" if sample.value is None else f", value {sample.value:g}"
+    statics, solution = sample.statics, sample.solution
+    render(path, statics.structure, solution.q, statics.sliders, solution.unknowns,
+           title=f"{title or 'scene'}: sample {sample.index}{value}")

@@ -216,3 +216,32 @@ def test_interrupted_sweep_keeps_the_completed_samples(monkeypatch):
     monkeypatch.setattr(model, "problem", interrupt)
     results = run(model, progress=False)
     assert results.interrupted and len(results.samples) == 3 and results.planned == 21
+
+
+def test_states_and_render_of_the_carriage_sweep(tmp_path):
+    """``vtu = true``: the .pvd lists one VTU per converged sample, its time the sample's
+    value, and each VTU holds the slider's abscissa and reaction exactly as the solution
+    (binary float64, copied); ``png = "last"``: one render, of the last sample, not blank
+    (a blank render has zero spread)."""
+    import meshio
+    import xml.etree.ElementTree as ET
+    from PIL import Image
+
+    results = run(Model(load_scene(SCENES / "carriage_on_chain.toml")), progress=False)
+    out = tmp_path / "carriage"
+    write_results(results, out)
+    datasets = ET.parse(out / "states" / "states.pvd").getroot().iter("DataSet")
+    listed = [(float(d.get("timestep")), d.get("file")) for d in datasets]
+    assert [t for t, _ in listed] == [s.value for s in results.samples]
+    for (_, name), sample in zip(listed, results.samples):
+        mesh = meshio.read(out / "states" / name)
+        part = np.concatenate(mesh.cell_data["part"])  # readers merge blocks of one type
+        slider = np.flatnonzero(part == 2)
+        assert len(slider) == 1
+        y = sample.solution.unknowns[0]
+        assert np.concatenate(mesh.cell_data["xi"])[slider[0]] == y[0]
+        np.testing.assert_array_equal(
+            np.concatenate(mesh.cell_data["reaction"])[slider[0]], y[1:4])
+    renders = sorted(p.name for p in out.glob("render_*.png"))
+    assert renders == [f"render_{results.samples[-1].index:06d}.png"]
+    assert np.asarray(Image.open(out / renders[0])).std() > 0
