@@ -32,6 +32,10 @@ the tip displacement is exactly ``v = a / EJ + b / GA``: two solves, with ``GA =
 solve with ``GA = 4`` checks the assumption (the script raises if it fails).  ``EA`` and
 ``GJ`` play no role in bending in the x-y plane; they are set to 1e3.
 
+The setup (length, stiffnesses, load) is read from its scene,
+``studies/scenes/fig1_cantilever.toml``, which ``fvslider run`` also runs; this script varies
+the formulation and ``GA`` and samples 101 load stations.
+
 Run as ``python -m studies.fig1_tip_response --out DIR``; writes
 ``DIR/fig1_tip_response.csv`` and ``DIR/fig1_tip_response.png``.
 """
@@ -48,8 +52,21 @@ import numpy as np
 from fvbeam import Beam, LinearStatics, Section, Support, analytic, straight
 from fvbeam.io import write_atomic
 
-L, EJ, F = 1.0, 1.0, 1.0
-STIFFNESS = 1e3  # EA and GJ: no role in this bending problem
+SCENE = Path(__file__).parent / "scenes" / "fig1_cantilever.toml"
+
+
+def read_setup(path: Path = SCENE) -> tuple[float, float, float, float]:
+    """``L``, ``EJ``, ``F`` and the stiffness of ``EA`` and ``GJ`` (no role in this bending
+    problem) from the scene: its one straight beam, its section and its point load."""
+    from sliders.scene import load_scene
+
+    scene = load_scene(path)
+    beam, section, load = scene.beam[0], scene.section[0], scene.load[0]
+    length = float(np.linalg.norm(np.subtract(beam.straight.end, beam.straight.start)))
+    return length, section.EJz, float(np.linalg.norm(load.force)), section.EA
+
+
+L, EJ, F, STIFFNESS = read_setup()
 FORMULATIONS = ("exact", "fv2", "fv3", "galerkin-p1", "galerkin-p2")
 CLOSED_FORMS = {"exact": analytic.cantilever_exact, "fv2": analytic.cantilever_fv2,
                 "fv3": analytic.cantilever_fv3}
