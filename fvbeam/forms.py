@@ -20,11 +20,13 @@ from __future__ import annotations
 import numpy as np
 from skfem import BilinearForm, LinearForm
 
+from fvbeam.geometry import cross
+
 
 def generalised_strain(field, t: np.ndarray, metric: np.ndarray) -> np.ndarray:
     """``[u' - theta x t, theta']`` of a 6-component field, shape (6, ...) (eq. T1)."""
     d = field.grad[:, 0] / metric
-    rot = np.cross(np.asarray(field)[3:], t, axis=0)
+    rot = cross(np.asarray(field)[3:].T, t.T).T  # component axis first: transposed views
     return np.concatenate([d[:3] - rot, d[3:]])
 
 
