@@ -24,6 +24,7 @@ chain's beams must all have the same number of nodes per element (fixed-size slo
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Sequence
 
@@ -167,8 +168,13 @@ class ChainStack:
         self.members = np.arange(len(self.chains))
 
     def subset(self, members: np.ndarray) -> ChainStack:
-        """The stack of the given members only."""
-        return ChainStack([self.chains[b] for b in members])
+        """The stack of the given members only (their topology already checked)."""
+        out = copy.copy(self)
+        out.chains = [self.chains[b] for b in members]
+        out.breaks, out.h, out.points = self.breaks[members], self.h[members], self.points[members]
+        out.vertices = [v[members] for v in self.vertices]
+        out.members = np.arange(len(out.chains))
+        return out
 
     def __len__(self) -> int:
         return len(self.chains)
@@ -307,15 +313,21 @@ class ChainStack:
 def _same_topology(a: BeamChain, b: BeamChain) -> bool:
     """Whether chains ``a`` and ``b`` differ at most in their node positions."""
     return (len(a.beams) == len(b.beams)
-            and np.allclose(a.offsets, b.offsets, rtol=LENGTH_TIE, atol=0)
+            and _tied(a.offsets, b.offsets)
             and all(np.array_equal(a.structure.dof_maps[i], b.structure.dof_maps[j])
                     for i, j in zip(a.indices, b.indices))
             and all(x.formulation == y.formulation and x.section is y.section
                     and np.array_equal(x.mesh.cells, y.mesh.cells)
-                    and np.allclose(x.mesh.element_length, y.mesh.element_length,
-                                    rtol=LENGTH_TIE, atol=0)
+                    and (x.mesh.vertex_s is y.mesh.vertex_s
+                         or _tied(x.mesh.element_length, y.mesh.element_length))
                     and np.array_equal(x.mesh.up, y.mesh.up)
                     for x, y in zip(a.beams, b.beams)))
+
+
+def _tied(a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether the lengths ``a`` equal ``b`` to :data:`LENGTH_TIE` (relative to ``b``;
+    ``np.allclose(a, b, rtol=LENGTH_TIE, atol=0)`` without its overhead)."""
+    return a.shape == b.shape and bool(np.all(np.abs(a - b) <= LENGTH_TIE * np.abs(b)))
 
 
 def _interval(breaks: np.ndarray, xi: np.ndarray) -> np.ndarray:
