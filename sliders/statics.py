@@ -75,7 +75,7 @@ class SliderStatics:
         names = [s.name for s in self.sliders]
         if len(set(names)) != len(names):
             raise ValueError(f"slider names must be unique, got {names}")
-        fixed = structure.support_dofs(supports)
+        fixed = self._fixed = structure.support_dofs(supports)
         if reuse is not None and reuse._same_operator(structure, fixed):
             self.K, self.free, self.K_free = reuse.K, reuse.free, reuse.K_free
             self._position, self._condensed = reuse._position, reuse._condensed
@@ -94,8 +94,7 @@ class SliderStatics:
         return (len(old.beams) == len(structure.beams)
                 and all(a.stiffness is b.stiffness for a, b in zip(old.beams, structure.beams))
                 and all(np.array_equal(a, b) for a, b in zip(old.dof_maps, structure.dof_maps))
-                and np.array_equal(np.setdiff1d(np.arange(structure.n_dofs), fixed),
-                                   self.free))
+                and structure.n_dofs == old.n_dofs and np.array_equal(fixed, self._fixed))
 
     def initial_unknowns(self, q: np.ndarray) -> list[np.ndarray]:
         return [s.initial_unknowns(self.structure, q) for s in self.sliders]
