@@ -307,7 +307,11 @@ class ChainStack:
         ``points`` (B, 3)."""
         grid = np.unique(np.concatenate([offset + beam.mesh.node_abscissae()
                                          for offset, beam in zip(self.offsets, self.beams)]))
-        return project(lambda xi: self.interpolation(xi).geometry(q), grid, points)
+        B, G = len(self), len(grid)
+        every = self.subset(np.repeat(self.members, G))
+        sampled = every.interpolation(np.tile(grid, B)).geometry(np.repeat(q, G, axis=0))[0]
+        return project(lambda xi: self.interpolation(xi).geometry(q), grid, points,
+                       sampled.reshape(B, G, 3))
 
 
 def _same_topology(a: BeamChain, b: BeamChain) -> bool:
@@ -317,10 +321,11 @@ def _same_topology(a: BeamChain, b: BeamChain) -> bool:
             and all(np.array_equal(a.structure.dof_maps[i], b.structure.dof_maps[j])
                     for i, j in zip(a.indices, b.indices))
             and all(x.formulation == y.formulation and x.section is y.section
-                    and np.array_equal(x.mesh.cells, y.mesh.cells)
+                    and (x.mesh.cells is y.mesh.cells
+                         or np.array_equal(x.mesh.cells, y.mesh.cells))
                     and (x.mesh.vertex_s is y.mesh.vertex_s
                          or _tied(x.mesh.element_length, y.mesh.element_length))
-                    and np.array_equal(x.mesh.up, y.mesh.up)
+                    and (x.mesh.up is y.mesh.up or np.array_equal(x.mesh.up, y.mesh.up))
                     for x, y in zip(a.beams, b.beams)))
 
 
