@@ -166,6 +166,7 @@ class ChainStack:
         self.points = np.stack([np.concatenate([beam.mesh.points for beam in chain.beams])
                                 for chain in self.chains])
         self.members = np.arange(len(self.chains))
+        self._located: tuple[np.ndarray, tuple] | None = None
 
     def subset(self, members: np.ndarray) -> ChainStack:
         """The stack of the given members only (their topology already checked)."""
@@ -173,7 +174,7 @@ class ChainStack:
         out.chains = [self.chains[b] for b in members]
         out.breaks, out.h, out.points = self.breaks[members], self.h[members], self.points[members]
         out.vertices = [v[members] for v in self.vertices]
-        out.members = np.arange(len(out.chains))
+        out.members, out._located = np.arange(len(out.chains)), None
         return out
 
     def __len__(self) -> int:
@@ -183,7 +184,18 @@ class ChainStack:
         """Beam (position in the chain), element of the chain (global index) and reference
         coordinate ``X`` of each member's abscissa ``xi`` (B,), on the member's own abscissae
         (as :func:`fvbeam.geometry.locate_abscissa` and :meth:`fvbeam.mesh.BeamMesh.locate`,
-        which report an abscissa off the chain)."""
+        which report an abscissa off the chain).  The last answer is kept: a joint
+        evaluation asks for the same ``xi`` up to three times (interpolation, load transfer,
+        rotation)."""
+        last = self._located
+        if last is not None and np.array_equal(last[0], xi):
+            return last[1]
+        located = self._locate(xi)
+        self._located = (xi.copy(), located)
+        return located
+
+    def _locate(self, xi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`locate`, computed."""
         locate_abscissa(xi, self.offsets, self.name, "the chain")
         k = _interval(self.breaks, xi)
         rows = self.members
