@@ -320,6 +320,9 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
             outcome[b] = (Q[b].copy(), np.split(Y[b].copy(), np.cumsum(sizes)[:-1]),
                           residuals[b])
         going = ~done[active]
+        if not going.any():
+            active = active[going]
+            break
         if not going.all():
             parts = [(d[going], r[going], J[going]) for d, r, J in parts]
             R, r_y = R[going], r_y[going]
