@@ -327,9 +327,12 @@ class ChainStack:
 
 
 def _same_topology(a: BeamChain, b: BeamChain) -> bool:
-    """Whether chains ``a`` and ``b`` differ at most in their node positions."""
+    """Whether chains ``a`` and ``b`` differ at most in their node positions.  Beams sharing
+    their arc lengths (moved copies, :meth:`fvbeam.mesh.BeamMesh.translated`) have equal
+    lengths and chain offsets without comparing them."""
     return (len(a.beams) == len(b.beams)
-            and _tied(a.offsets, b.offsets)
+            and (all(x.mesh.vertex_s is y.mesh.vertex_s for x, y in zip(a.beams, b.beams))
+                 or _tied(a.offsets, b.offsets))
             and all(np.array_equal(a.structure.dof_maps[i], b.structure.dof_maps[j])
                     for i, j in zip(a.indices, b.indices))
             and all(x.formulation == y.formulation and x.section is y.section
