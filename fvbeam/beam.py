@@ -7,7 +7,6 @@ axes, node ``k`` of the :class:`~fvbeam.mesh.BeamMesh` owning dofs ``6k .. 6k + 
 from __future__ import annotations
 
 import copy
-import dataclasses
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Callable
@@ -74,8 +73,7 @@ class Beam:
         unchanged (bases, stiffness, transfer jumps): they are assembled here, once."""
         self.stiffness, self.transfer_jumps()
         moved = copy.copy(self)
-        moved.mesh = dataclasses.replace(self.mesh, points=self.mesh.points
-                                         + vector3(offset, "offset"))
+        moved.mesh = self.mesh.translated(vector3(offset, "offset"))
         return moved
 
     @property

@@ -45,7 +45,7 @@ def orthonormal3(value, name: str) -> np.ndarray:
     naming ``name``."""
     R = np.array(value, dtype=float)
     if (R.shape != (3, 3) or not np.all(np.isfinite(R))
-            or not np.allclose(R.T @ R, np.eye(3), rtol=0, atol=1e-12)):
+            or np.abs(R.T @ R - np.eye(3)).max() > 1e-12):
         raise ValueError(f"{name} must be an orthonormal 3x3 matrix, got {value!r}")
     return R
 

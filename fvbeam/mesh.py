@@ -9,6 +9,7 @@ coordinate (``vertex_s``), see ``../shared/notes`` and ``docs/architecture.md``.
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Sequence
@@ -118,6 +119,18 @@ class BeamMesh:
         if len(self.points) != n_el + 1 + (n_el if self.cells.shape[1] == 3 else 0):
             raise ValueError(f"{self.name}: {len(self.points)} points do not match "
                              f"{n_el} elements of {self.cells.shape[1]} nodes")
+
+    def translated(self, offset: np.ndarray) -> "BeamMesh":
+        """The mesh moved rigidly by ``offset`` (a finite 3-vector), sharing its connectivity,
+        ``up``, identifiers and arc lengths.
+
+        A translation passes every check the mesh passed and keeps its element lengths, so
+        neither is run again: the lengths are the original ones exactly (recomputed from the
+        moved nodes they would differ by roundoff).
+        """
+        moved = copy.copy(self)
+        object.__setattr__(moved, "points", self.points + offset)
+        return moved
 
     # -- sizes -------------------------------------------------------------------------
     @property

@@ -36,6 +36,8 @@ problem).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import scipy.linalg as la
 import scipy.sparse as sp
@@ -121,14 +123,17 @@ class CondensedOperator:
             raise ValueError(message)
         self._slot = np.full(self.n_free, -1)
         self._store = np.zeros((self.n_free + self.n_rigid, 0))
+        self._inverse_T = None
         if self.n_free + self.n_rigid <= DENSE_LIMIT:
             self._columns(np.arange(self.n_free))
+            self._inverse_T = np.ascontiguousarray(self._store.T)
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         """``B^{-1} [b; 0]`` for right-hand sides ``b`` (B, n_free) on the free dofs:
-        (B, n_free + k); from the dense inverse when every column is cached."""
-        if self._store.shape[1] == self.n_free:
-            return b @ self._store[:, np.argsort(self._slot)].T
+        (B, n_free + k); from the dense inverse below :data:`DENSE_LIMIT` (its columns
+        computed in order at construction)."""
+        if self._inverse_T is not None:
+            return b @ self._inverse_T
         rhs = np.concatenate([b, np.zeros((len(b), self.n_rigid))], axis=1)
         return self.lu.solve(np.asfortranarray(rhs.T)).T  # SuperLU reads columns
 
@@ -143,52 +148,98 @@ class CondensedOperator:
             self._store = np.hstack([self._store, self.lu.solve(unit)])
         return self._slot[positions]
 
-    def step(self, r_free: np.ndarray, slots: np.ndarray, J: np.ndarray,
+    def step(self, r_free: np.ndarray, slots: list[np.ndarray], blocks: list[np.ndarray],
              r_y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Newton increments of ``B`` members sharing this operator (module docstring).
 
-        ``r_free`` (B, n_free): the structure residuals; ``slots`` (B, s): the free-dof
-        position of each joint slot, -1 where supported; ``J`` (B, s + m, s + m): the
-        joints' Jacobians on ``[q_slots; y]``; ``r_y`` (B, m): their residuals.  Returns the
-        increments on the free dofs (B, n_free) and on ``y`` (B, m), and which members'
+        Parameters
+        ----------
+        r_free : (B, n_free)
+            The structure residuals.
+        slots : list of (B, t_j)
+            Per joint, the free-dof position of each of its slots, -1 where supported.
+        blocks : list of (B, t_j + m_j, t_j + m_j)
+            Per joint, its Jacobian on ``[q_slots; y_j]``.
+        r_y : (B, m)
+            The joints' residuals, joint after joint.
+
+        Returns
+        -------
+        The increments on the free dofs (B, n_free) and on ``y`` (B, m), and which members'
         small systems are regular (the increments of the others are not to be used).
         """
-        B, s = slots.shape
-        m, k, n = r_y.shape[1], self.n_rigid, self.n_free
-        held = (slots >= 0).astype(float)
-        J = J * np.concatenate([held, np.ones((B, m))], axis=1)[:, :, None]
-        J[:, :, :s] *= held[:, None, :]
-        slots = np.maximum(slots, 0)
-        E, C = J[:, :s, :s], J[:, s:, :s]
-        c = np.flatnonzero(np.any(E != 0, axis=(0, 1)))
-        forces = np.flatnonzero(np.any(J[:, :s] != 0, axis=(0, 2)))
-        reads = np.union1d(np.flatnonzero(np.any(C != 0, axis=(0, 1))), c)
-        F = np.concatenate([E[:, forces][:, :, c], J[:, forces, s:]], axis=2)
-        columns = self._columns(slots[:, forces])
-        Y = self._store[slots[:, reads][:, :, None], columns[:, None, :]] @ F
+        B, m, k, n = len(r_free), r_y.shape[1], self.n_rigid, self.n_free
+        parts = [_joint_part(p, J) for p, J in zip(slots, blocks)]
+        nc = sum(len(p.c) for p in parts)
+        nf, nr = sum(len(p.forces) for p in parts), sum(len(p.reads) for p in parts)
+        F, C, D = np.zeros((B, nf, nc + m)), np.zeros((B, m, nr)), np.zeros((B, m, m))
+        at_f = at_c = at_r = at_y = 0
+        for p in parts:
+            f, c, r, y = len(p.forces), len(p.c), len(p.reads), p.D.shape[1]
+            F[:, at_f:at_f + f, at_c:at_c + c] = p.E
+            F[:, at_f:at_f + f, nc + at_y:nc + at_y + y] = p.A
+            C[:, at_y:at_y + y, at_r:at_r + r] = p.C
+            D[:, at_y:at_y + y, at_y:at_y + y] = p.D
+            at_f, at_c, at_r, at_y = at_f + f, at_c + c, at_r + r, at_y + y
+        force_at = np.concatenate([p.at[:, p.forces] for p in parts], axis=1)
+        read_at = np.concatenate([p.at[:, p.reads] for p in parts], axis=1)
+        c_at = np.concatenate([p.at[:, p.c] for p in parts], axis=1)
+        in_c = np.concatenate([o + np.searchsorted(p.reads, p.c) for o, p in
+                               zip(np.cumsum([0] + [len(p.reads) for p in parts]), parts)])
+        columns = self._columns(force_at)
+        Y = self._store[read_at[:, :, None], columns[:, None, :]] @ F
         Y_z = np.moveaxis(self._store[n:][:, columns], 0, 1) @ F
         base = self.solve(r_free)
         rows = np.arange(B)[:, None]
-        in_c = np.searchsorted(reads, c)
-        phi = self.phi[slots[:, reads]]
-        C = C[:, :, reads]
-        nc = len(c)
+        phi = self.phi[read_at]
         small = np.zeros((B, nc + k + m, nc + m + k))
         small[:, :nc, :nc + m] = Y[:, in_c]
         small[:, np.arange(nc), np.arange(nc)] += 1.0
         small[:, :nc, nc + m:] = -phi[:, in_c]
         small[:, nc:nc + k, :nc + m] = Y_z
         small[:, nc + k:, :nc + m] = -C @ Y
-        small[:, nc + k:, nc:nc + m] += J[:, s:, s:]
+        small[:, nc + k:, nc:nc + m] += D
         small[:, nc + k:, nc + m:] = C @ phi
-        rhs = np.concatenate([-base[rows, slots[:, c]], -base[:, n:],
-                              -r_y + np.einsum("bij,bj->bi", C, base[rows, slots[:, reads]])],
-                             axis=1)
+        rhs = np.concatenate([-base[rows, c_at], -base[:, n:],
+                              -r_y + np.einsum("bij,bj->bi", C, base[rows, read_at])], axis=1)
         z, regular = _equilibrated_solve(small, rhs)
         force = r_free.copy()
-        np.add.at(force, (rows, slots[:, forces]), np.einsum("bij,bj->bi", F, z[:, :nc + m]))
+        np.add.at(force, (rows, force_at), np.einsum("bij,bj->bi", F, z[:, :nc + m]))
         dq = -self.solve(force)[:, :n] + z[:, nc + m:] @ self.phi.T
         return dq, z[:, nc:nc + m], regular
+
+
+@dataclass(frozen=True)
+class _JointPart:
+    """One joint's share of a condensed step: its slots' free-dof positions ``at`` (B, t;
+    supported ones read as 0, their entries zeroed), the slots that carry forces, the slots
+    ``c`` whose displacements the force Jacobian reads, the slots the joint equations read
+    (``reads``, containing ``c``), and its Jacobian blocks on them: ``E`` (forces x c), ``A``
+    (forces x y), ``C`` (y x reads) and ``D`` (y x y)."""
+
+    at: np.ndarray
+    forces: np.ndarray
+    c: np.ndarray
+    reads: np.ndarray
+    E: np.ndarray
+    A: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+
+
+def _joint_part(slots: np.ndarray, J: np.ndarray) -> _JointPart:
+    """The compact blocks of a joint's Jacobian ``J`` (B, t + m, t + m) on its slots
+    ``slots`` (B, t), the supported slots (-1) removed (:class:`_JointPart`)."""
+    B, t = slots.shape
+    held = np.concatenate([slots >= 0, np.ones((B, J.shape[1] - t), dtype=bool)], axis=1)
+    pattern = np.any((J != 0) & held[:, :, None] & held[:, None, :], axis=0)
+    c = np.flatnonzero(np.any(pattern[:t, :t], axis=0))
+    forces = np.flatnonzero(np.any(pattern[:t], axis=1))
+    reads = np.union1d(np.flatnonzero(np.any(pattern[t:, :t], axis=0)), c)
+    rows = held[:, forces, None]
+    return _JointPart(np.maximum(slots, 0), forces, c, reads,
+                      J[:, forces][:, :, c] * rows * held[:, None, c], J[:, forces, t:] * rows,
+                      J[:, t:, reads] * held[:, None, reads], J[:, t:, t:])
 
 
 def _equilibrated_solve(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

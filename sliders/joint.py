@@ -191,12 +191,13 @@ class SliderBatch:
     def __init__(self, sliders: Sequence[Slider], structures: Sequence[Structure]) -> None:
         self.sliders, self.structures = list(sliders), list(structures)
         first = self.sliders[0]
+        placed = (np.all(np.stack([s.offset for s in self.sliders]) == first.offset, axis=1)
+                  & np.all(np.stack([s.frame for s in self.sliders]) == first.frame,
+                           axis=(1, 2)))
         for b, s in enumerate(self.sliders[1:], start=1):
             if not (s.kind == first.kind and s.orientation == first.orientation
                     and s.smearing == first.smearing and s.kernel == first.kernel
-                    and s.end_stops == first.end_stops
-                    and np.array_equal(s.offset, first.offset)
-                    and np.array_equal(s.frame, first.frame)
+                    and s.end_stops == first.end_stops and placed[b]
                     and isinstance(s.line, BeamChain) == isinstance(first.line, BeamChain)):
                 raise ValueError(f"{s.name}: slider of member {b} of the batch differs from "
                                  "member 0 (kind, orientation, smearing, offset, frame, end "

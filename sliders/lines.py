@@ -90,18 +90,20 @@ def curvature_rate(l: np.ndarray, l_xi: np.ndarray, l_xixi: np.ndarray,  # noqa:
 
 
 def project(curve: Callable[[np.ndarray], tuple[np.ndarray, ...]], grid: np.ndarray,
-            points: np.ndarray) -> np.ndarray:
+            points: np.ndarray, sampled: np.ndarray | None = None) -> np.ndarray:
     """Abscissae of the points of ``B`` curves closest to ``points`` ``(B, 3)``, one each.
 
     ``curve(xi)`` returns ``x, l, l_xi`` ``(B, 3)`` of the curves at abscissae ``xi``
     ``(B,)``.  The closest of the sample abscissae ``grid`` (increasing, from 0 to the length)
-    starts Newton on ``l . (x - point) = 0``, which stays within the ends.
+    starts Newton on ``l . (x - point) = 0``, which stays within the ends.  ``sampled``: the
+    curves' points at the grid, ``(B, len(grid), 3)``, when the caller has them at once
+    (else ``curve`` is asked grid point by grid point).
     """
     points = np.asarray(points, dtype=float)
     length = grid[-1]
-    distance = np.array([np.sum((curve(np.full(len(points), s))[0] - points) ** 2, axis=1)
-                         for s in grid])
-    xi = grid[np.argmin(distance, axis=0)]
+    if sampled is None:
+        sampled = np.stack([curve(np.full(len(points), s))[0] for s in grid], axis=1)
+    xi = grid[np.argmin(np.sum((sampled - points[:, None]) ** 2, axis=2), axis=1)]
     for _ in range(50):
         x, l, l_xi = curve(xi)  # noqa: E741
         gap = x - points

@@ -24,6 +24,7 @@ chain's beams must all have the same number of nodes per element (fixed-size slo
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Sequence
 
@@ -165,10 +166,16 @@ class ChainStack:
         self.points = np.stack([np.concatenate([beam.mesh.points for beam in chain.beams])
                                 for chain in self.chains])
         self.members = np.arange(len(self.chains))
+        self._located: tuple[np.ndarray, tuple] | None = None
 
     def subset(self, members: np.ndarray) -> ChainStack:
-        """The stack of the given members only."""
-        return ChainStack([self.chains[b] for b in members])
+        """The stack of the given members only (their topology already checked)."""
+        out = copy.copy(self)
+        out.chains = [self.chains[b] for b in members]
+        out.breaks, out.h, out.points = self.breaks[members], self.h[members], self.points[members]
+        out.vertices = [v[members] for v in self.vertices]
+        out.members, out._located = np.arange(len(out.chains)), None
+        return out
 
     def __len__(self) -> int:
         return len(self.chains)
@@ -177,7 +184,18 @@ class ChainStack:
         """Beam (position in the chain), element of the chain (global index) and reference
         coordinate ``X`` of each member's abscissa ``xi`` (B,), on the member's own abscissae
         (as :func:`fvbeam.geometry.locate_abscissa` and :meth:`fvbeam.mesh.BeamMesh.locate`,
-        which report an abscissa off the chain)."""
+        which report an abscissa off the chain).  The last answer is kept: a joint
+        evaluation asks for the same ``xi`` up to three times (interpolation, load transfer,
+        rotation)."""
+        last = self._located
+        if last is not None and np.array_equal(last[0], xi):
+            return last[1]
+        located = self._locate(xi)
+        self._located = (xi.copy(), located)
+        return located
+
+    def _locate(self, xi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`locate`, computed."""
         locate_abscissa(xi, self.offsets, self.name, "the chain")
         k = _interval(self.breaks, xi)
         rows = self.members
@@ -301,21 +319,35 @@ class ChainStack:
         ``points`` (B, 3)."""
         grid = np.unique(np.concatenate([offset + beam.mesh.node_abscissae()
                                          for offset, beam in zip(self.offsets, self.beams)]))
-        return project(lambda xi: self.interpolation(xi).geometry(q), grid, points)
+        B, G = len(self), len(grid)
+        every = self.subset(np.repeat(self.members, G))
+        sampled = every.interpolation(np.tile(grid, B)).geometry(np.repeat(q, G, axis=0))[0]
+        return project(lambda xi: self.interpolation(xi).geometry(q), grid, points,
+                       sampled.reshape(B, G, 3))
 
 
 def _same_topology(a: BeamChain, b: BeamChain) -> bool:
-    """Whether chains ``a`` and ``b`` differ at most in their node positions."""
+    """Whether chains ``a`` and ``b`` differ at most in their node positions.  Beams sharing
+    their arc lengths (moved copies, :meth:`fvbeam.mesh.BeamMesh.translated`) have equal
+    lengths and chain offsets without comparing them."""
     return (len(a.beams) == len(b.beams)
-            and np.allclose(a.offsets, b.offsets, rtol=LENGTH_TIE, atol=0)
+            and (all(x.mesh.vertex_s is y.mesh.vertex_s for x, y in zip(a.beams, b.beams))
+                 or _tied(a.offsets, b.offsets))
             and all(np.array_equal(a.structure.dof_maps[i], b.structure.dof_maps[j])
                     for i, j in zip(a.indices, b.indices))
             and all(x.formulation == y.formulation and x.section is y.section
-                    and np.array_equal(x.mesh.cells, y.mesh.cells)
-                    and np.allclose(x.mesh.element_length, y.mesh.element_length,
-                                    rtol=LENGTH_TIE, atol=0)
-                    and np.array_equal(x.mesh.up, y.mesh.up)
+                    and (x.mesh.cells is y.mesh.cells
+                         or np.array_equal(x.mesh.cells, y.mesh.cells))
+                    and (x.mesh.vertex_s is y.mesh.vertex_s
+                         or _tied(x.mesh.element_length, y.mesh.element_length))
+                    and (x.mesh.up is y.mesh.up or np.array_equal(x.mesh.up, y.mesh.up))
                     for x, y in zip(a.beams, b.beams)))
+
+
+def _tied(a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether the lengths ``a`` equal ``b`` to :data:`LENGTH_TIE` (relative to ``b``;
+    ``np.allclose(a, b, rtol=LENGTH_TIE, atol=0)`` without its overhead)."""
+    return a.shape == b.shape and bool(np.all(np.abs(a - b) <= LENGTH_TIE * np.abs(b)))
 
 
 def _interval(breaks: np.ndarray, xi: np.ndarray) -> np.ndarray:

@@ -75,7 +75,7 @@ class SliderStatics:
         names = [s.name for s in self.sliders]
         if len(set(names)) != len(names):
             raise ValueError(f"slider names must be unique, got {names}")
-        fixed = structure.support_dofs(supports)
+        fixed = self._fixed = structure.support_dofs(supports)
         if reuse is not None and reuse._same_operator(structure, fixed):
             self.K, self.free, self.K_free = reuse.K, reuse.free, reuse.K_free
             self._position, self._condensed = reuse._position, reuse._condensed
@@ -94,8 +94,7 @@ class SliderStatics:
         return (len(old.beams) == len(structure.beams)
                 and all(a.stiffness is b.stiffness for a, b in zip(old.beams, structure.beams))
                 and all(np.array_equal(a, b) for a, b in zip(old.dof_maps, structure.dof_maps))
-                and np.array_equal(np.setdiff1d(np.arange(structure.n_dofs), fixed),
-                                   self.free))
+                and structure.n_dofs == old.n_dofs and np.array_equal(fixed, self._fixed))
 
     def initial_unknowns(self, q: np.ndarray) -> list[np.ndarray]:
         return [s.initial_unknowns(self.structure, q) for s in self.sliders]
@@ -220,18 +219,9 @@ class SliderStatics:
                 if step is not None:
                     (dq[b], dy[b]), regular[b] = step, True
             return dq, dy, regular
-        sizes = [d.shape[1] for d, _, _ in parts]
-        s, m = sum(sizes), r_y.shape[1]
-        J = np.zeros((B, s + m, s + m))
-        at, ay = np.cumsum([0] + sizes), s + np.cumsum([0] + [r.shape[1] - t for (_, r, _), t
-                                                              in zip(parts, sizes)])
-        for i, (_, _, block) in enumerate(parts):
-            t = sizes[i]
-            q_i, y_i = slice(at[i], at[i + 1]), slice(ay[i], ay[i + 1])
-            J[:, q_i, q_i], J[:, q_i, y_i] = block[:, :t, :t], block[:, :t, t:]
-            J[:, y_i, q_i], J[:, y_i, y_i] = block[:, t:, :t], block[:, t:, t:]
-        slots = self._position[np.concatenate([d for d, _, _ in parts], axis=1)]
-        dq_free, dy, regular = self._condensed.step(R[:, self.free], slots, J, r_y)
+        dq_free, dy, regular = self._condensed.step(
+            R[:, self.free], [self._position[d] for d, _, _ in parts],
+            [J for _, _, J in parts], r_y)
         dq[:, self.free] = dq_free
         return dq, dy, regular
 
@@ -330,14 +320,17 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
             outcome[b] = (Q[b].copy(), np.split(Y[b].copy(), np.cumsum(sizes)[:-1]),
                           residuals[b])
         going = ~done[active]
-        dq, dy, regular = lead._steps([members[b] for b in active[going]], R[going],
-                                      [(d[going], r[going], J[going]) for d, r, J in parts],
-                                      r_y[going])
+        if not going.any():
+            active = active[going]
+            break
+        if not going.all():
+            parts = [(d[going], r[going], J[going]) for d, r, J in parts]
+            R, r_y = R[going], r_y[going]
+        dq, dy, regular = lead._steps([members[b] for b in active[going]], R, parts, r_y)
         for i in np.flatnonzero(~regular):
             b = active[going][i]
             outcome[b] = members[b]._diagnose(
-                _member([(d[going], r[going], J[going]) for d, r, J in parts], i),
-                f"the {lead.method} system has no finite solution")
+                _member(parts, i), f"the {lead.method} system has no finite solution")
         active = active[going][regular]
         if not active.size:
             break

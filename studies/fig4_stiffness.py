@@ -51,15 +51,16 @@ BOUNDS = {"spherical": ((1, 0.07, 0.07), (3, 0.02, 0.011), (5, 0.02, 0.011)),
 
 class SlidingBeams:
     """The two beams built once; :meth:`stiffness` moves the piston and solves.
-    ``orientation``: the classical sliders' form (:class:`sliders.joint.Slider`)."""
+    ``orientation``: the classical sliders' form (:class:`sliders.joint.Slider`).  The
+    piston is the cylinder's beam moved (same mesh, section and formulation), so one
+    stiffness is assembled for both."""
 
     def __init__(self, formulation: str, n_elements: int, kind: str,
                  smearing: float = 0.0, orientation: str = "section") -> None:
         npe = 2 if formulation in ("fv2", "galerkin-p1") else 3
         self.cylinder = Beam(straight((0, 0, 0), (L, 0, 0), n_elements, npe), SECTION,
                              formulation)
-        self.piston = Beam(straight((0, 0, 0), (L, 0, 0), n_elements, npe), SECTION,
-                           formulation)
+        self.piston = self.cylinder
         self.kind, self.smearing = kind, smearing * L / n_elements
         self.orientation = orientation if kind == "classical" else "section"
         self.supports = [Support(0, "start"), Support(1, "start", "ux+rx")]

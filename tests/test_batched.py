@@ -7,10 +7,13 @@ roundoff bound of tests/test_condensed.py (``agreement_bound``), with the same i
 counts and the same failure messages.
 """
 
+import dataclasses
+
 import numpy as np
 import pytest
 
 from fvbeam import Support
+from sliders.joint import SliderBatch
 from sliders.statics import SliderStatics, solve_many
 from sliders.sweep import sweep_batched
 from studies.fig4_stiffness import SlidingBeams
@@ -96,3 +99,18 @@ def test_members_must_share_the_operator():
         solve_many([one, other], [f, g])
     with pytest.raises(ValueError, match="loads must be 2 finite vectors"):
         solve_many([one, one], [f])
+
+
+def test_members_must_have_alike_sliders():
+    """A slider placed differently (offset, frame) in one member is named."""
+    model = SlidingBeams("fv3", 3, "classical")
+    members = [model.problem(s)[0] for s in (0.2, 0.4, 0.6)]
+    sliders = [m.sliders[0] for m in members]
+    structures = [m.structure for m in members]
+    SliderBatch(sliders, structures)
+    turned = dataclasses.replace(sliders[2], frame=np.eye(3)[:, [0, 2, 1]] * [1, 1, -1])
+    with pytest.raises(ValueError, match="slider of member 2 of the batch differs"):
+        SliderBatch(sliders[:2] + [turned], structures)
+    moved = dataclasses.replace(sliders[1], offset=(0.0, 1e-3, 0.0))
+    with pytest.raises(ValueError, match="slider of member 1 of the batch differs"):
+        SliderBatch([sliders[0], moved, sliders[2]], structures)

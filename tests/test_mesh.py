@@ -321,3 +321,23 @@ def test_xi_outside_the_beam():
 def test_bad_number_of_elements(n):
     with pytest.raises(ValueError, match=rf"n_elements must be a positive integer, got {n}"):
         straight((0, 0, 0), (1, 0, 0), n)
+
+
+def test_translated_mesh_moves_points_and_keeps_lengths():
+    """A translation keeps the arc lengths exactly (no recomputation) and the original mesh."""
+    mesh = arc((0, 0, 0), 1.0, 0.0, 1.5, 4, 3)
+    moved = mesh.translated(np.array([0.3, -1.0, 2.0]))
+    np.testing.assert_array_equal(moved.points, mesh.points + [0.3, -1.0, 2.0])
+    assert moved.vertex_s is mesh.vertex_s and moved.cells is mesh.cells
+    rebuilt = BeamMesh(moved.points, moved.cells)
+    np.testing.assert_allclose(rebuilt.vertex_s, mesh.vertex_s, rtol=1e-13)
+
+
+def test_translated_beam_shares_the_stiffness():
+    beam = Beam(straight((0, 0, 0), (1, 0, 0), 3, 3),
+                Section.diagonal(EA=1, GAy=1, GAz=1, GJ=1, EJy=1, EJz=1))
+    moved = beam.translated((0.5, 0, 0))
+    assert moved.stiffness is beam.stiffness
+    np.testing.assert_allclose(moved.mesh.points[:, 0], beam.mesh.points[:, 0] + 0.5)
+    with pytest.raises(ValueError, match="offset"):
+        beam.translated((np.nan, 0, 0))

@@ -77,3 +77,17 @@ def test_members_must_share_the_topology():
                       ties=[(0, "end", 1, "start")])
     with pytest.raises(ValueError, match="same number of nodes per element"):
         ChainStack([BeamChain(mixed, [0, 1])])
+
+
+def test_subset_answers_as_a_stack_of_its_members():
+    """A subset (no topology checks again) gives the stack of its members' answers."""
+    chains = moved_chains(3, [(0, 0, 0), (0.3, -0.2, 0.1), (5.0, 1.0, -2.0), (0.01, 0, 0)])
+    pick = np.array([3, 1])
+    xi = np.array([0.2, chains[0].offsets[1]])
+    part, direct = ChainStack(chains).subset(pick), ChainStack([chains[b] for b in pick])
+    for mine, theirs in ((part.interpolation(xi), direct.interpolation(xi)),
+                         (part.rotation(xi), direct.rotation(xi))):
+        for name in mine.__dataclass_fields__:
+            np.testing.assert_array_equal(getattr(mine, name), getattr(theirs, name))
+    for mine, theirs in zip(part.transfer(xi), direct.transfer(xi)):
+        np.testing.assert_array_equal(mine, theirs)
