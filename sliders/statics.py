@@ -33,7 +33,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from fvbeam.statics import Structure, Support
-from sliders.condensed import CondensedOperator
+from sliders.condensed import CondensedOperator, node_positions
 from sliders.joint import Slider, SliderBatch
 
 METHODS = ("bordered", "condensed")
@@ -260,12 +260,14 @@ def _member(parts: list, b: int) -> list:
 
 def converged(dq: np.ndarray, dy: np.ndarray, sizes: Sequence[int],
               lengths: Sequence[float], reach: np.ndarray, force: np.ndarray,
-              tol: float) -> np.ndarray:
+              tol: float, resolution: float = 0.0) -> np.ndarray:
     """Newton's convergence rule, per member: every increment below ``tol`` relative to its
     scale -- ``q`` to ``reach`` (the largest displacement met), each ``xi`` to its line's
     length, the multipliers to ``force`` (the largest of them and of the load).  ``dq``
-    (B, n), ``dy`` (B, m) with the sliders' ``sizes`` and line ``lengths``."""
-    ok = np.abs(dq).max(axis=1, initial=0.0) <= tol * np.maximum(reach, 1e-300)
+    (B, n), ``dy`` (B, m) with the sliders' ``sizes`` and line ``lengths``.  A ``q``
+    increment below ``resolution`` (what the positions ``X + q`` can resolve) also passes:
+    a solution at rest (``q = 0``, the load taken by the sliders) moves by roundoff only."""
+    ok = np.abs(dq).max(axis=1, initial=0.0) <= np.maximum(tol * reach, resolution)
     for d, length in zip(np.split(dy, np.cumsum(sizes)[:-1], axis=1), lengths):
         ok &= (np.abs(d[:, 0]) <= tol * length) & (np.abs(d[:, 1:]).max(axis=1) <= tol * force)
     return ok
@@ -299,6 +301,8 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
             Q[cold]) for b in batches], axis=1)
     Q0, Y0 = Q.copy(), Y.copy()
     scale = np.maximum(np.abs(loads).max(axis=1), 1e-300)
+    # 4 ulp of the largest coordinate (at least 1: rotations are dimensionless)
+    resolution = 4 * np.finfo(float).eps * max(1.0, np.abs(node_positions(lead.structure)).max())
     reach = np.abs(Q).max(axis=1, initial=0.0)
     done = np.zeros(B, dtype=bool)
     residuals: list[list[float]] = [[] for _ in range(B)]
@@ -340,7 +344,8 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
         reach[active] = np.maximum.reduce([reach[active], np.abs(dq).max(axis=1),
                                            np.abs(Q[active]).max(axis=1)])
         force = np.maximum(scale[active], np.abs(Y[active][:, multipliers]).max(axis=1))
-        done[active] = converged(dq, dy, sizes, lengths, reach[active], force, tol)
+        done[active] = converged(dq, dy, sizes, lengths, reach[active], force, tol,
+                                 resolution)
         if len(active) < len(view[0]):
             view = [b.subset(active) for b in batches]
     for b in active:

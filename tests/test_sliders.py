@@ -230,3 +230,20 @@ def test_singular_pair_of_classical_sliders_is_diagnosed():
         SliderStatics(structure, supports, sliders).solve(f)
     structure, supports, sliders, P = sliding_beams_model(0.9 * L, 1, "classical")
     SliderStatics(structure, supports, sliders).solve(f)
+
+
+@pytest.mark.parametrize("kind", ["spherical", "classical"])
+def test_a_load_the_slider_takes_whole_converges_at_rest(kind):
+    """A beam's tip on a rigid arc at its apex, loaded along the arc's normal: the slider takes
+    the whole load and the beam stays at rest (q = 0 but for roundoff), so the displacement
+    increments have no scale of their own; Newton must still stop (they fall below what the
+    positions resolve), with the reaction equal to the load (equilibrium of the tip node,
+    1e-12 relative: roundoff)."""
+    beam = Beam(straight((0, 0, 0), (1, 0, 0), 4, 3), SECTION, "fv3")
+    structure = Structure([beam])
+    arc = CircularArc((1, -2, 0), 2.0, np.pi / 2 - 0.3, np.pi / 2 + 0.3)
+    frame = np.column_stack([[-1, 0, 0], [0, 1, 0], [0, 0, -1]]).astype(float)
+    slider = Slider(kind, arc, (0, "end"), frame=frame, name="tip")
+    f = structure.gather(0, beam.nodal_load("end", force=(0, -500.0, 0)))
+    solution = SliderStatics(structure, [Support(0, "start")], [slider]).solve(f)
+    np.testing.assert_allclose(solution.unknowns[0][1:4], [0, -500.0, 0], atol=1e-12 * 500)
