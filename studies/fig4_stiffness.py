@@ -8,7 +8,9 @@ bottom end node slides on C.  Slider B: C's top end node slides on P.  A transve
 ``F`` at P's tip.  ``EJ = 4.1e4 N m^2``, ``GA = 1.1e8 N``, ``L = 0.6 m``; ``EA = 10 GA`` and
 ``GJ = EJ`` play no role in this bending problem.  The tip stiffness ``k = F / v(s + L)`` is
 normalised by ``EJ / L^3`` and compared with the analytic two-beam solution
-(:func:`sliders.analytic.sliding_beams`, ``docs/sliders.md``).
+(:func:`sliders.analytic.sliding_beams`, ``docs/sliders.md``).  The section, ``L`` and ``F``
+are read from the setup's scene, ``studies/scenes/fig4_sliding_beams.toml``; this script
+varies the slider kind, the formulation, the mesh, the smearing and the stations.
 
 Run as ``python -m studies.fig4_stiffness --out DIR``; writes ``DIR/fig4_stiffness.csv``
 (columns ``slider,formulation,n_elements,smearing,s_over_L,k_norm,k_norm_exact,rel_error``;
@@ -21,8 +23,8 @@ bounds.
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import csv
+import importlib.util
 import time
 from pathlib import Path
 
@@ -36,8 +38,24 @@ from sliders.joint import Slider
 from sliders.statics import SliderSolution, SliderStatics
 from sliders.sweep import sweep_batched
 
-EJ, GA, L, F = 4.1e4, 1.1e8, 0.6, 1.0
-SECTION = Section.diagonal(EA=10 * GA, GAy=GA, GAz=GA, GJ=EJ, EJy=EJ, EJz=EJ)
+SCENE = Path(__file__).parent / "scenes" / "fig4_sliding_beams.toml"
+
+
+def read_setup(path: Path = SCENE) -> tuple[Section, float, float]:
+    """The section, the beams' length ``L`` and the tip force ``F`` from the scene (its
+    first section and beam, its one load), which ``fvslider run`` also runs."""
+    from sliders.scene import load_scene
+
+    scene = load_scene(path)
+    tube, beam = scene.section[0], scene.beam[0]
+    section = Section.diagonal(EA=tube.EA, GAy=tube.GAy, GAz=tube.GAz, GJ=tube.GJ,
+                               EJy=tube.EJy, EJz=tube.EJz)
+    length = float(np.linalg.norm(np.subtract(beam.straight.end, beam.straight.start)))
+    return section, length, float(np.linalg.norm(scene.load[0].force))
+
+
+SECTION, L, F = read_setup()
+EJ, GA = float(SECTION.stiffness[5, 5]), float(SECTION.stiffness[1, 1])  # EJz, GAy
 KINDS = ("spherical", "classical")
 STATIONS = np.arange(96) / 100
 CASES = ([("fv3", n) for n in (1, 3, 5, 10, 20, 40)] + [("galerkin-p2", n) for n in (1, 3, 5)])
