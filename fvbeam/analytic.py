@@ -10,6 +10,8 @@ evaluation point it is shared half and half between the two regions, as
 from __future__ import annotations
 
 import numpy as np
+import scipy.linalg
+import scipy.optimize
 
 from fvbeam.elements import TIE
 
@@ -71,3 +73,53 @@ def quarter_circle_tip(R: float, P: float, GJ: float, EJ_radial: float, GA_norma
     """
     return (P * R**3 * ((3 * np.pi / 4 - 2) / GJ + (np.pi / 4) / EJ_radial)
             + P * R * np.pi / (2 * GA_normal))
+
+
+def timoshenko_cantilever_determinant(omega: float, L: float = 1.0, EJ: float = 1.0,
+                                      GA: float = 1.0, m: float = 1.0,
+                                      rhoJ: float = 0.0) -> float:
+    """Characteristic function of a clamped-free Timoshenko beam; its roots in ``omega`` are
+    the exact natural frequencies (rad/s) of planar bending.
+
+    Free vibration ``w(s) e^{i omega t}``, ``phi(s) e^{i omega t}`` (transverse displacement,
+    section rotation) obeys (Timoshenko 1921; e.g. Han, Benaroya and Wei, J. Sound Vib. 225
+    (1999) 935, eqs. 43-44)::
+
+        GA (w'' - phi') + m omega^2 w = 0
+        EJ phi'' + GA (w' - phi) + rhoJ omega^2 phi = 0
+
+    a linear system ``y' = A y`` in ``y = (w, phi, w', phi')``.  Clamped at 0 (``w = phi = 0``)
+    the solution is ``y(s) = expm(A s) [0, 0, a, b]``; free at ``L`` the shear
+    ``GA (w' - phi)`` and the moment ``EJ phi'`` vanish.  The determinant of that 2x2 system in
+    ``(a, b)`` is the frequency equation (equivalent to Huang's closed form, J. Appl. Mech. 28
+    (1961) 579), scaled here by ``1 / (GA EJ)``.  Its Euler-Bernoulli limit (``GA -> inf``,
+    ``rhoJ = 0``) has the roots ``omega = (beta L)^2 sqrt(EJ / (m L^4))``,
+    ``beta L = 1.8751, 4.6941, 7.8548``.
+    """
+    A = np.array([[0.0, 0.0, 1.0, 0.0],
+                  [0.0, 0.0, 0.0, 1.0],
+                  [-m * omega**2 / GA, 0.0, 0.0, 1.0],
+                  [0.0, (GA - rhoJ * omega**2) / EJ, -GA / EJ, 0.0]])
+    Y = scipy.linalg.expm(A * L)
+    free = np.array([[0.0, -1.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]]) @ Y[:, 2:]
+    return float(np.linalg.det(free))
+
+
+def timoshenko_cantilever_frequencies(n: int, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0,
+                                      m: float = 1.0, rhoJ: float = 0.0) -> np.ndarray:
+    """The ``n`` lowest roots of :func:`timoshenko_cantilever_determinant` (rad/s): sign
+    changes on a grid 1/200 of the first Euler-Bernoulli frequency apart (the Timoshenko roots
+    lie below the Euler-Bernoulli ones, spaced wider than that), refined by ``brentq`` to
+    ``rtol`` 1e-14."""
+    step = 3.5160 * np.sqrt(EJ / (m * L**4)) / 200
+    roots: list[float] = []
+    a = step
+    fa = timoshenko_cantilever_determinant(a, L, EJ, GA, m, rhoJ)
+    while len(roots) < n:
+        b = a + step
+        fb = timoshenko_cantilever_determinant(b, L, EJ, GA, m, rhoJ)
+        if fa * fb < 0:
+            roots.append(scipy.optimize.brentq(timoshenko_cantilever_determinant, a, b,
+                                               args=(L, EJ, GA, m, rhoJ), rtol=1e-14))
+        a, fa = b, fb
+    return np.array(roots)

@@ -17,6 +17,7 @@ from skfem import CellBasis, MeshLine1, asm
 
 from fvbeam.formulations import Formulation, composite_gauss, formulation as get_formulation
 from fvbeam.forms import distributed_load, generalised_strain, internal_work
+from fvbeam import mass as beam_mass
 from fvbeam.geometry import vector3, wrench
 from fvbeam.mesh import BeamMesh, shape_functions
 from fvbeam.section import Section
@@ -67,6 +68,7 @@ class Beam:
         self.trial_basis = CellBasis(self.skfem_mesh, form.trial_element(), quadrature=quadrature)
         self.test_basis = CellBasis(self.skfem_mesh, self._test_element, quadrature=quadrature,
                                     disable_doflocs=True)
+        self._mass: dict[str, sp.csr_matrix] = {}
 
     def translated(self, offset) -> "Beam":
         """The same beam moved rigidly by ``offset``, sharing everything a translation leaves
@@ -126,6 +128,15 @@ class Beam:
     def tangent(self, q: np.ndarray) -> sp.csr_matrix:
         """d r / d q (constant for linear kinematics)."""
         return self.stiffness
+
+    def mass(self, kind: str = "lumped") -> sp.csr_matrix:
+        """Mass matrix, ``lumped`` or ``consistent`` (Galerkin only), assembled once per kind
+        (:mod:`fvbeam.mass`); a rigid translation leaves it unchanged, so a translated copy
+        shares it."""
+        beam_mass.check_kind(self, kind)
+        if kind not in self._mass:
+            self._mass[kind] = getattr(beam_mass, kind)(self)
+        return self._mass[kind]
 
     # -- loads ----------------------------------------------------------------------------
     def transfer(self, xi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

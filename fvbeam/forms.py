@@ -49,3 +49,15 @@ def distributed_load(v, w):
     work = (np.einsum("i...,i...->...", v[:3], np.asarray(w.f))
             + np.einsum("i...,i...->...", v[3:], np.asarray(w.m)))
     return work * np.asarray(w.metric)
+
+
+@BilinearForm
+def inertia(u, v, w):
+    """Kinetic-energy density ``m w.u + psi.(J theta)`` of the translations ``u[:3]`` and
+    rotations ``u[3:]``, with ``m`` the mass per length and ``J`` the section inertia per
+    length in global axes (3x3 field); per unit of the affine element coordinate."""
+    u, v = np.asarray(u), np.asarray(v)
+    rotary = np.einsum("ij...,j...->i...", np.asarray(w.J), u[3:])
+    work = (np.asarray(w.m) * np.einsum("i...,i...->...", v[:3], u[:3])
+            + np.einsum("i...,i...->...", v[3:], rotary))
+    return work * np.asarray(w.metric)

@@ -225,12 +225,30 @@ class Structure:
 
     def tangent(self, q: np.ndarray) -> sp.csr_matrix:
         """Global tangent: the beams' tangents scattered on the global dofs."""
+        return self._scatter([beam.tangent(q[dofs])
+                              for beam, dofs in zip(self.beams, self.dof_maps)])
+
+    def mass(self, kind: str = "lumped") -> sp.csr_matrix:
+        """Global mass: the beams' mass matrices (:meth:`Beam.mass`, ``kind`` ``lumped`` or
+        ``consistent``) on the global dofs, plus each rigid body's mass on its node's
+        translations and its inertia on its rotations.  A body's inertia is about its node (a
+        :class:`~fvbeam.body.RigidBody` has no centre-of-mass offset), so no
+        translation-rotation coupling arises."""
+        M = self._scatter([beam.mass(kind) for beam in self.beams]).tolil()
+        for body in self.bodies:
+            dofs = self.node_dofs(body.name)
+            M[dofs[:3, None], dofs[:3]] += body.mass * np.eye(3)
+            M[dofs[3:, None], dofs[3:]] += body.inertia
+        return M.tocsr()
+
+    def _scatter(self, matrices: Sequence[sp.spmatrix]) -> sp.csr_matrix:
+        """The beams' matrices, one per beam on its own dofs, summed on the global dofs."""
         rows, cols, vals = [np.zeros(0, dtype=int)], [np.zeros(0, dtype=int)], [np.zeros(0)]
-        for beam, dofs in zip(self.beams, self.dof_maps):
-            K = beam.tangent(q[dofs]).tocoo()
-            rows.append(dofs[K.row])
-            cols.append(dofs[K.col])
-            vals.append(K.data)
+        for A, dofs in zip(matrices, self.dof_maps):
+            A = A.tocoo()
+            rows.append(dofs[A.row])
+            cols.append(dofs[A.col])
+            vals.append(A.data)
         return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                              shape=(self.n_dofs, self.n_dofs))
 

@@ -1,0 +1,98 @@
+"""Beam mass matrices (``docs/dynamics.md``).
+
+Both kinds act on the beam's dofs ``[u, theta]`` per node (global axes) and carry the section's
+mass per length ``m`` on the translations and its inertia per length ``J`` (section frame,
+rotated to global axes as ``R J R^T``) on the rotations; the translation-rotation coupling of an
+offset centre of mass is not modelled (the section has no such offset).
+
+``lumped``
+    Block-diagonal: node ``a`` gets ``int phi_a (m I, R J R^T) ds`` with ``phi_a`` its weight
+    function.  Finite volume: ``phi_a`` is the indicator of the node's influence region
+    (:func:`fvbeam.elements.indicator`), so the node carries the mass and the section rotary
+    inertia of its region, as point mass and rotary inertia *at the node*: the region's
+    centroid offset (end regions) and its own length inertia ``m l^2 / 12`` about the
+    transverse axes are **not** added.  That inertia is the translational mass spread along the
+    region, which the translations of the neighbouring nodes already represent; adding it
+    counts it twice, an O(h^2) spurious rotary inertia (the reference implementation's tests
+    add it to their nodal bodies, ``../shared/notes/mbdyn-beam-slider.md`` Sec. 3).
+    Galerkin: ``phi_a`` is the shape function ``N_a``, which is the block row sum of the
+    consistent matrix (``sum_b N_b = 1``); for P2 the weights ``1/6, 2/3, 1/6`` of Simpson's
+    rule are positive.
+``consistent``
+    Galerkin only: ``int N_a N_b (m I, R J R^T) ds`` on the trial shape functions, assembled
+    with scikit-fem (:func:`fvbeam.forms.inertia`) on a Gauss rule exact for the product of
+    two shape functions on straight elements.  The fv test functions are not the trial ones, so
+    a "consistent" fv mass would be a Petrov-Galerkin product; it is not offered.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+import scipy.sparse as sp
+from skfem import CellBasis, asm
+
+from fvbeam.elements import indicator
+from fvbeam.formulations import FiniteVolume, gauss
+from fvbeam.forms import inertia
+from fvbeam.mesh import shape_functions
+
+if TYPE_CHECKING:
+    from fvbeam.beam import Beam
+
+#: Mass matrix kinds.
+KINDS = ("lumped", "consistent")
+
+
+def check_kind(beam: "Beam", kind: str) -> None:
+    """``ValueError`` naming the beam when ``kind`` is unknown, or not available for its
+    formulation, or when its section has no mass."""
+    name = f"beam {beam.mesh.name!r} ({beam.formulation.name})"
+    if kind not in KINDS:
+        raise ValueError(f"{name}: unknown mass kind {kind!r}; choose one of {', '.join(KINDS)}")
+    if kind == "consistent" and isinstance(beam.formulation, FiniteVolume):
+        raise ValueError(f"{name}: finite-volume beams take the lumped mass only (their test "
+                         "functions are not their shape functions)")
+    if beam.section.mass_per_length <= 0:
+        raise ValueError(f"{name}: section {beam.section.name!r} has mass_per_length "
+                         f"{beam.section.mass_per_length:g}; give it a positive mass per length "
+                         "to assemble a mass matrix")
+
+
+def _section_fields(beam: "Beam", X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Global section inertia ``R J R^T`` (nel, nqp, 3, 3) and ``ds / dX`` (nel, nqp) at
+    reference points ``X`` (1, nqp)."""
+    geometry, frames = beam._geometry(X)
+    J = frames @ beam.section.inertia @ np.swapaxes(frames, -1, -2)
+    return J, geometry["metric"] * beam.mesh.element_length[:, None]
+
+
+def lumped(beam: "Beam") -> sp.csr_matrix:
+    """Block-diagonal mass: each node carries ``int phi_a (m, R J R^T) ds`` (module doc)."""
+    npe = beam.mesh.nodes_per_element
+    X, W = beam.formulation.load_quadrature()
+    if isinstance(beam.formulation, FiniteVolume):
+        phi = indicator(X[0], npe)
+    else:
+        phi = shape_functions(X[0], npe)[0]
+    J, ds = _section_fields(beam, X)
+    weight = np.einsum("aq,q,eq->ea", phi, W, ds)                    # (nel, npe)
+    rotary = np.einsum("aq,q,eq,eqij->eaij", phi, W, ds, J)           # (nel, npe, 3, 3)
+    blocks = np.zeros((beam.mesh.n_nodes, 6, 6))
+    np.add.at(blocks[:, :3, :3], beam.mesh.cells,
+              beam.section.mass_per_length * weight[..., None, None] * np.eye(3))
+    np.add.at(blocks[:, 3:, 3:], beam.mesh.cells, rotary)
+    return sp.block_diag(list(blocks), format="csr")
+
+
+def consistent(beam: "Beam") -> sp.csr_matrix:
+    """Galerkin mass ``int N_a N_b (m I, R J R^T) ds`` (scikit-fem, :func:`forms.inertia`)."""
+    X, W = gauss(beam.mesh.nodes_per_element + 1)
+    basis = CellBasis(beam.skfem_mesh, beam.formulation.trial_element(),
+                      quadrature=(X[None, :], W))
+    J, ds = _section_fields(beam, X[None, :])
+    metric = ds / beam.mesh.element_length[:, None]
+    M = asm(inertia, basis, m=np.full(metric.shape, beam.section.mass_per_length),
+            J=np.moveaxis(J, (-2, -1), (0, 1)), metric=metric)
+    return sp.csr_matrix(M)
