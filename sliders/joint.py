@@ -314,11 +314,9 @@ class SliderBatch:
         J[:, at.lam, at.xi] = -line.l
         J[:, at.lam, at.interp] -= (line.N[:, None, :, None]
                                     * eye[None, :, None, :]).reshape(B, 3, -1)
-        if self.kind == "spherical":
-            pass
-        elif self.orientation == "slope":
+        if self.kind != "spherical" and self.orientation == "slope":
             self._slope_orientation(y, theta, line, at, r, J)
-        else:
+        elif self.kind != "spherical":
             self._section_orientation(q, y, theta, line, at, r, J)
         if self.end_stops:
             self._end_stop(y[:, 0], lam, line, at, r, J)

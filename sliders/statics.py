@@ -108,9 +108,9 @@ class SliderStatics:
         ``tol`` relative to their scale: ``q`` to its largest entry, ``xi`` to its line's
         length, multipliers to the largest of them and of the load.  (The scale of ``q`` is
         the largest displacement the solve has met, so a solution at rest, ``q = 0``, still
-        converges.)  Raises ``ValueError``
-        naming the free motion when the system is singular, or the last residual when
-        Newton does not converge (with the load step, when there are several).
+        converges.)  Raises ``ValueError`` naming the free motion when the system is
+        singular, or the last residual when Newton does not converge (with the load step,
+        when there are several).
         """
         f = np.asarray(f, dtype=float)
         if f.shape != (self.structure.n_dofs,) or not np.all(np.isfinite(f)):
@@ -144,17 +144,12 @@ class SliderStatics:
         return outcome
 
     def _linear(self, f: np.ndarray) -> tuple[np.ndarray, list, list[float]]:
-        """``K q = f`` on the free dofs (a structure without sliders), with the residual
-        history ``[1, |K q - f| / |f|]``."""
-        K = self.K[self.free][:, self.free].tocsc()
-        try:
-            z = spla.splu(K).solve(f[self.free])
-        except RuntimeError:
-            z = np.full(len(self.free), np.nan)
-        if not np.all(np.isfinite(z)):
-            raise ValueError(self._singular(K) or "the stiffness has no finite solution")
-        q = np.zeros(self.structure.n_dofs)
-        q[self.free] = z
+        """``K q = f`` on the free dofs (a structure without sliders: the bordered step with
+        no borders, from rest), with the residual history ``[1, |K q - f| / |f|]``."""
+        step = self._bordered_step(-f, [])
+        if step is None:
+            raise ValueError(self._diagnose([], "the stiffness has no finite solution"))
+        q = step[0]
         scale = max(np.abs(f).max(), 1e-300)
         return q, [], [1.0, float(np.abs((self.K @ q - f)[self.free]).max() / scale)]
 
@@ -165,12 +160,8 @@ class SliderStatics:
 
     def _parts(self, q: np.ndarray, unknowns: Sequence[np.ndarray]) -> list:
         """Each slider's ``(dofs, r_q, r_y, J)`` on its slots (:meth:`SliderBatch.evaluate`)."""
-        parts = []
-        for s, y in zip(self.sliders, unknowns):
-            dofs, r, J = s.batch(self.structure).evaluate(q[None], np.asarray(y)[None])
-            t = dofs.shape[1]
-            parts.append((dofs[0], r[0, :t], r[0, t:], J[0]))
-        return parts
+        return _member([s.batch(self.structure).evaluate(q[None], np.asarray(y)[None])
+                        for s, y in zip(self.sliders, unknowns)], 0)
 
     def _bordered(self, parts: list) -> tuple[sp.csc_matrix, list[np.ndarray]]:
         """The bordered matrix on the free dofs and slider unknowns (a dof held by several

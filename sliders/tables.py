@@ -33,8 +33,7 @@ from typing import Iterator, Sequence
 import numpy as np
 
 from fvbeam.io import OUTPUT_MARKER as MARKER, replace_directory
-from sliders.chain import BeamChain
-from sliders.output import Frame, write_series
+from sliders.output import Frame, contact_point, write_series
 from sliders.run import Results, Sample
 from sliders.scene import dump_scene
 
@@ -78,9 +77,7 @@ def _sliders_rows(results: Results) -> Iterator[list]:
     for s in _converged(results):
         q = s.solution.q
         for slider, y in zip(s.statics.sliders, s.solution.unknowns):
-            xi = min(max(float(y[0]), 0.0), slider.line.length)
-            x = (slider.line.geometry(xi, q)[0] if isinstance(slider.line, BeamChain)
-                 else slider.line.at(xi).x)
+            x = np.sum(contact_point(slider, q, y), axis=0)
             mu = list(y[4:]) + [None] * (7 - len(y))
             yield _head(s) + [slider.name, float(y[0]), *x, *y[1:4], *mu]
 

@@ -78,7 +78,6 @@ class SlidingBeams:
         npe = 2 if formulation in ("fv2", "galerkin-p1") else 3
         self.cylinder = Beam(straight((0, 0, 0), (L, 0, 0), n_elements, npe), SECTION,
                              formulation)
-        self.piston = self.cylinder
         self.kind, self.smearing = kind, smearing * L / n_elements
         self.orientation = orientation if kind == "classical" else "section"
         self.supports = [Support(0, "start"), Support(1, "start", "ux+rx")]
@@ -88,7 +87,7 @@ class SlidingBeams:
     def problem(self, s_over_L: float) -> tuple[SliderStatics, np.ndarray]:
         """The statics (condensed back end) and the tip load with the piston at
         ``s = s_over_L L``."""
-        piston = self.piston.translated((s_over_L * L, 0, 0))
+        piston = self.cylinder.translated((s_over_L * L, 0, 0))
         structure = Structure([self.cylinder, piston])
         options = dict(smearing=self.smearing, orientation=self.orientation)
         sliders = [Slider(self.kind, BeamChain(structure, [0], "C"), (1, "start"), name="A",
