@@ -59,10 +59,13 @@ DENSE_LIMIT = 3000
 
 
 def node_positions(structure: Structure) -> np.ndarray:
-    """Reference position of every structure node, ``(n_nodes, 3)``."""
+    """Reference position of every structure node, beam nodes and rigid bodies,
+    ``(n_nodes, 3)``."""
     x = np.zeros((structure.n_nodes, 3))
     for beam, dofs in zip(structure.beams, structure.dof_maps):
         x[dofs[::6] // 6] = beam.mesh.points
+    for body in structure.bodies:
+        x[structure.node_dofs(body.name)[0] // 6] = body.position
     return x
 
 

@@ -16,8 +16,8 @@ residual; it still sits 4-5 orders below the solution.
 import numpy as np
 import pytest
 
-from fvbeam import Beam, Structure, Support, straight
-from sliders.condensed import rigid_modes
+from fvbeam import Beam, RigidBody, Structure, Support, straight
+from sliders.condensed import node_positions, rigid_modes
 from sliders.joint import Slider
 from sliders.lines import CircularArc
 from sliders.statics import SliderStatics
@@ -149,3 +149,15 @@ def test_unsupported_beam_keeps_six_rigid_modes():
     beam = Beam(straight((0, 0, 0), (1, 0, 0), 2, 3), SECTION, "fv3")
     statics = SliderStatics(Structure([beam]), [], [], method="condensed")
     assert statics._condensed.n_rigid == 6
+
+
+def test_node_positions_hold_the_rigid_bodies():
+    """Beam nodes at their mesh points, a body tied to a beam node at that (coincident)
+    point, a lone body at its own position: exact copies."""
+    beam = Beam(straight((0, 0, 0), (1, 0, 0), 2, 3), SECTION, "fv3")
+    structure = Structure([beam], ties=[((0, "end"), "tip")],
+                          bodies=[RigidBody("tip", (1.0, 0, 0)), RigidBody("hub", (3, 4, 5))])
+    x = node_positions(structure)
+    np.testing.assert_array_equal(x[structure.node_dofs((0, "start"))[0] // 6], [0, 0, 0])
+    np.testing.assert_array_equal(x[structure.node_dofs("tip")[0] // 6], [1, 0, 0])
+    np.testing.assert_array_equal(x[structure.node_dofs("hub")[0] // 6], [3, 4, 5])
