@@ -20,17 +20,13 @@ from __future__ import annotations
 import numpy as np
 from skfem import BilinearForm, LinearForm
 
-#: ``eps_ijk``: ``(a x b)_i = eps_ijk a_j b_k`` along a leading component axis, one einsum
-#: (``np.cross`` with ``axis=0`` spends most of its time moving axes on these small arrays).
-_LEVI_CIVITA = np.zeros((3, 3, 3))
-_LEVI_CIVITA[[0, 1, 2], [1, 2, 0], [2, 0, 1]] = 1.0
-_LEVI_CIVITA[[0, 2, 1], [2, 1, 0], [1, 0, 2]] = -1.0
+from fvbeam.geometry import cross
 
 
 def generalised_strain(field, t: np.ndarray, metric: np.ndarray) -> np.ndarray:
     """``[u' - theta x t, theta']`` of a 6-component field, shape (6, ...) (eq. T1)."""
     d = field.grad[:, 0] / metric
-    rot = np.einsum("ijk,j...,k...->i...", _LEVI_CIVITA, np.asarray(field)[3:], t)
+    rot = cross(np.asarray(field)[3:], t, axis=0)
     return np.concatenate([d[:3] - rot, d[3:]])
 
 

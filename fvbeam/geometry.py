@@ -50,14 +50,16 @@ def orthonormal3(value, name: str) -> np.ndarray:
     return R
 
 
-def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """``a x b`` for arrays of shape (..., 3), broadcast: ``np.cross`` without its axis
-    handling, several times faster on the small arrays of the joint equations."""
+def cross(a: np.ndarray, b: np.ndarray, axis: int = -1) -> np.ndarray:
+    """``a x b`` along the component ``axis`` (the last, or a leading one counted from 0),
+    broadcast: ``np.cross`` without moving axes, several times faster on the small arrays of
+    the joint equations and faster on the large ones of the stiffness form."""
     a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
     out = np.empty(np.broadcast_shapes(a.shape, b.shape))
-    out[..., 0] = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
-    out[..., 1] = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
-    out[..., 2] = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+    x, y, z = ((..., i) if axis == -1 else (slice(None),) * axis + (i,) for i in range(3))
+    out[x] = a[y] * b[z] - a[z] * b[y]
+    out[y] = a[z] * b[x] - a[x] * b[z]
+    out[z] = a[x] * b[y] - a[y] * b[x]
     return out
 
 
