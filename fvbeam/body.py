@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from fvbeam.geometry import inertia3, orthonormal3, vector3
+from fvbeam.geometry import inertia3, orthonormal3, skew_matrices, vector3
 
 
 @dataclass(frozen=True, eq=False)
@@ -24,8 +24,10 @@ class RigidBody:
     mass
         Mass, >= 0 (stored for dynamics; statics does not use it).
     inertia
-        3x3 inertia about the node in global axes, symmetric positive semi-definite (stored
-        for dynamics).
+        3x3 inertia about the centre of mass in global axes, symmetric positive
+        semi-definite (stored for dynamics).
+    centre
+        Centre of mass relative to the node, global axes (default: at the node).
     frame
         Optional body axes (columns), an orthonormal 3x3 matrix.
     """
@@ -34,6 +36,7 @@ class RigidBody:
     position: np.ndarray
     mass: float = 0.0
     inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
+    centre: np.ndarray = field(default_factory=lambda: np.zeros(3))
     frame: np.ndarray | None = None
 
     def __post_init__(self) -> None:
@@ -48,10 +51,19 @@ class RigidBody:
             raise ValueError(f"{label}: mass must be finite and >= 0, got {self.mass!r}")
         values = {"position": vector3(self.position, f"{label}: position").copy(),
                   "mass": mass,
-                  "inertia": inertia3(self.inertia, f"{label}: inertia")}
+                  "inertia": inertia3(self.inertia, f"{label}: inertia"),
+                  "centre": vector3(self.centre, f"{label}: centre").copy()}
         if self.frame is not None:
             values["frame"] = orthonormal3(self.frame, f"{label}: frame")
         for key, value in values.items():
             if isinstance(value, np.ndarray):
                 value.setflags(write=False)
             object.__setattr__(self, key, value)
+
+    def mass_matrix(self) -> np.ndarray:
+        """6x6 mass matrix on the node's ``[u, theta]``: the centre of mass moves with
+        ``u + theta x c``, so ``T = m |u' + theta' x c|^2 / 2 + theta' . J theta' / 2`` gives
+        ``[[m I, -m S], [m S, J - m S S]]`` with ``S = skew(c)``."""
+        S = skew_matrices(self.centre)
+        return np.block([[self.mass * np.eye(3), -self.mass * S],
+                         [self.mass * S, self.inertia - self.mass * S @ S]])

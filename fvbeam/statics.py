@@ -230,15 +230,13 @@ class Structure:
 
     def mass(self, kind: str = "lumped") -> sp.csr_matrix:
         """Global mass: the beams' mass matrices (:meth:`Beam.mass`, ``kind`` ``lumped`` or
-        ``consistent``) on the global dofs, plus each rigid body's mass on its node's
-        translations and its inertia on its rotations.  A body's inertia is about its node (a
-        :class:`~fvbeam.body.RigidBody` has no centre-of-mass offset), so no
-        translation-rotation coupling arises."""
+        ``consistent``) on the global dofs, plus each rigid body's 6x6 mass matrix on its
+        node (:meth:`~fvbeam.body.RigidBody.mass_matrix`: a centre of mass off the node
+        couples translations and rotations)."""
         M = self._scatter([beam.mass(kind) for beam in self.beams]).tolil()
         for body in self.bodies:
             dofs = self.node_dofs(body.name)
-            M[dofs[:3, None], dofs[:3]] += body.mass * np.eye(3)
-            M[dofs[3:, None], dofs[3:]] += body.inertia
+            M[dofs[:, None], dofs] += body.mass_matrix()
         return M.tocsr()
 
     def _scatter(self, matrices: Sequence[sp.spmatrix]) -> sp.csr_matrix:

@@ -100,6 +100,18 @@ def rigid_modes(structure: Structure, K: sp.spmatrix, free: np.ndarray) -> np.nd
     return np.linalg.qr(modes[free] @ combos)[0]
 
 
+def unresisted(phi: np.ndarray, K_free: sp.spmatrix) -> np.ndarray:
+    """The combinations of the rigid motions ``phi`` that ``K_free`` does not resist
+    (``|K_free phi a| <= 1e-8 max|K_free|`` for unit ``a``).  A stiffness keeps them all; the
+    time integrator's operator ``M + c K`` (:mod:`sliders.dynamics`) keeps only those of the
+    massless parts (a massless body held by its sliders alone)."""
+    if phi.shape[1] == 0:
+        return phi
+    _, sigma, Vt = np.linalg.svd(K_free @ phi, full_matrices=True)
+    sigma = np.concatenate([sigma, np.zeros(phi.shape[1] - len(sigma))])
+    return phi @ Vt[sigma <= 1e-8 * abs(K_free).max()].T
+
+
 class CondensedOperator:
     """``B`` factorised once, with the columns of ``B^{-1}`` cached per free dof; ``K`` is
     the structure's global stiffness, ``free`` its unsupported dofs.
@@ -109,8 +121,8 @@ class CondensedOperator:
     """
 
     def __init__(self, structure: Structure, K: sp.spmatrix, free: np.ndarray) -> None:
-        self.phi = rigid_modes(structure, K, free)
         K_free = sp.csr_matrix(K)[free][:, free]
+        self.phi = unresisted(rigid_modes(structure, K, free), K_free)
         self.n_free, self.n_rigid = len(free), self.phi.shape[1]
         scale = np.abs(K_free).max()
         B = sp.bmat([[K_free, scale * sp.csr_matrix(self.phi)],

@@ -51,6 +51,7 @@ import numpy as np
 from fvbeam.geometry import cross, orthonormal3, skew_matrices, vector3
 from fvbeam.statics import Structure
 from sliders.chain import BeamChain
+from sliders.drives import Motion
 from sliders.lines import RigidLine, axial
 from sliders.stack import ChainStack, LineRotation, gather
 
@@ -86,6 +87,10 @@ class Slider:
         naming it; with them, the sliding point rests at the end (``xi`` held there, the
         reaction's tangential part ``l . lambda`` is the stop's force) while the stop pushes,
         and leaves it when the stop would have to pull.
+    drive
+        A prescribed abscissa ``xi_d(t)`` (:mod:`sliders.drives`): the frictionless
+        equation ``l . lambda = 0`` becomes ``xi = xi_d(t)``, and ``l . lambda`` is the force
+        pushing the sliding point along the line.  Statics holds ``xi`` at ``xi_d(0)``.
     name
         Label used in error messages.
     """
@@ -99,6 +104,7 @@ class Slider:
     kernel: str = "box"
     orientation: str = "section"
     end_stops: bool = False
+    drive: Motion | None = None
     name: str = "slider"
 
     def __post_init__(self) -> None:
@@ -108,6 +114,9 @@ class Slider:
         if self.orientation not in ORIENTATIONS:
             raise ValueError(f"{self.name}: orientation must be one of "
                              f"{', '.join(ORIENTATIONS)}, got {self.orientation!r}")
+        if self.drive is not None and not callable(self.drive):
+            raise ValueError(f"{self.name}: drive must be a motion (sliders.drives), got "
+                             f"{self.drive!r}")
         if self.orientation == "slope" and self.kind != "classical":
             raise ValueError(f"{self.name}: orientation 'slope' is the classical slider's "
                              f"(paper eq. 4); a {self.kind} slider needs 'section'")
@@ -198,10 +207,11 @@ class SliderBatch:
             if not (s.kind == first.kind and s.orientation == first.orientation
                     and s.smearing == first.smearing and s.kernel == first.kernel
                     and s.end_stops == first.end_stops and placed[b]
+                    and (s.drive is None) == (first.drive is None)
                     and isinstance(s.line, BeamChain) == isinstance(first.line, BeamChain)):
                 raise ValueError(f"{s.name}: slider of member {b} of the batch differs from "
                                  "member 0 (kind, orientation, smearing, offset, frame, end "
-                                 "stops or kind of line)")
+                                 "stops, drive or kind of line)")
         self.kind, self.orientation = first.kind, first.orientation
         self.smearing, self.kernel, self.end_stops = first.smearing, first.kernel, first.end_stops
         self.offset, self.frame, self.n_unknowns = first.offset, first.frame, first.n_unknowns
@@ -211,6 +221,7 @@ class SliderBatch:
                                    for s, st in zip(self.sliders, self.structures)])
         self.chains = (ChainStack([s.line for s in self.sliders])
                        if isinstance(first.line, BeamChain) else None)
+        self.drives = [s.drive for s in self.sliders]
 
     def __len__(self) -> int:
         return len(self.sliders)
@@ -221,6 +232,7 @@ class SliderBatch:
         out.sliders = [self.sliders[b] for b in members]
         out.structures = [self.structures[b] for b in members]
         out.body, out.reference = self.body[members], self.reference[members]
+        out.drives = [self.drives[b] for b in members]
         out.chains = self.chains.subset(members) if self.chains is not None else None
         return out
 
@@ -259,16 +271,20 @@ class SliderBatch:
                           np.zeros((B, 0, 6)), np.zeros((B, 0, 6)), None, (R, k, k_xi),
                           l, l_xi, none, empty, empty)
 
-    def evaluate(self, q: np.ndarray,
-                 y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def evaluate(self, q: np.ndarray, y: np.ndarray, time: float = 0.0,
+                 scale: float = 1.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Residuals and Jacobians of the joints of all members (module docstring table).
 
         ``q`` (B, n): the members' structure states; ``y`` (B, n_unknowns): their joint
-        unknowns.  Each member's local arrays have fixed slots: the body (6), the line's
-        interpolation (3 npe), load (k), rotation (6, section orientation on a chain) and
-        recovered-tangent (9 npe) dofs, then ``xi``, ``lambda`` and the multipliers.  A dof
-        may hold several slots (sum them, e.g. :meth:`Slider.assemble`); padded slots carry
-        zeros.
+        unknowns; ``time``: where the drives are read.  ``scale``: the multipliers in ``y``
+        are ``scale`` times the physical ones (the time integrator's scaling,
+        :mod:`sliders.dynamics`): every equation is homogeneous in them except the kink
+        shift of the section orientation, whose compliance is divided by ``scale``.
+
+        Each member's local arrays have fixed slots: the body (6), the line's interpolation
+        (3 npe), load (k), rotation (6, section orientation on a chain) and recovered-tangent
+        (9 npe) dofs, then ``xi``, ``lambda`` and the multipliers.  A dof may hold several
+        slots (sum them, e.g. :meth:`Slider.assemble`); padded slots carry zeros.
 
         Returns
         -------
@@ -317,9 +333,13 @@ class SliderBatch:
         if self.kind != "spherical" and self.orientation == "slope":
             self._slope_orientation(y, theta, line, at, r, J)
         elif self.kind != "spherical":
-            self._section_orientation(q, y, theta, line, at, r, J)
+            self._section_orientation(q, y, theta, line, at, r, J, scale)
         if self.end_stops:
             self._end_stop(y[:, 0], lam, line, at, r, J)
+        if self.drives[0] is not None:
+            r[:, at.xi] = y[:, 0] - np.array([d(time)[0] for d in self.drives])
+            J[:, at.xi] = 0.0
+            J[:, at.xi, at.xi] = 1.0
         return dofs, r, J
 
     def _end_stop(self, xi: np.ndarray, lam: np.ndarray, line: _LineState, at: _Layout,
@@ -373,7 +393,7 @@ class SliderBatch:
             J[:, row, at.xi] += _dot(e, l_xi)
             J[:, row, at.interp] += (line.dN[:, :, None] * e[:, None, :]).reshape(B, -1)
 
-    def _section_orientation(self, q, y, theta, line, at, r, J) -> None:
+    def _section_orientation(self, q, y, theta, line, at, r, J, scale) -> None:
         """Orientation constraints on the line's section frame, linear in the rotations.
 
         ``g_j = g0_j(xi) + n_j(xi) . (theta_b - theta_L)``: classical (``j = 2, 3``)
@@ -399,7 +419,7 @@ class SliderBatch:
             w, w_xi = rot.w, rot.w_xi
             theta_L = np.einsum("ba,bak->bk", w, nodal)
             theta_L_xi = np.einsum("ba,bak->bk", w_xi, nodal)
-            kink, kink_xi, compliance = rot.kink, rot.kink_xi, rot.compliance
+            kink, kink_xi, compliance = rot.kink, rot.kink_xi, rot.compliance / scale
         t0 = R0[..., 0]
         t1 = cross(k0, t0)
         t2 = cross(k0_xi, t0) + cross(k0, t1)

@@ -63,12 +63,14 @@ class SliderStatics:
     supports (e.g. the same beams translated, :meth:`fvbeam.beam.Beam.translated`), whose
     assembled stiffness (and, for the condensed back end, factorisation and cached columns)
     is then taken as it is; a sweep over positions builds it once.  ``method``: the
-    linear-algebra back end, ``bordered`` or ``condensed`` (module docstring).
+    linear-algebra back end, ``bordered`` or ``condensed`` (module docstring).  ``operator``:
+    a matrix that takes the place of the stiffness (the time integrator's
+    ``M + c_v C + c_q K``, :mod:`sliders.dynamics`); default the structure's stiffness.
     """
 
     def __init__(self, structure: Structure, supports: Sequence[Support],
                  sliders: Sequence[Slider], reuse: "SliderStatics | None" = None,
-                 method: str = "bordered") -> None:
+                 method: str = "bordered", operator: sp.spmatrix | None = None) -> None:
         if method not in METHODS:
             raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
         self.structure, self.sliders, self.method = structure, list(sliders), method
@@ -76,11 +78,12 @@ class SliderStatics:
         if len(set(names)) != len(names):
             raise ValueError(f"slider names must be unique, got {names}")
         fixed = self._fixed = structure.support_dofs(supports)
-        if reuse is not None and reuse._same_operator(structure, fixed):
+        if reuse is not None and operator is None and reuse._same_operator(structure, fixed):
             self.K, self.free, self.K_free = reuse.K, reuse.free, reuse.K_free
             self._position, self._condensed = reuse._position, reuse._condensed
         else:
-            self.K = structure.tangent(np.zeros(structure.n_dofs)).tocsr()
+            self.K = (structure.tangent(np.zeros(structure.n_dofs)) if operator is None
+                      else operator).tocsr()
             self.free = np.setdiff1d(np.arange(structure.n_dofs), fixed)
             self._position = np.full(structure.n_dofs, -1)
             self._position[self.free] = np.arange(len(self.free))
@@ -158,9 +161,12 @@ class SliderStatics:
         free dofs (in order) followed by each slider's unknowns."""
         return self._bordered(self._parts(q, unknowns))[0]
 
-    def _parts(self, q: np.ndarray, unknowns: Sequence[np.ndarray]) -> list:
-        """Each slider's ``(dofs, r_q, r_y, J)`` on its slots (:meth:`SliderBatch.evaluate`)."""
-        return _member([s.batch(self.structure).evaluate(q[None], np.asarray(y)[None])
+    def _parts(self, q: np.ndarray, unknowns: Sequence[np.ndarray], time: float = 0.0,
+               scale: float = 1.0) -> list:
+        """Each slider's ``(dofs, r_q, r_y, J)`` on its slots (:meth:`SliderBatch.evaluate`
+        at ``time``, multipliers scaled by ``scale``)."""
+        return _member([s.batch(self.structure).evaluate(q[None], np.asarray(y)[None], time,
+                                                         scale)
                         for s, y in zip(self.sliders, unknowns)], 0)
 
     def _bordered(self, parts: list) -> tuple[sp.csc_matrix, list[np.ndarray]]:
@@ -266,13 +272,15 @@ def converged(dq: np.ndarray, dy: np.ndarray, sizes: Sequence[int],
 
 def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch],
                 loads: np.ndarray, starts: Sequence[tuple | None], tol: float,
-                max_iterations: int) -> list[tuple[np.ndarray, list, list[float]] | str]:
+                max_iterations: int, time: float = 0.0,
+                scale: float = 1.0) -> list[tuple[np.ndarray, list, list[float]] | str]:
     """Newton on ``B`` independent members at once: the one Newton loop of the package.
 
     ``members`` share the first one's operator (stiffness, supports, back end); ``batches``
     holds, per slider, the members' sliders (:class:`~sliders.joint.SliderBatch`);
     ``loads`` (B, n); ``starts``: per member ``(q, unknowns)`` or None (no displacement,
-    projected ``xi``).  Each member stops when it has converged (:func:`converged`, then
+    projected ``xi``); ``time`` and ``scale``: where the drives are read and the scaling of
+    the multipliers (:meth:`~sliders.joint.SliderBatch.evaluate`).  Each member stops when it has converged (:func:`converged`, then
     one more residual), or fails on its own.  Returns per member the converged ``q``, slider
     unknowns and scaled residual history, or the message of its failure: the
     singular-configuration diagnostic naming the free motion, or the last residual when
@@ -291,7 +299,7 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
         Y[cold] = np.concatenate([(b if cold.size == B else b.subset(cold)).initial_unknowns(
             Q[cold]) for b in batches], axis=1)
     Q0, Y0 = Q.copy(), Y.copy()
-    scale = np.maximum(np.abs(loads).max(axis=1), 1e-300)
+    load_scale = np.maximum(np.abs(loads).max(axis=1), 1e-300)
     # 4 ulp of the largest coordinate (at least 1: rotations are dimensionless)
     resolution = 4 * np.finfo(float).eps * max(1.0, np.abs(node_positions(lead.structure)).max())
     reach = np.abs(Q).max(axis=1, initial=0.0)
@@ -303,13 +311,13 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
     multipliers[np.cumsum([0] + sizes[:-1])] = False
     for _ in range(max_iterations + 1):
         R = (lead.K @ Q[active].T).T - loads[active]
-        parts = [v.evaluate(Q[active], Y[active][:, a:b]) for v, a, b in
+        parts = [v.evaluate(Q[active], Y[active][:, a:b], time, scale) for v, a, b in
                  zip(view, np.cumsum([0] + sizes[:-1]), np.cumsum(sizes))]
         for dofs, r, _ in parts:
             np.add.at(R, (np.arange(len(active))[:, None], dofs), r[:, :dofs.shape[1]])
         r_y = np.concatenate([r[:, d.shape[1]:] for d, r, _ in parts], axis=1)
         measure = np.maximum(np.abs(R[:, lead.free]).max(axis=1), np.abs(r_y).max(axis=1))
-        for b, value in zip(active, measure / scale[active]):
+        for b, value in zip(active, measure / load_scale[active]):
             residuals[b].append(float(value))
         for b in active[done[active]]:
             outcome[b] = (Q[b].copy(), np.split(Y[b].copy(), np.cumsum(sizes)[:-1]),
@@ -334,13 +342,13 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
         Y[active] += dy
         reach[active] = np.maximum.reduce([reach[active], np.abs(dq).max(axis=1),
                                            np.abs(Q[active]).max(axis=1)])
-        force = np.maximum(scale[active], np.abs(Y[active][:, multipliers]).max(axis=1))
+        force = np.maximum(load_scale[active], np.abs(Y[active][:, multipliers]).max(axis=1))
         done[active] = converged(dq, dy, sizes, lengths, reach[active], force, tol,
                                  resolution)
         if len(active) < len(view[0]):
             view = [b.subset(active) for b in batches]
     for b in active:
-        first = members[b]._parts(Q0[b], np.split(Y0[b], np.cumsum(sizes)[:-1]))
+        first = members[b]._parts(Q0[b], np.split(Y0[b], np.cumsum(sizes)[:-1]), time, scale)
         outcome[b] = members[b]._diagnose(
             first, f"Newton did not converge in {max_iterations} iterations "
                    f"(scaled residual {residuals[b][-1]:.3g})")

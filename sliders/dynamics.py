@@ -1,0 +1,339 @@
+"""Implicit dynamics of linear beams, rigid bodies, sliders and drives.
+
+The equations of motion and the scheme are in :mod:`sliders.integrator`.  A step is a static
+problem on the scaled operator ``K' = M + (gamma'/beta') C + s K`` with the load
+``s (f(t_{n+1}) + M (beta' q_hat - qdd_hat) + C (gamma' q_hat - v_hat))`` and the joint
+multipliers scaled by ``s = 1 / beta'``: the one Newton loop of the package
+(:func:`sliders.statics.newton_many`) solves it, with either linear-algebra back end.  ``K'``
+depends on the step size only, so it is built and factorised once per step size (the
+condensed back end then iterates on the slider unknowns alone); a structure without sliders
+needs one triangular solve per step.
+
+Prescribed motions: dofs driven by :class:`~sliders.drives.DofDrive` are eliminated like
+supports and set to their value at ``t_{n+1}``; a slider's abscissa drive replaces its ``xi``
+equation (:class:`~sliders.joint.Slider`).
+
+Failures (Newton not converging, a singular configuration, a slider leaving its line, an
+adaptive step falling below its minimum) raise :class:`DynamicsError`, one message with the
+time, carrying the last converged state; :meth:`Dynamics.run` closes its recorder first, so the
+steps computed so far stay on disk.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Callable, Sequence
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+from tqdm.auto import tqdm
+
+from fvbeam.geometry import vector3
+from fvbeam.statics import DOF_NAMES, Structure, Support
+from sliders.drives import DofDrive
+from sliders.integrator import GeneralizedAlpha, Prediction, State
+from sliders.joint import Slider
+from sliders.statics import SliderStatics, newton_many
+
+if TYPE_CHECKING:
+    from sliders.history import Recorder
+
+#: A load: a fixed global vector, or a function of time returning one.
+Load = np.ndarray | Callable[[float], np.ndarray]
+
+
+class DynamicsError(RuntimeError):
+    """A step that could not be completed; ``state`` is the last converged one."""
+
+    def __init__(self, message: str, state: State) -> None:
+        super().__init__(message)
+        self.state = state
+
+
+@dataclass(frozen=True)
+class Adaptive:
+    """Error-controlled step: a step is accepted when its local error estimate
+    (:meth:`GeneralizedAlpha.local_error`) is below ``atol + rtol max|q|`` on every dof;
+    otherwise, or when Newton fails, it is halved, down to ``h_min``.  After an accepted step
+    whose error is below 1/8 of the bound (the error scales as ``h^3``) the step doubles, up
+    to ``h_max``.  Steps are the initial one times powers of two, so the factorisations of
+    the few sizes in use are kept."""
+
+    rtol: float = 1e-4
+    atol: float = 1e-12
+    h_min: float = 0.0
+    h_max: float = np.inf
+
+    def __post_init__(self) -> None:
+        if not (self.rtol > 0 and self.atol >= 0 and self.h_min >= 0
+                and self.h_max > self.h_min):
+            raise ValueError("adaptive step: need rtol > 0, atol >= 0, 0 <= h_min < h_max, got "
+                             f"{self}")
+
+
+class Dynamics:
+    """Time integration of ``structure`` held by ``supports``, ``sliders`` and ``drives``.
+
+    Parameters
+    ----------
+    load
+        External load: a global vector or a function of time (default none).
+    mass
+        ``lumped`` or ``consistent`` (:meth:`fvbeam.statics.Structure.mass`).
+    damping
+        Stiffness-proportional damping ``C = damping K`` (a viscoelastic section: the
+        damping ratio of a mode of frequency ``omega`` is ``damping omega / 2``), or a
+        matrix ``C``.
+    gravity
+        Acceleration of gravity, a 3-vector: the load ``M g`` on every translation.
+    rho_inf
+        Spectral radius at infinity of the scheme (:class:`GeneralizedAlpha`).
+    method
+        ``bordered`` or ``condensed`` (:class:`sliders.statics.SliderStatics`).
+    tol, max_iterations
+        Newton's convergence rule (:func:`sliders.statics.converged`).
+    """
+
+    def __init__(self, structure: Structure, supports: Sequence[Support] = (),
+                 sliders: Sequence[Slider] = (), load: Load | None = None, *,
+                 mass: str = "lumped", damping: float | sp.spmatrix = 0.0,
+                 gravity: Sequence[float] | None = None, drives: Sequence[DofDrive] = (),
+                 rho_inf: float = 0.8, method: str = "bordered", tol: float = 1e-8,
+                 max_iterations: int = 25) -> None:
+        self.structure, self.sliders, self.drives = structure, list(sliders), list(drives)
+        self.scheme = GeneralizedAlpha(rho_inf)
+        self.method, self.tol, self.max_iterations = method, tol, max_iterations
+        n = structure.n_dofs
+        self.K = structure.tangent(np.zeros(n)).tocsr()
+        self.M = structure.mass(mass).tocsr()
+        self.C = self._damping(damping)
+        self._load = self._check_load(load)
+        self.f_gravity = np.zeros(n)
+        if gravity is not None:
+            g = vector3(gravity, "gravity")
+            self.f_gravity = self.M @ np.tile(np.concatenate([g, np.zeros(3)]), n // 6)
+        self.supports = list(supports) + [self._support(d) for d in self.drives]
+        fixed = structure.support_dofs(supports)
+        self.driven = np.array([structure.node_dofs(d.node)[DOF_NAMES.index(d.dof)]
+                                for d in self.drives], dtype=int)
+        clash = np.intersect1d(fixed, self.driven)
+        if clash.size or len(np.unique(self.driven)) < len(self.driven):
+            name = structure.dof_name(clash[0] if clash.size else self.driven[0])
+            raise ValueError(f"{name} is driven twice, or driven and supported")
+        self.free = np.setdiff1d(np.arange(n), np.union1d(fixed, self.driven))
+        self._operators: dict = {}
+
+    def _damping(self, damping: float | sp.spmatrix) -> sp.csr_matrix:
+        if sp.issparse(damping) or isinstance(damping, np.ndarray):
+            C = sp.csr_matrix(damping)
+            if C.shape != self.K.shape or not np.all(np.isfinite(C.data)):
+                raise ValueError(f"damping matrix must be finite, {self.K.shape}")
+            return C
+        if not (np.isfinite(damping) and damping >= 0):
+            raise ValueError(f"damping must be a finite coefficient >= 0, got {damping!r}")
+        return (float(damping) * self.K).tocsr()
+
+    def _check_load(self, load: Load | None) -> Callable[[float], np.ndarray]:
+        n = self.structure.n_dofs
+        if load is None:
+            return lambda t: np.zeros(n)
+        if callable(load):
+            return load
+        f = np.asarray(load, dtype=float)
+        if f.shape != (n,) or not np.all(np.isfinite(f)):
+            raise ValueError(f"load must be a finite vector of {n} rows or a function of time")
+        return lambda t: f
+
+    def _support(self, drive: DofDrive) -> Support:
+        node = drive.node
+        if isinstance(node, str):
+            return Support(node, kind=drive.dof)
+        return Support(node[0], node[1], kind=drive.dof)
+
+    def load(self, t: float) -> np.ndarray:
+        """External load at ``t``, gravity included; ``ValueError`` if it is not finite."""
+        f = np.asarray(self._load(t), dtype=float) + self.f_gravity
+        if f.shape != (self.structure.n_dofs,) or not np.all(np.isfinite(f)):
+            raise ValueError(f"the load at t = {t:.6g} is not a finite vector of "
+                             f"{self.structure.n_dofs} rows")
+        return f
+
+    def prescribe(self, q: np.ndarray, t: float) -> np.ndarray:
+        """``q`` with the driven dofs set to their values at ``t``."""
+        q = q.copy()
+        for dof, drive in zip(self.driven, self.drives):
+            q[dof] = drive.motion(t)[0]
+        return q
+
+    def static_state(self, t: float = 0.0) -> State:
+        """Static equilibrium under the load at ``t``, at rest: the usual start."""
+        zero = np.zeros(self.structure.n_dofs)
+        start = self.prescribe(zero, t)
+        unknowns = [s.initial_unknowns(self.structure, start) for s in self.sliders]
+        at_rest = State(t, zero, zero, zero, zero, [])
+        q, unknowns, iterations = self._solve("static", self.load(t), start, unknowns, t, 1.0,
+                                              at_rest)
+        return State(t, q, zero.copy(), zero.copy(), zero.copy(), unknowns, 0.0, iterations)
+
+    def state(self, q: np.ndarray, v: np.ndarray | None = None, t: float = 0.0) -> State:
+        """A start from displacements ``q`` and velocities ``v`` (default 0) without sliders:
+        the accelerations solve ``M qdd = f - K q - C v`` on the free dofs (``ValueError`` if
+        the mass is singular there)."""
+        if self.sliders:
+            raise ValueError("a start with sliders is a static state (static_state) or a "
+                             "saved one (State.load): their multipliers need an equilibrium")
+        n = self.structure.n_dofs
+        q = np.asarray(q, dtype=float)
+        v = np.zeros(n) if v is None else np.asarray(v, dtype=float)
+        if q.shape != (n,) or v.shape != (n,) or not np.all(np.isfinite(q) & np.isfinite(v)):
+            raise ValueError(f"q and v must be finite vectors of {n} rows")
+        f = self.load(t) - self.K @ q - self.C @ v
+        M = self.M[self.free][:, self.free].tocsc()
+        try:
+            qdd_free = spla.splu(M).solve(f[self.free])
+        except RuntimeError as exc:
+            raise ValueError("the mass matrix is singular on the free dofs (a dof with no "
+                             "mass: give the sections rotary inertia)") from exc
+        qdd = np.zeros(n)
+        qdd[self.free] = qdd_free
+        return State(t, q.copy(), v.copy(), qdd.copy(), qdd, [])
+
+    def operator(self, h: float) -> sp.csr_matrix:
+        """The scaled Newton operator ``M + (gamma'/beta') C + K / beta'`` of a step ``h``."""
+        beta_rate, gamma_rate = self.scheme.rates(h)
+        return (self.M + (gamma_rate / beta_rate) * self.C + self.K / beta_rate).tocsr()
+
+    def _solver(self, key) -> SliderStatics | spla.SuperLU:
+        """The cached solver of the operator ``key`` (a step size, or ``static``)."""
+        if key not in self._operators:
+            operator = self.K if key == "static" else self.operator(key)
+            if self.sliders:
+                self._operators[key] = SliderStatics(self.structure, self.supports,
+                                                     self.sliders, method=self.method,
+                                                     operator=operator)
+            else:
+                try:
+                    lu = spla.splu(operator[self.free][:, self.free].tocsc())
+                except RuntimeError as exc:
+                    raise ValueError("the structure is not held: its operator is singular "
+                                     "on the free dofs") from exc
+                self._operators[key] = (lu, operator)
+        return self._operators[key]
+
+    def _solve(self, key, f: np.ndarray, start: np.ndarray, unknowns: list[np.ndarray],
+               t: float, scale: float, last: State) -> tuple[np.ndarray, list, int]:
+        """Solve the (scaled) step problem: displacements, physical joint unknowns and
+        Newton iterations; :class:`DynamicsError` on failure."""
+        try:
+            solver = self._solver(key)
+            if not self.sliders:
+                lu, operator = solver
+                q = start.copy()
+                q[self.free] += lu.solve((f - operator @ start)[self.free])
+                return q, [], 1
+            batches = [s.batch(self.structure) for s in self.sliders]
+            outcome = newton_many([solver], batches, f[None], [(start, unknowns)], self.tol,
+                                  self.max_iterations, time=t, scale=scale)[0]
+        except ValueError as exc:
+            raise DynamicsError(f"t = {t:.6g}: {exc}", last) from exc
+        if isinstance(outcome, str):
+            raise DynamicsError(f"t = {t:.6g}: {outcome}", last)
+        q, scaled, residuals = outcome
+        return q, [_scale_multipliers(y, 1.0 / scale) for y in scaled], len(residuals) - 1
+
+    def step(self, state: State, h: float) -> State:
+        """One step of size ``h`` from ``state``; :class:`DynamicsError` on failure."""
+        p: Prediction = self.scheme.predict(state, h)
+        t, scale = state.t + h, 1.0 / p.beta_rate
+        try:
+            f = self.load(t)
+        except ValueError as exc:
+            raise DynamicsError(str(exc), state) from exc
+        f_eff = (f + self.M @ (p.beta_rate * p.q_hat - p.qdd_hat)
+                 + self.C @ (p.gamma_rate * p.q_hat - p.v_hat))
+        start = self.prescribe(p.q_hat + self.scheme.beta * h * h * state.a, t)
+        unknowns = [_scale_multipliers(y, scale) for y in state.unknowns]
+        q, unknowns, iterations = self._solve(h, scale * f_eff, start, unknowns, t, scale,
+                                              state)
+        return p.complete(t, q, unknowns, self.scheme.beta, iterations)
+
+    def constraint_forces(self, state: State) -> np.ndarray:
+        """What the supports, drives and joints exert on the structure:
+        ``M qdd + C v + K q - f`` (zero on the dofs nothing holds, to the solver's
+        tolerance)."""
+        return (self.M @ state.qdd + self.C @ state.v + self.K @ state.q
+                - self.load(state.t))
+
+    def joint_residuals(self, state: State) -> np.ndarray:
+        """Largest position and orientation constraint violation of each slider at
+        ``state`` (``|x_b - x(xi)|`` and ``|g_j|``)."""
+        out = []
+        for s, y in zip(self.sliders, state.unknowns):
+            _, _, r_y, _ = s.assemble(self.structure, state.q, y)
+            out.append(float(np.abs(r_y[1:]).max()))
+        return np.array(out)
+
+    def run(self, state: State, t_end: float, h: float, adaptive: Adaptive | None = None,
+            recorder: "Recorder | None" = None, progress: bool = True) -> State:
+        """Integrate from ``state`` to ``t_end``.
+
+        Fixed step (``adaptive`` None): ``h`` is shortened so a whole number of steps ends at
+        ``t_end``.  Adaptive: ``h`` is the first step (:class:`Adaptive`).  Each accepted
+        state goes to ``recorder``; a progress bar shows simulated time.  The recorder is
+        closed on every exit (its files then hold the steps computed), and a failure raises
+        :class:`DynamicsError` with the last converged state.
+        """
+        if not (np.isfinite(t_end) and t_end > state.t and np.isfinite(h) and h > 0):
+            raise ValueError(f"need t_end > t = {state.t} and a step h > 0, got t_end = "
+                             f"{t_end}, h = {h}")
+        if adaptive is None:
+            h = (t_end - state.t) / np.ceil((t_end - state.t) / h * (1 - 1e-12))
+        if recorder is not None:
+            recorder.start(self, state)
+        try:
+            with tqdm(total=t_end - state.t, disable=not progress, unit="s",
+                      desc="time", bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}]"
+                      ) as bar:
+                while t_end - state.t > 1e-12 * max(abs(t_end), h):
+                    new, h = self._advance(state, min(h, t_end - state.t), adaptive)
+                    if recorder is not None:
+                        recorder.record(self, new, state)
+                    bar.update(new.t - state.t)
+                    state = new
+        finally:
+            if recorder is not None:
+                recorder.close()
+        return state
+
+    def _advance(self, state: State, h: float,
+                 adaptive: Adaptive | None) -> tuple[State, float]:
+        """One accepted step and the next step size."""
+        if adaptive is None:
+            return self.step(state, h), h
+        while True:
+            try:
+                new = self.step(state, h)
+            except DynamicsError as exc:
+                h = self._halve(h, adaptive, state, str(exc))
+                continue
+            bound = adaptive.atol + adaptive.rtol * max(np.abs(new.q).max(), 0.0)
+            error = np.abs(self.scheme.local_error(state, new)[self.free]).max() / bound
+            if error <= 1.0:
+                return new, (min(2 * h, adaptive.h_max) if error < 0.125 else h)
+            h = self._halve(h, adaptive, state, f"local error {error:.3g} times the bound")
+
+    @staticmethod
+    def _halve(h: float, adaptive: Adaptive, state: State, reason: str) -> float:
+        if h / 2 < adaptive.h_min:
+            raise DynamicsError(f"t = {state.t:.6g}: the step fell below its minimum "
+                                f"{adaptive.h_min:.3g} ({reason})", state)
+        return h / 2
+
+
+def _scale_multipliers(y: np.ndarray, factor: float) -> np.ndarray:
+    """A joint's unknowns with the multipliers (all but ``xi``) times ``factor``."""
+    out = np.array(y, dtype=float)
+    out[1:] *= factor
+    return out
+
