@@ -212,6 +212,26 @@ class SliderBatch:
         self.chains = (ChainStack([s.line for s in self.sliders])
                        if isinstance(first.line, BeamChain) else None)
 
+    @classmethod
+    def translated(cls, slider: Slider, structure: Structure,
+                   shifts: np.ndarray) -> SliderBatch:
+        """``slider`` of ``structure`` in ``B`` copies whose beams are moved rigidly by
+        ``shifts`` ((B, n_beams, 3), one shift per beam; rigid bodies stay), as if each copy
+        were built on :meth:`fvbeam.beam.Beam.translated` beams (same node positions, body
+        and lines), without building them: the members share ``slider`` and ``structure``.
+        """
+        shifts = np.asarray(shifts, dtype=float)
+        if shifts.ndim != 3 or shifts.shape[1:] != (len(structure.beams), 3):
+            raise ValueError(f"{slider.name}: shifts must be (B, {len(structure.beams)}, 3), "
+                             f"got {shifts.shape}")
+        one = cls([slider], [structure])
+        out = one.subset(np.zeros(len(shifts), dtype=int))
+        moved = (shifts[:, structure.beam_index(slider.body[0])]
+                 if isinstance(slider.body, tuple) else np.zeros((len(shifts), 3)))
+        out.reference = structure.node_position(slider.body) + moved + slider.offset
+        out.chains = one.chains.translated(shifts) if one.chains is not None else None
+        return out
+
     def __len__(self) -> int:
         return len(self.sliders)
 

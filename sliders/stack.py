@@ -177,6 +177,21 @@ class ChainStack:
         out.members, out._located = np.arange(len(out.chains)), None
         return out
 
+    def translated(self, shifts: np.ndarray) -> ChainStack:
+        """``B`` copies of this one-member stack, copy ``b`` with the structure's beams moved
+        rigidly by ``shifts[b]`` ((B, n_beams, 3), one shift per beam of the structure), as
+        :meth:`fvbeam.beam.Beam.translated` would move them (the node positions are this
+        chain's plus the shift), without building the moved chains.  A translation changes
+        nothing but the node positions, so every member keeps this chain for the queries that
+        do not read them (the smeared transfer)."""
+        if len(self) != 1:
+            raise ValueError(f"{self.name}: only a one-member stack is translated")
+        chain = self.chains[0]
+        out = self.subset(np.zeros(len(shifts), dtype=int))
+        counts = [beam.mesh.n_nodes for beam in self.beams]
+        out.points = self.points + np.repeat(shifts[:, chain.indices], counts, axis=1)
+        return out
+
     def __len__(self) -> int:
         return len(self.chains)
 

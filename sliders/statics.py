@@ -340,7 +340,9 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
         if len(active) < len(view[0]):
             view = [b.subset(active) for b in batches]
     for b in active:
-        first = members[b]._parts(Q0[b], np.split(Y0[b], np.cumsum(sizes)[:-1]))
+        first = _member([v.subset(np.array([b])).evaluate(Q0[b][None], Y0[b][None, i:j])
+                         for v, i, j in zip(batches, np.cumsum([0] + sizes[:-1]),
+                                            np.cumsum(sizes))], 0)
         outcome[b] = members[b]._diagnose(
             first, f"Newton did not converge in {max_iterations} iterations "
                    f"(scaled residual {residuals[b][-1]:.3g})")
@@ -374,5 +376,50 @@ def solve_many(members: Sequence[SliderStatics], loads: Sequence[np.ndarray], to
     batches = [SliderBatch([m.sliders[i] for m in members], [m.structure for m in members])
                for i in range(len(lead.sliders))]
     outcomes = newton_many(members, batches, loads, [None] * len(members), tol, max_iterations)
-    return [o if isinstance(o, str) else SliderSolution(o[0], o[1], o[2], [len(o[2]) - 1])
-            for o in outcomes]
+    return [_solution(o) for o in outcomes]
+
+
+def solve_translated(statics: SliderStatics, shifts: np.ndarray, loads: np.ndarray,
+                     tol: float = 1e-8,
+                     max_iterations: int = 25) -> list[SliderSolution | str]:
+    """Solve ``B`` copies of ``statics`` with its beams moved rigidly, together.
+
+    Copy ``b`` is the problem :func:`solve_many` would solve on statics built on the beams
+    moved by ``shifts[b]`` (:meth:`fvbeam.beam.Beam.translated`, ``reuse=statics``) under
+    ``loads[b]``, without building them: a translation changes neither the stiffness, nor
+    the dofs, supports and slider unknowns, only the node positions the joints read
+    (:meth:`~sliders.joint.SliderBatch.translated`).  A piston moved along its cylinder is
+    one ``statics`` and a shift per position.
+
+    Parameters
+    ----------
+    statics
+        The template: its structure, supports, sliders and back end.
+    shifts
+        (B, n_beams, 3): per copy, the translation of every beam (rigid bodies stay).
+    loads
+        (B, n_dofs): per copy, its load vector.
+    tol, max_iterations
+        As :meth:`SliderStatics.solve`.
+
+    Returns
+    -------
+    Per copy its :class:`SliderSolution` (displacements from the moved reference) or the
+    failure message.
+    """
+    loads = np.array(loads, dtype=float)
+    B = len(shifts)
+    if loads.shape != (B, statics.structure.n_dofs) or not np.all(np.isfinite(loads)):
+        raise ValueError(f"loads must be {B} finite vectors of {statics.structure.n_dofs} rows")
+    batches = [SliderBatch.translated(s, statics.structure, shifts) for s in statics.sliders]
+    return [_solution(o) for o in newton_many([statics] * B, batches, loads, [None] * B, tol,
+                                              max_iterations)]
+
+
+def _solution(outcome: tuple | str) -> SliderSolution | str:
+    """A :func:`newton_many` outcome as a one-load-step :class:`SliderSolution` (a failure
+    message stays)."""
+    if isinstance(outcome, str):
+        return outcome
+    q, unknowns, residuals = outcome
+    return SliderSolution(q, unknowns, residuals, [len(residuals) - 1])

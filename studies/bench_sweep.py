@@ -35,7 +35,6 @@ from typing import Any
 import numpy as np
 
 from sliders.analytic import sliding_beams
-from sliders.statics import solve_many
 from sliders.sweep import sweep
 from studies.bench import environment, write_merged
 from studies.fig4_stiffness import EJ, GA, KINDS, L, STATIONS, SlidingBeams, tip_stiffness
@@ -54,13 +53,13 @@ def run(kind: str, n: int, mode: str) -> tuple[float, float | None, np.ndarray, 
     k = np.full(len(STATIONS), np.nan)
     if mode == "batched":
         start = time.perf_counter()
-        built = [model.problem(s) for s in STATIONS]
+        statics = model.template[0]
         middle = time.perf_counter()
-        outcomes = solve_many([b[0] for b in built], [b[1] for b in built])
-        elapsed = time.perf_counter() - start
+        outcomes = model.solve(STATIONS)
+        elapsed = time.perf_counter() - middle
         solved = [(i, o) for i, o in enumerate(outcomes) if not isinstance(o, str)]
         for i, solution in solved:
-            k[i] = tip_stiffness(built[i][0], solution)
+            k[i] = tip_stiffness(statics, solution)
         return elapsed, middle - start, k, [o.iterations for _, o in solved]
     if mode == "continuation":
         start = time.perf_counter()
