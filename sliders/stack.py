@@ -165,6 +165,9 @@ class ChainStack:
             for beam, n in zip(self.beams, counts)])
         self.points = np.stack([np.concatenate([beam.mesh.points for beam in chain.beams])
                                 for chain in self.chains])
+        # the rotational block of each beam's inverse section stiffness, in section axes
+        # (in global axes: R C R^T, the section stiffness rotating by blockdiag(R, R))
+        self.compliance = [np.linalg.inv(beam.section.stiffness)[3:, 3:] for beam in self.beams]
         self.members = np.arange(len(self.chains))
         self._located: tuple[np.ndarray, tuple] | None = None
 
@@ -298,8 +301,7 @@ class ChainStack:
         compliance = np.zeros((len(xi), 3, 3))
         for b in np.unique(beam):
             on = beam == b
-            stiffness = self.beams[b].section.global_stiffness(R0[on])
-            compliance[on] = np.linalg.inv(stiffness)[:, 3:, 3:]
+            compliance[on] = R0[on] @ self.compliance[b] @ np.swapaxes(R0[on], 1, 2)
         dofs = self.dofs[element[:, None], pair][:, :, 3:]
         return LineRotation(dofs, w, np.stack([-1 / span, 1 / span], axis=1), kink, kink_xi,
                             compliance, R0, k0, k0_xi)
