@@ -299,12 +299,12 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
     residuals: list[list[float]] = [[] for _ in range(B)]
     outcome: list = [None] * B
     active, view = np.arange(B), list(batches)
+    bounds = list(zip(np.cumsum([0] + sizes[:-1]), np.cumsum(sizes)))
     multipliers = np.ones(sum(sizes), dtype=bool)
-    multipliers[np.cumsum([0] + sizes[:-1])] = False
+    multipliers[[i for i, _ in bounds]] = False
     for _ in range(max_iterations + 1):
         R = (lead.K @ Q[active].T).T - loads[active]
-        parts = [v.evaluate(Q[active], Y[active][:, a:b]) for v, a, b in
-                 zip(view, np.cumsum([0] + sizes[:-1]), np.cumsum(sizes))]
+        parts = [v.evaluate(Q[active], Y[active][:, i:j]) for v, (i, j) in zip(view, bounds)]
         for dofs, r, _ in parts:
             np.add.at(R, (np.arange(len(active))[:, None], dofs), r[:, :dofs.shape[1]])
         r_y = np.concatenate([r[:, d.shape[1]:] for d, r, _ in parts], axis=1)
@@ -312,8 +312,7 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
         for b, value in zip(active, measure / scale[active]):
             residuals[b].append(float(value))
         for b in active[done[active]]:
-            outcome[b] = (Q[b].copy(), np.split(Y[b].copy(), np.cumsum(sizes)[:-1]),
-                          residuals[b])
+            outcome[b] = (Q[b].copy(), [Y[b, i:j].copy() for i, j in bounds], residuals[b])
         going = ~done[active]
         if not going.any():
             active = active[going]
@@ -341,8 +340,7 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
             view = [b.subset(active) for b in batches]
     for b in active:
         first = _member([v.subset(np.array([b])).evaluate(Q0[b][None], Y0[b][None, i:j])
-                         for v, i, j in zip(batches, np.cumsum([0] + sizes[:-1]),
-                                            np.cumsum(sizes))], 0)
+                         for v, (i, j) in zip(batches, bounds)], 0)
         outcome[b] = members[b]._diagnose(
             first, f"Newton did not converge in {max_iterations} iterations "
                    f"(scaled residual {residuals[b][-1]:.3g})")
