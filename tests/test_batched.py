@@ -83,6 +83,29 @@ def test_translated_template_equals_the_built_members(kind, name, smearing):
         assert all(np.array_equal(x, y) for x, y in zip(b.unknowns, a.unknowns))
 
 
+@pytest.mark.parametrize("kind", ["spherical", "classical"])
+def test_translated_beam_on_a_rigid_line(kind):
+    """A clamped beam's tip on a rigid arc (tests/test_condensed.py), the beam moved off the
+    arc by a few shifts: the line stays, the body moves; the same numbers as statics built
+    on the moved beams."""
+    from fvbeam import Structure
+
+    structure, slider, f = tip_on_an_arc(kind)
+    supports = [Support(0, "start")]
+    template = SliderStatics(structure, supports, [slider], method="condensed")
+    shifts = np.zeros((3, 1, 3))
+    shifts[:, 0] = [[0.0, 0.0, 0.0], [0.01, 0.0, 0.0], [-0.02, 0.01, 0.0]]
+    built = []
+    for shift in shifts[:, 0]:
+        moved = Structure([structure.beams[0].translated(shift)])
+        built.append(SliderStatics(moved, supports, [dataclasses.replace(slider)],
+                                   reuse=template, method="condensed"))
+    expected = solve_many(built, [f] * 3)
+    for a, b in zip(expected, solve_translated(template, shifts, [f] * 3)):
+        assert b.step_iterations == a.step_iterations and np.array_equal(b.q, a.q)
+        assert all(np.array_equal(x, y) for x, y in zip(b.unknowns, a.unknowns))
+
+
 def test_translated_shifts_and_loads_are_checked():
     model = SlidingBeams("fv3", 1, "spherical")
     statics, f = model.template
