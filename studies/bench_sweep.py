@@ -21,7 +21,9 @@ ways of running the positions:
 
 Reported beside each time: the microseconds per position, the mean Newton iterations per
 converged position, the singular positions, and the largest error against the analytic
-two-beam stiffness.  ``main_sweep`` sums the batched rows (with and without the setup).
+two-beam stiffness; times are wall clock (``seconds``) and this process's CPU time
+(``cpu_seconds``: not inflated by other jobs on the cores).  ``main_sweep`` sums the batched
+rows (with and without the setup).
 ``--profile N`` prints the N most expensive functions (cProfile, cumulative time) of the
 main sweep.  An interruption (Ctrl-C) keeps and writes the rows completed so far, marked
 ``interrupted``.  Run with ``OPENBLAS_NUM_THREADS=1`` (``docs/sliders.md``, "Cost").
@@ -36,7 +38,7 @@ import cProfile
 import pstats
 import time
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
@@ -51,40 +53,48 @@ MODES = ("continuation", "cold")
 ALL_MODES = ("batched",) + MODES
 
 
-def run(kind: str, n: int, mode: str) -> tuple[float, float | None, np.ndarray, list[int]]:
-    """One timed sweep: seconds, the untimed setup seconds (batched mode: the template; else
-    None), ``k_norm`` per station (NaN where singular) and the Newton iterations of the
-    converged positions.  Raises ``KeyboardInterrupt`` if interrupted."""
+def timed(call: Callable[[], Any]) -> tuple[Any, float, float]:
+    """``call()``'s result, its wall-clock seconds and the process's CPU seconds in it (the
+    CPU time is not inflated by other jobs sharing the cores)."""
+    wall, cpu = time.perf_counter(), time.process_time()
+    result = call()
+    return result, time.perf_counter() - wall, time.process_time() - cpu
+
+
+def run(kind: str, n: int,
+        mode: str) -> tuple[float, float, float | None, np.ndarray, list[int]]:
+    """One timed sweep: wall-clock and CPU seconds, the untimed setup seconds (batched mode:
+    the template; else None), ``k_norm`` per station (NaN where singular) and the Newton
+    iterations of the converged positions.  Raises ``KeyboardInterrupt`` if interrupted."""
     model = SlidingBeams("fv3", n, kind)
     k = np.full(len(STATIONS), np.nan)
     if mode == "batched":
-        start = time.perf_counter()
-        statics = model.template[0]
-        middle = time.perf_counter()
-        outcomes = model.solve(STATIONS)
-        elapsed = time.perf_counter() - middle
+        (statics, _), setup, _ = timed(lambda: model.template)
+        outcomes, elapsed, cpu = timed(lambda: model.solve(STATIONS))
         solved = [(i, o) for i, o in enumerate(outcomes) if not isinstance(o, str)]
         for i, solution in solved:
             k[i] = tip_stiffness(statics, solution)
-        return elapsed, middle - start, k, [o.iterations for _, o in solved]
+        return elapsed, cpu, setup, k, [o.iterations for _, o in solved]
     if mode == "continuation":
-        start = time.perf_counter()
-        result = sweep(STATIONS, model.problem, progress=False)
-        elapsed = time.perf_counter() - start
+        result, elapsed, cpu = timed(lambda: sweep(STATIONS, model.problem, progress=False))
         if result.interrupted:
             raise KeyboardInterrupt
         solutions = result.solutions
         for i, solution in enumerate(solutions):
             if solution is not None:
                 k[i] = tip_stiffness(model._previous, solution)
-        return elapsed, None, k, [s.iterations for s in solutions if s is not None]
-    start = time.perf_counter()
+        return elapsed, cpu, None, k, [s.iterations for s in solutions if s is not None]
+    _, elapsed, cpu = timed(lambda: cold(model, k))
+    return elapsed, cpu, None, k, model.iterations
+
+
+def cold(model: SlidingBeams, k: np.ndarray) -> None:
+    """Every station's ``k_norm`` into ``k``, one cold solve each (NaN where singular)."""
     for i, s in enumerate(STATIONS):
         try:
             k[i] = model.stiffness(s)
         except ValueError:
             model._previous = None
-    return time.perf_counter() - start, None, k, model.iterations
 
 
 def bench(elements: tuple[int, ...] = (1, 3, 5), modes: tuple[str, ...] = MODES,
@@ -102,10 +112,10 @@ def bench(elements: tuple[int, ...] = (1, 3, 5), modes: tuple[str, ...] = MODES,
     jobs = [(mode, kind, n) for mode in modes for kind in KINDS for n in elements]
     try:
         for mode, kind, n in tqdm(jobs, disable=None if progress else True, desc="sweeps"):
-            elapsed, setup, k, iterations = run(kind, n, mode)
+            elapsed, cpu, setup, k, iterations = run(kind, n, mode)
             rows.append({"mode": mode, "slider": kind, "n_elements": n,
                          "positions": len(STATIONS), "seconds": elapsed,
-                         "setup_seconds": setup,
+                         "cpu_seconds": cpu, "setup_seconds": setup,
                          "us_per_position": 1e6 * elapsed / len(STATIONS),
                          "mean_newton_iterations": float(np.mean(iterations)),
                          "singular_positions": int(np.isnan(k).sum()),
@@ -122,15 +132,17 @@ def bench(elements: tuple[int, ...] = (1, 3, 5), modes: tuple[str, ...] = MODES,
 
 
 def main_sweep(rows: list[dict[str, Any]]) -> dict[str, Any] | None:
-    """The batched rows summed (module docstring): seconds, untimed setup, positions,
-    microseconds per position and mean Newton iterations; None without batched rows."""
+    """The batched rows summed (module docstring): wall-clock and CPU seconds, untimed
+    setup, positions, microseconds per position (wall clock) and mean Newton iterations;
+    None without batched rows."""
     batched = [r for r in rows if r["mode"] == "batched"]
     if not batched:
         return None
     seconds = sum(r["seconds"] for r in batched)
     setup = sum(r["setup_seconds"] for r in batched)
     positions = sum(r["positions"] for r in batched)
-    return {"seconds": seconds, "setup_seconds": setup, "with_setup_seconds": seconds + setup,
+    return {"seconds": seconds, "cpu_seconds": sum(r["cpu_seconds"] for r in batched),
+            "setup_seconds": setup, "with_setup_seconds": seconds + setup,
             "positions": positions, "us_per_position": 1e6 * seconds / positions,
             "mean_newton_iterations": float(np.mean([r["mean_newton_iterations"]
                                                      for r in batched])),
@@ -159,9 +171,10 @@ def main(argv: list[str] | None = None) -> None:
     totals = ", ".join(f"{mode} {t:.3f} s" for mode, t in result["total_seconds"].items())
     main = result["main_sweep"]
     if main is not None:
-        print(f"main sweep (batched): {main['seconds']:.3f} s, {main['us_per_position']:.0f} us "
-              f"per position, {main['mean_newton_iterations']:.2f} Newton iterations "
-              f"(target {result['target_seconds']} s; setup apart {main['setup_seconds']:.3f} s)")
+        print(f"main sweep (batched): {main['seconds']:.3f} s (CPU {main['cpu_seconds']:.3f} s), "
+              f"{main['us_per_position']:.0f} us per position, "
+              f"{main['mean_newton_iterations']:.2f} Newton iterations (target "
+              f"{result['target_seconds']} s; setup apart {main['setup_seconds']:.3f} s)")
     print(f"whole sweep: {totals}{' (interrupted)' if result['interrupted'] else ''}; "
           f"written to {args.out}")
 
