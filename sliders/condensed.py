@@ -247,10 +247,14 @@ def _joint_part(slots: np.ndarray, J: np.ndarray) -> _JointPart:
     ``slots`` (B, t), the supported slots (-1) removed (:class:`_JointPart`)."""
     B, t = slots.shape
     held = np.concatenate([slots >= 0, np.ones((B, J.shape[1] - t), dtype=bool)], axis=1)
-    pattern = np.any((J != 0) & held[:, :, None] & held[:, None, :], axis=0)
-    c = np.flatnonzero(np.any(pattern[:t, :t], axis=0))
-    forces = np.flatnonzero(np.any(pattern[:t], axis=1))
-    reads = np.union1d(np.flatnonzero(np.any(pattern[t:, :t], axis=0)), c)
+    nonzero = J != 0
+    member, slot = np.nonzero(~held)
+    nonzero[member, slot] = False
+    nonzero[member, :, slot] = False
+    pattern = nonzero.any(axis=0)
+    c = np.flatnonzero(pattern[:t, :t].any(axis=0))
+    forces = np.flatnonzero(pattern[:t].any(axis=1))
+    reads = np.union1d(np.flatnonzero(pattern[t:, :t].any(axis=0)), c)
     rows = held[:, forces, None]
     return _JointPart(np.maximum(slots, 0), forces, c, reads,
                       J[:, forces][:, :, c] * rows * held[:, None, c], J[:, forces, t:] * rows,

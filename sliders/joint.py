@@ -223,6 +223,26 @@ class SliderBatch:
                        if isinstance(first.line, BeamChain) else None)
         self.drives = [s.drive for s in self.sliders]
 
+    @classmethod
+    def translated(cls, slider: Slider, structure: Structure,
+                   shifts: np.ndarray) -> SliderBatch:
+        """``slider`` of ``structure`` in ``B`` copies whose beams are moved rigidly by
+        ``shifts`` ((B, n_beams, 3), one shift per beam; rigid bodies stay), as if each copy
+        were built on :meth:`fvbeam.beam.Beam.translated` beams (same node positions, body
+        and lines), without building them: the members share ``slider`` and ``structure``.
+        """
+        shifts = np.asarray(shifts, dtype=float)
+        if shifts.ndim != 3 or shifts.shape[1:] != (len(structure.beams), 3):
+            raise ValueError(f"{slider.name}: shifts must be (B, {len(structure.beams)}, 3), "
+                             f"got {shifts.shape}")
+        one = cls([slider], [structure])
+        out = one.subset(np.zeros(len(shifts), dtype=int))
+        moved = (shifts[:, structure.beam_index(slider.body[0])]
+                 if isinstance(slider.body, tuple) else np.zeros((len(shifts), 3)))
+        out.reference = structure.node_position(slider.body) + moved + slider.offset
+        out.chains = one.chains.translated(shifts) if one.chains is not None else None
+        return out
+
     def __len__(self) -> int:
         return len(self.sliders)
 
@@ -259,7 +279,7 @@ class SliderBatch:
             rotation = (self.chains.rotation(xi) if self.kind != "spherical"
                         and self.orientation == "section" else None)
             tangent, tangent_xi = interp.tangent(q)
-            return _LineState(x, l, l_xi, np.zeros((B, 3)), interp.dofs.reshape(B, -1),
+            return _LineState(x, l, l_xi, np.zeros((B, 3)),
                               interp.N, interp.dN, interp.d2N, dofs, G, dG, rotation, None,
                               tangent, tangent_xi, interp.tangent_dofs.reshape(B, -1),
                               interp.T, interp.T_xi)
@@ -267,7 +287,7 @@ class SliderBatch:
         x, l, l_xi, l_xixi, R, k, k_xi = (np.array([getattr(a, f) for a in p]) for f in
                                           ("x", "l", "l_xi", "l_xixi", "R", "k", "k_xi"))
         none, empty = np.zeros((B, 0), dtype=int), np.zeros((B, 0))
-        return _LineState(x, l, l_xi, l_xixi, none, empty, empty, empty, none,
+        return _LineState(x, l, l_xi, l_xixi, empty, empty, empty, none,
                           np.zeros((B, 0, 6)), np.zeros((B, 0, 6)), None, (R, k, k_xi),
                           l, l_xi, none, empty, empty)
 
@@ -281,10 +301,11 @@ class SliderBatch:
         :mod:`sliders.dynamics`): every equation is homogeneous in them except the kink
         shift of the section orientation, whose compliance is divided by ``scale``.
 
-        Each member's local arrays have fixed slots: the body (6), the line's interpolation
-        (3 npe), load (k), rotation (6, section orientation on a chain) and recovered-tangent
-        (9 npe) dofs, then ``xi``, ``lambda`` and the multipliers.  A dof may hold several
-        slots (sum them, e.g. :meth:`Slider.assemble`); padded slots carry zeros.
+        Each member's local arrays have fixed slots: the body (6), the line's load (k),
+        rotation (6, section orientation on a chain) and recovered-tangent (9 npe) dofs,
+        whose first 3 npe are the interpolation's (the element's nodes), then ``xi``,
+        ``lambda`` and the multipliers.  A dof may hold several slots (sum them, e.g.
+        :meth:`Slider.assemble`); padded slots carry zeros.
 
         Returns
         -------
@@ -301,9 +322,9 @@ class SliderBatch:
             raise ValueError(f"slider {self.sliders[0].name!r}: {exc}") from exc
         rotation_dofs = (line.rotation.dofs.reshape(B, -1) if line.rotation is not None
                          else np.zeros((B, 0), dtype=int))
-        dofs = np.concatenate([self.body, line.interp_dofs, line.load_dofs, rotation_dofs,
-                               line.tangent_dofs], axis=1)
-        at = _Layout(line.interp_dofs.shape[1], line.load_dofs.shape[1],
+        dofs = np.concatenate([self.body, line.load_dofs, rotation_dofs, line.tangent_dofs],
+                              axis=1)
+        at = _Layout(3 * line.N.shape[1], line.load_dofs.shape[1],
                      rotation_dofs.shape[1], line.tangent_dofs.shape[1], self.n_unknowns)
         r = np.zeros((B, at.t + self.n_unknowns))
         J = np.zeros((B, r.shape[1], r.shape[1]))
@@ -481,16 +502,16 @@ def _apply(n: np.ndarray, v: np.ndarray) -> np.ndarray:
 @dataclass(frozen=True)
 class _LineState:
     """What the joint needs of the lines at ``xi``, per member (leading axis B): geometry,
-    the interpolation dofs and shape functions (chains), the load transfer, the section
-    rotation (chains, section orientation) or the rigid line's frame ``(R, k, k_xi)``, and
-    the tangent of the frictionless condition with its dofs and coefficients (chains: the
-    recovered tangent, :meth:`sliders.stack.ChainStack.interpolation`; rigid lines: ``l``)."""
+    the interpolation's shape functions (chains), the load transfer, the section rotation
+    (chains, section orientation) or the rigid line's frame ``(R, k, k_xi)``, and the tangent
+    of the frictionless condition with its dofs and coefficients (chains: the recovered
+    tangent, :meth:`sliders.stack.ChainStack.interpolation`, whose first ``3 npe`` dofs are
+    the interpolation's; rigid lines: ``l``, no dofs)."""
 
     x: np.ndarray
     l: np.ndarray  # noqa: E741
     l_xi: np.ndarray
     l_xixi: np.ndarray
-    interp_dofs: np.ndarray
     N: np.ndarray
     dN: np.ndarray
     d2N: np.ndarray
@@ -508,16 +529,16 @@ class _LineState:
 
 class _Layout:
     """Slots of a member's local arrays: body translations and rotations, the line's
-    interpolation, load, rotation and tangent dofs, then ``xi``, ``lambda`` and the
-    multipliers ``mu``."""
+    load, rotation and tangent dofs (the interpolation's are the tangent's first), then
+    ``xi``, ``lambda`` and the multipliers ``mu``."""
 
     def __init__(self, n_interp: int, n_load: int, n_rotation: int, n_tangent: int,
                  n_unknowns: int) -> None:
         self.body, self.turn = slice(0, 3), slice(3, 6)
         start = 6
-        self.interp, start = slice(start, start + n_interp), start + n_interp
         self.load, start = slice(start, start + n_load), start + n_load
         self.rotation, start = slice(start, start + n_rotation), start + n_rotation
+        self.interp = slice(start, start + n_interp)
         self.tangent, start = slice(start, start + n_tangent), start + n_tangent
         self.t = self.xi = start
         self.lam, self.mu = slice(start + 1, start + 4), slice(start + 4, start + n_unknowns)

@@ -65,19 +65,32 @@ def gather(q: np.ndarray, dofs: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class Interpolation:
+class ElementInterpolation:
     """The line near ``xi``: translational ``dofs`` (..., npe, 3) of the element holding it,
     node positions ``X`` (..., npe, 3), and the shape functions ``N`` with their first and
-    second derivatives in ``xi`` (..., npe); the recovered tangent's dofs (..., m, 3), node
-    positions (..., m, 3) and coefficients ``T``, ``T_xi`` (..., m), ``m = 3 npe`` (the
-    element, the one before and the one after; zero coefficients where there is none).  The
-    leading axis, if any, runs over the members of a :class:`ChainStack`."""
+    second derivatives in ``xi`` (..., npe).  The leading axis, if any, runs over the members
+    of a :class:`ChainStack`."""
 
     dofs: np.ndarray
     X: np.ndarray
     N: np.ndarray
     dN: np.ndarray
     d2N: np.ndarray
+
+    def geometry(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``x``, ``l`` and ``l_/xi`` of the deformed line."""
+        current = self.X + gather(q, self.dofs)
+        return tuple(np.einsum("...a,...ak->...k", f, current)
+                     for f in (self.N, self.dN, self.d2N))
+
+
+@dataclass(frozen=True)
+class Interpolation(ElementInterpolation):
+    """:class:`ElementInterpolation` with the recovered tangent's dofs (..., m, 3), node
+    positions (..., m, 3) and coefficients ``T``, ``T_xi`` (..., m), ``m = 3 npe`` (the
+    element, the one before and the one after; zero coefficients where there is none): the
+    first ``3 npe`` are the element's."""
+
     tangent_dofs: np.ndarray
     tangent_X: np.ndarray
     T: np.ndarray
@@ -88,12 +101,6 @@ class Interpolation:
         current = self.tangent_X + gather(q, self.tangent_dofs)
         return (np.einsum("...a,...ak->...k", self.T, current),
                 np.einsum("...a,...ak->...k", self.T_xi, current))
-
-    def geometry(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``x``, ``l`` and ``l_/xi`` of the deformed line."""
-        current = self.X + gather(q, self.dofs)
-        return tuple(np.einsum("...a,...ak->...k", f, current)
-                     for f in (self.N, self.dN, self.d2N))
 
     def member(self, b: int) -> Interpolation:
         """Member ``b`` of a stacked interpolation."""
@@ -165,6 +172,9 @@ class ChainStack:
             for beam, n in zip(self.beams, counts)])
         self.points = np.stack([np.concatenate([beam.mesh.points for beam in chain.beams])
                                 for chain in self.chains])
+        # the rotational block of each beam's inverse section stiffness, in section axes
+        # (in global axes: R C R^T, the section stiffness rotating by blockdiag(R, R))
+        self.compliance = [np.linalg.inv(beam.section.stiffness)[3:, 3:] for beam in self.beams]
         self.members = np.arange(len(self.chains))
         self._located: tuple[np.ndarray, tuple] | None = None
 
@@ -175,6 +185,21 @@ class ChainStack:
         out.breaks, out.h, out.points = self.breaks[members], self.h[members], self.points[members]
         out.vertices = [v[members] for v in self.vertices]
         out.members, out._located = np.arange(len(out.chains)), None
+        return out
+
+    def translated(self, shifts: np.ndarray) -> ChainStack:
+        """``B`` copies of this one-member stack, copy ``b`` with the structure's beams moved
+        rigidly by ``shifts[b]`` ((B, n_beams, 3), one shift per beam of the structure), as
+        :meth:`fvbeam.beam.Beam.translated` would move them (the node positions are this
+        chain's plus the shift), without building the moved chains.  A translation changes
+        nothing but the node positions, so every member keeps this chain for the queries that
+        do not read them (the smeared transfer)."""
+        if len(self) != 1:
+            raise ValueError(f"{self.name}: only a one-member stack is translated")
+        chain = self.chains[0]
+        out = self.subset(np.zeros(len(shifts), dtype=int))
+        counts = [beam.mesh.n_nodes for beam in self.beams]
+        out.points = self.points + np.repeat(shifts[:, chain.indices], counts, axis=1)
         return out
 
     def __len__(self) -> int:
@@ -217,15 +242,22 @@ class ChainStack:
         """Reference node positions ``(B, npe, 3)`` of each member's ``element``."""
         return self.points[self.members[:, None], self.cells[element]]
 
-    def interpolation(self, xi: np.ndarray) -> Interpolation:
-        """Where each member's ``xi`` sits and how the line interpolates there."""
+    def element_interpolation(self, xi: np.ndarray) -> ElementInterpolation:
+        """Where each member's ``xi`` sits and how its element interpolates the line there."""
         _, element, X = self.locate(xi)
         h = self.h[self.members, element][:, None]
         N, dN = (f.T for f in shape_functions(X, self.npe))
-        dN = dN / h
-        d2N = second_derivatives(self.npe) / h**2
+        return ElementInterpolation(self.dofs[element][:, :, :3], self._nodes(element), N,
+                                    dN / h, second_derivatives(self.npe) / h**2)
+
+    def interpolation(self, xi: np.ndarray) -> Interpolation:
+        """:meth:`element_interpolation` with the recovered tangent (module docstring)."""
+        _, element, X = self.locate(xi)
+        inside = self.element_interpolation(xi)
+        h = self.h[self.members, element][:, None]
+        dN, d2N = inside.dN, inside.d2N
         T, T_xi = [dN], [d2N.copy()]
-        dofs, nodes = [self.dofs[element][:, :, :3]], [self._nodes(element)]
+        dofs, nodes = [inside.dofs], [inside.X]
         ends = shape_functions(np.array([0.0, 1.0]), self.npe)[1].T
         for side, weight, weight_xi, end in ((-1, 1 - X, -1 / h[:, 0], 0),
                                              (1, X, 1 / h[:, 0], 1)):
@@ -241,9 +273,9 @@ class ChainStack:
             T_xi.append(weight_xi[:, None] * theirs)
             dofs.append(self.dofs[other][:, :, :3])
             nodes.append(self._nodes(other))
-        return Interpolation(dofs[0], nodes[0], N, dN, d2N, np.concatenate(dofs, axis=1),
-                             np.concatenate(nodes, axis=1), np.concatenate(T, axis=1),
-                             np.concatenate(T_xi, axis=1))
+        return Interpolation(inside.dofs, inside.X, inside.N, dN, d2N,
+                             np.concatenate(dofs, axis=1), np.concatenate(nodes, axis=1),
+                             np.concatenate(T, axis=1), np.concatenate(T_xi, axis=1))
 
     def rotation(self, xi: np.ndarray) -> LineRotation:
         """The section rotation at ``xi`` and its reference frame, per member.
@@ -283,8 +315,7 @@ class ChainStack:
         compliance = np.zeros((len(xi), 3, 3))
         for b in np.unique(beam):
             on = beam == b
-            stiffness = self.beams[b].section.global_stiffness(R0[on])
-            compliance[on] = np.linalg.inv(stiffness)[:, 3:, 3:]
+            compliance[on] = R0[on] @ self.compliance[b] @ np.swapaxes(R0[on], 1, 2)
         dofs = self.dofs[element[:, None], pair][:, :, 3:]
         return LineRotation(dofs, w, np.stack([-1 / span, 1 / span], axis=1), kink, kink_xi,
                             compliance, R0, k0, k0_xi)
@@ -321,8 +352,9 @@ class ChainStack:
                                          for offset, beam in zip(self.offsets, self.beams)]))
         B, G = len(self), len(grid)
         every = self.subset(np.repeat(self.members, G))
-        sampled = every.interpolation(np.tile(grid, B)).geometry(np.repeat(q, G, axis=0))[0]
-        return project(lambda xi: self.interpolation(xi).geometry(q), grid, points,
+        sampled = every.element_interpolation(np.tile(grid, B)).geometry(
+            np.repeat(q, G, axis=0))[0]
+        return project(lambda xi: self.element_interpolation(xi).geometry(q), grid, points,
                        sampled.reshape(B, G, 3))
 
 

@@ -161,12 +161,9 @@ class SliderStatics:
         free dofs (in order) followed by each slider's unknowns."""
         return self._bordered(self._parts(q, unknowns))[0]
 
-    def _parts(self, q: np.ndarray, unknowns: Sequence[np.ndarray], time: float = 0.0,
-               scale: float = 1.0) -> list:
-        """Each slider's ``(dofs, r_q, r_y, J)`` on its slots (:meth:`SliderBatch.evaluate`
-        at ``time``, multipliers scaled by ``scale``)."""
-        return _member([s.batch(self.structure).evaluate(q[None], np.asarray(y)[None], time,
-                                                         scale)
+    def _parts(self, q: np.ndarray, unknowns: Sequence[np.ndarray]) -> list:
+        """Each slider's ``(dofs, r_q, r_y, J)`` on its slots (:meth:`SliderBatch.evaluate`)."""
+        return _member([s.batch(self.structure).evaluate(q[None], np.asarray(y)[None])
                         for s, y in zip(self.sliders, unknowns)], 0)
 
     def _bordered(self, parts: list) -> tuple[sp.csc_matrix, list[np.ndarray]]:
@@ -307,12 +304,13 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
     residuals: list[list[float]] = [[] for _ in range(B)]
     outcome: list = [None] * B
     active, view = np.arange(B), list(batches)
+    bounds = list(zip(np.cumsum([0] + sizes[:-1]), np.cumsum(sizes)))
     multipliers = np.ones(sum(sizes), dtype=bool)
-    multipliers[np.cumsum([0] + sizes[:-1])] = False
+    multipliers[[i for i, _ in bounds]] = False
     for _ in range(max_iterations + 1):
         R = (lead.K @ Q[active].T).T - loads[active]
-        parts = [v.evaluate(Q[active], Y[active][:, a:b], time, scale) for v, a, b in
-                 zip(view, np.cumsum([0] + sizes[:-1]), np.cumsum(sizes))]
+        parts = [v.evaluate(Q[active], Y[active][:, i:j], time, scale)
+                 for v, (i, j) in zip(view, bounds)]
         for dofs, r, _ in parts:
             np.add.at(R, (np.arange(len(active))[:, None], dofs), r[:, :dofs.shape[1]])
         r_y = np.concatenate([r[:, d.shape[1]:] for d, r, _ in parts], axis=1)
@@ -320,8 +318,7 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
         for b, value in zip(active, measure / load_scale[active]):
             residuals[b].append(float(value))
         for b in active[done[active]]:
-            outcome[b] = (Q[b].copy(), np.split(Y[b].copy(), np.cumsum(sizes)[:-1]),
-                          residuals[b])
+            outcome[b] = (Q[b].copy(), [Y[b, i:j].copy() for i, j in bounds], residuals[b])
         going = ~done[active]
         if not going.any():
             active = active[going]
@@ -348,7 +345,9 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
         if len(active) < len(view[0]):
             view = [b.subset(active) for b in batches]
     for b in active:
-        first = members[b]._parts(Q0[b], np.split(Y0[b], np.cumsum(sizes)[:-1]), time, scale)
+        first = _member([v.subset(np.array([b])).evaluate(Q0[b][None], Y0[b][None, i:j],
+                                                          time, scale)
+                         for v, (i, j) in zip(batches, bounds)], 0)
         outcome[b] = members[b]._diagnose(
             first, f"Newton did not converge in {max_iterations} iterations "
                    f"(scaled residual {residuals[b][-1]:.3g})")
@@ -382,5 +381,50 @@ def solve_many(members: Sequence[SliderStatics], loads: Sequence[np.ndarray], to
     batches = [SliderBatch([m.sliders[i] for m in members], [m.structure for m in members])
                for i in range(len(lead.sliders))]
     outcomes = newton_many(members, batches, loads, [None] * len(members), tol, max_iterations)
-    return [o if isinstance(o, str) else SliderSolution(o[0], o[1], o[2], [len(o[2]) - 1])
-            for o in outcomes]
+    return [_solution(o) for o in outcomes]
+
+
+def solve_translated(statics: SliderStatics, shifts: np.ndarray, loads: np.ndarray,
+                     tol: float = 1e-8,
+                     max_iterations: int = 25) -> list[SliderSolution | str]:
+    """Solve ``B`` copies of ``statics`` with its beams moved rigidly, together.
+
+    Copy ``b`` is the problem :func:`solve_many` would solve on statics built on the beams
+    moved by ``shifts[b]`` (:meth:`fvbeam.beam.Beam.translated`, ``reuse=statics``) under
+    ``loads[b]``, without building them: a translation changes neither the stiffness, nor
+    the dofs, supports and slider unknowns, only the node positions the joints read
+    (:meth:`~sliders.joint.SliderBatch.translated`).  A piston moved along its cylinder is
+    one ``statics`` and a shift per position.
+
+    Parameters
+    ----------
+    statics
+        The template: its structure, supports, sliders and back end.
+    shifts
+        (B, n_beams, 3): per copy, the translation of every beam (rigid bodies stay).
+    loads
+        (B, n_dofs): per copy, its load vector.
+    tol, max_iterations
+        As :meth:`SliderStatics.solve`.
+
+    Returns
+    -------
+    Per copy its :class:`SliderSolution` (displacements from the moved reference) or the
+    failure message.
+    """
+    loads = np.array(loads, dtype=float)
+    B = len(shifts)
+    if loads.shape != (B, statics.structure.n_dofs) or not np.all(np.isfinite(loads)):
+        raise ValueError(f"loads must be {B} finite vectors of {statics.structure.n_dofs} rows")
+    batches = [SliderBatch.translated(s, statics.structure, shifts) for s in statics.sliders]
+    return [_solution(o) for o in newton_many([statics] * B, batches, loads, [None] * B, tol,
+                                              max_iterations)]
+
+
+def _solution(outcome: tuple | str) -> SliderSolution | str:
+    """A :func:`newton_many` outcome as a one-load-step :class:`SliderSolution` (a failure
+    message stays)."""
+    if isinstance(outcome, str):
+        return outcome
+    q, unknowns, residuals = outcome
+    return SliderSolution(q, unknowns, residuals, [len(residuals) - 1])

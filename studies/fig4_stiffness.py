@@ -26,6 +26,7 @@ import argparse
 import csv
 import importlib.util
 import time
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -35,8 +36,7 @@ from fvbeam.io import write_atomic
 from sliders.analytic import sliding_beams
 from sliders.chain import BeamChain
 from sliders.joint import Slider
-from sliders.statics import SliderSolution, SliderStatics
-from sliders.sweep import sweep_batched
+from sliders.statics import SliderSolution, SliderStatics, solve_translated
 
 SCENE = Path(__file__).parent / "scenes" / "fig4_sliding_beams.toml"
 
@@ -99,6 +99,26 @@ class SlidingBeams:
         self._previous = statics
         return statics, structure.gather(1, piston.nodal_load("end", (0, F, 0)))
 
+    @cached_property
+    def template(self) -> tuple[SliderStatics, np.ndarray]:
+        """The problem with the piston on the cylinder (``s = 0``): the statics every
+        position's is a translation of (its stiffness assembled and factorised here, once)
+        and the tip load."""
+        return self.problem(0.0)
+
+    def shifts(self, stations: np.ndarray) -> np.ndarray:
+        """The beams' translations (B, 2, 3) at the stations ``s / L``: the cylinder stays,
+        the piston moves along x by ``s``."""
+        shifts = np.zeros((len(stations), 2, 3))
+        shifts[:, 1, 0] = np.asarray(stations, dtype=float) * L
+        return shifts
+
+    def solve(self, stations: np.ndarray) -> list[SliderSolution | str]:
+        """Every station at once, from the template moved (:func:`sliders.statics.
+        solve_translated`): per station its solution or its failure message."""
+        statics, f = self.template
+        return solve_translated(statics, self.shifts(stations), np.tile(f, (len(stations), 1)))
+
     def stiffness(self, s_over_L: float) -> float:
         """Normalised tip stiffness ``F L^3 / (EJ v)`` with the piston at ``s = s_over_L L``."""
         statics, f = self.problem(s_over_L)
@@ -116,14 +136,13 @@ def tip_stiffness(statics: SliderStatics, solution: SliderSolution) -> float:
 
 def sweep(kind: str, formulation: str, n: int, smearing: float,
           stations: np.ndarray = STATIONS) -> tuple[np.ndarray, SlidingBeams]:
-    """``k_norm`` at every station (all solved at once, :func:`sliders.sweep.sweep_batched`);
-    NaN where the configuration is singular."""
+    """``k_norm`` at every station (all solved at once, :meth:`SlidingBeams.solve`); NaN
+    where the configuration is singular."""
     model = SlidingBeams(formulation, n, kind, smearing)
-    result = sweep_batched(stations, model.problem)
     out = np.full(len(stations), np.nan)
-    for i, solution in enumerate(result.solutions):
-        if solution is not None:
-            out[i] = tip_stiffness(model._previous, solution)
+    for i, solution in enumerate(model.solve(stations)):
+        if not isinstance(solution, str):
+            out[i] = tip_stiffness(model.template[0], solution)
             model.iterations.append(solution.iterations)
     return out, model
 

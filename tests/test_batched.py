@@ -14,7 +14,7 @@ import pytest
 
 from fvbeam import Support
 from sliders.joint import SliderBatch
-from sliders.statics import SliderStatics, solve_many
+from sliders.statics import SliderStatics, solve_many, solve_translated
 from sliders.sweep import sweep_batched
 from studies.fig4_stiffness import SlidingBeams
 from test_condensed import agreement_bound, state, tip_on_an_arc
@@ -58,6 +58,63 @@ def test_sliding_beams_sweep_equals_per_point_solves(kind, name, smearing):
         assert sum(converged) >= 3
 
 
+@pytest.mark.parametrize("kind", ["spherical", "classical"])
+@pytest.mark.parametrize("name", ["fv3", "galerkin-p2"])
+@pytest.mark.parametrize("smearing", [0.0, 0.01])
+def test_translated_template_equals_the_built_members(kind, name, smearing):
+    """The sweep from one template moved (``solve_translated``) and from a statics built per
+    position (``solve_many``): failures with the same message, the same iterations and,
+    without smearing, the same numbers (the moved node positions are the same sums).  The
+    smeared transfer is the template's: equal to roundoff (the rotation test functions
+    read node positions relative to far-off absolute ones)."""
+    model = SlidingBeams(name, 3, kind, smearing)
+    built = [model.problem(s) for s in STATIONS]
+    for (statics, f), a, b in zip(built, solve_many([m[0] for m in built],
+                                                    [m[1] for m in built]),
+                                  model.solve(STATIONS)):
+        if isinstance(a, str):
+            assert b == a
+            continue
+        if smearing:
+            agree(statics, a, b, f)
+            continue
+        assert b.step_iterations == a.step_iterations and b.residuals == a.residuals
+        assert np.array_equal(b.q, a.q)
+        assert all(np.array_equal(x, y) for x, y in zip(b.unknowns, a.unknowns))
+
+
+@pytest.mark.parametrize("kind", ["spherical", "classical"])
+def test_translated_beam_on_a_rigid_line(kind):
+    """A clamped beam's tip on a rigid arc (tests/test_condensed.py), the beam moved off the
+    arc by a few shifts: the line stays, the body moves; the same numbers as statics built
+    on the moved beams."""
+    from fvbeam import Structure
+
+    structure, slider, f = tip_on_an_arc(kind)
+    supports = [Support(0, "start")]
+    template = SliderStatics(structure, supports, [slider], method="condensed")
+    shifts = np.zeros((3, 1, 3))
+    shifts[:, 0] = [[0.0, 0.0, 0.0], [0.01, 0.0, 0.0], [-0.02, 0.01, 0.0]]
+    built = []
+    for shift in shifts[:, 0]:
+        moved = Structure([structure.beams[0].translated(shift)])
+        built.append(SliderStatics(moved, supports, [dataclasses.replace(slider)],
+                                   reuse=template, method="condensed"))
+    expected = solve_many(built, [f] * 3)
+    for a, b in zip(expected, solve_translated(template, shifts, [f] * 3)):
+        assert b.step_iterations == a.step_iterations and np.array_equal(b.q, a.q)
+        assert all(np.array_equal(x, y) for x, y in zip(b.unknowns, a.unknowns))
+
+
+def test_translated_shifts_and_loads_are_checked():
+    model = SlidingBeams("fv3", 1, "spherical")
+    statics, f = model.template
+    with pytest.raises(ValueError, match=r"shifts must be \(B, 2, 3\)"):
+        solve_translated(statics, np.zeros((2, 1, 3)), [f, f])
+    with pytest.raises(ValueError, match="loads must be 2 finite vectors"):
+        solve_translated(statics, model.shifts([0.1, 0.2]), [f])
+
+
 def test_failures_carry_the_per_point_message():
     """The slope form's singular pair on one fv3 element (docs/sliders.md): the batch
     reports, per member, the message the per-point solve raises; the others converge."""
@@ -69,6 +126,8 @@ def test_failures_carry_the_per_point_message():
                  for (statics, f), outcome in zip(built, outcomes)]
     assert converged == [True, False, True, False]
     assert all("singular configuration" in outcomes[i] for i in (1, 3))
+    assert [o if isinstance(o, str) else o.iterations for o in model.solve(stations)] == [
+        o if isinstance(o, str) else o.iterations for o in outcomes]
 
 
 @pytest.mark.parametrize("method", ["bordered", "condensed"])
