@@ -174,7 +174,7 @@ class Crossing:
 
     def run(self, steps_per_period: int = STEPS_PER_PERIOD, recorder: Recorder | None = None,
             progress: bool = False) -> dict[str, np.ndarray]:
-        """Integrate from the static state to ``XI_END``; ``t, xi, shear, tip`` per step.  A
+        """Integrate from the static state to ``XI_END``; :func:`history` per step.  A
         ``KeyboardInterrupt`` propagates; ``recorder`` then holds the steps computed."""
         recorder = recorder if recorder is not None else self.recorder()
         self.dynamics.run(self.dynamics.static_state(), self.t_end,
@@ -183,10 +183,12 @@ class Crossing:
 
 
 def history(recorder: Recorder) -> dict[str, np.ndarray]:
-    """``t, xi, shear, tip`` from a :class:`Crossing` recorder."""
+    """``t, xi, shear, tip`` and Newton ``iterations`` per step from a :class:`Crossing`
+    recorder."""
     table = recorder.table() if recorder.rows else {}
     return {key: table.get(column, np.empty(0)) for key, column in
-            (("t", "t"), ("xi", "body.xi"), ("shear", "shear"), ("tip", "tip"))}
+            (("t", "t"), ("xi", "body.xi"), ("shear", "shear"), ("tip", "tip"),
+             ("iterations", "iterations"))}
 
 
 def overshoot(run: dict[str, np.ndarray]) -> float:
