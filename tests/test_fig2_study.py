@@ -101,3 +101,18 @@ def test_end_on_the_static_values(level):
 def test_bad_smearing_is_named():
     with pytest.raises(ValueError, match="smearing"):
         fig2.Crossing(1.5)
+
+
+def test_ctrl_c_writes_the_levels_computed(monkeypatch, tmp_path):
+    def run(self, steps_per_period, recorder, progress):
+        if self.smearing == 0.05:
+            raise KeyboardInterrupt
+        return {"t": np.zeros(2), "xi": np.full(2, 0.6), "shear": np.zeros(2),
+                "tip": np.ones(2), "iterations": np.ones(2)}
+
+    monkeypatch.setattr(fig2.Crossing, "run", run)
+    with pytest.raises(KeyboardInterrupt):
+        fig2.reproduce(tmp_path, plot_png=False, progress=False, variants=("fast",))
+    rows = np.genfromtxt(tmp_path / "fig2_smearing_10periods.csv", delimiter=",", names=True)
+    assert list(rows.dtype.names) == list(fig2.COLUMNS)
+    assert sorted(set(rows["smearing"])) == [0.0, 0.01]
