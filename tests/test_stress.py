@@ -1,0 +1,168 @@
+"""Stress tests of the dynamics (issue 4): a driven body on a clamped five-beam fv3 chain.
+
+The model, the dimensionless parameters and the sweeps are in :mod:`studies.stress`.  The
+CI variants run by default; the long ones (a 100-pass shuttle, dense sweeps) only with
+``pytest --long``.
+
+Assertions and where their numbers come from:
+
+* Newton iterations per step <= 3.  The drive replaces the ``xi`` equation by the linear
+  ``xi - xi_d(t) = 0``, so the first iteration sets ``xi`` exactly.  At a fixed ``xi`` the
+  spherical joint is linear in ``(q, lambda)`` (position constraint linear in ``q``, load
+  transfer linear in ``lambda``) and the beams are linear, so the second iteration solves the
+  step exactly and the third one's increments are roundoff, which passes the convergence rule
+  (:func:`sliders.statics.converged`).
+* Position-constraint residual <= :func:`studies.stress.residual_bound` at every step: the
+  convergence rule bounds the last increments by ``tol`` times their scales, and the
+  constraint's Jacobian bounds what those increments leave (derivation in that function).
+* No drift: ``|xi - xi_d(t)| <= tol L_c`` at every step, the convergence rule's bound on
+  the last ``xi`` increment (after which the linear ``xi`` equation holds exactly).
+* Energy: ``|energy_error| <= work`` (``work``: the summed magnitudes of the work increments
+  of the load and the joint).  Below: ``kinetic + strain + dissipated >= 0`` makes
+  ``energy_error >= -(work + E_0)`` an identity of the balance, ``E_0`` the start's strain
+  energy, here below the work.  Above: generalized-alpha with ``rho_inf <= 1`` is
+  unconditionally stable and dissipative on linear systems (Chung and Hulbert 1993), so it
+  creates no energy; what is not conserved is the bookkeeping (the strain energy of the
+  unsymmetric fv stiffness' symmetric part, the trapezoidal work), which may not exceed the
+  work it books.  A run that goes unstable breaks this bound first.
+* Every column finite; the crossings counted from the recorded ``xi``
+  (:func:`studies.stress.crossings`), at least those the issue asks for.
+
+Failure modes: each raises :class:`sliders.dynamics.DynamicsError` with one message naming
+the time and what failed, its ``state`` the last converged one, and the recorder's
+``history.csv`` renamed from its ``.part`` file with whole rows up to that state.
+"""
+
+import csv
+
+import numpy as np
+import pytest
+
+from sliders.dynamics import Adaptive, Dynamics, DynamicsError
+from sliders.history import Recorder
+from studies import stress
+
+pytestmark = pytest.mark.stress
+
+CI_CASES = stress.cases(dense=False)
+LONG_CASES = [c for c in stress.cases(dense=True) if c not in CI_CASES]
+
+
+def check_run(outcome: stress.Outcome, table: dict, name: str = "carriage") -> None:
+    """The per-step assertions of the module docstring on a recorded run."""
+    assert outcome.error == ""
+    assert outcome.finite
+    assert table["iterations"][1:].max() <= 3
+    bound = stress.residual_bound(table["reach"])
+    assert np.all(table[f"{name}.residual"] <= bound)
+    assert np.all(np.abs(table[f"{name}.xi"] - table["drive"]) <= stress.TOL * stress.CHAIN)
+    assert abs(outcome.energy_error) <= outcome.work
+
+
+def test_chain_points_are_the_fv3_evaluation_points_and_junctions():
+    points, junctions = stress.chain_points_of_chain()
+    a = stress.ELEMENT * (1 - 1 / np.sqrt(3)) / 2
+    starts = stress.ELEMENT * np.arange(stress.BEAMS * stress.ELEMENTS)
+    expected = np.sort(np.concatenate([starts + a, starts + stress.ELEMENT - a]))
+    np.testing.assert_allclose(points, expected, atol=1e-14)
+    np.testing.assert_allclose(junctions, [1.0, 2.0, 3.0, 4.0], atol=1e-14)
+
+
+def test_crossings_count_each_pass_over_a_point():
+    points = np.array([1.0, 2.0])
+    assert stress.crossings(np.array([0.0, 1.5, 3.0, 0.5]), points) == 4
+    assert stress.crossings(np.array([0.0, 1.0, 0.0]), points) == 2
+    assert stress.crossings(np.array([0.0, 0.9, 0.2]), points) == 0
+
+
+@pytest.mark.parametrize("passes, steps", [(50, 24), (100, 96)], ids=["ci", "long"])
+def test_shuttle_crosses_evaluation_points_and_junctions_without_drift(passes, steps,
+                                                                        long_run):
+    if steps > 24 and not long_run:
+        pytest.skip("long variant: run with pytest --long")
+    model = stress.shuttle_model(stress.Case(), passes, steps)
+    outcome, table = stress.run(model)
+    check_run(outcome, table)
+    assert outcome.evaluation_crossings >= 1000
+    assert outcome.junction_crossings >= 200
+    assert outcome.steps == passes * steps
+
+
+@pytest.mark.parametrize("axis, case", CI_CASES + LONG_CASES,
+                         ids=[f"{a}={getattr(c, a):.3g}" for a, c in CI_CASES + LONG_CASES])
+def test_sweep_is_robust(axis, case, long_run):
+    if (axis, case) in LONG_CASES and not long_run:
+        pytest.skip("long variant: run with pytest --long")
+    outcome, table = stress.run(stress.sweep_model(case))
+    check_run(outcome, table)
+    assert outcome.evaluation_crossings >= 1
+
+
+def failed_run(dynamics: Dynamics, start, t_end: float, h: float, tmp_path,
+               adaptive: Adaptive | None = None) -> tuple[DynamicsError, Recorder]:
+    """Run until the expected failure; its error and the recorder (CSV in ``tmp_path``)."""
+    recorder = Recorder(tmp_path)
+    with pytest.raises(DynamicsError) as info:
+        dynamics.run(start, t_end, h, adaptive=adaptive, recorder=recorder, progress=False)
+    return info.value, recorder
+
+
+def check_kept(err: DynamicsError, recorder: Recorder, tmp_path) -> None:
+    """The CSV file holds whole rows up to the last converged state, under its final name."""
+    assert not list(tmp_path.glob("*.part"))
+    with open(tmp_path / "history.csv", newline="") as stream:
+        rows = list(csv.reader(stream))
+    header, rows = rows[0], rows[1:]
+    assert len(rows) == len(recorder.rows) and all(len(r) == len(header) for r in rows)
+    assert float(rows[-1][header.index("t")]) == err.state.t
+    assert len(str(err).splitlines()) == 1
+
+
+def held_then_moved(**kw) -> stress.Model:
+    """The body held at ``xi = 1`` until ``t = 1``, then driven to 3 by ``t = 2``; h = 0.1."""
+    return stress.build(stress.Case(), [1.0, 1.0, 3.0], 1.0, 0.1, **kw)
+
+
+def test_newton_failure_keeps_the_steps_done(tmp_path):
+    model = held_then_moved(max_iterations=2)
+    # at rest one iteration converges; the moving body needs three (module docstring)
+    err, recorder = failed_run(model.dynamics, model.dynamics.static_state(), model.t_end,
+                               model.h, tmp_path)
+    assert "t = 1.1: Newton did not converge in 2 iterations" in str(err)
+    assert err.state.t == pytest.approx(1.0)
+    check_kept(err, recorder, tmp_path)
+
+
+def test_step_below_its_minimum_keeps_the_steps_done(tmp_path):
+    model = held_then_moved()
+    d = model.dynamics
+    adaptive = Adaptive(rtol=1e-9, h_min=0.6 * model.h)
+    err, recorder = failed_run(d, d.static_state(), model.t_end, model.h, tmp_path, adaptive)
+    assert "the step fell below its minimum 0.06" in str(err)
+    assert str(err).startswith(f"t = {err.state.t:.6g}:")
+    assert err.state.t >= 1.0 - 1e-12
+    check_kept(err, recorder, tmp_path)
+
+
+def test_slider_leaving_its_chain_keeps_the_steps_done(tmp_path):
+    model = stress.build(stress.Case(), [4.5, 5.5], 1.0, 0.1)
+    d = model.dynamics
+    err, recorder = failed_run(d, d.static_state(), model.t_end, model.h, tmp_path)
+    assert str(err).startswith("t = 0.6: carriage: the sliding point left its line")
+    assert "rail: xi = 5.1" in str(err)
+    assert err.state.t == pytest.approx(0.5)
+    check_kept(err, recorder, tmp_path)
+
+
+def test_singular_configuration_names_the_free_motion(tmp_path):
+    model = held_then_moved()
+    d = model.dynamics
+    start = d.static_state()
+    # the same model without the support of the massless body's rotations
+    loose = Dynamics(d.structure, stress.CLAMPS, d.sliders, d.load(0.0), rho_inf=0.8,
+                     method="condensed")
+    err, recorder = failed_run(loose, start, model.t_end, model.h, tmp_path)
+    assert str(err).startswith("t = 0.1: singular configuration")
+    assert "body 'body' r" in str(err)
+    assert err.state is start
+    check_kept(err, recorder, tmp_path)
