@@ -32,7 +32,10 @@ and forth between 0.1 and 4.9.
 
 What a run measures (:func:`measure`): Newton iterations per step, the joint's constraint
 residual against the bound its convergence rule implies (:func:`residual_bound`), the drift
-``xi - xi_d(t)``, the energy balance against the work done, and finiteness of every column.
+``xi - xi_d(t)``, finiteness of every column, and the energy balance split into the work of
+the skew part of the fv stiffness (:func:`skew_work`) and what is left, the scheme's
+numerical dissipation (zero to roundoff at ``rho_inf = 1``, :func:`identity_bound`).  Each
+sweep case runs at ``rho_inf = 0.8`` (the default) and 1 (:data:`RHO_INF`).
 
 Run as ``python -m studies.stress --out DIR [--quick]``: writes ``DIR/sweeps.csv`` (one row
 per run), ``DIR/shuttle/history.csv`` (the shuttle's per-step record), and the plots
@@ -82,6 +85,7 @@ class Case:
     step: float = 1.0
     smearing: float = 0.2
     slenderness: float = 1e-2
+    rho_inf: float = 0.8
 
 
 #: The axes of the sweeps: CI (coarse) and long (dense) values.
@@ -93,10 +97,16 @@ AXES = {
 }
 
 
-def cases(dense: bool = False, base: Case = Case()) -> list[tuple[str, Case]]:
-    """The sweep: each axis of :data:`AXES` varied alone about ``base``."""
-    return [(axis, replace(base, **{axis: float(v)}))
-            for axis, values in AXES.items() for v in values[dense]]
+#: The scheme's spectral radii at infinity of the sweep: the default, and the trapezoidal rule.
+RHO_INF = (0.8, 1.0)
+
+
+def cases(dense: bool = False, base: Case = Case(),
+          rho_inf: Sequence[float] = RHO_INF) -> list[tuple[str, Case]]:
+    """The sweep: each axis of :data:`AXES` varied alone about ``base``, at each
+    ``rho_inf``."""
+    return [(axis, replace(base, **{axis: float(v)}, rho_inf=rho))
+            for rho in rho_inf for axis, values in AXES.items() for v in values[dense]]
 
 
 def section(slenderness: float) -> Section:
@@ -168,7 +178,7 @@ def build(case: Case, waypoints: Sequence[float], leg_time: float, h: float, *,
                     name="carriage")
     supports = CLAMPS + [Support("body", kind="rx+ry+rz")]
     dynamics = Dynamics(structure, supports, [slider], structure.nodal_load("body", FORCE),
-                        rho_inf=0.8, method="condensed", tol=TOL,
+                        rho_inf=case.rho_inf, method="condensed", tol=TOL,
                         max_iterations=max_iterations)
     return Model(dynamics, slider, chain, drive, h, float(times[-1]))
 
@@ -179,7 +189,7 @@ def sweep_model(case: Case) -> Model:
     h = case.step * ELEMENT / (4 * c)
     travel = min(STEPS * c * h, ENDS[1] - ENDS[0])
     if travel < ENDS[1] - ENDS[0]:
-        points, _ = chain_points_of_chain()
+        points, _ = reference_points()
         centre = points[np.searchsorted(points, CHAIN / 2 + 0.5 * LENGTH) - 1]
         start = float(np.clip(centre - travel / 2, ENDS[0], ENDS[1] - travel))
     else:
@@ -187,7 +197,7 @@ def sweep_model(case: Case) -> Model:
     return build(case, [start, start + travel], travel / c, h)
 
 
-def chain_points_of_chain() -> tuple[np.ndarray, np.ndarray]:
+def reference_points() -> tuple[np.ndarray, np.ndarray]:
     """:func:`chain_points` of the stress chain (its geometry does not depend on the case)."""
     beams, ties = chain_beams(1.0)
     return chain_points(BeamChain(Structure(beams, ties), list(range(BEAMS))))
@@ -215,6 +225,10 @@ def residual_bound(reach: float, tol: float = TOL, length: float = CHAIN) -> flo
     return 2 * tol * ((1 + LEBESGUE) * reach + (1 + reach / ELEMENT) * length)
 
 
+#: :attr:`Outcome.error` of a run cut short by Ctrl-C.
+INTERRUPTED = "interrupted"
+
+
 @dataclass
 class Outcome:
     """What a run measured (:func:`measure`)."""
@@ -225,6 +239,9 @@ class Outcome:
     residual_bound: float
     drift: float
     energy_error: float
+    skew_work: float
+    identity: float
+    identity_bound: float
     work: float
     finite: bool
     evaluation_crossings: int
@@ -233,35 +250,93 @@ class Outcome:
     error: str = ""
 
 
-def run(model: Model, directory: Path | None = None) -> tuple[Outcome, dict[str, np.ndarray]]:
+def run(model: Model, directory: Path | None = None, progress: bool = False,
+        interruptible: bool = False) -> tuple[Outcome, dict[str, np.ndarray]]:
     """Integrate ``model`` from its static state with a recorder (CSV files in ``directory``
-    if given); returns what :func:`measure` finds and the recorded table.  A
-    :class:`DynamicsError` is kept in :attr:`Outcome.error`, with the steps done."""
+    if given; a progress bar over time with ``progress``); returns what :func:`measure`
+    finds and the recorded table.  A :class:`DynamicsError` is kept in
+    :attr:`Outcome.error`, with the steps done; so is a Ctrl-C (:data:`INTERRUPTED`) if
+    ``interruptible``."""
     d = model.dynamics
     structure = d.structure
     body = structure.node_dofs("body")[:3]
     recorder = Recorder(directory, probes={
+        "skew_work": StepSum(skew_work), "roundoff_scale": StepSum(roundoff_scale),
         "reach": lambda s, dyn: float(np.abs(s.q).max()),
         "body_uy": lambda s, dyn: float(s.q[body[1]]),
         "drive": lambda s, dyn: model.drive(s.t)[0]})
     start = time.perf_counter()
     error = ""
     try:
-        d.run(d.static_state(), model.t_end, model.h, recorder=recorder, progress=False)
+        d.run(d.static_state(), model.t_end, model.h, recorder=recorder, progress=progress)
     except DynamicsError as exc:
         error = str(exc)
+    except KeyboardInterrupt:
+        if not interruptible:
+            raise
+        error = INTERRUPTED
     table = recorder.table() if recorder.rows else {}
     return measure(model, table, time.perf_counter() - start, error), table
 
 
+class StepSum:
+    """A probe: a sum over the steps recorded so far of ``term(old, new, dynamics)``."""
+
+    def __init__(self, term: Callable) -> None:
+        self.term, self.previous, self.total = term, None, 0.0
+
+    def __call__(self, state, dynamics: Dynamics) -> float:
+        if self.previous is not None:
+            self.total += float(self.term(self.previous, state, dynamics))
+        self.previous = state
+        return self.total
+
+
+def skew_work(old, new, dynamics: Dynamics) -> float:
+    """``q_{n+1} . A q_n`` with ``A = (K - K^T) / 2``: a step's work of the skew-symmetric part
+    of the stiffness.
+
+    Why: the trapezoidal rule (``rho_inf = 1``: ``alpha_m = alpha_f = 1/2``, ``beta = 1/4``,
+    ``gamma = 1/2``, so ``a_n + a_{n+1} = qdd_n + qdd_{n+1}`` from a start at rest) gives
+    ``q_{n+1} - q_n = h (v_n + v_{n+1}) / 2`` and ``v_{n+1} - v_n = h (qdd_n + qdd_{n+1}) / 2``,
+    hence ``Delta (v.M v / 2) = (q_{n+1} - q_n) . M (qdd_n + qdd_{n+1}) / 2`` exactly.  With
+    the recorder's trapezoidal work of ``f`` and of the constraint forces
+    ``M qdd + K q - f`` (no damping), and ``q.K q / 2`` the energy of the symmetric part,
+    the balance of a step is left with exactly ``-q_{n+1} . A q_n``: at ``rho_inf = 1``,
+    ``energy_error + skew_work = 0`` to roundoff, whatever the joints and drives do.  At
+    ``rho_inf < 1`` the sum is the scheme's numerical dissipation."""
+    K = dynamics.K
+    return new.q @ ((K @ old.q - K.T @ old.q) / 2)
+
+
+def roundoff_scale(old, new, dynamics: Dynamics) -> float:
+    """``(|K| (|q_n| + |q_{n+1}|) + |M| (|qdd_n| + |qdd_{n+1}|) + |f_n| + |f_{n+1}|) . |dq|``:
+    the componentwise scale of the rounding errors of a step's energy balance (the sums of
+    products behind ``K q``, ``M qdd`` and the works; Higham, *Accuracy and stability of
+    numerical algorithms*, 2002, Sec. 3.1: ``|fl(x . y) - x . y| <= gamma_n |x| . |y|``, and
+    the constraint forces are ``M qdd + K q - f``)."""
+    K, M = abs(dynamics.K), abs(dynamics.M)
+    force = (K @ (np.abs(old.q) + np.abs(new.q)) + M @ (np.abs(old.qdd) + np.abs(new.qdd))
+             + np.abs(dynamics.load(old.t)) + np.abs(dynamics.load(new.t)))
+    return force @ np.abs(new.q - old.q)
+
+
+def identity_bound(dynamics: Dynamics, scale: float) -> float:
+    """Roundoff bound of ``|energy_error + skew_work|`` (:func:`skew_work`): ``8 n eps`` times
+    the summed :func:`roundoff_scale` (``gamma_n ~ n eps`` per sum of products; the balance
+    of a step holds four such sums, each entering twice)."""
+    return 8 * dynamics.structure.n_dofs * np.finfo(float).eps * scale
+
+
 def measure(model: Model, table: dict[str, np.ndarray], seconds: float,
             error: str = "") -> Outcome:
-    """The figures of a recorded run (module docstring); ``work`` is the total absolute work
-    of the loads and of the joint (the sum of the magnitudes of each step's increments)."""
+    """The figures of a recorded run (module docstring): ``energy_error`` and ``skew_work``
+    at the end, ``identity`` the largest ``|energy_error + skew_work|`` (:func:`skew_work`),
+    ``work`` the total absolute work of the loads and of the joint (the sum of the
+    magnitudes of each step's increments)."""
     name = model.slider.name
     if not table:
-        return Outcome(0, 0, np.nan, np.nan, np.nan, np.nan, np.nan, False, 0, 0, seconds,
-                       error)
+        return Outcome(0, 0, *[np.nan] * 9, False, 0, 0, seconds, error)
     points, junctions = chain_points(model.chain)
     xi = table[f"{name}.xi"]
     work = (np.abs(np.diff(table["external_work"])).sum()
@@ -271,7 +346,9 @@ def measure(model: Model, table: dict[str, np.ndarray], seconds: float,
         residual=float(table[f"{name}.residual"].max()),
         residual_bound=residual_bound(float(table["reach"].max())),
         drift=float(np.abs(xi - table["drive"]).max()),
-        energy_error=float(table["energy_error"][np.argmax(np.abs(table["energy_error"]))]),
+        energy_error=float(table["energy_error"][-1]), skew_work=float(table["skew_work"][-1]),
+        identity=float(np.abs(table["energy_error"] + table["skew_work"]).max()),
+        identity_bound=identity_bound(model.dynamics, float(table["roundoff_scale"][-1])),
         work=float(work), finite=bool(all(np.all(np.isfinite(v)) for v in table.values())),
         evaluation_crossings=crossings(xi, points), junction_crossings=crossings(xi, junctions),
         seconds=seconds, error=error)
@@ -318,8 +395,10 @@ AXIS_LABELS = {"speed": "speed c / c_cr", "step": "step h / h_ref (h_ref: quarte
 
 
 def plot_sweep(rows: list[tuple[str, Case, Outcome]], path: Path) -> None:
-    """Per axis: Newton iterations, constraint residual (and its bound) and relative energy
-    error against the parameter."""
+    """Per axis, against the parameter: the largest Newton iterations per step, the largest
+    constraint residual (and its bound), and the energy balance relative to the work: the
+    scheme's dissipation ``energy_error + skew_work`` at ``rho_inf = 0.8``, the skew
+    stiffness' work, and the identity's roundoff at ``rho_inf = 1`` (:func:`skew_work`)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -327,36 +406,49 @@ def plot_sweep(rows: list[tuple[str, Case, Outcome]], path: Path) -> None:
 
     fig, axes = plt.subplots(3, 4, figsize=(15, 9), sharey="row")
     for col, axis in enumerate(AXES):
-        mine = [(getattr(c, axis), o) for a, c, o in rows if a == axis and o.steps]
-        x = np.array([v for v, _ in mine])
-        get = lambda key: np.array([getattr(o, key) for _, o in mine])  # noqa: E731
-        ax = axes[0, col]
-        ax.plot(x, get("max_iterations"), "o-")
-        ax.set_ylabel("largest Newton iterations per step" if col == 0 else "")
-        ax = axes[1, col]
-        ax.semilogy(x, np.maximum(get("residual"), 1e-18), "o-", label="largest residual")
-        ax.semilogy(x, get("residual_bound"), "k--", label="bound (convergence rule)")
-        ax.set_ylabel("position constraint residual" if col == 0 else "")
-        ax = axes[2, col]
-        ax.plot(x, get("energy_error") / get("work"), "o-")
-        ax.set_ylabel("energy error / work" if col == 0 else "")
-        ax.set_xlabel(AXIS_LABELS[axis])
+        for rho, marker in zip(RHO_INF, "os"):
+            mine = [(getattr(c, axis), o) for a, c, o in rows
+                    if a == axis and c.rho_inf == rho and o.steps]
+            x = np.array([v for v, _ in mine])
+            got = {key: np.array([getattr(o, key) for _, o in mine])
+                   for key in ("max_iterations", "residual", "residual_bound", "energy_error",
+                               "skew_work", "identity", "work")}
+            label = f"rho_inf = {rho:g}"
+            axes[0, col].plot(x, got["max_iterations"], marker + "-", label=label)
+            axes[1, col].semilogy(x, np.maximum(got["residual"], 1e-18), marker + "-",
+                                  label=f"largest residual, {label}")
+            energy = axes[2, col]
+            if rho == 1.0:
+                energy.semilogy(x, np.maximum(got["identity"], 1e-18) / got["work"],
+                                marker + "-", label="|energy error + skew work|, " + label)
+                continue
+            axes[1, col].semilogy(x, got["residual_bound"], "k--",
+                                  label="bound (convergence rule)")
+            energy.semilogy(x, np.abs(got["energy_error"] + got["skew_work"]) / got["work"],
+                            marker + "-", label="|scheme dissipation|, " + label)
+            energy.semilogy(x, np.abs(got["skew_work"]) / got["work"], "^:",
+                            label="|skew stiffness work|, " + label)
+        axes[2, col].set_xlabel(AXIS_LABELS[axis])
         for ax in axes[:, col]:
             if axis != "smearing":
                 ax.set_xscale("log")
             ax.grid(True, which="both", alpha=0.3)
-    axes[1, 0].legend(fontsize=8)
+    axes[0, 0].set_ylabel("largest Newton iterations per step")
+    axes[1, 0].set_ylabel("position constraint residual")
+    axes[2, 0].set_ylabel("energy / work")
+    for row in range(3):
+        axes[row, 0].legend(fontsize=7)
     fig.suptitle("Stress sweeps: driven body on a clamped five-beam fv3 chain "
                  "(one parameter varied about c = c_cr / 4, h = h_ref, smearing 0.2 h_e, "
                  "r = 1e-2)", fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=90)
     plt.close(fig)
 
 
 def plot_shuttle(table: dict[str, np.ndarray], name: str, path: Path) -> None:
     """The shuttle over time: ``xi``, ``xi - xi_d``, the constraint residual, the body's
-    transverse displacement and the energy error."""
+    transverse displacement and the energy balance (:func:`skew_work`)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -373,8 +465,9 @@ def plot_shuttle(table: dict[str, np.ndarray], name: str, path: Path) -> None:
     axes[2].plot(t, table["body_uy"], lw=0.6)
     axes[2].set_ylabel("body u_y")
     axes[3].plot(t, table["energy_error"], lw=0.6, label="energy error")
-    axes[3].plot(t, table["external_work"] + table["constraint_work"], lw=0.6,
-                 label="work of load and joint")
+    axes[3].plot(t, -table["skew_work"], lw=0.6, label="- skew stiffness work")
+    axes[3].plot(t, table["energy_error"] + table["skew_work"], lw=0.6,
+                 label="scheme dissipation (energy error + skew work)")
     axes[3].set_ylabel("energy")
     axes[3].set_xlabel("t")
     axes[3].legend(fontsize=8)
@@ -382,7 +475,7 @@ def plot_shuttle(table: dict[str, np.ndarray], name: str, path: Path) -> None:
         ax.grid(True, alpha=0.3)
     fig.suptitle("Shuttle along the five-beam chain", fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=80)
     plt.close(fig)
 
 
@@ -395,10 +488,11 @@ def reproduce(out: Path, dense: bool = True, passes: int = 100, steps_per_pass: 
 
     def fill(tmp: Path) -> None:
         model = shuttle_model(Case(), passes, steps_per_pass)
-        shuttle, table = run(model, tmp / "shuttle")
+        shuttle, table = run(model, tmp / "shuttle", progress, interruptible=True)
         if table:
             plot_shuttle(table, model.slider.name, tmp / "shuttle.png")
-        rows, interrupted = sweep(cases(dense), progress)
+        rows, interrupted = ([], True) if shuttle.error == INTERRUPTED else sweep(
+            cases(dense), progress)
         write_sweep(rows, tmp / "sweeps.csv")
         if rows:
             plot_sweep(rows, tmp / "sweeps.png")
@@ -418,9 +512,12 @@ def main(argv: Sequence[str] | None = None) -> None:
     rows, shuttle, interrupted = reproduce(args.out, not args.quick, passes, steps)
     print(f"shuttle: {shuttle}")
     for axis, case, outcome in rows:
-        print(f"{axis:12s} {getattr(case, axis):9.3g}  iterations {outcome.max_iterations}  "
-              f"residual {outcome.residual:.2e} (bound {outcome.residual_bound:.1e})  "
-              f"energy/work {outcome.energy_error / outcome.work:+.2e}  {outcome.error}")
+        print(f"rho_inf {case.rho_inf:g} {axis:12s} {getattr(case, axis):9.3g}  iterations "
+              f"{outcome.max_iterations}  residual {outcome.residual:.2e} (bound "
+              f"{outcome.residual_bound:.1e})  energy error / work "
+              f"{outcome.energy_error / outcome.work:+.2e}, skew work / work "
+              f"{outcome.skew_work / outcome.work:+.2e}, identity / work "
+              f"{outcome.identity / outcome.work:.1e}  {outcome.error}")
     if interrupted:
         print("interrupted: the runs above were kept")
 
