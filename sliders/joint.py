@@ -295,14 +295,7 @@ class SliderBatch:
         B = len(y)
         lam = y[:, 1:4]
         xi = np.clip(y[:, 0], 0.0, self.length) if self.end_stops else y[:, 0]
-        try:
-            line = self._line(xi, q)
-        except ValueError as exc:
-            off = np.flatnonzero(~((xi >= 0) & (xi <= self.length)))
-            if not off.size:
-                raise
-            raise ValueError(f"{self.sliders[off[0]].name}: the sliding point left its line "
-                             f"({exc})") from exc
+        line = self._line(xi, q)
         rotation_dofs = (line.rotation.dofs.reshape(B, -1) if line.rotation is not None
                          else np.zeros((B, 0), dtype=int))
         dofs = np.concatenate([self.body, line.interp_dofs, line.load_dofs, rotation_dofs,
