@@ -26,18 +26,18 @@ class RigidBody:
     inertia
         3x3 inertia about the centre of mass in global axes, symmetric positive
         semi-definite (stored for dynamics).
-    centre
-        Centre of mass relative to the node, global axes (default: at the node).
     frame
         Optional body axes (columns), an orthonormal 3x3 matrix.
+    centre
+        Centre of mass relative to the node, global axes (default: at the node).
     """
 
     name: str
     position: np.ndarray
     mass: float = 0.0
     inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
-    centre: np.ndarray = field(default_factory=lambda: np.zeros(3))
     frame: np.ndarray | None = None
+    centre: np.ndarray = field(default_factory=lambda: np.zeros(3))
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name:

@@ -49,6 +49,9 @@ def _check(args: argparse.Namespace) -> int:
     study = scene.study.kind
     if study == "sweep":
         study += f" over {scene.study.parameter.kind}, {len(scene.study.sweep_values())} values"
+    if study == "dynamic":
+        study += (f" to t = {scene.study.t_end:g} s, step {scene.study.step:g} s, "
+                  f"{len(scene.drive)} drives")
     print(f"{args.scene}: valid ({len(scene.beam)} beams, {len(scene.body)} bodies, "
           f"{len(scene.slider)} sliders; {study})")
     return 0
@@ -68,6 +71,8 @@ def _run(args: argparse.Namespace) -> int:
     except ValueError as exc:
         print(f"fvslider: {exc}", file=sys.stderr)
         return 2
+    if model.scene.study.kind == "dynamic":
+        return _run_dynamic(model, out)
     results = run(model, progress=True)
     write_results(results, out)
     done = len(results.samples)
@@ -82,6 +87,26 @@ def _run(args: argparse.Namespace) -> int:
         print("interrupted: the completed samples are written", file=sys.stderr)
         return 130
     return 1 if results.failures else 0
+
+
+def _run_dynamic(model, out: Path) -> int:
+    from sliders.run_dynamic import run_dynamic
+
+    try:
+        outcome = run_dynamic(model, out, progress=True)
+    except ValueError as exc:
+        print(f"fvslider: {exc}", file=sys.stderr)
+        return 2
+    steps = len(outcome.recorder.rows) - 1
+    reached = "" if outcome.state is None else f" to t = {outcome.state.t:.6g} s"
+    print(f"{max(steps, 0)} steps{reached} in {outcome.seconds:.2f} s, written to {out}")
+    if outcome.error:
+        print(f"  failed: {outcome.error}", file=sys.stderr)
+        return 1
+    if outcome.interrupted:
+        print("interrupted: the steps computed are written", file=sys.stderr)
+        return 130
+    return 0
 
 
 def describe(key: str) -> str:

@@ -278,25 +278,31 @@ class Dynamics:
             recorder: "Recorder | None" = None, progress: bool = True) -> State:
         """Integrate from ``state`` to ``t_end``.
 
-        Fixed step (``adaptive`` None): ``h`` is shortened so a whole number of steps ends at
-        ``t_end``.  Adaptive: ``h`` is the first step (:class:`Adaptive`).  Each accepted
-        state goes to ``recorder``; a progress bar shows simulated time.  The recorder is
-        closed on every exit (its files then hold the steps computed), and a failure raises
+        Fixed step (``adaptive`` None): ``h`` is shortened so that a whole number ``n`` of
+        steps ends at ``t_end``, and exactly ``n`` steps are taken.  Adaptive: ``h`` is the
+        first step (:class:`Adaptive`).  Each accepted state goes to ``recorder``; with
+        ``progress``, a bar shows simulated time on a terminal.  The recorder is closed on
+        every exit (its files then hold the steps computed), and a failure raises
         :class:`DynamicsError` with the last converged state.
         """
         if not (np.isfinite(t_end) and t_end > state.t and np.isfinite(h) and h > 0):
             raise ValueError(f"need t_end > t = {state.t} and a step h > 0, got t_end = "
                              f"{t_end}, h = {h}")
+        steps = 0
         if adaptive is None:
-            h = (t_end - state.t) / np.ceil((t_end - state.t) / h * (1 - 1e-12))
+            steps = int(np.ceil((t_end - state.t) / h * (1 - 1e-12)))
+            h = (t_end - state.t) / steps
         if recorder is not None:
             recorder.start(self, state)
         try:
-            with tqdm(total=t_end - state.t, disable=not progress, unit="s",
+            with tqdm(total=t_end - state.t, disable=None if progress else True, unit="s",
                       desc="time", bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}]"
                       ) as bar:
-                while t_end - state.t > 1e-12 * max(abs(t_end), h):
-                    new, h = self._advance(state, min(h, t_end - state.t), adaptive)
+                while (steps > 0 if adaptive is None
+                       else t_end - state.t > 1e-12 * max(abs(t_end), h)):
+                    new, h = self._advance(state, h if adaptive is None
+                                           else min(h, t_end - state.t), adaptive)
+                    steps -= 1
                     if recorder is not None:
                         recorder.record(self, new, state)
                     bar.update(new.t - state.t)

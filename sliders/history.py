@@ -56,13 +56,20 @@ class Recorder:
         Also keep (and write) every dof, and the beams' internal forces.
     probes
         Extra columns: name to ``probe(state, dynamics)``.
+    every
+        Also keep every ``every``-th state (and the start) in :attr:`states` (0: none); the
+        last recorded state is always :attr:`last`.
     """
 
     def __init__(self, directory: str | Path | None = None, displacements: bool = False,
-                 internal_forces: bool = False, probes: dict[str, Probe] | None = None) -> None:
+                 internal_forces: bool = False, probes: dict[str, Probe] | None = None,
+                 every: int = 0) -> None:
         self.directory = None if directory is None else Path(directory)
         self.keep_displacements, self.keep_forces = displacements, internal_forces
         self.probes = dict(probes or {})
+        self.every = every
+        self.states: list[State] = []
+        self.last: State | None = None
         self.rows: list[list[float]] = []
         self.displacements: list[np.ndarray] = []
         self.internal_forces: list[np.ndarray] = []
@@ -82,7 +89,7 @@ class Recorder:
         for s in dynamics.sliders:
             self.columns += [f"{s.name}.{u}" for u in s.unknown_names] + [f"{s.name}.residual"]
         self.columns += list(self.probes)
-        self.rows, self.displacements, self.internal_forces = [], [], []
+        self.rows, self.displacements, self.internal_forces, self.states = [], [], [], []
         self._work = np.zeros(3)
         self._reference = None
         if self.directory is not None:
@@ -122,7 +129,8 @@ class Recorder:
     def _write(self, name: str, row: list[float]) -> None:
         if name in self._files:
             stream, writer = self._files[name]
-            writer.writerow([repr(float(x)) for x in row])
+            writer.writerow([str(x) if isinstance(x, (int, np.integer)) else repr(float(x))
+                             for x in row])
             stream.flush()
 
     def _append(self, dynamics: "Dynamics", state: State, old: State | None) -> None:
@@ -146,6 +154,9 @@ class Recorder:
         for y, residual in zip(state.unknowns, residuals):
             row += list(y) + [residual]
         row += [probe(state, dynamics) for probe in self.probes.values()]
+        if self.every and len(self.rows) % self.every == 0:
+            self.states.append(state)
+        self.last = state
         self.rows.append(row)
         self._write("history", row)
         if self.keep_displacements:

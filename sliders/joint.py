@@ -295,7 +295,10 @@ class SliderBatch:
         B = len(y)
         lam = y[:, 1:4]
         xi = np.clip(y[:, 0], 0.0, self.length) if self.end_stops else y[:, 0]
-        line = self._line(xi, q)
+        try:
+            line = self._line(xi, q)
+        except ValueError as exc:
+            raise ValueError(f"slider {self.sliders[0].name!r}: {exc}") from exc
         rotation_dofs = (line.rotation.dofs.reshape(B, -1) if line.rotation is not None
                          else np.zeros((B, 0), dtype=int))
         dofs = np.concatenate([self.body, line.interp_dofs, line.load_dofs, rotation_dofs,

@@ -21,6 +21,8 @@ import numpy as np
 from fvbeam import Beam, BeamMesh, RigidBody, Section, Structure, Support, arc, straight
 from fvbeam.statics import NodeRef
 from sliders.chain import BeamChain
+from sliders.drives import DofDrive, Linear, Motion, Ramp, Tabulated
+from sliders.dynamics import Dynamics
 from sliders.joint import Slider
 from sliders.lines import (CircularArc, CubicSpline, Helix, RigidLine, StraightLine,
                            project_one)
@@ -58,7 +60,15 @@ def _mesh(spec: BeamSpec, formulation: str) -> BeamMesh:
 def _body(spec) -> RigidBody:
     frame = None if spec.frame is None else np.array(spec.frame).T
     return RigidBody(spec.name, np.array(spec.position), spec.mass or 0.0,
-                     np.array(spec.inertia or np.zeros((3, 3))), frame)
+                     np.array(spec.inertia or np.zeros((3, 3))), frame, np.array(spec.centre))
+
+
+def _motion(spec) -> Motion:
+    if spec.kind == "linear":
+        return Linear(spec.start, spec.velocity, spec.t0)
+    if spec.kind == "ramp":
+        return Ramp(spec.start, spec.end, spec.t0, spec.t1, spec.shape)
+    return Tabulated(np.array(spec.times), np.array(spec.values), spec.order)
 
 
 def _rigid_line(spec) -> RigidLine:
@@ -136,6 +146,8 @@ class Model:
         problems.raise_if_any(source)
         self.ties = [tuple(self.ref(n) for n in tie.nodes) for tie in scene.tie]
         self.supports = [self._support(s.node, s.kind) for s in scene.support]
+        self.slider_drives = {d.slider: _motion(d.motion) for d in scene.drive
+                              if d.kind == "abscissa"}
         self.structure = Structure(self.beams, self.ties, self.bodies)
         self.sliders = [problems.attempt(f"slider[{i}]",
                                          lambda s=s: self._slider(s, self.structure))
@@ -171,7 +183,7 @@ class Model:
             line = BeamChain(structure, [self.index[b] for b in spec.line], "+".join(spec.line))
         return Slider(spec.kind, line, self.ref(spec.body), np.array(spec.offset),
                       np.array(spec.frame).T, spec.smearing, spec.kernel, spec.orientation,
-                      spec.end_stops, spec.name)
+                      spec.end_stops, self.slider_drives.get(spec.name), spec.name)
 
     # -- geometric checks -------------------------------------------------------------------
     def _size(self) -> float:
@@ -296,6 +308,17 @@ class Model:
             self._previous = SliderStatics(structure, self.supports, sliders,
                                            reuse=self._previous, method=method)
         return self._previous, self.load_vector(self._previous.structure, value)
+
+    def dynamics(self) -> Dynamics:
+        """The time integration of a dynamic study's scene."""
+        study = self.scene.study
+        drives = [DofDrive(self.ref(d.node), d.dof, _motion(d.motion))
+                  for d in self.scene.drive if d.kind == "dof"]
+        return Dynamics(self.structure, self.supports, self.sliders,
+                        self.load_vector(self.structure, None), mass=study.mass,
+                        damping=study.damping, gravity=study.gravity, drives=drives,
+                        rho_inf=study.rho_inf, method=study.method, tol=study.tol,
+                        max_iterations=study.max_iterations)
 
     def load_vector(self, structure: Structure, value: float | None) -> np.ndarray:
         """The scene's loads on ``structure`` at the study point ``value``."""

@@ -97,6 +97,8 @@ def _resolve(path: str, info: ValidationInfo) -> str:
 
 MeshPath = Annotated[str, Strict(), AfterValidator(_resolve),
                      Field(description="a mesh file's path (relative to the scene file)")]
+FilePath = Annotated[str, Strict(), AfterValidator(_resolve),
+                     Field(description="a file's path (relative to the scene file)")]
 
 
 class Table(BaseModel):
@@ -159,6 +161,7 @@ class BodySpec(Table):
     mass: Positive | None = None
     inertia: Inertia | None = None
     frame: Frame | None = None
+    centre: Vec3 = (0.0, 0.0, 0.0)
 
 
 class TieSpec(Table):
@@ -264,13 +267,72 @@ class DistributedLoad(Wrench):
 LoadSpec = Annotated[Union[NodalLoad, PointLoad, DistributedLoad], Field(discriminator="kind")]
 
 
+# -- drives -------------------------------------------------------------------------------------
+class LinearMotion(Table):
+    """``start + velocity (t - t0)`` (:class:`sliders.drives.Linear`)."""
+
+    kind: Literal["linear"]
+    start: Number
+    velocity: Number
+    t0: Number = 0.0
+
+
+class RampMotion(Table):
+    """From ``start`` to ``end`` between ``t0`` and ``t1`` (:class:`sliders.drives.Ramp`)."""
+
+    kind: Literal["ramp"]
+    start: Number
+    end: Number
+    t0: Number
+    t1: Number
+    shape: Literal["linear", "cosine"] = "cosine"
+
+
+class TabulatedMotion(Table):
+    """Through ``(times, values)`` (:class:`sliders.drives.Tabulated`)."""
+
+    kind: Literal["tabulated"]
+    times: Annotated[tuple[Number, ...], Field(min_length=2)]
+    values: Annotated[tuple[Number, ...], Field(min_length=2)]
+    order: Literal[1, 3] = 1
+
+
+MotionSpec = Annotated[Union[LinearMotion, RampMotion, TabulatedMotion],
+                       Field(discriminator="kind")]
+
+
+class AbscissaDrive(Table):
+    """``[[drive]]`` of a slider's abscissa (m): the body is pushed along its line."""
+
+    kind: Literal["abscissa"]
+    slider: Name
+    motion: MotionSpec
+
+
+class DofDriveSpec(Table):
+    """``[[drive]]`` of one dof of a node (m or rad from the reference configuration)."""
+
+    kind: Literal["dof"]
+    node: NodeRef
+    dof: Literal["ux", "uy", "uz", "rx", "ry", "rz"]
+    motion: MotionSpec
+
+
+DriveSpec = Annotated[Union[AbscissaDrive, DofDriveSpec], Field(discriminator="kind")]
+
+
 # -- study ---------------------------------------------------------------------------------------
-class Solver(Table):
-    """Newton options (:meth:`sliders.statics.SliderStatics.solve`)."""
+class Newton(Table):
+    """Newton options (:func:`sliders.statics.newton_many`)."""
 
     method: Literal["bordered", "condensed"] = "bordered"
     tol: Positive = 1e-8
     max_iterations: Count = 25
+
+
+class Solver(Newton):
+    """Newton options of the static studies (:meth:`sliders.statics.SliderStatics.solve`)."""
+
     load_steps: Count = 1
 
 
@@ -325,11 +387,32 @@ class SweepStudy(Solver):
         return np.linspace(self.range.start, self.range.stop, self.range.num)
 
 
-class DynamicStudy(BaseModel):
-    """Reserved for time integration (issue 4); rejected by :mod:`sliders.scene_checks`."""
+class AdaptiveSpec(Table):
+    """Error-controlled steps (:class:`sliders.dynamics.Adaptive`)."""
 
-    model_config = ConfigDict(extra="allow", frozen=True)
+    rtol: Positive = 1e-4
+    atol: NonNegative = 1e-12
+    h_min: NonNegative = 0.0
+    h_max: Positive | None = None
+
+
+class DynamicStudy(Newton):
+    """Time integration from the static equilibrium at ``t = 0`` (or a saved ``restart``
+    state) to ``t_end`` (:class:`sliders.dynamics.Dynamics`): steps of ``step`` seconds, or
+    ``adaptive`` ones starting there; ``damping`` is the stiffness-proportional coefficient
+    (s); ``every``: keep one state in that many for the VTU series and renders."""
+
     kind: Literal["dynamic"]
+    t_end: Positive
+    step: Positive
+    rho_inf: Annotated[float, Strict(), Field(ge=0, le=1, allow_inf_nan=False,
+                                              description="a number in [0, 1]")] = 0.8
+    mass: Literal["lumped", "consistent"] = "lumped"
+    damping: NonNegative = 0.0
+    gravity: Vec3 | None = None
+    adaptive: AdaptiveSpec | None = None
+    restart: FilePath | None = None
+    every: Count = 1
 
 
 Study = Annotated[Union[StaticStudy, SweepStudy, DynamicStudy], Field(discriminator="kind")]
@@ -360,6 +443,7 @@ class Scene(Table):
     support: tuple[SupportSpec, ...] = ()
     slider: tuple[SliderSpec, ...] = ()
     load: tuple[LoadSpec, ...] = ()
+    drive: tuple[DriveSpec, ...] = ()
     study: Study
     output: Output = Output()
 

@@ -188,10 +188,11 @@ def _check_line(scene: Scene, path: str, line: tuple[str, ...], names: _Names,
 
 def _check_study(scene: Scene, names: _Names, problems: Problems) -> None:
     study = scene.study
+    if scene.drive and not isinstance(study, DynamicStudy):
+        problems.add("drive", f"drives prescribe motions in time: they need study.kind = "
+                     f"'dynamic', not '{study.kind}'")
     if isinstance(study, DynamicStudy):
-        problems.add("study.kind", "not available yet: time integration is issue 4; use "
-                     "'static' or 'sweep'", "dynamic")
-        return
+        _check_dynamic(scene, study, names, problems)
     if study.method == "condensed" and not scene.slider:
         problems.add("study.method", "'condensed' eliminates slider unknowns and needs at "
                      "least one slider; use 'bordered'", study.method)
@@ -203,6 +204,59 @@ def _check_study(scene: Scene, names: _Names, problems: Problems) -> None:
         _check_translation(scene, study.parameter, names, problems)
     elif isinstance(study.parameter, Abscissa):
         _check_abscissa(scene, study.parameter.of, names, problems)
+
+
+def _check_dynamic(scene: Scene, study: DynamicStudy, names: _Names,
+                   problems: Problems) -> None:
+    """The drives' references (a slider or dof driven once), their tables, the steps, and
+    the mass of every beam's section."""
+    for i, section in enumerate(scene.section):
+        if section.mass_per_length is None and any(b.section == section.name
+                                                   for b in scene.beam):
+            problems.add(f"section[{i}].mass_per_length", "a dynamic study needs the mass of "
+                         "every beam's section")
+    driven: dict[str, int] = {}
+    for i, drive in enumerate(scene.drive):
+        path = f"drive[{i}]"
+        if drive.kind == "abscissa":
+            key = drive.slider
+            if drive.slider not in names.sliders:
+                problems.add(f"{path}.slider", f"no slider named '{drive.slider}'"
+                             f"{suggest(drive.slider, names.sliders)}", drive.slider)
+        else:
+            key = f"{drive.node}.{drive.dof}"
+            names.node(f"{path}.node", drive.node, problems)
+            if any(s.node == drive.node and _holds(s.kind, drive.dof) for s in scene.support):
+                problems.add(f"{path}.dof", f"{drive.node} {drive.dof} is held by a support",
+                             drive.dof)
+        if key in driven:
+            problems.add(path, f"drives what drive[{driven[key]}] already drives ({key})")
+        driven.setdefault(key, i)
+        motion = drive.motion
+        if motion.kind == "tabulated":
+            if len(motion.times) != len(motion.values):
+                problems.add(f"{path}.motion.values", f"has {len(motion.values)} values for "
+                             f"{len(motion.times)} times", list(motion.values))
+            if any(b <= a for a, b in zip(motion.times[:-1], motion.times[1:])):
+                problems.add(f"{path}.motion.times", "must increase strictly",
+                             list(motion.times))
+            if motion.order == 3 and len(motion.times) < 4:
+                problems.add(f"{path}.motion.order", "a cubic table needs at least 4 points",
+                             motion.order)
+        elif motion.kind == "ramp" and not motion.t1 > motion.t0:
+            problems.add(f"{path}.motion.t1", f"must be after t0 = {motion.t0}", motion.t1)
+    if study.step > study.t_end:
+        problems.add("study.step", f"is longer than t_end = {study.t_end}", study.step)
+    adaptive = study.adaptive
+    if adaptive is not None and adaptive.h_max is not None and adaptive.h_max <= adaptive.h_min:
+        problems.add("study.adaptive.h_max", f"must exceed h_min = {adaptive.h_min}",
+                     adaptive.h_max)
+
+
+def _holds(kind: str, dof: str) -> bool:
+    """Whether a support of ``kind`` holds ``dof``."""
+    return (kind == "clamp" or (kind == "pin" and dof.startswith("u"))
+            or dof in kind.split("+"))
 
 
 def _check_translation(scene: Scene, parameter: Translation, names: _Names,

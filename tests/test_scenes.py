@@ -105,14 +105,6 @@ def test_a_broken_tie_is_reported_once():
     assert "'c2' is a beam: name one of its ends" in problem.message
 
 
-def test_dynamic_study_is_reserved():
-    scene = data("fig1_cantilever")
-    scene["study"] = {"kind": "dynamic", "duration": 1.0}
-    (problem,) = problems(scene)
-    assert problem.path == "study.kind"
-    assert "not available yet" in problem.message and "issue 4" in problem.message
-
-
 def test_unreadable_mesh_file(tmp_path):
     (tmp_path / "broken.msh").write_text("$MeshFormat\nthis is not gmsh\n")
     scene = data("arch_mesh")
