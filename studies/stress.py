@@ -6,7 +6,7 @@ ends; a massless rigid body on a spherical slider whose abscissa ``xi`` is drive
 (:class:`sliders.drives.Tabulated`, piecewise linear: constant speed ``c`` between turning
 points), carrying a transverse force ``F = (0, 1, 0)``.  Section: ``EJ = 1``,
 ``GA = EJ / (r L^2)`` with the slenderness ratio ``r``, ``EA = 1e4``, ``GJ = 1``, ``m = 1``,
-rotary inertia ``1e-4`` per length; no damping, generalized-alpha with ``rho_inf = 0.8``.
+rotary inertia ``1e-4`` per length; no damping, generalized-alpha (``Case.rho_inf``).
 
 Dimensionless parameters of a run (:class:`Case`):
 
@@ -154,7 +154,7 @@ def crossings(xi: np.ndarray, points: np.ndarray) -> int:
 
 @dataclass
 class Model:
-    """A built run: the dynamics, the slider's drive, the chain and the start."""
+    """A built run: the dynamics, its slider, chain and drive, the step and the end time."""
 
     dynamics: Dynamics
     slider: Slider
@@ -184,7 +184,7 @@ def build(case: Case, waypoints: Sequence[float], leg_time: float, h: float, *,
 
 
 def sweep_model(case: Case) -> Model:
-    """One pass of the sweep run of ``case`` (module docstring)."""
+    """The sweep run of ``case`` (module docstring)."""
     c = case.speed * critical_speed(case.slenderness)
     h = case.step * ELEMENT / (4 * c)
     travel = min(STEPS * c * h, ENDS[1] - ENDS[0])
