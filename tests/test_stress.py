@@ -170,3 +170,54 @@ def test_singular_configuration_names_the_free_motion(tmp_path):
     assert "body 'body' r" in str(err)
     assert err.state.t == 0.0 and len(recorder.rows) == 1
     check_kept(err, recorder, tmp_path)
+
+
+def free_bead(steps: int) -> tuple[dict, float]:
+    """A bead of mass ``m`` sliding freely (no drive) along the chain, from rest at
+    ``xi = 0.3`` in the static deflection under ``F_y``, pushed along x by ``F_x`` from
+    ``t = 0`` to the time ``T`` at which a rigid straight rail would bring it to 4.7:
+    ``xi = 0.3 + F_x t^2 / (2 m)``.  The start is consistent: the static state (found with
+    the abscissa held, the rail being frictionless and straight, so ``lambda_x = 0``) with
+    the bead's acceleration ``F_x / m``.  Returns the recorded table and ``T``."""
+    from fvbeam import RigidBody, Structure, Support
+    from sliders.chain import BeamChain
+    from sliders.drives import Linear
+    from sliders.joint import Slider
+
+    m, Fx, Fy = 1.0, 1.0, 0.01
+    beams, ties = stress.chain_beams(1e-2)
+    structure = Structure(beams, ties, bodies=[RigidBody("bead", (0.3, 0, 0), mass=m)])
+    chain = BeamChain(structure, list(range(stress.BEAMS)), name="rail")
+    supports = stress.CLAMPS + [Support("bead", kind="rx+ry+rz")]
+    weight = structure.nodal_load("bead", (0, Fy, 0))
+
+    def bead(drive=None) -> Slider:
+        return Slider("spherical", chain, "bead", smearing=0.05 * stress.ELEMENT,
+                      drive=drive, name="bead")
+
+    start = Dynamics(structure, supports, [bead(Linear(0.3, 0.0))], weight).static_state()
+    ux = structure.node_dofs("bead")[0]
+    start.a[ux] = start.qdd[ux] = Fx / m
+    T = np.sqrt(2 * 4.4 * m / Fx)
+    d = Dynamics(structure, supports, [bead()], weight + structure.nodal_load("bead", (Fx, 0, 0)),
+                 method="condensed", tol=stress.TOL)
+    recorder = Recorder()
+    d.run(start, T, T / steps, recorder=recorder, progress=False)
+    return recorder.table(), T
+
+
+def test_a_free_bead_slides_across_junctions_with_newton_quadratic():
+    """Unlike the driven runs, ``xi`` is an unknown here (Newton's nonlinear case).  The
+    tangential force ``F_x + F_y w'`` stays positive (``|w'| < 1`` on a chain deflected by
+    ``F_y / F_x = 1 %``), so ``xi`` increases at every step; it crosses every evaluation
+    point from 0.3 to 4.7 and the four junctions.  Newton converges quadratically from the
+    scheme's predictor: at most 3 iterations (the third's increments are roundoff, as for the
+    driven runs)."""
+    table, _ = free_bead(300)
+    xi = table["bead.xi"]
+    assert np.all(np.diff(xi) > 0)
+    points, junctions = stress.reference_points()
+    assert stress.crossings(xi, points) >= 18 and stress.crossings(xi, junctions) == 4
+    assert table["iterations"][1:].max() <= 3
+    assert np.all(table["bead.residual"] <= stress.residual_bound(
+        np.maximum.accumulate(np.abs(xi - 0.3))))
