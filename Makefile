@@ -37,6 +37,7 @@ demo: render-libs $(VENV)/.installed-all
 bench: $(VENV)/.installed-all
 	$(BIN)/python -m studies.bench --out $(RESULTS)/bench.json
 	$(BIN)/python -m studies.bench_sweep --out $(RESULTS)/bench.json
+	$(BIN)/python -m studies.bench_dynamics --out $(RESULTS)/bench.json
 
 clean:
 	rm -rf $(VENV) $(RESULTS) .pytest_cache

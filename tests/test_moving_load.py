@@ -148,3 +148,16 @@ def test_step_convergence(formulation, rho_inf):
         t, w = ml.simulate(m, steps, rho_inf)
         errors.append(ml.relative_error(w, ml.semi_discrete(m, t)))
     assert np.all(np.abs(observed_orders(errors) - 2) <= ORDER_TOLERANCE), errors
+
+
+def test_benchmark_row_reports_time_and_error_split():
+    """Shape of the moving-load benchmark (speed is never asserted): the error against the
+    closed form is at most its spatial plus its time part (triangle inequality)."""
+    from studies.bench_dynamics import moving_load_bench
+
+    result = moving_load_bench(formulations=("galerkin-p2",), repeats=1, steps=100,
+                               progress=False)
+    (row,) = result["rows"]
+    assert not result["interrupted"] and row["steps"] == 100
+    assert 0 < row["seconds_per_step"]["min"] <= row["seconds_per_step"]["median"]
+    assert row["rel_error"] <= (row["rel_error_space"] + row["rel_error_time"]) * (1 + 1e-12)
