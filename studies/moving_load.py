@@ -101,9 +101,11 @@ def exact_midspan(t: np.ndarray, rtol: float = 1e-8) -> np.ndarray:
                                         M_PER_LENGTH, F, SPEED, rtol=rtol)
 
 
-def relative_error(w: np.ndarray, reference: np.ndarray) -> float:
-    """``max_t |w - w_ref| / max_t |w_ref|``."""
-    return float(np.abs(w - reference).max() / np.abs(reference).max())
+def relative_error(w: np.ndarray, reference: np.ndarray,
+                   scale: np.ndarray | None = None) -> float:
+    """``max_t |w - w_ref| / max_t |w_scale|``, by default ``w_scale = w_ref``."""
+    scale = reference if scale is None else scale
+    return float(np.abs(w - reference).max() / np.abs(scale).max())
 
 
 def semi_discrete(m: Model, t: np.ndarray) -> np.ndarray:
