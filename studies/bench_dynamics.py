@@ -10,7 +10,8 @@
     of the mid-span deflection against the closed form
     (:func:`fvbeam.analytic.moving_load_simply_supported`), split into its spatial part (the
     exact semi-discrete solution against the closed form) and its time part (the steps
-    against the exact semi-discrete solution).
+    against the exact semi-discrete solution), all three on the scale of the closed form's
+    largest mid-span deflection (so the parts bound the total).
 
 Run as ``python -m studies.bench_dynamics --out results/bench.json`` (``make bench``).  An
 interruption (Ctrl-C) keeps and writes the rows completed so far, marked ``interrupted``.
