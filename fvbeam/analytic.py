@@ -203,8 +203,9 @@ def moving_load_simply_supported(x, t, L: float = 1.0, EJ: float = 1.0, GA: floa
     """Deflection ``w(x, t)`` of a simply supported beam crossed by a constant force ``F`` at
     speed ``c``, entering at ``x = 0`` at ``t = 0`` on the beam at rest.
 
-    Fryba, *Vibration of Solids and Structures under Moving Loads*, 3rd ed. (1999), Ch. 1,
-    eq. (1.29) with no damping, extended to a Timoshenko beam without rotary inertia
+    Fryba, *Vibration of Solids and Structures under Moving Loads*, 3rd ed. (1999), Ch. 1
+    (the series solution for a constant force, undamped), extended to a Timoshenko beam
+    without rotary inertia
     (``docs/dynamics.md``, "Moving load"): the modes stay ``sin(k_j x)``, ``k_j = j pi / L``,
     with modal mass ``m L / 2`` and modal stiffness ``kappa_j L / 2``,
     ``kappa_j = EJ k_j^4 / (1 + EJ k_j^2 / GA)``::
