@@ -1,0 +1,180 @@
+"""A constant force crossing a simply supported beam: the discrete model and its references.
+
+The beam lies along x, ``L = 1``, bent in the x-y plane by a force ``F = 1`` along y moving
+at ``c`` from ``x = 0`` (``t = 0``, beam at rest) to ``x = L`` (``t = L / c``).  Section:
+``EJ = m = 1``, ``GA = 1e5`` (``EJ / (GA L^2) = 1e-5``), no rotary inertia.  At the
+paper's Sec. 6 slenderness (``1e-3``) the continuum's response carries shear-wave fronts
+(free-vibration terms decaying only like ``j^-2``, weighted by ``c / sqrt(GA / m)``) that
+the meshes resolve at a lower rate, and the max-norm orders become erratic on fine meshes
+(``docs/dynamics.md``, "Moving load"); the slender section keeps the measured rates those
+of the formulations.  The speed is half the critical one,
+``c = 0.5 pi sqrt(EJ / m) / L`` (Fryba's ``alpha = 0.5``).  Supports: a pin (``ux uy uz``)
+and ``rx`` at ``x = 0``, ``uy uz`` at ``x = L``; the out-of-plane dofs carry no load.
+
+Two references (``docs/dynamics.md``, "Moving load"):
+
+* :func:`fvbeam.analytic.moving_load_simply_supported`, the continuum's modal series;
+* :func:`semi_discrete`, the exact solution of the model's own ODE ``M qdd + K q = f(t)``
+  (no time-stepping error): the massless rotations condensed out, the translations in the
+  modes of ``(K*, M)``, each mode integrated in closed form over the intervals on which the
+  load vector is a polynomial in ``t``.  The load vector of a point load is a polynomial in
+  its abscissa between the formulation's break points (element ends; fv also the
+  evaluation points, across which it jumps), so each piece is read off exactly by
+  interpolating ``Beam.point_load`` at ``degree + 1`` interior times.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as sla
+
+from fvbeam import Beam, Section, Structure, Support, straight
+from fvbeam.analytic import moving_load_simply_supported
+from sliders.dynamics import Dynamics
+from sliders.integrator import State
+
+L, EJ, GA, M_PER_LENGTH, F = 1.0, 1.0, 1e5, 1.0, 1.0
+#: Speed: half the critical speed ``pi sqrt(EJ / m) / L`` of the Euler-Bernoulli beam.
+SPEED = 0.5 * np.pi * np.sqrt(EJ / M_PER_LENGTH) / L
+CROSSING = L / SPEED
+#: Mass matrix per formulation: fv lumped (its only kind), Galerkin consistent.
+MASS = {"fv2": "lumped", "fv3": "lumped", "galerkin-p1": "consistent",
+        "galerkin-p2": "consistent"}
+#: Degree in the load's abscissa of a point load's vector between break points.
+LOAD_DEGREE = {"fv2": 1, "fv3": 1, "galerkin-p1": 1, "galerkin-p2": 2}
+
+
+@dataclass
+class Model:
+    """The supported beam, its structure and the moving load."""
+
+    formulation: str
+    n_elements: int
+    beam: Beam
+    structure: Structure
+    supports: list[Support]
+    smearing: float = 0.0
+
+    def load(self, t: float) -> np.ndarray:
+        """Global load vector of the force at ``xi = c t``."""
+        xi = min(max(SPEED * t, 0.0), L)
+        return self.structure.gather(0, self.beam.point_load(
+            xi, force=(0.0, F, 0.0), smearing=self.smearing))
+
+    @property
+    def midspan(self) -> int:
+        """Global dof of the mid-span deflection ``u_y(L / 2)`` (a vertex: even meshes)."""
+        return int(self.structure.node_dofs((0, self.n_elements // 2))[1])
+
+    def dynamics(self, rho_inf: float) -> Dynamics:
+        return Dynamics(self.structure, self.supports, load=self.load,
+                        mass=MASS[self.formulation], rho_inf=rho_inf)
+
+
+def model(formulation: str, n_elements: int, smearing: float = 0.0) -> Model:
+    """The simply supported beam of ``n_elements`` (even) elements."""
+    if n_elements % 2:
+        raise ValueError(f"n_elements must be even (mid-span on a node), got {n_elements}")
+    section = Section.diagonal(EA=1e3, GAy=GA, GAz=GA, GJ=1.0, EJy=EJ, EJz=EJ,
+                               mass_per_length=M_PER_LENGTH, name="moving-load")
+    npe = 2 if formulation in ("fv2", "galerkin-p1") else 3
+    beam = Beam(straight((0, 0, 0), (L, 0, 0), n_elements, npe), section, formulation)
+    supports = [Support(0, "start", "ux+uy+uz+rx"), Support(0, "end", "uy+uz")]
+    return Model(formulation, n_elements, beam, Structure([beam]), supports, smearing)
+
+
+def simulate(m: Model, steps: int, rho_inf: float = 0.8) -> tuple[np.ndarray, np.ndarray]:
+    """Times and mid-span deflections of ``steps`` fixed generalized-alpha steps across the
+    crossing, from rest (the load enters on the support: zero acceleration at ``t = 0``)."""
+    d = m.dynamics(rho_inf)
+    zero = np.zeros(m.structure.n_dofs)
+    state = State(0.0, zero, zero, zero, zero)
+    h = CROSSING / steps
+    w = np.zeros(steps + 1)
+    for n in range(1, steps + 1):
+        state = d.step(state, h)
+        w[n] = state.q[m.midspan]
+    return h * np.arange(steps + 1), w
+
+
+def exact_midspan(t: np.ndarray, rtol: float = 1e-8) -> np.ndarray:
+    """The continuum's mid-span deflection (:func:`moving_load_simply_supported`)."""
+    return moving_load_simply_supported(L / 2, np.minimum(t, CROSSING), L, EJ, GA,
+                                        M_PER_LENGTH, F, SPEED, rtol=rtol)
+
+
+def relative_error(w: np.ndarray, reference: np.ndarray,
+                   scale: np.ndarray | None = None) -> float:
+    """``max_t |w - w_ref| / max_t |w_scale|``, by default ``w_scale = w_ref``."""
+    scale = reference if scale is None else scale
+    return float(np.abs(w - reference).max() / np.abs(scale).max())
+
+
+def semi_discrete(m: Model, t: np.ndarray) -> np.ndarray:
+    """Mid-span deflection of the model's exact semi-discrete solution at times ``t``
+    (module docstring)."""
+    d = m.dynamics(1.0)
+    free = d.free
+    mass = d.M[free][:, free].toarray()
+    moving = np.flatnonzero(np.diag(mass) > 0)                 # translations with mass
+    still = np.setdiff1d(np.arange(len(free)), moving)         # massless rotations
+    K = d.K[free][:, free].toarray()
+    Kmm, Kms = K[np.ix_(moving, moving)], K[np.ix_(moving, still)]
+    Ksm, Kss = K[np.ix_(still, moving)], K[np.ix_(still, still)]
+    condense = Kms @ np.linalg.inv(Kss)                         # f* = f_m - Kms Kss^-1 f_s
+    omega2, V = sla.eig(Kmm - condense @ Ksm, mass[np.ix_(moving, moving)])
+    if np.abs(omega2.imag).max() > 1e-9 * np.abs(omega2).max() or omega2.real.min() <= 0:
+        raise ValueError("the condensed modes are not real and positive")
+    omega, V = np.sqrt(omega2.real), V.real
+    modal = np.linalg.solve(V, np.linalg.inv(mass[np.ix_(moving, moving)]))
+    project = modal @ np.hstack([np.eye(len(moving)), -condense])  # f_free -> modal force
+    order = np.concatenate([moving, still])
+
+    def force(times: np.ndarray) -> np.ndarray:                  # (n_modes, len(times))
+        f = np.array([m.load(s)[free][order] for s in times]).T
+        return project @ f
+
+    mid = np.flatnonzero(free[moving] == m.midspan)[0]
+    breaks = _load_breaks(m)
+    degree = LOAD_DEGREE[m.formulation]
+    q, v = np.zeros(len(omega)), np.zeros(len(omega))
+    out = np.zeros(len(t))
+    for t0, t1 in zip(breaks[:-1], breaks[1:]):
+        # the piece's modal force as a polynomial in s = t - t0, from interior samples
+        s = (t1 - t0) * (np.arange(degree + 1) + 0.5) / (degree + 1)
+        g = force(t0 + s) @ np.linalg.inv(np.vander(s, degree + 1, increasing=True)).T
+        inside = (t >= t0) & (t <= t1)
+        qs, _ = _polynomial_response(omega, g, q, v, t[inside] - t0)
+        out[inside] = V[mid] @ qs
+        q, v = _polynomial_response(omega, g, q, v, np.array([t1 - t0]))
+        q, v = q[:, 0], v[:, 0]
+    return out
+
+
+def _load_breaks(m: Model) -> np.ndarray:
+    """Times at which the load vector's polynomial piece changes (module docstring)."""
+    if m.smearing:
+        raise ValueError("semi_discrete takes a point load (smearing = 0)")
+    local = m.beam.formulation.breakpoints()
+    xi = m.beam.mesh.abscissae(np.arange(m.n_elements)[:, None], local).ravel()
+    return np.unique(np.clip(xi, 0, L)) / SPEED
+
+
+def _polynomial_response(omega: np.ndarray, g: np.ndarray, q0: np.ndarray, v0: np.ndarray,
+                         s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Exact ``q(s), q'(s)`` of ``q'' + omega^2 q = sum_i g_i s^i`` (degree <= 2) from
+    ``q0, v0``: the particular solution ``g / omega^2 - g'' / omega^4`` plus the free
+    oscillation that meets the initial values."""
+    g = np.pad(g, ((0, 0), (0, 3 - g.shape[1])))
+    w2 = omega**2
+    p0 = g[:, 0] / w2 - 2 * g[:, 2] / w2**2
+    dp0 = g[:, 1] / w2
+    A, B = q0 - p0, (v0 - dp0) / omega
+    ws = np.multiply.outer(omega, s)
+    c, sn = np.cos(ws), np.sin(ws)
+    qp = (g[:, :1] + g[:, 1:2] * s + g[:, 2:] * s**2) / w2[:, None] - (2 * g[:, 2] / w2**2)[:, None]
+    vp = (g[:, 1:2] + 2 * g[:, 2:] * s) / w2[:, None]
+    return (A[:, None] * c + B[:, None] * sn + qp,
+            omega[:, None] * (B[:, None] * c - A[:, None] * sn) + vp)
