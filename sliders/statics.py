@@ -248,7 +248,7 @@ def _member(parts: list, b: int) -> list:
     out = []
     for dofs, r, J in parts:
         t = dofs.shape[1]
-        out.append((dofs[b], r[b, :t], r[b, t:], J[b]))
+        out.append((dofs[b], r[b, :t], r[b, t:], J.subset(np.array([b])).dense()[0]))
     return out
 
 
@@ -324,7 +324,7 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
             active = active[going]
             break
         if not going.all():
-            parts = [(d[going], r[going], J[going]) for d, r, J in parts]
+            parts = [(d[going], r[going], J.subset(going)) for d, r, J in parts]
             R, r_y = R[going], r_y[going]
         dq, dy, regular = lead._steps([members[b] for b in active[going]], R, parts, r_y)
         for i in np.flatnonzero(~regular):
