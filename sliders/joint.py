@@ -356,7 +356,8 @@ class SliderBatch:
             J.add("load", "lam", -G)
             J.add("xi", "xi", -_dot(line.tangent_xi, lam)[:, None, None])
             J.add("xi", "lam", -line.tangent[:, None, :])
-            J.add("xi", ("interp", "beside"), -(line.T[:, :, None] * lam[:, None, :]).reshape(B, 1, -1))
+            J.add("xi", ("interp", "beside"),
+                  -(line.T[:, :, None] * lam[:, None, :]).reshape(B, 1, -1))
             J.add("lam", "body", eye)
             J.add("lam", "xi", -line.l[:, :, None])
             J.add("lam", "interp", -(line.N[:, None, :, None]
