@@ -75,17 +75,19 @@ def jumps(nodes_per_element: int) -> np.ndarray:
     return (bounds[:, :1] == p).astype(float) - (bounds[:, 1:] == p)
 
 
-def _region_blocks(chi: np.ndarray, lever: np.ndarray) -> np.ndarray:
-    """``chi_a [[I, 0], [skew(lever_a), I]]`` per local node, as rows ``6a + c``.
-
-    ``chi``: ``(npe,) + P``; ``lever``: ``P + (npe, 3)``.  Returns ``P + (6 npe, 6)``.
-    """
-    c = np.moveaxis(chi, 0, -1)[..., None, None]                # P + (npe, 1, 1)
+def _unit_blocks(lever: np.ndarray) -> np.ndarray:
+    """``[[I, 0], [skew(lever_a), I]]`` per local node: ``P + (npe, 6, 6)``."""
     out = np.zeros(lever.shape[:-1] + (6, 6))
     out[..., :3, :3] = np.eye(3)
     out[..., 3:, 3:] = np.eye(3)
     out[..., 3:, :3] = skew_matrices(lever)
-    return (out * c).reshape(lever.shape[:-2] + (6 * lever.shape[-2], 6))
+    return out
+
+
+def _scaled(blocks: np.ndarray, chi: np.ndarray) -> np.ndarray:
+    """``chi_a`` times node ``a``'s block (``P + (npe, 6, 6)``), as rows ``6a + c``."""
+    c = np.moveaxis(chi, 0, -1)[..., None, None]                # P + (npe, 1, 1)
+    return (blocks * c).reshape(blocks.shape[:-3] + (6 * blocks.shape[-3], 6))
 
 
 def rigid_motions(mesh: BeamMesh, e: np.ndarray, X: np.ndarray, chi: np.ndarray,
@@ -121,9 +123,11 @@ def rigid_motions_at(nodes: np.ndarray, h: np.ndarray, X: np.ndarray, chi: np.nd
     dx = np.einsum("a...,...ak->...k", dN, nodes) / np.asarray(h)[..., None]
     turn = np.zeros(chi.shape[1:] + (nodes.shape[-2], 6, 6))
     turn[..., 3:, :3] = skew_matrices(dx)[..., None, :, :]
-    turn *= np.moveaxis(chi, 0, -1)[..., None, None]
-    grad = _region_blocks(dchi, lever) + turn.reshape(turn.shape[:-3] + (-1, 6))
-    return _region_blocks(chi, lever), grad
+    blocks = _unit_blocks(lever)
+    grad = _scaled(turn, chi)
+    if np.any(dchi):
+        grad += _scaled(blocks, dchi)
+    return _scaled(blocks, chi), grad
 
 
 class ElementBeamFV(Element):

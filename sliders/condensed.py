@@ -45,6 +45,7 @@ import scipy.sparse.linalg as spla
 from scipy.sparse.csgraph import connected_components
 
 from fvbeam.statics import Structure
+from sliders.slots import SlotJacobian
 
 #: A small system whose row- and column-equilibrated reciprocal condition number (1-norm)
 #: falls below this is singular: the threshold of the bordered diagnostic
@@ -163,7 +164,21 @@ class CondensedOperator:
             self._store = np.hstack([self._store, self.lu.solve(unit)])
         return self._slot[positions]
 
-    def step(self, r_free: np.ndarray, slots: list[np.ndarray], blocks: list[np.ndarray],
+    def _read(self, rows: np.ndarray, columns: np.ndarray, F: np.ndarray) -> np.ndarray:
+        """``Y = B^{-1}[rows, columns] F`` per member (``rows`` (B, r) free-dof positions,
+        ``columns`` (B, f) store slots, ``F`` (B, f, p)): the block of ``B^{-1}`` is gathered
+        once per distinct pair of index rows (the members of a sweep share a few elements, so
+        a few patterns) and multiplies all members that have it."""
+        patterns, which = _patterns(np.concatenate([rows, columns], axis=1))
+        r = rows.shape[1]
+        if len(patterns) == 1:
+            return self._store[patterns[0, :r, None], patterns[0, None, r:]] @ F
+        Y = np.empty((len(F), r, F.shape[2]))
+        for key, members in zip(patterns, _groups(which, len(patterns))):
+            Y[members] = self._store[key[:r, None], key[None, r:]] @ F[members]
+        return Y
+
+    def step(self, r_free: np.ndarray, slots: list[np.ndarray], blocks: list[SlotJacobian],
              r_y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Newton increments of ``B`` members sharing this operator (module docstring).
 
@@ -173,8 +188,8 @@ class CondensedOperator:
             The structure residuals.
         slots : list of (B, t_j)
             Per joint, the free-dof position of each of its slots, -1 where supported.
-        blocks : list of (B, t_j + m_j, t_j + m_j)
-            Per joint, its Jacobian on ``[q_slots; y_j]``.
+        blocks : list of SlotJacobian
+            Per joint, its Jacobian on ``[q_slots; y_j]`` by slot groups.
         r_y : (B, m)
             The joints' residuals, joint after joint.
 
@@ -202,7 +217,7 @@ class CondensedOperator:
         in_c = np.concatenate([o + np.searchsorted(p.reads, p.c) for o, p in
                                zip(np.cumsum([0] + [len(p.reads) for p in parts]), parts)])
         columns = self._columns(force_at)
-        Y = self._store[read_at[:, :, None], columns[:, None, :]] @ F
+        Y = self._read(read_at, columns, F)
         Y_z = np.moveaxis(self._store[n:][:, columns], 0, 1) @ F
         base = self.solve(r_free)
         rows = np.arange(B)[:, None]
@@ -242,23 +257,42 @@ class _JointPart:
     D: np.ndarray
 
 
-def _joint_part(slots: np.ndarray, J: np.ndarray) -> _JointPart:
-    """The compact blocks of a joint's Jacobian ``J`` (B, t + m, t + m) on its slots
-    ``slots`` (B, t), the supported slots (-1) removed (:class:`_JointPart`)."""
-    B, t = slots.shape
-    held = np.concatenate([slots >= 0, np.ones((B, J.shape[1] - t), dtype=bool)], axis=1)
-    nonzero = J != 0
-    member, slot = np.nonzero(~held)
-    nonzero[member, slot] = False
-    nonzero[member, :, slot] = False
-    pattern = nonzero.any(axis=0)
-    c = np.flatnonzero(pattern[:t, :t].any(axis=0))
-    forces = np.flatnonzero(pattern[:t].any(axis=1))
-    reads = np.union1d(np.flatnonzero(pattern[t:, :t].any(axis=0)), c)
+def _joint_part(slots: np.ndarray, J: SlotJacobian) -> _JointPart:
+    """The compact blocks of a joint's Jacobian ``J`` on its slots ``slots`` (B, t), the
+    supported slots (-1) removed (:class:`_JointPart`): the pattern is that of the blocks
+    the joint writes (:class:`sliders.slots.SlotJacobian`)."""
+    held = slots >= 0
+    forces_of = J.written_rows(J.structure)
+    c_of = J.read(J.structure, J.structure)
+    read = set(J.read(J.unknowns, J.structure) + c_of)
+    reads_of = [g for g in J.structure if g in read]
+    forces, c, reads = J.slots(forces_of), J.slots(c_of), J.slots(reads_of)
     rows = held[:, forces, None]
     return _JointPart(np.maximum(slots, 0), forces, c, reads,
-                      J[:, forces][:, :, c] * rows * held[:, None, c], J[:, forces, t:] * rows,
-                      J[:, t:, reads] * held[:, None, reads], J[:, t:, t:])
+                      J.gather(forces_of, c_of) * rows * held[:, None, c],
+                      J.gather(forces_of, J.unknowns) * rows,
+                      J.gather(J.unknowns, reads_of) * held[:, None, reads],
+                      J.gather(J.unknowns, J.unknowns))
+
+
+def _patterns(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The distinct rows of the non-negative integer array ``keys`` (B, w) and the index of
+    each row among them: ``np.unique(keys, axis=0, return_inverse=True)``, found through a
+    polynomial hash of the rows (wrapping in 64 bits) and checked, the exact sort taken only
+    if two distinct rows share a hash."""
+    base = np.int64(keys.max(initial=0) + 1)
+    hashes = keys @ np.cumprod(np.full(keys.shape[1], base, dtype=np.int64))
+    _, first, which = np.unique(hashes, return_index=True, return_inverse=True)
+    if np.array_equal(keys[first][which], keys):
+        return keys[first], which
+    patterns, which = np.unique(keys, axis=0, return_inverse=True)
+    return patterns, which.ravel()
+
+
+def _groups(which: np.ndarray, n: int) -> list[np.ndarray]:
+    """The indices holding each value ``0 .. n - 1`` of ``which``."""
+    order = np.argsort(which, kind="stable")
+    return np.split(order, np.cumsum(np.bincount(which, minlength=n))[:-1])
 
 
 def _equilibrated_solve(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

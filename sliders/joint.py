@@ -53,6 +53,7 @@ from fvbeam.statics import Structure
 from sliders.chain import BeamChain
 from sliders.drives import Motion
 from sliders.lines import RigidLine, axial
+from sliders.slots import SlotJacobian
 from sliders.stack import ChainStack, LineRotation, gather
 
 KINDS = ("spherical", "classical", "spline")
@@ -178,7 +179,7 @@ class Slider:
         """
         y = np.asarray(y, dtype=float)
         dofs, r, J = self.batch(structure).evaluate(q[None], y[None])
-        dofs, r, J = dofs[0], r[0], J[0]
+        dofs, r, J = dofs[0], r[0], J.dense()[0]
         unique, where = np.unique(dofs, return_inverse=True)
         t, m, s = len(unique), self.n_unknowns, len(dofs)
         P = np.zeros((s + m, t + m))
@@ -291,8 +292,8 @@ class SliderBatch:
                           np.zeros((B, 0, 6)), np.zeros((B, 0, 6)), None, (R, k, k_xi),
                           l, l_xi, none, empty, empty)
 
-    def evaluate(self, q: np.ndarray, y: np.ndarray, time: float = 0.0,
-                 scale: float = 1.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def evaluate(self, q: np.ndarray, y: np.ndarray, time: float = 0.0, scale: float = 1.0,
+                 jacobian: bool = True) -> tuple[np.ndarray, np.ndarray, SlotJacobian | None]:
         """Residuals and Jacobians of the joints of all members (module docstring table).
 
         ``q`` (B, n): the members' structure states; ``y`` (B, n_unknowns): their joint
@@ -300,6 +301,7 @@ class SliderBatch:
         are ``scale`` times the physical ones (the time integrator's scaling,
         :mod:`sliders.dynamics`): every equation is homogeneous in them except the kink
         shift of the section orientation, whose compliance is divided by ``scale``.
+        ``jacobian``: False for the residuals alone (a convergence check).
 
         Each member's local arrays have fixed slots: the body (6), the line's load (k),
         rotation (6, section orientation on a chain) and recovered-tangent (9 npe) dofs,
@@ -311,7 +313,10 @@ class SliderBatch:
         -------
         dofs : (B, s) global dof of each slot
         r : (B, s + n_unknowns) the structure residual on the slots, then the joint's own
-        J : (B, s + n_unknowns, s + n_unknowns) derivative of ``r`` in ``[q_slots; y]``
+        J : the derivative of ``r`` in ``[q_slots; y]`` by blocks of the slot groups
+            ``body``, ``turn`` (the body's rotations), ``load``, ``rotation``, ``interp``,
+            ``beside`` (the tangent's other dofs), ``xi``, ``lam``, ``mu``
+            (:class:`sliders.slots.SlotJacobian`); None without ``jacobian``
         """
         B = len(y)
         lam = y[:, 1:4]
@@ -327,7 +332,7 @@ class SliderBatch:
         at = _Layout(3 * line.N.shape[1], line.load_dofs.shape[1],
                      rotation_dofs.shape[1], line.tangent_dofs.shape[1], self.n_unknowns)
         r = np.zeros((B, at.t + self.n_unknowns))
-        J = np.zeros((B, r.shape[1], r.shape[1]))
+        J = at.jacobian(B) if jacobian else None
         eye, offset = np.eye(3), self.offset
         theta = gather(q, self.body[:, 3:])
         f_b = cross(theta, offset)
@@ -335,25 +340,28 @@ class SliderBatch:
         # body force and moment (eq. 3)
         r[:, at.body] += lam
         r[:, at.turn] += cross(offset + f_b, lam)
-        J[:, at.body, at.lam] += eye
-        J[:, at.turn, at.turn] += skew_matrices(lam) @ skew_matrices(offset)
-        J[:, at.turn, at.lam] += skew_matrices(offset + f_b)
         # the force on the line (Sec. 4, eq. T6)
-        G, dG = line.G[..., :3], line.dG[..., :3]
+        G = line.G[..., :3]
         r[:, at.load] -= np.einsum("bkj,bj->bk", G, lam)
-        J[:, at.load, at.xi] -= np.einsum("bkj,bj->bk", dG, lam)
-        J[:, at.load, at.lam] -= G
         # xi equation (eq. 3, on the recovered tangent) and position constraint (eq. 1)
         r[:, at.xi] = -_dot(line.tangent, lam)
-        J[:, at.xi, at.xi] = -_dot(line.tangent_xi, lam)
-        J[:, at.xi, at.lam] = -line.tangent
-        J[:, at.xi, at.tangent] -= (line.T[:, :, None] * lam[:, None, :]).reshape(B, -1)
         r[:, at.lam] = x_b - line.x
-        J[:, at.lam, at.body] += eye
-        J[:, at.lam, at.turn] -= skew_matrices(offset)
-        J[:, at.lam, at.xi] = -line.l
-        J[:, at.lam, at.interp] -= (line.N[:, None, :, None]
-                                    * eye[None, :, None, :]).reshape(B, 3, -1)
+        if J is not None:
+            J.add("body", "lam", eye)
+            if np.any(offset):  # a sliding point on the node: no lever arm, no such terms
+                J.add("turn", "turn", skew_matrices(lam) @ skew_matrices(offset))
+                J.add("lam", "turn", -skew_matrices(offset))
+            J.add("turn", "lam", skew_matrices(offset + f_b))
+            J.add("load", "xi", -np.einsum("bkj,bj->bk", line.dG[..., :3], lam)[:, :, None])
+            J.add("load", "lam", -G)
+            J.add("xi", "xi", -_dot(line.tangent_xi, lam)[:, None, None])
+            J.add("xi", "lam", -line.tangent[:, None, :])
+            J.add("xi", ("interp", "beside"),
+                  -(line.T[:, :, None] * lam[:, None, :]).reshape(B, 1, -1))
+            J.add("lam", "body", eye)
+            J.add("lam", "xi", -line.l[:, :, None])
+            J.add("lam", "interp", -(line.N[:, None, :, None]
+                                     * eye[None, :, None, :]).reshape(B, 3, -1))
         if self.kind != "spherical" and self.orientation == "slope":
             self._slope_orientation(y, theta, line, at, r, J)
         elif self.kind != "spherical":
@@ -362,12 +370,12 @@ class SliderBatch:
             self._end_stop(y[:, 0], lam, line, at, r, J)
         if self.drives[0] is not None:
             r[:, at.xi] = y[:, 0] - np.array([d(time)[0] for d in self.drives])
-            J[:, at.xi] = 0.0
-            J[:, at.xi, at.xi] = 1.0
+            if J is not None:
+                J.unit_row("xi")
         return dofs, r, J
 
     def _end_stop(self, xi: np.ndarray, lam: np.ndarray, line: _LineState, at: _Layout,
-                  r: np.ndarray, J: np.ndarray) -> None:
+                  r: np.ndarray, J: SlotJacobian | None) -> None:
         """Replace the ``xi`` equation by ``xi = end`` beyond an end, or at an end where the
         stop pushes: the force on the body, ``-lambda``, points back into the line
         (``l . lambda > 0`` at the far end, ``< 0`` at the start).  At the end itself the
@@ -377,8 +385,8 @@ class SliderBatch:
             pushing = (np.abs(xi - end) <= 1e-12 * self.length) & (sign * _dot(line.l, lam) > 0)
             hit = beyond | pushing
             r[hit, at.xi] = xi[hit] - end
-            J[hit, at.xi] = 0.0
-            J[hit, at.xi, at.xi] = 1.0
+            if J is not None:
+                J.unit_row("xi", hit)
 
     def _slope_orientation(self, y, theta, line, at, r, J) -> None:
         """Classical slider on the line's gradient, ``e_bj . l = 0`` (paper eq. 4), its couple
@@ -390,32 +398,36 @@ class SliderBatch:
         m = np.einsum("bj,bjk->bk", mu, cross(e_b, l[:, None, :]))
         r[:, at.turn] += m
         r[:, at.load] -= np.einsum("bkj,bj->bk", G, m)
-        J[:, at.load, at.xi] -= np.einsum("bkj,bj->bk", dG, m)
+        if J is not None:
+            J.add("load", "xi", -np.einsum("bkj,bj->bk", dG, m)[:, :, None])
         for j in range(2):
             e, e0, row, mu_j = e_b[:, j], axes[j], at.t + 4 + j, mu[:, j]
+            r[:, at.xi] += mu_j * _dot(e, l_xi)
+            r[:, row] = _dot(e, l)
+            if J is None:
+                continue
+            mu_rows = J.block("mu", "turn"), J.block("mu", "xi"), J.block("mu", "interp")
             dm_dtheta = mu_j[:, None, None] * (skew_matrices(l) @ skew_matrices(e0))
             dm_dxi = mu_j[:, None] * cross(e, l_xi)
             dm_dmu = cross(e, l)
             dm_du = (mu_j[:, None, None, None] * skew_matrices(e)[:, :, None, :]
                      * line.dN[:, None, :, None]).reshape(B, 3, -1)
-            J[:, at.turn, at.turn] += dm_dtheta
-            J[:, at.turn, at.xi] += dm_dxi
-            J[:, at.turn, row] += dm_dmu
-            J[:, at.turn, at.interp] += dm_du
-            J[:, at.load, at.turn] -= G @ dm_dtheta
-            J[:, at.load, at.xi] -= np.einsum("bkj,bj->bk", G, dm_dxi)
-            J[:, at.load, row] -= np.einsum("bkj,bj->bk", G, dm_dmu)
-            J[:, at.load, at.interp] -= G @ dm_du
-            r[:, at.xi] += mu_j * _dot(e, l_xi)
-            J[:, at.xi, at.turn] += mu_j[:, None] * cross(e0, l_xi)
-            J[:, at.xi, at.xi] += mu_j * _dot(e, line.l_xixi)
-            J[:, at.xi, row] += _dot(e, l_xi)
-            J[:, at.xi, at.interp] += (mu_j[:, None, None] * line.d2N[:, :, None]
-                                       * e[:, None, :]).reshape(B, -1)
-            r[:, row] = _dot(e, l)
-            J[:, row, at.turn] += cross(e0, l)
-            J[:, row, at.xi] += _dot(e, l_xi)
-            J[:, row, at.interp] += (line.dN[:, :, None] * e[:, None, :]).reshape(B, -1)
+            J.add("turn", "turn", dm_dtheta)
+            J.add("turn", "xi", dm_dxi[:, :, None])
+            J.block("turn", "mu")[:, :, j] += dm_dmu
+            J.add("turn", "interp", dm_du)
+            J.add("load", "turn", -G @ dm_dtheta)
+            J.add("load", "xi", -np.einsum("bkj,bj->bk", G, dm_dxi)[:, :, None])
+            J.block("load", "mu")[:, :, j] -= np.einsum("bkj,bj->bk", G, dm_dmu)
+            J.add("load", "interp", -G @ dm_du)
+            J.add("xi", "turn", (mu_j[:, None] * cross(e0, l_xi))[:, None, :])
+            J.add("xi", "xi", (mu_j * _dot(e, line.l_xixi))[:, None, None])
+            J.block("xi", "mu")[:, 0, j] += _dot(e, l_xi)
+            J.add("xi", "interp", (mu_j[:, None, None] * line.d2N[:, :, None]
+                                   * e[:, None, :]).reshape(B, 1, -1))
+            mu_rows[0][:, j] += cross(e0, l)
+            mu_rows[1][:, j, 0] += _dot(e, l_xi)
+            mu_rows[2][:, j] += (line.dN[:, :, None] * e[:, None, :]).reshape(B, -1)
 
     def _section_orientation(self, q, y, theta, line, at, r, J, scale) -> None:
         """Orientation constraints on the line's section frame, linear in the rotations.
@@ -460,33 +472,36 @@ class SliderBatch:
                  np.column_stack([g[1], _dot(t1, a0) + _dot(t0, a1)]),
                  np.column_stack([g[2], _dot(t2, a0) + 2 * _dot(t1, a1) + _dot(t0, a2)])]
         n0, n1, n2 = n
-        n0T = np.swapaxes(n0, 1, 2)
         d = theta - theta_L
         m, m_xi = np.einsum("bjk,bj->bk", n0, mu), np.einsum("bjk,bj->bk", n1, mu)
         shift = kink[:, None] * np.einsum("bij,bj->bi", compliance, m)
-        rows = at.mu
-        r[:, at.turn] += m
-        J[:, at.turn, at.xi] += m_xi
-        J[:, at.turn, rows] += n0T
         along = g[1] + _apply(n1, d) - _apply(n0, theta_L_xi)
+        r[:, at.turn] += m
         r[:, at.xi] += _dot(mu, along)
-        J[:, at.xi, at.turn] += m_xi
-        J[:, at.xi, at.xi] += _dot(mu, g[2] + _apply(n2, d) - 2 * _apply(n1, theta_L_xi))
-        J[:, at.xi, rows] += along
-        r[:, rows] = g[0] + _apply(n0, d - shift)
-        J[:, rows, at.turn] += n0
-        J[:, rows, at.xi] += (along - _apply(n1, shift) - _apply(n0, np.einsum(
-            "bij,bj->bi", compliance, kink_xi[:, None] * m + kink[:, None] * m_xi)))
-        J[:, rows, rows] -= kink[:, None, None] * (n0 @ compliance @ n0T)
+        r[:, at.mu] = g[0] + _apply(n0, d - shift)
         if w.shape[1]:
             r[:, at.rotation] -= (w[:, :, None] * m[:, None, :]).reshape(B, -1)
-            J[:, at.rotation, at.xi] -= (w_xi[:, :, None] * m[:, None, :]
-                                         + w[:, :, None] * m_xi[:, None, :]).reshape(B, -1)
-            J[:, at.rotation, rows] -= (w[:, :, None, None] * n0T[:, None]).reshape(B, 6, -1)
-            J[:, at.xi, at.rotation] -= (w[:, :, None] * m_xi[:, None, :]
-                                         + w_xi[:, :, None] * m[:, None, :]).reshape(B, -1)
-            J[:, rows, at.rotation] -= (w[:, None, :, None] * n0[:, :, None, :]).reshape(
-                B, n0.shape[1], -1)
+        if J is None:
+            return
+        n0T = np.swapaxes(n0, 1, 2)
+        J.add("turn", "xi", m_xi[:, :, None])
+        J.add("turn", "mu", n0T)
+        J.add("xi", "turn", m_xi[:, None, :])
+        J.add("xi", "xi", _dot(mu, g[2] + _apply(n2, d) - 2 * _apply(n1, theta_L_xi))[:, None,
+                                                                                        None])
+        J.add("xi", "mu", along[:, None, :])
+        J.add("mu", "turn", n0)
+        J.add("mu", "xi", (along - _apply(n1, shift) - _apply(n0, np.einsum(
+            "bij,bj->bi", compliance, kink_xi[:, None] * m + kink[:, None] * m_xi)))[:, :, None])
+        J.add("mu", "mu", -kink[:, None, None] * (n0 @ compliance @ n0T))
+        if w.shape[1]:
+            J.add("rotation", "xi", -(w_xi[:, :, None] * m[:, None, :]
+                                      + w[:, :, None] * m_xi[:, None, :]).reshape(B, -1, 1))
+            J.add("rotation", "mu", -(w[:, :, None, None] * n0T[:, None]).reshape(B, 6, -1))
+            J.add("xi", "rotation", -(w[:, :, None] * m_xi[:, None, :]
+                                      + w_xi[:, :, None] * m[:, None, :]).reshape(B, 1, -1))
+            J.add("mu", "rotation", -(w[:, None, :, None] * n0[:, :, None, :]).reshape(
+                B, n0.shape[1], -1))
 
 
 def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -542,3 +557,11 @@ class _Layout:
         self.tangent, start = slice(start, start + n_tangent), start + n_tangent
         self.t = self.xi = start
         self.lam, self.mu = slice(start + 1, start + 4), slice(start + 4, start + n_unknowns)
+        self.groups = [("body", 3), ("turn", 3), ("load", n_load), ("rotation", n_rotation),
+                       ("interp", n_interp), ("beside", n_tangent - n_interp)]
+        self.own = [("xi", 1), ("lam", 3), ("mu", n_unknowns - 4)]
+
+    def jacobian(self, members: int) -> SlotJacobian:
+        """An empty Jacobian of ``members`` on these slots, by groups (the ``tangent``
+        slots are ``interp`` and ``beside``; the unknowns ``xi``, ``lam`` and ``mu``)."""
+        return SlotJacobian(members, self.groups, self.own)

@@ -176,6 +176,7 @@ class ChainStack:
         # (in global axes: R C R^T, the section stiffness rotating by blockdiag(R, R))
         self.compliance = [np.linalg.inv(beam.section.stiffness)[3:, 3:] for beam in self.beams]
         self.members = np.arange(len(self.chains))
+        self._ends = shape_functions(np.array([0.0, 1.0]), self.npe)[1].T
         self._located: tuple[np.ndarray, tuple] | None = None
 
     def subset(self, members: np.ndarray) -> ChainStack:
@@ -221,7 +222,8 @@ class ChainStack:
 
     def _locate(self, xi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """:meth:`locate`, computed."""
-        locate_abscissa(xi, self.offsets, self.name, "the chain")
+        if not (0.0 <= xi.min() and xi.max() <= self.length):  # NaN fails too
+            locate_abscissa(xi, self.offsets, self.name, "the chain")  # raises if off it
         k = _interval(self.breaks, xi)
         rows = self.members
         local = np.clip(xi - self.breaks[rows, k], 0.0,
@@ -258,7 +260,7 @@ class ChainStack:
         dN, d2N = inside.dN, inside.d2N
         T, T_xi = [dN], [d2N.copy()]
         dofs, nodes = [inside.dofs], [inside.X]
-        ends = shape_functions(np.array([0.0, 1.0]), self.npe)[1].T
+        ends = self._ends
         for side, weight, weight_xi, end in ((-1, 1 - X, -1 / h[:, 0], 0),
                                              (1, X, 1 / h[:, 0], 1)):
             other = element + side

@@ -248,7 +248,7 @@ def _member(parts: list, b: int) -> list:
     out = []
     for dofs, r, J in parts:
         t = dofs.shape[1]
-        out.append((dofs[b], r[b, :t], r[b, t:], J[b]))
+        out.append((dofs[b], r[b, :t], r[b, t:], J.subset(np.array([b])).dense()[0]))
     return out
 
 
@@ -309,22 +309,30 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
     multipliers[[i for i, _ in bounds]] = False
     for _ in range(max_iterations + 1):
         R = (lead.K @ Q[active].T).T - loads[active]
-        parts = [v.evaluate(Q[active], Y[active][:, i:j], time, scale)
-                 for v, (i, j) in zip(view, bounds)]
-        for dofs, r, _ in parts:
-            np.add.at(R, (np.arange(len(active))[:, None], dofs), r[:, :dofs.shape[1]])
-        r_y = np.concatenate([r[:, d.shape[1]:] for d, r, _ in parts], axis=1)
+        going = ~done[active]
+        r_y = np.zeros((len(active), sum(sizes)))
+        # the converged members need their residuals only (the convergence check)
+        for on in ([slice(None)] if going.all() or not going.any()
+                   else [np.flatnonzero(going), np.flatnonzero(~going)]):
+            joints = view if isinstance(on, slice) else [v.subset(on) for v in view]
+            evaluated = [v.evaluate(Q[active[on]], Y[active[on]][:, i:j], time, scale,
+                                    jacobian=bool(going[on][0]))
+                         for v, (i, j) in zip(joints, bounds)]
+            rows = np.arange(len(active))[on][:, None]
+            for dofs, r, _ in evaluated:
+                np.add.at(R, (rows, dofs), r[:, :dofs.shape[1]])
+            r_y[on] = np.concatenate([r[:, d.shape[1]:] for d, r, _ in evaluated], axis=1)
+            if going[on][0]:
+                parts = evaluated
         measure = np.maximum(np.abs(R[:, lead.free]).max(axis=1), np.abs(r_y).max(axis=1))
         for b, value in zip(active, measure / load_scale[active]):
             residuals[b].append(float(value))
         for b in active[done[active]]:
             outcome[b] = (Q[b].copy(), [Y[b, i:j].copy() for i, j in bounds], residuals[b])
-        going = ~done[active]
         if not going.any():
             active = active[going]
             break
         if not going.all():
-            parts = [(d[going], r[going], J[going]) for d, r, J in parts]
             R, r_y = R[going], r_y[going]
         dq, dy, regular = lead._steps([members[b] for b in active[going]], R, parts, r_y)
         for i in np.flatnonzero(~regular):

@@ -22,7 +22,7 @@ ways of running the positions:
 Reported beside each time: the microseconds per position, the mean Newton iterations per
 converged position, the singular positions, and the largest error against the analytic
 two-beam stiffness; times are wall clock (``seconds``) and this process's CPU time
-(``cpu_seconds``: not inflated by other jobs on the cores).  ``main_sweep`` sums the batched
+(``cpu_seconds``: less inflated than the wall clock by other jobs on the cores).  ``main_sweep`` sums the batched
 rows (with and without the setup).
 ``--profile N`` prints the N most expensive functions (cProfile, cumulative time) of the
 main sweep.  An interruption (Ctrl-C) keeps and writes the rows completed so far, marked

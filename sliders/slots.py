@@ -1,0 +1,117 @@
+"""A joint's Jacobian on its slots, kept by blocks of slot groups.
+
+A joint (:meth:`sliders.joint.SliderBatch.evaluate`) writes its residual on fixed *slots*:
+groups of structure dofs (the body's translations and rotations, the line's load, rotation
+and tangent dofs) followed by groups of its own unknowns (``xi``, ``lambda``, ``mu``).  Its
+Jacobian is mostly structurally zero: 63 x 63 per member for a classical joint on fv3 with a
+few hundred entries that are not.  :class:`SlotJacobian` keeps only the blocks (row group,
+column group) the equations write, each ``(B, rows, columns)`` for ``B`` members, so the
+pattern is known from the groups without reading the values: the condensed Newton step
+(:mod:`sliders.condensed`) takes the blocks it needs (:meth:`SlotJacobian.gather`), and the
+dense matrix (:meth:`SlotJacobian.dense`) is assembled from the same blocks for the
+bordered back end, :meth:`sliders.joint.Slider.assemble` and the finite-difference tests.
+"""
+
+from __future__ import annotations
+
+import copy
+from typing import Sequence
+
+import numpy as np
+
+
+class SlotJacobian:
+    """Derivative of ``[r_q(slots); r_y]`` in ``[q(slots); y]`` for ``B`` members, by blocks.
+
+    ``structure`` and ``unknowns``: the ordered ``(name, size)`` slot groups of the structure
+    dofs and of the joint's unknowns; the dense matrix has them in that order, rows and
+    columns alike.  A block that was never written is zero.
+    """
+
+    def __init__(self, members: int, structure: Sequence[tuple[str, int]],
+                 unknowns: Sequence[tuple[str, int]]) -> None:
+        self.members = members
+        self.structure = [name for name, _ in structure]
+        self.unknowns = [name for name, _ in unknowns]
+        self.size, self.at, start = {}, {}, 0
+        for name, size in list(structure) + list(unknowns):
+            self.size[name], self.at[name] = size, slice(start, start + size)
+            start += size
+        self.n = start
+        self.blocks: dict[tuple[str, str], np.ndarray] = {}
+
+    def block(self, rows: str, cols: str) -> np.ndarray:
+        """The (B, rows, cols) block, created zero if it was not written (to write into)."""
+        key = (rows, cols)
+        if key not in self.blocks:
+            self.blocks[key] = np.zeros((self.members, self.size[rows], self.size[cols]))
+        return self.blocks[key]
+
+    def add(self, rows: str, cols: str | tuple[str, ...], value: np.ndarray | float) -> None:
+        """Add ``value`` (broadcast to (B, rows, cols)) to the block of groups ``rows`` and
+        ``cols``; ``cols`` may be consecutive groups, among which the columns of ``value``
+        are split."""
+        if isinstance(cols, tuple):
+            value = np.broadcast_to(value, (self.members, self.size[rows],
+                                            sum(self.size[c] for c in cols)))
+            start = 0
+            for c in cols:
+                self.add(rows, c, value[:, :, start:start + self.size[c]])
+                start += self.size[c]
+            return
+        key = (rows, cols)
+        if key in self.blocks:
+            self.blocks[key] += value
+        else:
+            shape = (self.members, self.size[rows], self.size[cols])
+            self.blocks[key] = np.array(np.broadcast_to(value, shape), dtype=float)
+
+    def unit_row(self, row: str, members: np.ndarray | slice = slice(None)) -> None:
+        """Replace the derivatives of the one-row group ``row`` of the given ``members`` by
+        the unit derivative in its own unknown (an equation ``y_row - value``)."""
+        for (rows, _), block in self.blocks.items():
+            if rows == row:
+                block[members] = 0.0
+        self.block(row, row)[members, 0, 0] = 1.0
+
+    def subset(self, members: np.ndarray) -> SlotJacobian:
+        """The Jacobian of the given members only."""
+        out = copy.copy(self)
+        out.blocks = {key: block[members] for key, block in self.blocks.items()}
+        out.members = len(next(iter(out.blocks.values()))) if out.blocks else 0
+        return out
+
+    def read(self, rows: Sequence[str], among: Sequence[str]) -> list[str]:
+        """The column groups of ``among`` (in slot order) with a block in a row of ``rows``
+        (the pattern of the equations, whatever the values)."""
+        written = {c for r, c in self.blocks if r in rows}
+        return [name for name in among if name in written]
+
+    def written_rows(self, among: Sequence[str]) -> list[str]:
+        """The row groups of ``among`` (in slot order) with a block."""
+        written = {r for r, _ in self.blocks}
+        return [name for name in among if name in written]
+
+    def slots(self, groups: Sequence[str]) -> np.ndarray:
+        """Slot indices of the ``groups``, in the given order."""
+        return np.concatenate([np.arange(self.at[g].start, self.at[g].stop) for g in groups]
+                              + [np.zeros(0, dtype=int)])
+
+    def gather(self, rows: Sequence[str], cols: Sequence[str]) -> np.ndarray:
+        """The (B, rows, cols) matrix of the given row and column groups, in that order."""
+        offsets = np.cumsum([0] + [self.size[g] for g in rows])
+        col_offsets = np.cumsum([0] + [self.size[g] for g in cols])
+        out = np.zeros((self.members, offsets[-1], col_offsets[-1]))
+        for i, r in enumerate(rows):
+            for j, c in enumerate(cols):
+                if (r, c) in self.blocks:
+                    out[:, offsets[i]:offsets[i + 1],
+                        col_offsets[j]:col_offsets[j + 1]] = self.blocks[r, c]
+        return out
+
+    def dense(self) -> np.ndarray:
+        """The whole (B, n, n) matrix on the slots."""
+        out = np.zeros((self.members, self.n, self.n))
+        for (r, c), block in self.blocks.items():
+            out[:, self.at[r], self.at[c]] = block
+        return out
