@@ -123,6 +123,7 @@ class Dynamics:
             raise ValueError(f"{name} is driven twice, or driven and supported")
         self.free = np.setdiff1d(np.arange(n), np.union1d(fixed, self.driven))
         self._operators: dict = {}
+        self._last_load: tuple[float, np.ndarray] | None = None
 
     def _damping(self, damping: float | sp.spmatrix) -> sp.csr_matrix:
         if sp.issparse(damping) or isinstance(damping, np.ndarray):
@@ -152,11 +153,17 @@ class Dynamics:
         return Support(node[0], node[1], kind=drive.dof)
 
     def load(self, t: float) -> np.ndarray:
-        """External load at ``t``, gravity included; ``ValueError`` if it is not finite."""
+        """External load at ``t``, gravity included (read-only; the last one is kept, as a
+        step and its recorder ask for the same ``t``); ``ValueError`` if it is not
+        finite."""
+        if self._last_load is not None and self._last_load[0] == t:
+            return self._last_load[1]
         f = np.asarray(self._load(t), dtype=float) + self.f_gravity
         if f.shape != (self.structure.n_dofs,) or not np.all(np.isfinite(f)):
             raise ValueError(f"the load at t = {t:.6g} is not a finite vector of "
                              f"{self.structure.n_dofs} rows")
+        f.setflags(write=False)
+        self._last_load = (t, f)
         return f
 
     def prescribe(self, q: np.ndarray, t: float) -> np.ndarray:
