@@ -133,6 +133,8 @@ class Dynamics:
             return C
         if not (np.isfinite(damping) and damping >= 0):
             raise ValueError(f"damping must be a finite coefficient >= 0, got {damping!r}")
+        if damping == 0:
+            return sp.csr_matrix(self.K.shape)  # no damping: an empty matrix, free products
         return (float(damping) * self.K).tocsr()
 
     def _check_load(self, load: Load | None) -> Callable[[float], np.ndarray]:
