@@ -303,8 +303,10 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
     done = np.zeros(B, dtype=bool)
     residuals: list[list[float]] = [[] for _ in range(B)]
     outcome: list = [None] * B
-    active, view = np.arange(B), list(batches)
+    active = np.arange(B)
     bounds = list(zip(np.cumsum([0] + sizes[:-1]), np.cumsum(sizes)))
+    full, spans = _joined(batches, bounds)
+    view = full
     multipliers = np.ones(sum(sizes), dtype=bool)
     multipliers[[i for i, _ in bounds]] = False
     for _ in range(max_iterations + 1):
@@ -314,10 +316,10 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
         # the converged members need their residuals only (the convergence check)
         for on in ([slice(None)] if going.all() or not going.any()
                    else [np.flatnonzero(going), np.flatnonzero(~going)]):
-            joints = view if isinstance(on, slice) else [v.subset(on) for v in view]
-            evaluated = [v.evaluate(Q[active[on]], Y[active[on]][:, i:j], time, scale,
-                                    jacobian=bool(going[on][0]))
-                         for v, (i, j) in zip(joints, bounds)]
+            joints = (view if isinstance(on, slice)
+                      else [_pick(v, len(span), len(active), on) for v, span in zip(view, spans)])
+            evaluated = _evaluate(joints, spans, Q[active[on]], Y[active[on]], time, scale,
+                                  bool(going[on][0]))
             rows = np.arange(len(active))[on][:, None]
             for dofs, r, _ in evaluated:
                 np.add.at(R, (rows, dofs), r[:, :dofs.shape[1]])
@@ -350,8 +352,8 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
         force = np.maximum(load_scale[active], np.abs(Y[active][:, multipliers]).max(axis=1))
         done[active] = converged(dq, dy, sizes, lengths, reach[active], force, tol,
                                  resolution)
-        if len(active) < len(view[0]):
-            view = [b.subset(active) for b in batches]
+        if len(active) < len(view[0]) // len(spans[0]):
+            view = [_pick(v, len(span), B, active) for v, span in zip(full, spans)]
     for b in active:
         first = _member([v.subset(np.array([b])).evaluate(Q0[b][None], Y0[b][None, i:j],
                                                           time, scale)
@@ -360,6 +362,46 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
             first, f"Newton did not converge in {max_iterations} iterations "
                    f"(scaled residual {residuals[b][-1]:.3g})")
     return outcome
+
+
+def _joined(batches: Sequence[SliderBatch],
+            bounds: list[tuple[int, int]]) -> tuple[list[SliderBatch], list[list]]:
+    """The batches to evaluate and, per batch, the ``(start, stop)`` of the unknowns of each
+    slider it holds: all sliders in one batch when they are alike
+    (:meth:`SliderBatch.joined`: one evaluation for every joint of the members), else one
+    batch per slider."""
+    if len(batches) > 1:
+        try:
+            return [SliderBatch.joined(batches)], [bounds]
+        except ValueError:
+            pass
+    return list(batches), [[b] for b in bounds]
+
+
+def _pick(batch: SliderBatch, parts: int, size: int, members: np.ndarray) -> SliderBatch:
+    """The given ``members`` of each of the ``parts`` consecutive blocks of ``size`` members
+    of ``batch`` (a joined batch's sliders, :func:`_joined`)."""
+    return batch.subset((np.arange(parts)[:, None] * size + members).ravel())
+
+
+def _evaluate(view: list[SliderBatch], spans: list[list], q: np.ndarray, y: np.ndarray,
+              time: float, scale: float, jacobian: bool) -> list:
+    """Per slider, ``(dofs, r, J)`` of the members at states ``q`` (B, n) and unknowns
+    ``y`` (B, m) (:meth:`SliderBatch.evaluate`), each batch of ``view`` evaluated once for
+    the sliders it holds (``spans``: their unknowns in ``y``, :func:`_joined`)."""
+    out, B = [], len(q)
+    for batch, span in zip(view, spans):
+        if len(span) == 1:
+            (i, j), = span
+            out.append(batch.evaluate(q, y[:, i:j], time, scale, jacobian=jacobian))
+            continue
+        dofs, r, J = batch.evaluate(np.tile(q, (len(span), 1)),
+                                    np.concatenate([y[:, i:j] for i, j in span]), time, scale,
+                                    jacobian=jacobian)
+        for k in range(len(span)):
+            part = slice(k * B, (k + 1) * B)
+            out.append((dofs[part], r[part], J.subset(part) if J is not None else None))
+    return out
 
 
 def solve_many(members: Sequence[SliderStatics], loads: Sequence[np.ndarray], tol: float = 1e-8,
