@@ -291,10 +291,15 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
     warm = np.array([s is not None for s in starts], dtype=bool)
     for b in np.flatnonzero(warm):
         Q[b], Y[b] = starts[b][0], np.concatenate(starts[b][1])
+    bounds = list(zip(np.cumsum([0] + sizes[:-1]), np.cumsum(sizes)))
+    full, spans = _joined(batches, bounds)
     cold = np.flatnonzero(~warm)
     if cold.size:
-        Y[cold] = np.concatenate([(b if cold.size == B else b.subset(cold)).initial_unknowns(
-            Q[cold]) for b in batches], axis=1)
+        # one projection per batch of full, its sliders' unknowns side by side
+        Y[cold] = np.concatenate([
+            (v if cold.size == B else _pick(v, len(span), B, cold)).initial_unknowns(
+                np.tile(Q[cold], (len(span), 1))).reshape(len(span), cold.size, -1)
+            .transpose(1, 0, 2).reshape(cold.size, -1) for v, span in zip(full, spans)], axis=1)
     Q0, Y0 = Q.copy(), Y.copy()
     load_scale = np.maximum(np.abs(loads).max(axis=1), 1e-300)
     # 4 ulp of the largest coordinate (at least 1: rotations are dimensionless)
@@ -303,10 +308,7 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
     done = np.zeros(B, dtype=bool)
     residuals: list[list[float]] = [[] for _ in range(B)]
     outcome: list = [None] * B
-    active = np.arange(B)
-    bounds = list(zip(np.cumsum([0] + sizes[:-1]), np.cumsum(sizes)))
-    full, spans = _joined(batches, bounds)
-    view = full
+    active, view = np.arange(B), full
     multipliers = np.ones(sum(sizes), dtype=bool)
     multipliers[[i for i, _ in bounds]] = False
     for _ in range(max_iterations + 1):
@@ -321,8 +323,8 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
             evaluated = _evaluate(joints, spans, Q[active[on]], Y[active[on]], time, scale,
                                   bool(going[on][0]))
             rows = np.arange(len(active))[on][:, None]
-            for dofs, r, _ in evaluated:
-                np.add.at(R, (rows, dofs), r[:, :dofs.shape[1]])
+            np.add.at(R, (rows, np.concatenate([d for d, _, _ in evaluated], axis=1)),
+                      np.concatenate([r[:, :d.shape[1]] for d, r, _ in evaluated], axis=1))
             r_y[on] = np.concatenate([r[:, d.shape[1]:] for d, r, _ in evaluated], axis=1)
             if going[on][0]:
                 parts = evaluated
