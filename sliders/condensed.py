@@ -169,12 +169,12 @@ class CondensedOperator:
         ``columns`` (B, f) store slots, ``F`` (B, f, p)): the block of ``B^{-1}`` is gathered
         once per distinct pair of index rows (the members of a sweep share a few elements, so
         a few patterns) and multiplies all members that have it."""
-        patterns, which = _patterns(np.concatenate([rows, columns], axis=1))
+        patterns, groups = _patterns(np.concatenate([rows, columns], axis=1))
         r = rows.shape[1]
         if len(patterns) == 1:
             return self._store[patterns[0, :r, None], patterns[0, None, r:]] @ F
         Y = np.empty((len(F), r, F.shape[2]))
-        for key, members in zip(patterns, _groups(which, len(patterns))):
+        for key, members in zip(patterns, groups):
             Y[members] = self._store[key[:r, None], key[None, r:]] @ F[members]
         return Y
 
@@ -275,24 +275,25 @@ def _joint_part(slots: np.ndarray, J: SlotJacobian) -> _JointPart:
                       J.gather(J.unknowns, J.unknowns))
 
 
-def _patterns(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The distinct rows of the non-negative integer array ``keys`` (B, w) and the index of
-    each row among them: ``np.unique(keys, axis=0, return_inverse=True)``, found through a
-    polynomial hash of the rows (wrapping in 64 bits) and checked, the exact sort taken only
-    if two distinct rows share a hash."""
+def _patterns(keys: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
+    """The distinct rows of the non-negative integer array ``keys`` (B, w), in the order of
+    their hashes, and the indices of the rows holding each (increasing): a stable sort of a
+    polynomial hash of the rows (wrapping in 64 bits), checked; the exact sort of the rows
+    (``np.unique(keys, axis=0)``) taken only if two distinct rows share a hash."""
     base = np.int64(keys.max(initial=0) + 1)
     hashes = keys @ np.cumprod(np.full(keys.shape[1], base, dtype=np.int64))
-    _, first, which = np.unique(hashes, return_index=True, return_inverse=True)
-    if np.array_equal(keys[first][which], keys):
-        return keys[first], which
+    order = np.argsort(hashes, kind="stable")
+    ordered = hashes[order]
+    starts = np.flatnonzero(np.concatenate([[True], ordered[1:] != ordered[:-1]]))
+    groups = np.split(order, starts[1:])
+    patterns = keys[order[starts]]
+    if np.array_equal(np.repeat(patterns, np.diff(np.append(starts, len(keys))), axis=0),
+                      keys[order]):
+        return patterns, groups
     patterns, which = np.unique(keys, axis=0, return_inverse=True)
-    return patterns, which.ravel()
-
-
-def _groups(which: np.ndarray, n: int) -> list[np.ndarray]:
-    """The indices holding each value ``0 .. n - 1`` of ``which``."""
+    which = which.ravel()
     order = np.argsort(which, kind="stable")
-    return np.split(order, np.cumsum(np.bincount(which, minlength=n))[:-1])
+    return patterns, np.split(order, np.cumsum(np.bincount(which, minlength=len(patterns)))[:-1])
 
 
 def _equilibrated_solve(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from fvbeam import Beam, RigidBody, Structure, Support, straight
-from sliders.condensed import node_positions, rigid_modes
+from sliders.condensed import _patterns, node_positions, rigid_modes
 from sliders.joint import Slider
 from sliders.lines import CircularArc
 from sliders.statics import SliderStatics
@@ -161,3 +161,21 @@ def test_node_positions_hold_the_rigid_bodies():
     np.testing.assert_array_equal(x[structure.node_dofs((0, "start"))[0] // 6], [0, 0, 0])
     np.testing.assert_array_equal(x[structure.node_dofs("tip")[0] // 6], [1, 0, 0])
     np.testing.assert_array_equal(x[structure.node_dofs("hub")[0] // 6], [3, 4, 5])
+
+
+@pytest.mark.parametrize("width", [4, 70])
+def test_slot_patterns_are_the_distinct_rows(width):
+    """The distinct index rows of a step (``_patterns``) and the rows holding each are
+    ``np.unique``'s, also when two distinct rows share a hash: with 70 binary columns the
+    hash's powers of 2 wrap to 0 past 2^63, so rows differing in the last column collide."""
+    rng = np.random.default_rng(1)
+    keys = rng.integers(0, 2, size=(40, width))
+    keys[1] = keys[0]
+    keys[2] = keys[0]
+    keys[2, -1] = 1 - keys[0, -1]
+    patterns, groups = _patterns(keys)
+    expected = np.unique(keys, axis=0)
+    assert len(patterns) == len(expected) == len(groups)
+    assert {tuple(p) for p in patterns} == {tuple(p) for p in expected}
+    for pattern, members in zip(patterns, groups):
+        assert np.array_equal(members, np.flatnonzero(np.all(keys == pattern, axis=1)))
