@@ -156,12 +156,14 @@ class CondensedOperator:
     def _columns(self, positions: np.ndarray) -> np.ndarray:
         """Store slots of the columns ``B^{-1}[U; 0]`` for the free dofs at ``positions``;
         each column is computed once and kept."""
-        missing = np.unique(positions[self._slot[positions] < 0])
-        if missing.size:
-            unit = np.zeros((self.n_free + self.n_rigid, missing.size), order="F")
-            unit[missing, np.arange(missing.size)] = 1.0
-            self._slot[missing] = self._store.shape[1] + np.arange(missing.size)
-            self._store = np.hstack([self._store, self.lu.solve(unit)])
+        slots = self._slot[positions]
+        if slots.min(initial=0) >= 0:
+            return slots
+        missing = np.unique(positions[slots < 0])
+        unit = np.zeros((self.n_free + self.n_rigid, missing.size), order="F")
+        unit[missing, np.arange(missing.size)] = 1.0
+        self._slot[missing] = self._store.shape[1] + np.arange(missing.size)
+        self._store = np.hstack([self._store, self.lu.solve(unit)])
         return self._slot[positions]
 
     def _read(self, rows: np.ndarray, columns: np.ndarray, F: np.ndarray) -> np.ndarray:
@@ -278,9 +280,10 @@ def _joint_part(slots: np.ndarray, J: SlotJacobian) -> _JointPart:
 def _patterns(keys: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
     """The distinct rows of the non-negative integer array ``keys`` (B, w), in the order of
     their hashes, and the indices of the rows holding each (increasing): a stable sort of a
-    polynomial hash of the rows (wrapping in 64 bits), checked; the exact sort of the rows
+    polynomial hash of the rows (wrapping in 64 bits; its base odd, so that no power of it
+    wraps to 0 and every column counts), checked; the exact sort of the rows
     (``np.unique(keys, axis=0)``) taken only if two distinct rows share a hash."""
-    base = np.int64(keys.max(initial=0) + 1)
+    base = np.int64((keys.max(initial=0) + 1) | 1)
     hashes = keys @ np.cumprod(np.full(keys.shape[1], base, dtype=np.int64))
     order = np.argsort(hashes, kind="stable")
     ordered = hashes[order]
