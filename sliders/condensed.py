@@ -188,12 +188,15 @@ class CondensedOperator:
         ----------
         r_free : (B, n_free)
             The structure residuals.
-        slots : list of (B, t_j)
-            Per joint, the free-dof position of each of its slots, -1 where supported.
+        slots : list of (k B, t_j)
+            Per batch of ``k`` alike joints (:meth:`sliders.joint.SliderBatch.joined`; one
+            joint, ``k = 1``), the free-dof position of each of their slots, -1 where
+            supported: joint ``i`` of member ``b`` in row ``i B + b``.
         blocks : list of SlotJacobian
-            Per joint, its Jacobian on ``[q_slots; y_j]`` by slot groups.
+            Per batch, its joints' Jacobians on ``[q_slots; y_j]`` by slot groups, members
+            in the rows of ``slots``.
         r_y : (B, m)
-            The joints' residuals, joint after joint.
+            The joints' residuals, joint after joint (batch after batch).
 
         Returns
         -------
@@ -201,7 +204,7 @@ class CondensedOperator:
         small systems are regular (the increments of the others are not to be used).
         """
         B, m, k, n = len(r_free), r_y.shape[1], self.n_rigid, self.n_free
-        parts = [_joint_part(p, J) for p, J in zip(slots, blocks)]
+        parts = [part for p, J in zip(slots, blocks) for part in _joint_parts(p, J, B)]
         nc = sum(len(p.c) for p in parts)
         nf, nr = sum(len(p.forces) for p in parts), sum(len(p.reads) for p in parts)
         F, C, D = np.zeros((B, nf, nc + m)), np.zeros((B, m, nr)), np.zeros((B, m, m))
@@ -275,6 +278,18 @@ def _joint_part(slots: np.ndarray, J: SlotJacobian) -> _JointPart:
                       J.gather(forces_of, J.unknowns) * rows,
                       J.gather(J.unknowns, reads_of) * held[:, None, reads],
                       J.gather(J.unknowns, J.unknowns))
+
+
+def _joint_parts(slots: np.ndarray, J: SlotJacobian, B: int) -> list[_JointPart]:
+    """:func:`_joint_part` of a batch of ``k`` alike joints of ``B`` members (``slots``
+    (k B, t), joint ``i`` of member ``b`` in row ``i B + b``), computed once and split
+    per joint."""
+    whole = _joint_part(slots, J)
+    if len(slots) == B:
+        return [whole]
+    return [_JointPart(whole.at[rows], whole.forces, whole.c, whole.reads, whole.E[rows],
+                       whole.A[rows], whole.C[rows], whole.D[rows])
+            for rows in (slice(i * B, (i + 1) * B) for i in range(len(slots) // B))]
 
 
 def _patterns(keys: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:

@@ -200,10 +200,11 @@ class SliderStatics:
         return dq, z[len(self.free):]
 
     def _steps(self, members: Sequence[SliderStatics], R: np.ndarray, parts: list,
-               r_y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+               r_y: np.ndarray, stacked: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Newton increments ``dq`` (B, n), ``dy`` (B, m) of ``members`` (this one's
         operator; their residuals ``R`` (B, n), ``r_y`` and the joints' slot arrays
-        ``parts``), and which are regular."""
+        ``parts``, per slider, and ``stacked``, per evaluated batch, :func:`_evaluate`), and
+        which are regular."""
         B = len(R)
         dq, dy = np.zeros_like(R), np.zeros_like(r_y)
         if self.method == "bordered":
@@ -214,8 +215,8 @@ class SliderStatics:
                     (dq[b], dy[b]), regular[b] = step, True
             return dq, dy, regular
         dq_free, dy, regular = self._condensed.step(
-            R[:, self.free], [self._position[d] for d, _, _ in parts],
-            [J for _, _, J in parts], r_y)
+            R[:, self.free], [self._position[d] for d, _, _ in stacked],
+            [J for _, _, J in stacked], r_y)
         dq[:, self.free] = dq_free
         return dq, dy, regular
 
@@ -320,14 +321,14 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
                    else [np.flatnonzero(going), np.flatnonzero(~going)]):
             joints = (view if isinstance(on, slice)
                       else [_pick(v, len(span), len(active), on) for v, span in zip(view, spans)])
-            evaluated = _evaluate(joints, spans, Q[active[on]], Y[active[on]], time, scale,
-                                  bool(going[on][0]))
+            evaluated, stacked = _evaluate(joints, spans, Q[active[on]], Y[active[on]], time,
+                                           scale, bool(going[on][0]))
             rows = np.arange(len(active))[on][:, None]
             np.add.at(R, (rows, np.concatenate([d for d, _, _ in evaluated], axis=1)),
                       np.concatenate([r[:, :d.shape[1]] for d, r, _ in evaluated], axis=1))
             r_y[on] = np.concatenate([r[:, d.shape[1]:] for d, r, _ in evaluated], axis=1)
             if going[on][0]:
-                parts = evaluated
+                parts, whole = evaluated, stacked
         measure = np.maximum(np.abs(R[:, lead.free]).max(axis=1), np.abs(r_y).max(axis=1))
         for b, value in zip(active, measure / load_scale[active]):
             residuals[b].append(float(value))
@@ -338,7 +339,8 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
             break
         if not going.all():
             R, r_y = R[going], r_y[going]
-        dq, dy, regular = lead._steps([members[b] for b in active[going]], R, parts, r_y)
+        dq, dy, regular = lead._steps([members[b] for b in active[going]], R, parts, r_y,
+                                      whole)
         for i in np.flatnonzero(~regular):
             b = active[going][i]
             outcome[b] = members[b]._diagnose(
@@ -387,23 +389,25 @@ def _pick(batch: SliderBatch, parts: int, size: int, members: np.ndarray) -> Sli
 
 
 def _evaluate(view: list[SliderBatch], spans: list[list], q: np.ndarray, y: np.ndarray,
-              time: float, scale: float, jacobian: bool) -> list:
-    """Per slider, ``(dofs, r, J)`` of the members at states ``q`` (B, n) and unknowns
-    ``y`` (B, m) (:meth:`SliderBatch.evaluate`), each batch of ``view`` evaluated once for
-    the sliders it holds (``spans``: their unknowns in ``y``, :func:`_joined`)."""
-    out, B = [], len(q)
+              time: float, scale: float, jacobian: bool) -> tuple[list, list]:
+    """``(dofs, r, J)`` of the members at states ``q`` (B, n) and unknowns ``y`` (B, m)
+    (:meth:`SliderBatch.evaluate`), each batch of ``view`` evaluated once for the sliders
+    it holds (``spans``: their unknowns in ``y``, :func:`_joined`): per slider, and per
+    batch (its sliders' members one slider after the other, as the condensed step takes
+    them, :meth:`sliders.condensed.CondensedOperator.step`)."""
+    out, stacked, B = [], [], len(q)
     for batch, span in zip(view, spans):
-        if len(span) == 1:
-            (i, j), = span
-            out.append(batch.evaluate(q, y[:, i:j], time, scale, jacobian=jacobian))
-            continue
-        dofs, r, J = batch.evaluate(np.tile(q, (len(span), 1)),
+        dofs, r, J = batch.evaluate(np.tile(q, (len(span), 1)) if len(span) > 1 else q,
                                     np.concatenate([y[:, i:j] for i, j in span]), time, scale,
                                     jacobian=jacobian)
+        stacked.append((dofs, r, J))
+        if len(span) == 1:
+            out.append(stacked[-1])
+            continue
         for k in range(len(span)):
             part = slice(k * B, (k + 1) * B)
             out.append((dofs[part], r[part], J.subset(part) if J is not None else None))
-    return out
+    return out, stacked
 
 
 def solve_many(members: Sequence[SliderStatics], loads: Sequence[np.ndarray], tol: float = 1e-8,
