@@ -318,15 +318,17 @@ def _equilibrated_solve(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.nd
     """Solutions of the stacked systems ``A x = b`` (B, n, n) after scaling their rows and
     columns to unit largest entries, and which are regular: reciprocal condition number
     (1-norm, of the scaled matrix) at least :data:`SINGULAR_RCOND`."""
-    rows = np.abs(A).max(axis=2).clip(1e-300)
-    A = A / rows[:, :, None]
-    cols = np.abs(A).max(axis=1).clip(1e-300)
-    A = A / cols[:, None, :]
+    magnitude = np.abs(A)  # scaled alongside A: |a / s| is |a| / s, exactly
+    rows = magnitude.max(axis=2).clip(1e-300)
+    magnitude /= rows[:, :, None]
+    cols = magnitude.max(axis=1).clip(1e-300)
+    magnitude /= cols[:, None, :]
+    A = A / rows[:, :, None] / cols[:, None, :]
     try:
         inverse = np.linalg.inv(A)
     except np.linalg.LinAlgError:
         inverse = np.stack([_inverse_or_nan(a) for a in A])
-    norm = np.abs(A).sum(axis=1).max(axis=1) * np.abs(inverse).sum(axis=1).max(axis=1)
+    norm = magnitude.sum(axis=1).max(axis=1) * np.abs(inverse).sum(axis=1).max(axis=1)
     regular = 1.0 / norm >= SINGULAR_RCOND
     x = np.einsum("bij,bj->bi", inverse, b / rows) / cols
     return np.where(regular[:, None], x, 0.0), regular
