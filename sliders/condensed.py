@@ -156,12 +156,14 @@ class CondensedOperator:
     def _columns(self, positions: np.ndarray) -> np.ndarray:
         """Store slots of the columns ``B^{-1}[U; 0]`` for the free dofs at ``positions``;
         each column is computed once and kept."""
-        missing = np.unique(positions[self._slot[positions] < 0])
-        if missing.size:
-            unit = np.zeros((self.n_free + self.n_rigid, missing.size), order="F")
-            unit[missing, np.arange(missing.size)] = 1.0
-            self._slot[missing] = self._store.shape[1] + np.arange(missing.size)
-            self._store = np.hstack([self._store, self.lu.solve(unit)])
+        slots = self._slot[positions]
+        if slots.min(initial=0) >= 0:
+            return slots
+        missing = np.unique(positions[slots < 0])
+        unit = np.zeros((self.n_free + self.n_rigid, missing.size), order="F")
+        unit[missing, np.arange(missing.size)] = 1.0
+        self._slot[missing] = self._store.shape[1] + np.arange(missing.size)
+        self._store = np.hstack([self._store, self.lu.solve(unit)])
         return self._slot[positions]
 
     def _read(self, rows: np.ndarray, columns: np.ndarray, F: np.ndarray) -> np.ndarray:
@@ -169,12 +171,12 @@ class CondensedOperator:
         ``columns`` (B, f) store slots, ``F`` (B, f, p)): the block of ``B^{-1}`` is gathered
         once per distinct pair of index rows (the members of a sweep share a few elements, so
         a few patterns) and multiplies all members that have it."""
-        patterns, which = _patterns(np.concatenate([rows, columns], axis=1))
+        patterns, groups = _patterns(np.concatenate([rows, columns], axis=1))
         r = rows.shape[1]
         if len(patterns) == 1:
             return self._store[patterns[0, :r, None], patterns[0, None, r:]] @ F
         Y = np.empty((len(F), r, F.shape[2]))
-        for key, members in zip(patterns, _groups(which, len(patterns))):
+        for key, members in zip(patterns, groups):
             Y[members] = self._store[key[:r, None], key[None, r:]] @ F[members]
         return Y
 
@@ -186,12 +188,15 @@ class CondensedOperator:
         ----------
         r_free : (B, n_free)
             The structure residuals.
-        slots : list of (B, t_j)
-            Per joint, the free-dof position of each of its slots, -1 where supported.
+        slots : list of (k B, t_j)
+            Per batch of ``k`` alike joints (:meth:`sliders.joint.SliderBatch.joined`; one
+            joint, ``k = 1``), the free-dof position of each of their slots, -1 where
+            supported: joint ``i`` of member ``b`` in row ``i B + b``.
         blocks : list of SlotJacobian
-            Per joint, its Jacobian on ``[q_slots; y_j]`` by slot groups.
+            Per batch, its joints' Jacobians on ``[q_slots; y_j]`` by slot groups, members
+            in the rows of ``slots``.
         r_y : (B, m)
-            The joints' residuals, joint after joint.
+            The joints' residuals, joint after joint (batch after batch).
 
         Returns
         -------
@@ -199,7 +204,7 @@ class CondensedOperator:
         small systems are regular (the increments of the others are not to be used).
         """
         B, m, k, n = len(r_free), r_y.shape[1], self.n_rigid, self.n_free
-        parts = [_joint_part(p, J) for p, J in zip(slots, blocks)]
+        parts = [part for p, J in zip(slots, blocks) for part in _joint_parts(p, J, B)]
         nc = sum(len(p.c) for p in parts)
         nf, nr = sum(len(p.forces) for p in parts), sum(len(p.reads) for p in parts)
         F, C, D = np.zeros((B, nf, nc + m)), np.zeros((B, m, nr)), np.zeros((B, m, m))
@@ -275,39 +280,55 @@ def _joint_part(slots: np.ndarray, J: SlotJacobian) -> _JointPart:
                       J.gather(J.unknowns, J.unknowns))
 
 
-def _patterns(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The distinct rows of the non-negative integer array ``keys`` (B, w) and the index of
-    each row among them: ``np.unique(keys, axis=0, return_inverse=True)``, found through a
-    polynomial hash of the rows (wrapping in 64 bits) and checked, the exact sort taken only
-    if two distinct rows share a hash."""
-    base = np.int64(keys.max(initial=0) + 1)
+def _joint_parts(slots: np.ndarray, J: SlotJacobian, B: int) -> list[_JointPart]:
+    """:func:`_joint_part` of a batch of ``k`` alike joints of ``B`` members (``slots``
+    (k B, t), joint ``i`` of member ``b`` in row ``i B + b``), computed once and split
+    per joint."""
+    whole = _joint_part(slots, J)
+    if len(slots) == B:
+        return [whole]
+    return [_JointPart(whole.at[rows], whole.forces, whole.c, whole.reads, whole.E[rows],
+                       whole.A[rows], whole.C[rows], whole.D[rows])
+            for rows in (slice(i * B, (i + 1) * B) for i in range(len(slots) // B))]
+
+
+def _patterns(keys: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
+    """The distinct rows of the non-negative integer array ``keys`` (B, w), in the order of
+    their hashes, and the indices of the rows holding each (increasing): a stable sort of a
+    polynomial hash of the rows (wrapping in 64 bits; its base odd, so that no power of it
+    wraps to 0 and every column counts), checked; the exact sort of the rows
+    (``np.unique(keys, axis=0)``) taken only if two distinct rows share a hash."""
+    base = np.int64((keys.max(initial=0) + 1) | 1)
     hashes = keys @ np.cumprod(np.full(keys.shape[1], base, dtype=np.int64))
-    _, first, which = np.unique(hashes, return_index=True, return_inverse=True)
-    if np.array_equal(keys[first][which], keys):
-        return keys[first], which
+    order = np.argsort(hashes, kind="stable")
+    ordered = hashes[order]
+    starts = np.flatnonzero(np.concatenate([[True], ordered[1:] != ordered[:-1]]))
+    groups = np.split(order, starts[1:])
+    patterns = keys[order[starts]]
+    if np.array_equal(np.repeat(patterns, np.diff(np.append(starts, len(keys))), axis=0),
+                      keys[order]):
+        return patterns, groups
     patterns, which = np.unique(keys, axis=0, return_inverse=True)
-    return patterns, which.ravel()
-
-
-def _groups(which: np.ndarray, n: int) -> list[np.ndarray]:
-    """The indices holding each value ``0 .. n - 1`` of ``which``."""
+    which = which.ravel()
     order = np.argsort(which, kind="stable")
-    return np.split(order, np.cumsum(np.bincount(which, minlength=n))[:-1])
+    return patterns, np.split(order, np.cumsum(np.bincount(which, minlength=len(patterns)))[:-1])
 
 
 def _equilibrated_solve(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Solutions of the stacked systems ``A x = b`` (B, n, n) after scaling their rows and
     columns to unit largest entries, and which are regular: reciprocal condition number
     (1-norm, of the scaled matrix) at least :data:`SINGULAR_RCOND`."""
-    rows = np.abs(A).max(axis=2).clip(1e-300)
-    A = A / rows[:, :, None]
-    cols = np.abs(A).max(axis=1).clip(1e-300)
-    A = A / cols[:, None, :]
+    magnitude = np.abs(A)  # scaled alongside A: |a / s| is |a| / s, exactly
+    rows = magnitude.max(axis=2).clip(1e-300)
+    magnitude /= rows[:, :, None]
+    cols = magnitude.max(axis=1).clip(1e-300)
+    magnitude /= cols[:, None, :]
+    A = A / rows[:, :, None] / cols[:, None, :]
     try:
         inverse = np.linalg.inv(A)
     except np.linalg.LinAlgError:
         inverse = np.stack([_inverse_or_nan(a) for a in A])
-    norm = np.abs(A).sum(axis=1).max(axis=1) * np.abs(inverse).sum(axis=1).max(axis=1)
+    norm = magnitude.sum(axis=1).max(axis=1) * np.abs(inverse).sum(axis=1).max(axis=1)
     regular = 1.0 / norm >= SINGULAR_RCOND
     x = np.einsum("bij,bj->bi", inverse, b / rows) / cols
     return np.where(regular[:, None], x, 0.0), regular

@@ -244,6 +244,35 @@ class SliderBatch:
         out.chains = one.chains.translated(shifts) if one.chains is not None else None
         return out
 
+    @classmethod
+    def joined(cls, batches: Sequence[SliderBatch]) -> SliderBatch:
+        """One batch of the members of ``batches``, one batch after the other: the joints of
+        a member that are alike (kind, orientation, smearing, offset, frame, end stops, drive,
+        unknowns and line length) but sit on different lines of one topology (e.g. on two
+        beams of one mesh, :meth:`sliders.stack.ChainStack.joined`) evaluated by one call.
+        Raises ``ValueError`` naming the first batch that differs from the first one."""
+        first = batches[0]
+        for other in batches[1:]:
+            if not (other.kind == first.kind and other.orientation == first.orientation
+                    and other.smearing == first.smearing and other.kernel == first.kernel
+                    and other.end_stops == first.end_stops
+                    and other.n_unknowns == first.n_unknowns and other.length == first.length
+                    and np.array_equal(other.offset, first.offset)
+                    and np.array_equal(other.frame, first.frame)
+                    and (other.drives[0] is None) == (first.drives[0] is None)
+                    and other.chains is not None and first.chains is not None):
+                raise ValueError(f"{other.sliders[0].name}: its joints differ from "
+                                 f"{first.sliders[0].name}'s (kind, orientation, smearing, "
+                                 "offset, frame, end stops, drive, length or kind of line)")
+        out = copy.copy(first)
+        out.sliders = [s for b in batches for s in b.sliders]
+        out.structures = [s for b in batches for s in b.structures]
+        out.body = np.concatenate([b.body for b in batches])
+        out.reference = np.concatenate([b.reference for b in batches])
+        out.drives = [d for b in batches for d in b.drives]
+        out.chains = ChainStack.joined([b.chains for b in batches])
+        return out
+
     def __len__(self) -> int:
         return len(self.sliders)
 

@@ -158,9 +158,12 @@ class ChainStack:
         self.first_element = np.concatenate([[0], np.cumsum(counts)])
         nodes = np.concatenate([[0], np.cumsum([beam.mesh.n_nodes for beam in self.beams])])
         self.cells = np.concatenate([beam.mesh.cells + n for beam, n in zip(self.beams, nodes)])
-        self.dofs = np.concatenate([
+        # the dofs of each element's nodes, (maps, elements, npe, 6), and each member's map
+        # (one here; a joined stack holds one per chain of the structure, :meth:`joined`)
+        self.maps = np.concatenate([
             first.structure.dof_maps[i][6 * beam.mesh.cells[:, :, None] + np.arange(6)]
-            for i, beam in zip(first.indices, self.beams)])
+            for i, beam in zip(first.indices, self.beams)])[None]
+        self.map = np.zeros(len(self.chains), dtype=int)
         self.breaks = np.stack([chain.offsets for chain in self.chains])
         self.vertices = [np.stack([chain.beams[j].mesh.vertex_s for chain in self.chains])
                          for j in range(len(self.beams))]
@@ -185,8 +188,37 @@ class ChainStack:
         out.chains = [self.chains[b] for b in members]
         out.breaks, out.h, out.points = self.breaks[members], self.h[members], self.points[members]
         out.vertices = [v[members] for v in self.vertices]
+        out.map = self.map[members]
         out.members, out._located = np.arange(len(out.chains)), None
         return out
+
+    @classmethod
+    def joined(cls, stacks: Sequence[ChainStack]) -> ChainStack:
+        """One stack of the members of ``stacks``, one after the other: chains of one
+        topology but for their dof maps (e.g. the lines of two joints on different beams of
+        one structure), so that one query answers them all.  Raises ``ValueError`` naming
+        the first stack whose chains differ from the first one's in more than their node
+        positions and dof maps."""
+        first = stacks[0]
+        for stack in stacks[1:]:
+            if not (stack.npe == first.npe
+                    and _same_topology(first.chains[0], stack.chains[0], maps=False)):
+                raise ValueError(f"{stack.name}: its chains differ from {first.name}'s in more "
+                                 "than their node positions and dof maps")
+        out = copy.copy(first)
+        out.chains = [c for stack in stacks for c in stack.chains]
+        out.breaks, out.h, out.points = (np.concatenate([getattr(stack, f) for stack in stacks])
+                                         for f in ("breaks", "h", "points"))
+        out.vertices = [np.concatenate(v) for v in zip(*(stack.vertices for stack in stacks))]
+        out.maps = np.concatenate([stack.maps for stack in stacks])
+        out.map = np.concatenate([stack.map + sum(len(s.maps) for s in stacks[:i])
+                                  for i, stack in enumerate(stacks)])
+        out.members, out._located = np.arange(len(out.chains)), None
+        return out
+
+    def _dofs(self, element: np.ndarray) -> np.ndarray:
+        """The dofs (B, ..., npe, 6) of each member's ``element`` (B, ...), on its own map."""
+        return self.maps[self.map.reshape((-1,) + (1,) * (element.ndim - 1)), element]
 
     def translated(self, shifts: np.ndarray) -> ChainStack:
         """``B`` copies of this one-member stack, copy ``b`` with the structure's beams moved
@@ -249,7 +281,7 @@ class ChainStack:
         _, element, X = self.locate(xi)
         h = self.h[self.members, element][:, None]
         N, dN = (f.T for f in shape_functions(X, self.npe))
-        return ElementInterpolation(self.dofs[element][:, :, :3], self._nodes(element), N,
+        return ElementInterpolation(self._dofs(element)[:, :, :3], self._nodes(element), N,
                                     dN / h, second_derivatives(self.npe) / h**2)
 
     def interpolation(self, xi: np.ndarray) -> Interpolation:
@@ -273,7 +305,7 @@ class ChainStack:
             theirs = ends[1 - end] / self.h[self.members, other][:, None]
             T.append(weight[:, None] * theirs)
             T_xi.append(weight_xi[:, None] * theirs)
-            dofs.append(self.dofs[other][:, :, :3])
+            dofs.append(self._dofs(other)[:, :, :3])
             nodes.append(self._nodes(other))
         return Interpolation(inside.dofs, inside.X, inside.N, dN, d2N,
                              np.concatenate(dofs, axis=1), np.concatenate(nodes, axis=1),
@@ -318,7 +350,7 @@ class ChainStack:
         for b in np.unique(beam):
             on = beam == b
             compliance[on] = R0[on] @ self.compliance[b] @ np.swapaxes(R0[on], 1, 2)
-        dofs = self.dofs[element[:, None], pair][:, :, 3:]
+        dofs = self._dofs(element)[self.members[:, None], pair][:, :, 3:]
         return LineRotation(dofs, w, np.stack([-1 / span, 1 / span], axis=1), kink, kink_xi,
                             compliance, R0, k0, k0_xi)
 
@@ -345,7 +377,7 @@ class ChainStack:
         for b in np.unique(beam):
             on = beam == b
             G[on], dG[on] = self.beams[b].formulation.transfer_at(nodes[on], h[on], X[on])
-        return self.dofs[element].reshape(len(xi), -1), G, dG
+        return self._dofs(element).reshape(len(xi), -1), G, dG
 
     def project(self, points: np.ndarray, q: np.ndarray) -> np.ndarray:
         """Abscissae of the points of the deformed chains (states ``q``, (B, n)) closest to
@@ -360,15 +392,16 @@ class ChainStack:
                        sampled.reshape(B, G, 3))
 
 
-def _same_topology(a: BeamChain, b: BeamChain) -> bool:
-    """Whether chains ``a`` and ``b`` differ at most in their node positions.  Beams sharing
+def _same_topology(a: BeamChain, b: BeamChain, maps: bool = True) -> bool:
+    """Whether chains ``a`` and ``b`` differ at most in their node positions (and, without
+    ``maps``, their dof maps).  Beams sharing
     their arc lengths (moved copies, :meth:`fvbeam.mesh.BeamMesh.translated`) have equal
     lengths and chain offsets without comparing them."""
     return (len(a.beams) == len(b.beams)
             and (all(x.mesh.vertex_s is y.mesh.vertex_s for x, y in zip(a.beams, b.beams))
                  or _tied(a.offsets, b.offsets))
-            and all(np.array_equal(a.structure.dof_maps[i], b.structure.dof_maps[j])
-                    for i, j in zip(a.indices, b.indices))
+            and (not maps or all(np.array_equal(a.structure.dof_maps[i], b.structure.dof_maps[j])
+                                 for i, j in zip(a.indices, b.indices)))
             and all(x.formulation == y.formulation and x.section is y.section
                     and (x.mesh.cells is y.mesh.cells
                          or np.array_equal(x.mesh.cells, y.mesh.cells))

@@ -200,10 +200,11 @@ class SliderStatics:
         return dq, z[len(self.free):]
 
     def _steps(self, members: Sequence[SliderStatics], R: np.ndarray, parts: list,
-               r_y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+               r_y: np.ndarray, stacked: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Newton increments ``dq`` (B, n), ``dy`` (B, m) of ``members`` (this one's
         operator; their residuals ``R`` (B, n), ``r_y`` and the joints' slot arrays
-        ``parts``), and which are regular."""
+        ``parts``, per slider, and ``stacked``, per evaluated batch, :func:`_evaluate`), and
+        which are regular."""
         B = len(R)
         dq, dy = np.zeros_like(R), np.zeros_like(r_y)
         if self.method == "bordered":
@@ -214,8 +215,8 @@ class SliderStatics:
                     (dq[b], dy[b]), regular[b] = step, True
             return dq, dy, regular
         dq_free, dy, regular = self._condensed.step(
-            R[:, self.free], [self._position[d] for d, _, _ in parts],
-            [J for _, _, J in parts], r_y)
+            R[:, self.free], [self._position[d] for d, _, _ in stacked],
+            [J for _, _, J in stacked], r_y)
         dq[:, self.free] = dq_free
         return dq, dy, regular
 
@@ -291,10 +292,15 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
     warm = np.array([s is not None for s in starts], dtype=bool)
     for b in np.flatnonzero(warm):
         Q[b], Y[b] = starts[b][0], np.concatenate(starts[b][1])
+    bounds = list(zip(np.cumsum([0] + sizes[:-1]), np.cumsum(sizes)))
+    full, spans = _joined(batches, bounds)
     cold = np.flatnonzero(~warm)
     if cold.size:
-        Y[cold] = np.concatenate([(b if cold.size == B else b.subset(cold)).initial_unknowns(
-            Q[cold]) for b in batches], axis=1)
+        # one projection per batch of full, its sliders' unknowns side by side
+        Y[cold] = np.concatenate([
+            (v if cold.size == B else _pick(v, len(span), B, cold)).initial_unknowns(
+                np.tile(Q[cold], (len(span), 1))).reshape(len(span), cold.size, -1)
+            .transpose(1, 0, 2).reshape(cold.size, -1) for v, span in zip(full, spans)], axis=1)
     Q0, Y0 = Q.copy(), Y.copy()
     load_scale = np.maximum(np.abs(loads).max(axis=1), 1e-300)
     # 4 ulp of the largest coordinate (at least 1: rotations are dimensionless)
@@ -303,8 +309,7 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
     done = np.zeros(B, dtype=bool)
     residuals: list[list[float]] = [[] for _ in range(B)]
     outcome: list = [None] * B
-    active, view = np.arange(B), list(batches)
-    bounds = list(zip(np.cumsum([0] + sizes[:-1]), np.cumsum(sizes)))
+    active, view = np.arange(B), full
     multipliers = np.ones(sum(sizes), dtype=bool)
     multipliers[[i for i, _ in bounds]] = False
     for _ in range(max_iterations + 1):
@@ -314,16 +319,16 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
         # the converged members need their residuals only (the convergence check)
         for on in ([slice(None)] if going.all() or not going.any()
                    else [np.flatnonzero(going), np.flatnonzero(~going)]):
-            joints = view if isinstance(on, slice) else [v.subset(on) for v in view]
-            evaluated = [v.evaluate(Q[active[on]], Y[active[on]][:, i:j], time, scale,
-                                    jacobian=bool(going[on][0]))
-                         for v, (i, j) in zip(joints, bounds)]
+            joints = (view if isinstance(on, slice)
+                      else [_pick(v, len(span), len(active), on) for v, span in zip(view, spans)])
+            evaluated, stacked = _evaluate(joints, spans, Q[active[on]], Y[active[on]], time,
+                                           scale, bool(going[on][0]))
             rows = np.arange(len(active))[on][:, None]
-            for dofs, r, _ in evaluated:
-                np.add.at(R, (rows, dofs), r[:, :dofs.shape[1]])
+            np.add.at(R, (rows, np.concatenate([d for d, _, _ in evaluated], axis=1)),
+                      np.concatenate([r[:, :d.shape[1]] for d, r, _ in evaluated], axis=1))
             r_y[on] = np.concatenate([r[:, d.shape[1]:] for d, r, _ in evaluated], axis=1)
             if going[on][0]:
-                parts = evaluated
+                parts, whole = evaluated, stacked
         measure = np.maximum(np.abs(R[:, lead.free]).max(axis=1), np.abs(r_y).max(axis=1))
         for b, value in zip(active, measure / load_scale[active]):
             residuals[b].append(float(value))
@@ -334,7 +339,8 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
             break
         if not going.all():
             R, r_y = R[going], r_y[going]
-        dq, dy, regular = lead._steps([members[b] for b in active[going]], R, parts, r_y)
+        dq, dy, regular = lead._steps([members[b] for b in active[going]], R, parts, r_y,
+                                      whole)
         for i in np.flatnonzero(~regular):
             b = active[going][i]
             outcome[b] = members[b]._diagnose(
@@ -350,8 +356,8 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
         force = np.maximum(load_scale[active], np.abs(Y[active][:, multipliers]).max(axis=1))
         done[active] = converged(dq, dy, sizes, lengths, reach[active], force, tol,
                                  resolution)
-        if len(active) < len(view[0]):
-            view = [b.subset(active) for b in batches]
+        if len(active) < len(view[0]) // len(spans[0]):
+            view = [_pick(v, len(span), B, active) for v, span in zip(full, spans)]
     for b in active:
         first = _member([v.subset(np.array([b])).evaluate(Q0[b][None], Y0[b][None, i:j],
                                                           time, scale)
@@ -360,6 +366,48 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
             first, f"Newton did not converge in {max_iterations} iterations "
                    f"(scaled residual {residuals[b][-1]:.3g})")
     return outcome
+
+
+def _joined(batches: Sequence[SliderBatch],
+            bounds: list[tuple[int, int]]) -> tuple[list[SliderBatch], list[list]]:
+    """The batches to evaluate and, per batch, the ``(start, stop)`` of the unknowns of each
+    slider it holds: all sliders in one batch when they are alike
+    (:meth:`SliderBatch.joined`: one evaluation for every joint of the members), else one
+    batch per slider."""
+    if len(batches) > 1:
+        try:
+            return [SliderBatch.joined(batches)], [bounds]
+        except ValueError:
+            pass
+    return list(batches), [[b] for b in bounds]
+
+
+def _pick(batch: SliderBatch, parts: int, size: int, members: np.ndarray) -> SliderBatch:
+    """The given ``members`` of each of the ``parts`` consecutive blocks of ``size`` members
+    of ``batch`` (a joined batch's sliders, :func:`_joined`)."""
+    return batch.subset((np.arange(parts)[:, None] * size + members).ravel())
+
+
+def _evaluate(view: list[SliderBatch], spans: list[list], q: np.ndarray, y: np.ndarray,
+              time: float, scale: float, jacobian: bool) -> tuple[list, list]:
+    """``(dofs, r, J)`` of the members at states ``q`` (B, n) and unknowns ``y`` (B, m)
+    (:meth:`SliderBatch.evaluate`), each batch of ``view`` evaluated once for the sliders
+    it holds (``spans``: their unknowns in ``y``, :func:`_joined`): per slider, and per
+    batch (its sliders' members one slider after the other, as the condensed step takes
+    them, :meth:`sliders.condensed.CondensedOperator.step`)."""
+    out, stacked, B = [], [], len(q)
+    for batch, span in zip(view, spans):
+        dofs, r, J = batch.evaluate(np.tile(q, (len(span), 1)) if len(span) > 1 else q,
+                                    np.concatenate([y[:, i:j] for i, j in span]), time, scale,
+                                    jacobian=jacobian)
+        stacked.append((dofs, r, J))
+        if len(span) == 1:
+            out.append(stacked[-1])
+            continue
+        for k in range(len(span)):
+            part = slice(k * B, (k + 1) * B)
+            out.append((dofs[part], r[part], J.subset(part) if J is not None else None))
+    return out, stacked
 
 
 def solve_many(members: Sequence[SliderStatics], loads: Sequence[np.ndarray], tol: float = 1e-8,

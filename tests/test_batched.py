@@ -173,3 +173,25 @@ def test_members_must_have_alike_sliders():
     moved = dataclasses.replace(sliders[1], offset=(0.0, 1e-3, 0.0))
     with pytest.raises(ValueError, match="slider of member 1 of the batch differs"):
         SliderBatch([sliders[0], moved, sliders[2]], structures)
+
+
+@pytest.mark.parametrize("kind", ["spherical", "classical"])
+def test_joined_batch_evaluates_each_slider_as_its_own(kind):
+    """The two joints of the sliding-beams pair (on different beams, so different dof maps)
+    joined in one batch (:meth:`SliderBatch.joined`, one evaluation per Newton iteration):
+    each half is its slider's own evaluation, the same operations on the same numbers, so
+    equal bit for bit; a joint differing in its frame is named."""
+    statics, _ = SlidingBeams("fv3", 3, kind).problem(0.3)
+    batches = [SliderBatch([s], [statics.structure]) for s in statics.sliders]
+    rng = np.random.default_rng(0)
+    q = 1e-2 * rng.standard_normal((1, statics.structure.n_dofs))
+    ys = [np.concatenate([[0.2 * b.length], rng.standard_normal(b.n_unknowns - 1)])[None]
+          for b in batches]
+    dofs, r, J = SliderBatch.joined(batches).evaluate(np.tile(q, (2, 1)), np.concatenate(ys))
+    for k, (batch, y) in enumerate(zip(batches, ys)):
+        own_dofs, own_r, own_J = batch.evaluate(q, y)
+        assert np.array_equal(dofs[k], own_dofs[0]) and np.array_equal(r[k], own_r[0])
+        assert np.array_equal(J.subset(np.array([k])).dense(), own_J.dense())
+    turned = dataclasses.replace(statics.sliders[1], frame=np.eye(3)[:, [0, 2, 1]] * [1, 1, -1])
+    with pytest.raises(ValueError, match="B: its joints differ from A's"):
+        SliderBatch.joined([batches[0], SliderBatch([turned], [statics.structure])])
