@@ -15,8 +15,10 @@
 * the ``probes`` asked for (a name and a function of the state and the dynamics).
 
 On request, ``displacements.csv`` (``t`` and every global dof, named as
-:meth:`fvbeam.statics.Structure.dof_name`) and ``internal_forces.csv`` (``t`` and, per beam
-and recovery point, ``N, Vy, Vz, T, My, Mz`` in the section frame).
+:meth:`fvbeam.statics.Structure.dof_name`), ``internal_forces.csv`` (``t`` and, per beam
+and recovery point, ``N, Vy, Vz, T, My, Mz`` in the section frame) and ``reactions.csv``
+(``t`` and what the supports and dof drives exert on each dof they hold, global axes:
+``M qdd + C v + K q - f`` there).
 
 Rows are written as they come into ``NAME.csv.part`` files and flushed; :meth:`Recorder.close`
 renames them to ``NAME.csv``.  :meth:`sliders.dynamics.Dynamics.run` closes the recorder on
@@ -52,8 +54,9 @@ class Recorder:
     ----------
     directory
         Where the CSV files go (created if missing); None keeps everything in memory only.
-    displacements, internal_forces
-        Also keep (and write) every dof, and the beams' internal forces.
+    displacements, internal_forces, reactions
+        Also keep (and write) every dof, the beams' internal forces, and the reactions on
+        the held dofs.
     probes
         Extra columns: name to ``probe(state, dynamics)``.
     every
@@ -63,9 +66,11 @@ class Recorder:
 
     def __init__(self, directory: str | Path | None = None, displacements: bool = False,
                  internal_forces: bool = False, probes: dict[str, Probe] | None = None,
-                 every: int = 0) -> None:
+                 every: int = 0, reactions: bool = False) -> None:
         self.directory = None if directory is None else Path(directory)
         self.keep_displacements, self.keep_forces = displacements, internal_forces
+        self.keep_reactions = reactions
+        self.reactions: list[np.ndarray] = []
         self.probes = dict(probes or {})
         self.every = every
         self.states: list[State] = []
@@ -90,6 +95,8 @@ class Recorder:
             self.columns += [f"{s.name}.{u}" for u in s.unknown_names] + [f"{s.name}.residual"]
         self.columns += list(self.probes)
         self.rows, self.displacements, self.internal_forces, self.states = [], [], [], []
+        self.reactions = []
+        self._held = np.setdiff1d(np.arange(dynamics.structure.n_dofs), dynamics.free)
         self._work = np.zeros(3)
         self._reference = None
         if self.directory is not None:
@@ -106,6 +113,8 @@ class Recorder:
                     header += [f"beam {b} point {i} {c}" for i in range(points)
                                for c in FORCE_NAMES]
                 self._open("internal_forces", header)
+            if self.keep_reactions:
+                self._open("reactions", ["t"] + [structure.dof_name(d) for d in self._held])
         self._append(dynamics, state, None)
 
     def record(self, dynamics: "Dynamics", new: State, old: State) -> None:
@@ -168,3 +177,6 @@ class Recorder:
                 for b, beam in enumerate(dynamics.structure.beams))])
             self.internal_forces.append(forces)
             self._write("internal_forces", [state.t, *forces])
+        if self.keep_reactions:
+            self.reactions.append(reaction[self._held])
+            self._write("reactions", [state.t, *reaction[self._held]])

@@ -5,7 +5,8 @@ The integration (:class:`sliders.dynamics.Dynamics`) starts from the static equi
 directory (:mod:`sliders.history`), which then replaces the output directory whole:
 
 * ``history.csv`` always; ``displacements.csv`` when ``output.csv`` lists ``nodes``,
-  ``internal_forces.csv`` when it lists ``internal_forces``;
+  ``internal_forces.csv`` when it lists ``internal_forces``, ``reactions.csv`` when it lists
+  ``reactions``;
 * ``state.npz``, the last converged state (restart from it with ``study.restart``);
 * ``scene.toml``; with ``output.vtu``, a VTU per kept state (``study.every``) and their
   ``.pvd``; with ``output.png``, renders of the last state (``last``) or of every kept one.
@@ -66,7 +67,8 @@ def run_dynamic(model: Model, out: str | Path, progress: bool = True) -> Dynamic
     def fill(directory: Path) -> None:
         (directory / "scene.toml").write_text(dump_scene(scene))
         outcome.recorder = Recorder(directory, "nodes" in output.csv,
-                                    "internal_forces" in output.csv, every=keep)
+                                    "internal_forces" in output.csv, every=keep,
+                                    reactions="reactions" in output.csv)
         clock = time.perf_counter()
         try:
             first = start if start is not None else dynamics.static_state()

@@ -284,3 +284,20 @@ def test_a_body_centre_off_its_node_couples_and_weighs():
     d = Dynamics(structure, [], gravity=g)
     np.testing.assert_allclose(d.f_gravity, np.concatenate([m * g, np.cross(c, m * g)]),
                                rtol=1e-14)
+
+
+def test_a_loaded_cantilever_at_rest_stays_and_its_clamp_reacts(tmp_path):
+    """From static equilibrium under a constant tip force the exact motion is rest, so the
+    clamp's reactions are the statics of the whole beam: ``-F`` on ``uy`` and ``-F L`` on
+    ``rz``; every other entry zero (to the solve's roundoff)."""
+    structure, supports = cantilever("fv3", 3)
+    F, L = 2.5, 1.0
+    d = Dynamics(structure, supports, load=structure.nodal_load((0, "end"), (0, F, 0)))
+    recorder = Recorder(tmp_path, reactions=True)
+    d.run(d.static_state(), 1.0, 0.1, recorder=recorder, progress=False)
+    expected = np.array([0, -F, 0, 0, 0, -F * L])
+    for row in recorder.reactions:
+        np.testing.assert_allclose(row, expected, atol=1e-12 * F)
+    header = (tmp_path / "reactions.csv").read_text().splitlines()[0].split(",")
+    assert header == ["t"] + [f"beam 0 node 0 {c}" for c in ("ux", "uy", "uz", "rx", "ry",
+                                                             "rz")]

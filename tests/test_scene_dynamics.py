@@ -78,6 +78,8 @@ def test_pushed_body_follows_its_drive_and_restarts(tmp_path):
     shape = read_csv(tmp_path / "first" / "displacements.csv")
     assert len(shape["t"]) == len(history["t"])
     assert (tmp_path / "first" / "internal_forces.csv").is_file()
+    reactions = read_csv(tmp_path / "first" / "reactions.csv")
+    assert len(reactions["t"]) == len(history["t"]) and "body 'cart' rz" in reactions
     scene = pushed(t_end=2.0, restart=str(tmp_path / "first" / "state.npz"))
     resumed = run_dynamic(Model(parse_scene(scene, SCENES, "r"), "r"), tmp_path / "second",
                           progress=False)
