@@ -129,7 +129,8 @@ class Dynamics:
         if sp.issparse(damping) or isinstance(damping, np.ndarray):
             C = sp.csr_matrix(damping)
             if C.shape != self.K.shape or not np.all(np.isfinite(C.data)):
-                raise ValueError(f"damping matrix must be finite, {self.K.shape}")
+                raise ValueError(f"damping matrix must be finite and {self.K.shape}, got "
+                                 f"shape {C.shape}")
             return C
         if not (np.isfinite(damping) and damping >= 0):
             raise ValueError(f"damping must be a finite coefficient >= 0, got {damping!r}")
