@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import copy
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Sequence
+from typing import TYPE_CHECKING, NamedTuple, Sequence
 
 import numpy as np
 
@@ -131,6 +131,16 @@ class LineRotation:
         return LineRotation(*(getattr(self, f)[b] for f in self.__dataclass_fields__))
 
 
+class ElementFrames(NamedTuple):
+    """Per member and element (leading axes (B, E)) of a :class:`ChainStack`: whether the
+    element is straight, its reference frame ``R0`` (3, 3) and its section compliance in
+    global axes (3, 3) (:meth:`ChainStack.element_frames`)."""
+
+    straight: np.ndarray
+    R0: np.ndarray
+    compliance: np.ndarray
+
+
 class ChainStack:
     """``B`` chains of one topology (module docstring), queried together; each
     member keeps its own element lengths and abscissae (equal to :data:`LENGTH_TIE`).
@@ -181,6 +191,7 @@ class ChainStack:
         self.members = np.arange(len(self.chains))
         self._ends = shape_functions(np.array([0.0, 1.0]), self.npe)[1].T
         self._located: tuple[np.ndarray, tuple] | None = None
+        self._frames: ElementFrames | None = None
 
     def subset(self, members: np.ndarray) -> ChainStack:
         """The stack of the given members only (their topology already checked)."""
@@ -190,6 +201,8 @@ class ChainStack:
         out.vertices = [v[members] for v in self.vertices]
         out.map = self.map[members]
         out.members, out._located = np.arange(len(out.chains)), None
+        if self._frames is not None:
+            out._frames = ElementFrames(*(f[members] for f in self._frames))
         return out
 
     @classmethod
@@ -214,6 +227,9 @@ class ChainStack:
         out.map = np.concatenate([stack.map + sum(len(s.maps) for s in stacks[:i])
                                   for i, stack in enumerate(stacks)])
         out.members, out._located = np.arange(len(out.chains)), None
+        out._frames = (None if any(stack._frames is None for stack in stacks) else
+                       ElementFrames(*(np.concatenate(f) for f in
+                                       zip(*(stack._frames for stack in stacks)))))
         return out
 
     def _dofs(self, element: np.ndarray) -> np.ndarray:
@@ -230,6 +246,7 @@ class ChainStack:
         if len(self) != 1:
             raise ValueError(f"{self.name}: only a one-member stack is translated")
         chain = self.chains[0]
+        self.element_frames()  # a translation keeps them
         out = self.subset(np.zeros(len(shifts), dtype=int))
         counts = [beam.mesh.n_nodes for beam in self.beams]
         out.points = self.points + np.repeat(shifts[:, chain.indices], counts, axis=1)
@@ -340,19 +357,52 @@ class ChainStack:
         w_mid = np.sum(w * mid, axis=1)
         kink = t * (1 - t) * span + shift * w_mid**2
         kink_xi = 1 - 2 * t + 2 * shift * w_mid * (mid[:, 1] * 1.0 - mid[:, 0]) / span
-        nodes = self._nodes(element)
-        dN = shape_functions(X, self.npe)[1].T / h[:, None]
-        l0 = np.einsum("ba,bak->bk", dN, nodes)
-        l0_xi = np.einsum("a,bak->bk", second_derivatives(self.npe), nodes) / h[:, None] ** 2
-        R0, k0 = frame_and_curvature(l0, l0_xi, self.up[element])
-        k0_xi = curvature_rate(l0, l0_xi, np.zeros(3), self.up[element])
-        compliance = np.zeros((len(xi), 3, 3))
-        for b in np.unique(beam):
-            on = beam == b
-            compliance[on] = R0[on] @ self.compliance[b] @ np.swapaxes(R0[on], 1, 2)
+        frames = self.element_frames()
+        if frames.straight[self.members, element].all():
+            R0, compliance = (f[self.members, element] for f in (frames.R0, frames.compliance))
+            k0 = k0_xi = np.zeros((len(xi), 3))
+        else:
+            l0, l0_xi = self._reference_line(element, X)
+            R0, k0 = frame_and_curvature(l0, l0_xi, self.up[element])
+            k0_xi = curvature_rate(l0, l0_xi, np.zeros(3), self.up[element])
+            compliance = np.zeros((len(xi), 3, 3))
+            for b in np.unique(beam):
+                on = beam == b
+                compliance[on] = R0[on] @ self.compliance[b] @ np.swapaxes(R0[on], 1, 2)
         dofs = self._dofs(element)[self.members[:, None], pair][:, :, 3:]
         return LineRotation(dofs, w, np.stack([-1 / span, 1 / span], axis=1), kink, kink_xi,
                             compliance, R0, k0, k0_xi)
+
+    def _reference_line(self, element: np.ndarray,
+                        X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The reference line's ``l0`` and ``l0_/xi`` at the reference coordinates ``X``
+        (...) of the members' ``element`` (...)."""
+        rows = self.members.reshape((-1,) + (1,) * (element.ndim - 1))
+        nodes = self.points[rows[..., None], self.cells[element]]
+        h = self.h[rows, element][..., None]
+        dN = np.moveaxis(shape_functions(X.ravel(), self.npe)[1], 0, -1).reshape(
+            X.shape + (self.npe,)) / h
+        return (np.einsum("...a,...ak->...k", dN, nodes),
+                np.einsum("a,...ak->...k", second_derivatives(self.npe), nodes) / h ** 2)
+
+    def element_frames(self) -> ElementFrames:
+        """Per member and element, whether the element is straight in the reference
+        configuration (``|l0_/xi| <= 1e-12 |l0|``, the test by which
+        :func:`sliders.lines.curvature_rate` takes ``k0_/xi`` as zero; ``k0`` is then zero
+        to roundoff), and its frame ``R0`` and section compliance in global axes
+        (:meth:`rotation`), computed once per stack (a translated stack keeps its
+        template's, :meth:`translated`)."""
+        if self._frames is None:
+            E = self.h.shape[1]
+            element = np.broadcast_to(np.arange(E), (len(self), E))
+            l0, l0_xi = self._reference_line(element, np.full((len(self), E), 0.5))
+            R0 = frame_and_curvature(l0, l0_xi, self.up[element])[0]
+            beam = np.searchsorted(self.first_element, np.arange(E), side="right") - 1
+            sections = np.stack(self.compliance)[beam]
+            self._frames = ElementFrames(
+                np.linalg.norm(l0_xi, axis=-1) <= 1e-12 * np.linalg.norm(l0, axis=-1),
+                R0, R0 @ sections @ np.swapaxes(R0, -1, -2))
+        return self._frames
 
     def transfer(self, xi: np.ndarray, smearing: float = 0.0,
                  kernel: str = "box") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
