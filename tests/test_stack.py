@@ -11,7 +11,9 @@ import numpy as np
 import pytest
 
 from fvbeam import Beam, Structure, straight
+from fvbeam.mesh import arc
 from sliders.chain import BeamChain
+from sliders.lines import frame_and_curvature
 from sliders.stack import ChainStack
 from test_chain import SECTION, chain_of_three
 
@@ -91,3 +93,41 @@ def test_subset_answers_as_a_stack_of_its_members():
             np.testing.assert_array_equal(getattr(mine, name), getattr(theirs, name))
     for mine, theirs in zip(part.transfer(xi), direct.transfer(xi)):
         np.testing.assert_array_equal(mine, theirs)
+
+
+@pytest.mark.parametrize("npe", [2, 3])
+def test_stored_frames_of_straight_elements_equal_the_frames_at_xi(npe):
+    """On straight elements the rotation reads the frame and compliance stored per element
+    (:meth:`ChainStack.element_frames`): they equal the frame of the reference line at each
+    ``xi`` (:func:`sliders.lines.frame_and_curvature`) and ``R0 C R0^T``, to the roundoff of
+    the direction (``16 eps``, as above), with ``k0 = k0_/xi = 0``; a translated stack keeps
+    its template's frames, which equal those of the moved chains built afresh (to the same
+    roundoff: the moved node positions carry that of the shift)."""
+    chains = moved_chains(npe, [(0, 0, 0), (0.3, -0.2, 0.1), (5.0, 1.0, -2.0)])
+    stack = ChainStack(chains)
+    xi = np.array([0.1, chains[0].offsets[1] + 0.05, chains[0].length - 0.01])
+    rotation = stack.rotation(xi)
+    assert stack.element_frames().straight.all()
+    _, element, X = stack.locate(xi)
+    l0, l0_xi = stack._reference_line(element, X)
+    R0 = frame_and_curvature(l0, l0_xi, stack.up[element])[0]
+    close(rotation.R0, R0)
+    assert not np.any(rotation.k0) and not np.any(rotation.k0_xi)
+    beam = np.searchsorted(stack.first_element, element, side="right") - 1
+    close(rotation.compliance, R0 @ np.stack(stack.compliance)[beam] @ np.swapaxes(R0, 1, 2))
+    shifts = np.array([[(0.3, -0.2, 0.1)] * 3, [(5.0, 1.0, -2.0)] * 3])
+    moved = ChainStack(chains[:1]).translated(shifts)
+    for mine, theirs in zip(moved.element_frames(), ChainStack(chains[1:]).element_frames()):
+        close(mine, theirs)
+
+
+def test_curved_elements_take_the_frame_at_xi():
+    """On an arc the elements are not straight: the rotation's frame is the reference line's
+    at ``xi``, with the curvature ``1 / radius`` about the axis (``e3`` the arc's normal
+    ``up``): the fv3 interpolation of the arc is exact to ``O(h^3)`` in the curvature,
+    ``(pi/4 / 8)^2 / radius`` with eight elements on a quarter circle, less than 1 %."""
+    beam = Beam(arc((0, 0, 0), 2.0, 0.0, np.pi / 2, 8, 3), SECTION, "fv3")
+    stack = ChainStack([BeamChain(Structure([beam]), [0])])
+    rotation = stack.rotation(np.array([1.3]))
+    assert not stack.element_frames().straight.any()
+    assert np.linalg.norm(rotation.k0[0]) == pytest.approx(0.5, rel=0.01)
