@@ -290,8 +290,9 @@ class ChainStack:
         return k, element, X
 
     def _nodes(self, element: np.ndarray) -> np.ndarray:
-        """Reference node positions ``(B, npe, 3)`` of each member's ``element``."""
-        return self.points[self.members[:, None], self.cells[element]]
+        """Reference node positions ``(B, ..., npe, 3)`` of each member's ``element``
+        (B, ...)."""
+        return self.points[self.members.reshape((-1,) + (1,) * element.ndim), self.cells[element]]
 
     def element_interpolation(self, xi: np.ndarray) -> ElementInterpolation:
         """Where each member's ``xi`` sits and how its element interpolates the line there."""
@@ -377,9 +378,8 @@ class ChainStack:
                         X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The reference line's ``l0`` and ``l0_/xi`` at the reference coordinates ``X``
         (...) of the members' ``element`` (...)."""
-        rows = self.members.reshape((-1,) + (1,) * (element.ndim - 1))
-        nodes = self.points[rows[..., None], self.cells[element]]
-        h = self.h[rows, element][..., None]
+        nodes = self._nodes(element)
+        h = self.h[self.members.reshape((-1,) + (1,) * (element.ndim - 1)), element][..., None]
         dN = np.moveaxis(shape_functions(X.ravel(), self.npe)[1], 0, -1).reshape(
             X.shape + (self.npe,)) / h
         return (np.einsum("...a,...ak->...k", dN, nodes),
@@ -434,12 +434,13 @@ class ChainStack:
         ``points`` (B, 3)."""
         grid = np.unique(np.concatenate([offset + beam.mesh.node_abscissae()
                                          for offset, beam in zip(self.offsets, self.beams)]))
-        B, G = len(self), len(grid)
-        every = self.subset(np.repeat(self.members, G))
-        sampled = every.element_interpolation(np.tile(grid, B)).geometry(
-            np.repeat(q, G, axis=0))[0]
+        # the grid located once, on the first member (the members' abscissae are tied)
+        _, element, X = self.subset(np.zeros(len(grid), dtype=int)).locate(grid)
+        element = np.broadcast_to(element, (len(self), len(grid)))
+        current = self._nodes(element) + gather(q, self._dofs(element)[..., :3])
+        sampled = np.einsum("ga,bgak->bgk", shape_functions(X, self.npe)[0].T, current)
         return project(lambda xi: self.element_interpolation(xi).geometry(q), grid, points,
-                       sampled.reshape(B, G, 3))
+                       sampled)
 
 
 def _same_topology(a: BeamChain, b: BeamChain, maps: bool = True) -> bool:
