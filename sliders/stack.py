@@ -342,7 +342,8 @@ class ChainStack:
         frame ``R0``, its curvature ``k0`` and ``k0_/xi`` come from the element's reference
         interpolation and the mesh's ``up``.  ``C`` is the section's bending-and-torsion
         compliance (the rotational block of the inverse section stiffness) in global axes,
-        taken in the element's reference frame at ``xi``.
+        taken in the element's reference frame at ``xi``.  When every member's element is
+        straight, both are read from :meth:`element_frames` (``k0 = k0_/xi = 0``).
         """
         beam, element, X = self.locate(xi)
         h = self.h[self.members, element]
