@@ -46,6 +46,12 @@ class Support:
                              "(index, 'start' or 'end')")
         self.dofs()
 
+    @classmethod
+    def at(cls, ref: NodeRef, kind: str = "clamp") -> "Support":
+        """The support of kind ``kind`` at the structure node ``ref`` (``(beam, node)`` or a
+        body name): the inverse of :attr:`ref`."""
+        return cls(ref, kind=kind) if isinstance(ref, str) else cls(*ref, kind)
+
     @property
     def ref(self) -> NodeRef:
         """The supported node as a structure node reference."""

@@ -113,7 +113,7 @@ class Dynamics:
         if gravity is not None:
             g = vector3(gravity, "gravity")
             self.f_gravity = self.M @ np.tile(np.concatenate([g, np.zeros(3)]), n // 6)
-        self.supports = list(supports) + [self._support(d) for d in self.drives]
+        self.supports = list(supports) + [Support.at(d.node, d.dof) for d in self.drives]
         fixed = structure.support_dofs(supports)
         self.driven = np.array([structure.node_dofs(d.node)[DOF_NAMES.index(d.dof)]
                                 for d in self.drives], dtype=int)
@@ -148,12 +148,6 @@ class Dynamics:
         if f.shape != (n,) or not np.all(np.isfinite(f)):
             raise ValueError(f"load must be a finite vector of {n} rows or a function of time")
         return lambda t: f
-
-    def _support(self, drive: DofDrive) -> Support:
-        node = drive.node
-        if isinstance(node, str):
-            return Support(node, kind=drive.dof)
-        return Support(node[0], node[1], kind=drive.dof)
 
     def load(self, t: float) -> np.ndarray:
         """External load at ``t``, gravity included (read-only; the last one is kept, as a
@@ -214,8 +208,10 @@ class Dynamics:
         beta_rate, gamma_rate = self.scheme.rates(h)
         return (self.M + (gamma_rate / beta_rate) * self.C + self.K / beta_rate).tocsr()
 
-    def _solver(self, key) -> SliderStatics | spla.SuperLU:
-        """The cached solver of the operator ``key`` (a step size, or ``static``)."""
+    def _solver(self, key) -> SliderStatics | tuple[spla.SuperLU, sp.csr_matrix]:
+        """The cached solver of the operator ``key`` (a step size, or ``static``): the
+        statics of the sliders on it, or without sliders its factor on the free dofs and the
+        operator itself."""
         if key not in self._operators:
             operator = self.K if key == "static" else self.operator(key)
             if self.sliders:
@@ -280,8 +276,9 @@ class Dynamics:
         ``state`` (``|x_b - x(xi)|`` and ``|g_j|``)."""
         out = []
         for s, y in zip(self.sliders, state.unknowns):
-            _, _, r_y, _ = s.assemble(self.structure, state.q, y)
-            out.append(float(np.abs(r_y[1:]).max()))
+            dofs, r, _ = s.batch(self.structure).evaluate(state.q[None], np.asarray(y)[None],
+                                                          state.t, jacobian=False)
+            out.append(float(np.abs(r[0, dofs.shape[1] + 1:]).max()))
         return np.array(out)
 
     def run(self, state: State, t_end: float, h: float, adaptive: Adaptive | None = None,

@@ -145,7 +145,7 @@ class Model:
         self._check_point_loads(problems)
         problems.raise_if_any(source)
         self.ties = [tuple(self.ref(n) for n in tie.nodes) for tie in scene.tie]
-        self.supports = [self._support(s.node, s.kind) for s in scene.support]
+        self.supports = [Support.at(self.ref(s.node), s.kind) for s in scene.support]
         self.slider_drives = {d.slider: _motion(d.motion) for d in scene.drive
                               if d.kind == "abscissa"}
         self.structure = Structure(self.beams, self.ties, self.bodies)
@@ -163,10 +163,6 @@ class Model:
         structure's (``(beam index, 'start' | 'end')`` or the body name)."""
         name, _, end = node.partition(".")
         return (self.index[name], end) if end else name
-
-    def _support(self, node: str, kind: str) -> Support:
-        ref = self.ref(node)
-        return Support(ref, kind=kind) if isinstance(ref, str) else Support(*ref, kind)
 
     def position(self, node: str) -> np.ndarray:
         """Reference position of a scene node."""
