@@ -145,12 +145,12 @@ class Recorder:
     def _append(self, dynamics: "Dynamics", state: State, old: State | None) -> None:
         f = dynamics.load(state.t)
         reaction = dynamics.constraint_forces(state)
+        power = state.v @ (dynamics.C @ state.v)
         if old is not None:
             dq = state.q - old.q
             self._work += [(self._f + f) @ dq / 2, (self._reaction + reaction) @ dq / 2,
-                           state.h * (self._power + state.v @ (dynamics.C @ state.v)) / 2]
-        self._f, self._reaction = f, reaction
-        self._power = state.v @ (dynamics.C @ state.v)
+                           state.h * (self._power + power) / 2]
+        self._f, self._reaction, self._power = f, reaction, power
         kinetic = state.v @ (dynamics.M @ state.v) / 2
         strain = state.q @ (dynamics.K @ state.q) / 2
         external, constraint, dissipated = self._work
