@@ -360,8 +360,10 @@ class SliderBatch:
                               axis=1)
         at = _Layout(3 * line.N.shape[1], line.load_dofs.shape[1],
                      rotation_dofs.shape[1], line.tangent_dofs.shape[1], self.n_unknowns)
+        pattern = _pattern(self.kind, self.orientation, bool(np.any(self.offset)),
+                           rotation_dofs.shape[1] > 0)
         r = np.zeros((B, at.t + self.n_unknowns))
-        J = at.jacobian(B) if jacobian else None
+        J = at.jacobian(B, pattern) if jacobian else None
         eye, offset = np.eye(3), self.offset
         theta = gather(q, self.body[:, 3:])
         f_b = cross(theta, offset)
@@ -590,7 +592,38 @@ class _Layout:
                        ("interp", n_interp), ("beside", n_tangent - n_interp)]
         self.own = [("xi", 1), ("lam", 3), ("mu", n_unknowns - 4)]
 
-    def jacobian(self, members: int) -> SlotJacobian:
-        """An empty Jacobian of ``members`` on these slots, by groups (the ``tangent``
-        slots are ``interp`` and ``beside``; the unknowns ``xi``, ``lam`` and ``mu``)."""
-        return SlotJacobian(members, self.groups, self.own)
+    def jacobian(self, members: int, pattern: list[tuple[str, str]]) -> SlotJacobian:
+        """A zero Jacobian of ``members`` on these slots with the blocks of ``pattern``
+        (:func:`_pattern`; the ``tangent`` slots are ``interp`` and ``beside``, the unknowns
+        ``xi``, ``lam`` and ``mu``)."""
+        return SlotJacobian(members, self.groups, self.own, pattern)
+
+
+#: The blocks of the Jacobian every joint writes (module docstring table): the reaction on
+#: the body and the line, the ``xi`` equation and the position constraint.
+_BASE = [("body", "lam"), ("turn", "lam"), ("load", "xi"), ("load", "lam"), ("xi", "xi"),
+         ("xi", "lam"), ("xi", "interp"), ("xi", "beside"), ("lam", "body"), ("lam", "xi"),
+         ("lam", "interp")]
+#: Added by a sliding point off the node (the lever arm ``f_b``).
+_LEVER = [("turn", "turn"), ("lam", "turn")]
+#: Added by the ``section`` orientation, and by the rotation dofs of a chain's section.
+_SECTION = [("turn", "xi"), ("turn", "mu"), ("xi", "turn"), ("xi", "mu"), ("mu", "turn"),
+            ("mu", "xi"), ("mu", "mu")]
+_SECTION_ROTATION = [("rotation", "xi"), ("rotation", "mu"), ("xi", "rotation"),
+                     ("mu", "rotation")]
+#: Added by the ``slope`` orientation (the couple on the line's gradient).
+_SLOPE = [("turn", "turn"), ("turn", "xi"), ("turn", "mu"), ("turn", "interp"), ("load", "turn"),
+          ("load", "mu"), ("load", "interp"), ("xi", "turn"), ("xi", "mu"), ("mu", "turn"),
+          ("mu", "xi"), ("mu", "interp")]
+
+
+def _pattern(kind: str, orientation: str, lever: bool, rotation: bool) -> list[tuple[str, str]]:
+    """The Jacobian blocks a joint may write: every joint's, the lever arm's (a sliding
+    point off the node), and its orientation's (``rotation``: on a chain's section
+    rotation dofs)."""
+    out = _BASE + (_LEVER if lever else [])
+    if kind == "spherical":
+        return out
+    if orientation == "slope":
+        return out + _SLOPE
+    return out + _SECTION + (_SECTION_ROTATION if rotation else [])

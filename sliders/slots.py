@@ -1,15 +1,18 @@
-"""A joint's Jacobian on its slots, kept by blocks of slot groups.
+"""A joint's Jacobian on its slots, kept by blocks of slot groups in one flat array.
 
 A joint (:meth:`sliders.joint.SliderBatch.evaluate`) writes its residual on fixed *slots*:
 groups of structure dofs (the body's translations and rotations, the line's load, rotation
 and tangent dofs) followed by groups of its own unknowns (``xi``, ``lambda``, ``mu``).  Its
 Jacobian is mostly structurally zero: 63 x 63 per member for a classical joint on fv3 with a
 few hundred entries that are not.  :class:`SlotJacobian` keeps only the blocks (row group,
-column group) the equations write, each ``(B, rows, columns)`` for ``B`` members, so the
-pattern is known from the groups without reading the values: the condensed Newton step
-(:mod:`sliders.condensed`) takes the blocks it needs (:meth:`SlotJacobian.gather`), and the
-dense matrix (:meth:`SlotJacobian.dense`) is assembled from the same blocks for the
-bordered back end, :meth:`sliders.joint.Slider.assemble` and the finite-difference tests.
+column group) of a *pattern* the joint declares, so the pattern is known from the groups
+without reading the values.  The blocks lie one after the other in one ``(B, size)`` array
+(``values``), described by ``table`` (one row per block: first row slot, rows, first column
+slot, columns, offset of its row-major entries), which the compiled kernels read and write
+directly (:mod:`sliders.joint_kernel`, :mod:`sliders.condensed_kernel`); ``blocks`` holds
+numpy views of the same entries.  The dense matrix (:meth:`SlotJacobian.dense`) is assembled
+from the blocks for the bordered back end, :meth:`sliders.joint.Slider.assemble` and the
+finite-difference tests.
 """
 
 from __future__ import annotations
@@ -25,11 +28,14 @@ class SlotJacobian:
 
     ``structure`` and ``unknowns``: the ordered ``(name, size)`` slot groups of the structure
     dofs and of the joint's unknowns; the dense matrix has them in that order, rows and
-    columns alike.  A block that was never written is zero.
+    columns alike.  ``pattern``: the ``(row group, column group)`` blocks that may be
+    nonzero, each stored once, zero to start with.  Writing a block outside the pattern is an
+    error (``KeyError`` naming it).
     """
 
     def __init__(self, members: int, structure: Sequence[tuple[str, int]],
-                 unknowns: Sequence[tuple[str, int]]) -> None:
+                 unknowns: Sequence[tuple[str, int]],
+                 pattern: Sequence[tuple[str, str]]) -> None:
         self.members = members
         self.structure = [name for name, _ in structure]
         self.unknowns = [name for name, _ in unknowns]
@@ -38,14 +44,27 @@ class SlotJacobian:
             self.size[name], self.at[name] = size, slice(start, start + size)
             start += size
         self.n = start
-        self.blocks: dict[tuple[str, str], np.ndarray] = {}
+        self.pattern = list(dict.fromkeys(pattern))
+        rows = []
+        offset = 0
+        for r, c in self.pattern:
+            rows.append((self.at[r].start, self.size[r], self.at[c].start, self.size[c], offset))
+            offset += self.size[r] * self.size[c]
+        self.table = np.array(rows, dtype=np.int64).reshape(-1, 5)
+        self._views(np.zeros((members, offset)))
+
+    def _views(self, values: np.ndarray) -> None:
+        """Keep ``values`` (B, size) and the views ``blocks`` of it."""
+        self.values = values
+        self.blocks = {key: values[:, o:o + nr * nc].reshape(len(values), nr, nc)
+                       for key, (_, nr, _, nc, o) in zip(self.pattern, self.table)}
 
     def block(self, rows: str, cols: str) -> np.ndarray:
-        """The (B, rows, cols) block, created zero if it was not written (to write into)."""
-        key = (rows, cols)
-        if key not in self.blocks:
-            self.blocks[key] = np.zeros((self.members, self.size[rows], self.size[cols]))
-        return self.blocks[key]
+        """The (B, rows, cols) block of the pattern (a view, to write into)."""
+        try:
+            return self.blocks[rows, cols]
+        except KeyError:
+            raise KeyError(f"block ({rows}, {cols}) is not in the joint's pattern") from None
 
     def add(self, rows: str, cols: str | tuple[str, ...], value: np.ndarray | float) -> None:
         """Add ``value`` (broadcast to (B, rows, cols)) to the block of groups ``rows`` and
@@ -59,12 +78,7 @@ class SlotJacobian:
                 self.add(rows, c, value[:, :, start:start + self.size[c]])
                 start += self.size[c]
             return
-        key = (rows, cols)
-        if key in self.blocks:
-            self.blocks[key] += value
-        else:
-            shape = (self.members, self.size[rows], self.size[cols])
-            self.blocks[key] = np.array(np.broadcast_to(value, shape), dtype=float)
+        self.block(rows, cols)[...] += value
 
     def unit_row(self, row: str, members: np.ndarray | slice = slice(None)) -> None:
         """Replace the derivatives of the one-row group ``row`` of the given ``members`` by
@@ -74,22 +88,22 @@ class SlotJacobian:
                 block[members] = 0.0
         self.block(row, row)[members, 0, 0] = 1.0
 
-    def subset(self, members: np.ndarray) -> SlotJacobian:
+    def subset(self, members: np.ndarray | slice) -> SlotJacobian:
         """The Jacobian of the given members only."""
         out = copy.copy(self)
-        out.blocks = {key: block[members] for key, block in self.blocks.items()}
-        out.members = len(next(iter(out.blocks.values()))) if out.blocks else 0
+        out._views(self.values[members])
+        out.members = len(out.values)
         return out
 
     def read(self, rows: Sequence[str], among: Sequence[str]) -> list[str]:
         """The column groups of ``among`` (in slot order) with a block in a row of ``rows``
         (the pattern of the equations, whatever the values)."""
-        written = {c for r, c in self.blocks if r in rows}
+        written = {c for r, c in self.pattern if r in rows}
         return [name for name in among if name in written]
 
     def written_rows(self, among: Sequence[str]) -> list[str]:
         """The row groups of ``among`` (in slot order) with a block."""
-        written = {r for r, _ in self.blocks}
+        written = {r for r, _ in self.pattern}
         return [name for name in among if name in written]
 
     def slots(self, groups: Sequence[str]) -> np.ndarray:
