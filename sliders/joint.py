@@ -35,7 +35,8 @@ Two orientation models (``docs/sliders.md`` compares them):
 Neither routes the couple through ``d l / d q`` as a force dipole on the slope: on
 shear-deformable beams the dipole form loses the couple under mesh refinement.
 
-The equations are written once, in :meth:`SliderBatch.evaluate`, for ``B`` members at once
+The equations are written once, compiled, in :mod:`sliders.joint_kernel`, which
+:meth:`SliderBatch.evaluate` calls for ``B`` members at once
 (arrays with a leading member axis, fixed slots per member); :meth:`Slider.assemble` is the
 case ``B = 1``.
 """
@@ -48,11 +49,13 @@ from typing import Sequence
 
 import numpy as np
 
-from fvbeam.geometry import cross, orthonormal3, skew_matrices, vector3
+from fvbeam.geometry import orthonormal3, vector3
 from fvbeam.statics import Structure
 from sliders.chain import BeamChain
 from sliders.drives import Motion
-from sliders.lines import RigidLine, axial
+from sliders.joint_kernel import GROUPS, joint_equations
+from sliders.joint_kernel import KINDS as KERNEL_KINDS
+from sliders.lines import RigidLine
 from sliders.slots import SlotJacobian
 from sliders.stack import ChainStack, LineRotation, gather
 
@@ -230,13 +233,15 @@ class SliderBatch:
         """``slider`` of ``structure`` in ``B`` copies whose beams are moved rigidly by
         ``shifts`` ((B, n_beams, 3), one shift per beam; rigid bodies stay), as if each copy
         were built on :meth:`fvbeam.beam.Beam.translated` beams (same node positions, body
-        and lines), without building them: the members share ``slider`` and ``structure``.
+        and lines), without building them: the members share ``slider`` and ``structure``,
+        and the template batch :meth:`Slider.batch` (its chain's element frames computed
+        once).
         """
         shifts = np.asarray(shifts, dtype=float)
         if shifts.ndim != 3 or shifts.shape[1:] != (len(structure.beams), 3):
             raise ValueError(f"{slider.name}: shifts must be (B, {len(structure.beams)}, 3), "
                              f"got {shifts.shape}")
-        one = cls([slider], [structure])
+        one = slider.batch(structure)
         out = one.subset(np.zeros(len(shifts), dtype=int))
         moved = (shifts[:, structure.beam_index(slider.body[0])]
                  if isinstance(slider.body, tuple) else np.zeros((len(shifts), 3)))
@@ -348,62 +353,42 @@ class SliderBatch:
             (:class:`sliders.slots.SlotJacobian`); None without ``jacobian``
         """
         B = len(y)
-        lam = y[:, 1:4]
         xi = np.clip(y[:, 0], 0.0, self.length) if self.end_stops else y[:, 0]
         try:
             line = self._line(xi, q)
         except ValueError as exc:
             raise ValueError(f"slider {self.sliders[0].name!r}: {exc}") from exc
-        rotation_dofs = (line.rotation.dofs.reshape(B, -1) if line.rotation is not None
-                         else np.zeros((B, 0), dtype=int))
-        dofs = np.concatenate([self.body, line.load_dofs, rotation_dofs, line.tangent_dofs],
-                              axis=1)
-        at = _Layout(3 * line.N.shape[1], line.load_dofs.shape[1],
-                     rotation_dofs.shape[1], line.tangent_dofs.shape[1], self.n_unknowns)
-        pattern = _pattern(self.kind, self.orientation, bool(np.any(self.offset)),
-                           rotation_dofs.shape[1] > 0)
+        rot = line.rotation
+        rotation_dofs = rot.dofs if rot is not None else np.zeros((B, 0, 3), dtype=np.int64)
+        dofs = np.concatenate([self.body, line.load_dofs, rotation_dofs.reshape(B, -1),
+                               line.tangent_dofs], axis=1)
+        at = _Layout(3 * line.N.shape[1], line.load_dofs.shape[1], 3 * rotation_dofs.shape[1],
+                     line.tangent_dofs.shape[1], self.n_unknowns)
+        J = at.jacobian(B if jacobian else 0,
+                        _pattern(self.kind, self.orientation, bool(np.any(self.offset)),
+                                 rotation_dofs.shape[1] > 0))
         r = np.zeros((B, at.t + self.n_unknowns))
-        J = at.jacobian(B, pattern) if jacobian else None
-        eye, offset = np.eye(3), self.offset
-        theta = gather(q, self.body[:, 3:])
-        f_b = cross(theta, offset)
-        x_b = self.reference + gather(q, self.body[:, :3]) + f_b
-        # body force and moment (eq. 3)
-        r[:, at.body] += lam
-        r[:, at.turn] += cross(offset + f_b, lam)
-        # the force on the line (Sec. 4, eq. T6)
-        G = line.G[..., :3]
-        r[:, at.load] -= np.einsum("bkj,bj->bk", G, lam)
-        # xi equation (eq. 3, on the recovered tangent) and position constraint (eq. 1)
-        r[:, at.xi] = -_dot(line.tangent, lam)
-        r[:, at.lam] = x_b - line.x
-        if J is not None:
-            J.add("body", "lam", eye)
-            if np.any(offset):  # a sliding point on the node: no lever arm, no such terms
-                J.add("turn", "turn", skew_matrices(lam) @ skew_matrices(offset))
-                J.add("lam", "turn", -skew_matrices(offset))
-            J.add("turn", "lam", skew_matrices(offset + f_b))
-            J.add("load", "xi", -np.einsum("bkj,bj->bk", line.dG[..., :3], lam)[:, :, None])
-            J.add("load", "lam", -G)
-            J.add("xi", "xi", -_dot(line.tangent_xi, lam)[:, None, None])
-            J.add("xi", "lam", -line.tangent[:, None, :])
-            J.add("xi", ("interp", "beside"),
-                  -(line.T[:, :, None] * lam[:, None, :]).reshape(B, 1, -1))
-            J.add("lam", "body", eye)
-            J.add("lam", "xi", -line.l[:, :, None])
-            J.add("lam", "interp", -(line.N[:, None, :, None]
-                                     * eye[None, :, None, :]).reshape(B, 3, -1))
-        if self.kind != "spherical" and self.orientation == "slope":
-            self._slope_orientation(y, theta, line, at, r, J)
-        elif self.kind != "spherical":
-            self._section_orientation(q, y, theta, line, at, r, J, scale)
+        if rot is not None:
+            frame = (rot.R0, rot.k0, rot.k0_xi)
+            section = (rot.w, rot.w_xi, rot.kink, rot.kink_xi, rot.compliance)
+        else:
+            frame = line.frame or (np.zeros((B, 3, 3)), np.zeros((B, 3)), np.zeros((B, 3)))
+            section = (np.zeros((B, 0)), np.zeros((B, 0)), np.zeros(B), np.zeros(B),
+                       np.zeros((B, 3, 3)))
+        joint_equations(
+            KERNEL_KINDS[self.kind], self.orientation == "slope", jacobian, self.offset,
+            self.frame, self.body, _c(self.reference), _c(q), _c(y),
+            *map(_c, (line.x, line.l, line.l_xi, line.l_xixi, line.N, line.dN, line.d2N,
+                      line.G, line.dG, line.tangent, line.tangent_xi, line.T)),
+            np.ascontiguousarray(rotation_dofs, dtype=np.int64),
+            *map(_c, section + frame), float(scale), *J.index(GROUPS), r, J.values)
         if self.end_stops:
-            self._end_stop(y[:, 0], lam, line, at, r, J)
+            self._end_stop(y[:, 0], y[:, 1:4], line, at, r, J if jacobian else None)
         if self.drives[0] is not None:
             r[:, at.xi] = y[:, 0] - np.array([d(time)[0] for d in self.drives])
-            if J is not None:
+            if jacobian:
                 J.unit_row("xi")
-        return dofs, r, J
+        return dofs, r, J if jacobian else None
 
     def _end_stop(self, xi: np.ndarray, lam: np.ndarray, line: _LineState, at: _Layout,
                   r: np.ndarray, J: SlotJacobian | None) -> None:
@@ -419,130 +404,15 @@ class SliderBatch:
             if J is not None:
                 J.unit_row("xi", hit)
 
-    def _slope_orientation(self, y, theta, line, at, r, J) -> None:
-        """Classical slider on the line's gradient, ``e_bj . l = 0`` (paper eq. 4), its couple
-        ``m = sum mu_j e_bj x l`` carried by the test functions to the rotation dofs."""
-        B, mu = len(y), y[:, 4:]
-        axes = self.frame[:, 1:3].T
-        e_b = axes + cross(theta[:, None, :], axes)
-        l, l_xi, G, dG = line.l, line.l_xi, line.G[..., 3:], line.dG[..., 3:]  # noqa: E741
-        m = np.einsum("bj,bjk->bk", mu, cross(e_b, l[:, None, :]))
-        r[:, at.turn] += m
-        r[:, at.load] -= np.einsum("bkj,bj->bk", G, m)
-        if J is not None:
-            J.add("load", "xi", -np.einsum("bkj,bj->bk", dG, m)[:, :, None])
-        for j in range(2):
-            e, e0, row, mu_j = e_b[:, j], axes[j], at.t + 4 + j, mu[:, j]
-            r[:, at.xi] += mu_j * _dot(e, l_xi)
-            r[:, row] = _dot(e, l)
-            if J is None:
-                continue
-            mu_rows = J.block("mu", "turn"), J.block("mu", "xi"), J.block("mu", "interp")
-            dm_dtheta = mu_j[:, None, None] * (skew_matrices(l) @ skew_matrices(e0))
-            dm_dxi = mu_j[:, None] * cross(e, l_xi)
-            dm_dmu = cross(e, l)
-            dm_du = (mu_j[:, None, None, None] * skew_matrices(e)[:, :, None, :]
-                     * line.dN[:, None, :, None]).reshape(B, 3, -1)
-            J.add("turn", "turn", dm_dtheta)
-            J.add("turn", "xi", dm_dxi[:, :, None])
-            J.block("turn", "mu")[:, :, j] += dm_dmu
-            J.add("turn", "interp", dm_du)
-            J.add("load", "turn", -G @ dm_dtheta)
-            J.add("load", "xi", -np.einsum("bkj,bj->bk", G, dm_dxi)[:, :, None])
-            J.block("load", "mu")[:, :, j] -= np.einsum("bkj,bj->bk", G, dm_dmu)
-            J.add("load", "interp", -G @ dm_du)
-            J.add("xi", "turn", (mu_j[:, None] * cross(e0, l_xi))[:, None, :])
-            J.add("xi", "xi", (mu_j * _dot(e, line.l_xixi))[:, None, None])
-            J.block("xi", "mu")[:, 0, j] += _dot(e, l_xi)
-            J.add("xi", "interp", (mu_j[:, None, None] * line.d2N[:, :, None]
-                                   * e[:, None, :]).reshape(B, 1, -1))
-            mu_rows[0][:, j] += cross(e0, l)
-            mu_rows[1][:, j, 0] += _dot(e, l_xi)
-            mu_rows[2][:, j] += (line.dN[:, :, None] * e[:, None, :]).reshape(B, -1)
 
-    def _section_orientation(self, q, y, theta, line, at, r, J, scale) -> None:
-        """Orientation constraints on the line's section frame, linear in the rotations.
-
-        ``g_j = g0_j(xi) + n_j(xi) . (theta_b - theta_L)``: classical (``j = 2, 3``)
-        ``g0 = e_j . t0``, ``n = e_j x t0``; spline (``j = 1``) ``g0 = t0 . ax(F R0^T)``,
-        ``n = t0`` -- eqs. (4), (5) and Sec. 4 linearised, with ``R0 = [t0, ...]`` the line's
-        reference frame and ``F`` the slider frame.  The virtual work of ``sum mu_j g_j``
-        gives the couple ``m = sum mu_j n_j`` on the body, ``-w_a m`` on the two line nodes
-        that carry ``theta_L`` and the ``xi`` row.  The constraint reads ``theta_L`` plus
-        ``kink C m``: the exact rotation at a couple lies off the linear interpolation of its
-        nodal values by that much (``docs/sliders.md``).
-        """
-        B, mu = len(y), y[:, 4:]
-        if line.rotation is None:
-            R0, k0, k0_xi = line.frame
-            theta_L = theta_L_xi = np.zeros((B, 3))
-            w = w_xi = np.zeros((B, 0))
-            kink = kink_xi = np.zeros(B)
-            compliance = np.zeros((B, 3, 3))
-        else:
-            rot = line.rotation
-            R0, k0, k0_xi = rot.R0, rot.k0, rot.k0_xi
-            nodal = gather(q, rot.dofs)
-            w, w_xi = rot.w, rot.w_xi
-            theta_L = np.einsum("ba,bak->bk", w, nodal)
-            theta_L_xi = np.einsum("ba,bak->bk", w_xi, nodal)
-            kink, kink_xi, compliance = rot.kink, rot.kink_xi, rot.compliance / scale
-        t0 = R0[..., 0]
-        t1 = cross(k0, t0)
-        t2 = cross(k0_xi, t0) + cross(k0, t1)
-        axes = self.frame[:, 1:3].T
-        n = [cross(axes, t[:, None, :]) for t in (t0, t1, t2)]
-        g = [t @ axes.T for t in (t0, t1, t2)]
-        if self.kind == "spline":
-            F = self.frame @ np.swapaxes(R0, -1, -2)
-            dF = -F @ skew_matrices(k0)
-            ddF = -dF @ skew_matrices(k0) - F @ skew_matrices(k0_xi)
-            a0, a1, a2 = axial(F), axial(dF), axial(ddF)
-            n = [np.concatenate([n_i, t[:, None, :]], axis=1) for n_i, t in zip(n, (t0, t1, t2))]
-            g = [np.column_stack([g[0], _dot(t0, a0)]),
-                 np.column_stack([g[1], _dot(t1, a0) + _dot(t0, a1)]),
-                 np.column_stack([g[2], _dot(t2, a0) + 2 * _dot(t1, a1) + _dot(t0, a2)])]
-        n0, n1, n2 = n
-        d = theta - theta_L
-        m, m_xi = np.einsum("bjk,bj->bk", n0, mu), np.einsum("bjk,bj->bk", n1, mu)
-        shift = kink[:, None] * np.einsum("bij,bj->bi", compliance, m)
-        along = g[1] + _apply(n1, d) - _apply(n0, theta_L_xi)
-        r[:, at.turn] += m
-        r[:, at.xi] += _dot(mu, along)
-        r[:, at.mu] = g[0] + _apply(n0, d - shift)
-        if w.shape[1]:
-            r[:, at.rotation] -= (w[:, :, None] * m[:, None, :]).reshape(B, -1)
-        if J is None:
-            return
-        n0T = np.swapaxes(n0, 1, 2)
-        J.add("turn", "xi", m_xi[:, :, None])
-        J.add("turn", "mu", n0T)
-        J.add("xi", "turn", m_xi[:, None, :])
-        J.add("xi", "xi", _dot(mu, g[2] + _apply(n2, d) - 2 * _apply(n1, theta_L_xi))[:, None,
-                                                                                        None])
-        J.add("xi", "mu", along[:, None, :])
-        J.add("mu", "turn", n0)
-        J.add("mu", "xi", (along - _apply(n1, shift) - _apply(n0, np.einsum(
-            "bij,bj->bi", compliance, kink_xi[:, None] * m + kink[:, None] * m_xi)))[:, :, None])
-        J.add("mu", "mu", -kink[:, None, None] * (n0 @ compliance @ n0T))
-        if w.shape[1]:
-            J.add("rotation", "xi", -(w_xi[:, :, None] * m[:, None, :]
-                                      + w[:, :, None] * m_xi[:, None, :]).reshape(B, -1, 1))
-            J.add("rotation", "mu", -(w[:, :, None, None] * n0T[:, None]).reshape(B, 6, -1))
-            J.add("xi", "rotation", -(w[:, :, None] * m_xi[:, None, :]
-                                      + w_xi[:, :, None] * m[:, None, :]).reshape(B, 1, -1))
-            J.add("mu", "rotation", -(w[:, None, :, None] * n0[:, :, None, :]).reshape(
-                B, n0.shape[1], -1))
+def _c(a: np.ndarray) -> np.ndarray:
+    """``a`` as a C-contiguous float array (one compiled signature of the kernel)."""
+    return np.ascontiguousarray(a, dtype=float)
 
 
 def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Row-wise dot products of (B, k) arrays."""
     return np.einsum("bk,bk->b", a, b)
-
-
-def _apply(n: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """``n_b @ v_b`` for (B, j, 3) and (B, 3)."""
-    return np.einsum("bjk,bk->bj", n, v)
 
 
 @dataclass(frozen=True)

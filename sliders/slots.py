@@ -18,6 +18,7 @@ finite-difference tests.
 from __future__ import annotations
 
 import copy
+from functools import lru_cache
 from typing import Sequence
 
 import numpy as np
@@ -39,25 +40,21 @@ class SlotJacobian:
         self.members = members
         self.structure = [name for name, _ in structure]
         self.unknowns = [name for name, _ in unknowns]
-        self.size, self.at, start = {}, {}, 0
-        for name, size in list(structure) + list(unknowns):
-            self.size[name], self.at[name] = size, slice(start, start + size)
-            start += size
-        self.n = start
-        self.pattern = list(dict.fromkeys(pattern))
-        rows = []
-        offset = 0
-        for r, c in self.pattern:
-            rows.append((self.at[r].start, self.size[r], self.at[c].start, self.size[c], offset))
-            offset += self.size[r] * self.size[c]
-        self.table = np.array(rows, dtype=np.int64).reshape(-1, 5)
-        self._views(np.zeros((members, offset)))
+        self.size, self.at, self.n, self.pattern, self.table = _layout(
+            tuple(structure) + tuple(unknowns), tuple(pattern))
+        self._views(np.zeros((members, int(self.table[:, 1] @ self.table[:, 3]))))
 
     def _views(self, values: np.ndarray) -> None:
         """Keep ``values`` (B, size) and the views ``blocks`` of it."""
         self.values = values
         self.blocks = {key: values[:, o:o + nr * nc].reshape(len(values), nr, nc)
                        for key, (_, nr, _, nc, o) in zip(self.pattern, self.table)}
+
+    def index(self, groups: Sequence[str]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """For a kernel: the first slot and size of each of ``groups`` (g,), and the
+        offset of block ``(groups[i], groups[j])`` in ``values`` at ``[i, j]`` (g, g), -1
+        where it is not in the pattern."""
+        return _index(tuple(self.size.items()), tuple(self.pattern), tuple(groups))
 
     def block(self, rows: str, cols: str) -> np.ndarray:
         """The (B, rows, cols) block of the pattern (a view, to write into)."""
@@ -129,3 +126,35 @@ class SlotJacobian:
         for (r, c), block in self.blocks.items():
             out[:, self.at[r], self.at[c]] = block
         return out
+
+
+@lru_cache(maxsize=64)
+def _layout(groups: tuple[tuple[str, int], ...], pattern: tuple[tuple[str, str], ...]
+            ) -> tuple[dict, dict, int, list, np.ndarray]:
+    """Sizes and slots of the ``groups``, their number, the pattern without repeats and its
+    table (:class:`SlotJacobian`), once per layout."""
+    size, at, start = {}, {}, 0
+    for name, n in groups:
+        size[name], at[name] = n, slice(start, start + n)
+        start += n
+    blocks = list(dict.fromkeys(pattern))
+    rows, offset = [], 0
+    for r, c in blocks:
+        rows.append((at[r].start, size[r], at[c].start, size[c], offset))
+        offset += size[r] * size[c]
+    return size, at, start, blocks, np.array(rows, dtype=np.int64).reshape(-1, 5)
+
+
+@lru_cache(maxsize=64)
+def _index(sizes: tuple[tuple[str, int], ...], pattern: tuple[tuple[str, str], ...],
+           groups: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:meth:`SlotJacobian.index`, once per layout."""
+    size = dict(sizes)
+    first = np.cumsum([0] + list(size.values()))
+    start = np.array([first[list(size).index(g)] for g in groups], dtype=np.int64)
+    where = np.full((len(groups), len(groups)), -1, dtype=np.int64)
+    offset = 0
+    for r, c in pattern:
+        where[groups.index(r), groups.index(c)] = offset
+        offset += size[r] * size[c]
+    return start, np.array([size[g] for g in groups], dtype=np.int64), where

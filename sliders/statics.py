@@ -323,9 +323,9 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
                       else [_pick(v, len(span), len(active), on) for v, span in zip(view, spans)])
             evaluated, stacked = _evaluate(joints, spans, Q[active[on]], Y[active[on]], time,
                                            scale, bool(going[on][0]))
-            rows = np.arange(len(active))[on][:, None]
-            np.add.at(R, (rows, np.concatenate([d for d, _, _ in evaluated], axis=1)),
-                      np.concatenate([r[:, :d.shape[1]] for d, r, _ in evaluated], axis=1))
+            scatter_add(R, np.arange(len(active))[on][:, None],
+                        np.concatenate([d for d, _, _ in evaluated], axis=1),
+                        np.concatenate([r[:, :d.shape[1]] for d, r, _ in evaluated], axis=1))
             r_y[on] = np.concatenate([r[:, d.shape[1]:] for d, r, _ in evaluated], axis=1)
             if going[on][0]:
                 parts, whole = evaluated, stacked
@@ -366,6 +366,15 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
             first, f"Newton did not converge in {max_iterations} iterations "
                    f"(scaled residual {residuals[b][-1]:.3g})")
     return outcome
+
+
+def scatter_add(R: np.ndarray, rows: np.ndarray, columns: np.ndarray,
+                values: np.ndarray) -> None:
+    """``R[rows, columns] += values`` with repeated entries summed (``np.add.at``, whose
+    per-entry loop costs more than the rest of a Newton pass's bookkeeping): one
+    ``np.bincount`` over the flat indices of the (B, n) array ``R``."""
+    flat = (rows * R.shape[1] + columns).ravel()
+    R += np.bincount(flat, values.ravel(), minlength=R.size).reshape(R.shape)
 
 
 def _joined(batches: Sequence[SliderBatch],

@@ -1,0 +1,388 @@
+"""The slider joint's equations, compiled: residuals and Jacobian blocks of ``B`` members.
+
+:meth:`sliders.joint.SliderBatch.evaluate` gathers what the joints need (the line state at
+``xi``, the body's displacements, the unknowns) and calls :func:`joint_equations`, which
+writes, member by member, the residual on the slots and the Jacobian blocks of the joint's
+pattern (:class:`sliders.slots.SlotJacobian`: one flat array, ``where[row group, column
+group]`` the offset of a block, -1 where it is not in the pattern).  The equations are those
+of the table of :mod:`sliders.joint` (paper eqs. 1-5, Sec. 4), with the two orientation
+models (``section``: :meth:`~sliders.joint.SliderBatch.evaluate`'s docstring and
+``docs/sliders.md``; ``slope``: paper eq. 4).
+
+Slot groups, in this order (their first slot ``start`` and ``size``): ``body`` (3), ``turn``
+(3, the body's rotations), ``load``, ``rotation``, ``interp``, ``beside``, then the joint's
+unknowns ``xi`` (1), ``lam`` (3), ``mu``.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+BODY, TURN, LOAD, ROTATION, INTERP, BESIDE, XI, LAM, MU = range(9)
+#: Group names in the order of the indices above (:class:`sliders.slots.SlotJacobian`).
+GROUPS = ("body", "turn", "load", "rotation", "interp", "beside", "xi", "lam", "mu")
+KINDS = {"spherical": 0, "classical": 1, "spline": 2}
+ORIENTATIONS = {"section": 0, "slope": 1}
+
+
+@numba.njit(cache=True, inline="always")
+def _add(values, b, where, start, size, R, C, i, j, v):
+    """Add ``v`` to entry ``(i, j)`` of block ``(R, C)`` of member ``b``."""
+    values[b, where[R, C] + i * size[C] + j] += v
+
+
+@numba.njit(cache=True, inline="always")
+def _cross(a, b, out):
+    """``out = a x b`` for 3-vectors."""
+    out[0] = a[1] * b[2] - a[2] * b[1]
+    out[1] = a[2] * b[0] - a[0] * b[2]
+    out[2] = a[0] * b[1] - a[1] * b[0]
+
+
+@numba.njit(cache=True, inline="always")
+def _dot(a, b):
+    """``a . b`` for 3-vectors."""
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@numba.njit(cache=True, inline="always")
+def _skew(v, out):
+    """``out = skew(v)``, the matrix of ``v x``."""
+    out[0, 0], out[0, 1], out[0, 2] = 0.0, -v[2], v[1]
+    out[1, 0], out[1, 1], out[1, 2] = v[2], 0.0, -v[0]
+    out[2, 0], out[2, 1], out[2, 2] = -v[1], v[0], 0.0
+
+
+@numba.njit(cache=True, inline="always")
+def _axial(A, out):
+    """``out = ax(A)``, the vector of the skew-symmetric part of ``A``."""
+    out[0] = 0.5 * (A[2, 1] - A[1, 2])
+    out[1] = 0.5 * (A[0, 2] - A[2, 0])
+    out[2] = 0.5 * (A[1, 0] - A[0, 1])
+
+
+@numba.njit(cache=True)
+def joint_equations(kind, slope, jacobian, offset, frame, body, reference, q, y, x, l, l_xi,
+                    l_xixi, N, dN, d2N, G, dG, tangent, tangent_xi, T, rotation_dofs, w, w_xi,
+                    kink, kink_xi, compliance, R0, k0, k0_xi, scale, start, size, where, r,
+                    values):
+    """Residuals ``r`` (B, t + m) and Jacobian blocks ``values`` (B, size) of ``B`` joints.
+
+    Parameters
+    ----------
+    kind, slope
+        :data:`KINDS` code; ``slope``: the ``slope`` orientation (else ``section``).
+    jacobian
+        Whether to write ``values`` (else the residuals only).
+    offset, frame
+        The sliding point on the body node (3,) and the slider axes (3, 3), columns.
+    body, reference
+        The body's dofs (B, 6) and the sliding point's reference position (B, 3).
+    q, y
+        The structure states (B, n) and the joints' unknowns (B, m).
+    x, l, l_xi, l_xixi, N, dN, d2N, G, dG, tangent, tangent_xi, T
+        The line at ``xi`` (:class:`sliders.joint._LineState`): position and derivatives,
+        shape functions (B, npe), load transfer (B, k, 6) and its derivative, the tangent
+        of the frictionless condition and its coefficients on the tangent slots (B, p).
+    rotation_dofs, w, w_xi, kink, kink_xi, compliance
+        The section rotation (``section`` orientation on a chain): the two nodes' rotation
+        dofs (B, a, 3), their weights (B, a) and ``xi``-derivatives, the kink correction
+        and the section compliance in global axes (B, 3, 3); ``a = 0`` on a rigid line.
+    R0, k0, k0_xi
+        The line's reference frame (B, 3, 3), curvature and its rate (B, 3).
+    scale
+        The multipliers' scaling (the kink compliance is divided by it).
+    start, size, where
+        First slot and size of each group (9,), block offsets (9, 9), -1 outside the
+        pattern.
+    r, values
+        Zero outputs, written here.
+    """
+    B = len(y)
+    t = start[XI]
+    eye = np.eye(3)
+    lam = np.empty(3)
+    arm = np.empty(3)
+    v = np.empty(3)
+    S1 = np.empty((3, 3))
+    S2 = np.empty((3, 3))
+    theta = np.empty(3)
+    axes = np.empty((2, 3))
+    for j in range(2):
+        for c in range(3):
+            axes[j, c] = frame[c, j + 1]
+    lever = offset[0] != 0.0 or offset[1] != 0.0 or offset[2] != 0.0
+    n_load, n_tangent, npe = G.shape[1], T.shape[1], N.shape[1]
+    for b in range(B):
+        for c in range(3):
+            lam[c] = y[b, 1 + c]
+            theta[c] = q[b, body[b, 3 + c]]
+        _cross(theta, offset, v)  # f_b
+        for c in range(3):
+            arm[c] = offset[c] + v[c]
+            # body force (eq. 3) and position constraint (eq. 1)
+            r[b, c] += lam[c]
+            r[b, t + 1 + c] = reference[b, c] + q[b, body[b, c]] + v[c] - x[b, c]
+        _cross(arm, lam, v)
+        for c in range(3):
+            r[b, 3 + c] += v[c]  # body moment (eq. 3)
+        for k in range(n_load):  # the force on the line (Sec. 4, eq. T6)
+            r[b, start[LOAD] + k] -= G[b, k, 0] * lam[0] + G[b, k, 1] * lam[1] + G[b, k, 2] * lam[2]
+        r[b, t] = -(tangent[b, 0] * lam[0] + tangent[b, 1] * lam[1] + tangent[b, 2] * lam[2])
+        if jacobian:
+            _skew(arm, S1)
+            for i in range(3):
+                for c in range(3):
+                    _add(values, b, where, start, size, BODY, LAM, i, c, eye[i, c])
+                    _add(values, b, where, start, size, LAM, BODY, i, c, eye[i, c])
+                    _add(values, b, where, start, size, TURN, LAM, i, c, S1[i, c])
+                _add(values, b, where, start, size, LAM, XI, i, 0, -l[b, i])
+                _add(values, b, where, start, size, XI, LAM, 0, i, -tangent[b, i])
+            if lever:
+                _skew(lam, S1)
+                _skew(offset, S2)
+                for i in range(3):
+                    for c in range(3):
+                        s = 0.0
+                        for e in range(3):
+                            s += S1[i, e] * S2[e, c]
+                        _add(values, b, where, start, size, TURN, TURN, i, c, s)
+                        _add(values, b, where, start, size, LAM, TURN, i, c, -S2[i, c])
+            for k in range(n_load):
+                s = 0.0
+                for c in range(3):
+                    s += dG[b, k, c] * lam[c]
+                    _add(values, b, where, start, size, LOAD, LAM, k, c, -G[b, k, c])
+                _add(values, b, where, start, size, LOAD, XI, k, 0, -s)
+            _add(values, b, where, start, size, XI, XI, 0, 0,
+                 -(tangent_xi[b, 0] * lam[0] + tangent_xi[b, 1] * lam[1]
+                   + tangent_xi[b, 2] * lam[2]))
+            for a in range(n_tangent):
+                for c in range(3):
+                    col = 3 * a + c
+                    if col < size[INTERP]:
+                        _add(values, b, where, start, size, XI, INTERP, 0, col, -T[b, a] * lam[c])
+                    else:
+                        _add(values, b, where, start, size, XI, BESIDE, 0, col - size[INTERP],
+                             -T[b, a] * lam[c])
+            for a in range(npe):
+                for c in range(3):
+                    _add(values, b, where, start, size, LAM, INTERP, c, 3 * a + c, -N[b, a])
+        if kind == 0:
+            continue
+        if slope:
+            _slope(b, jacobian, axes, theta, y, l, l_xi, l_xixi, dN, d2N, G, dG, start, size,
+                   where, r, values)
+        else:
+            _section(b, kind, jacobian, frame, axes, theta, q, y, rotation_dofs, w, w_xi,
+                     kink, kink_xi, compliance, R0, k0, k0_xi, scale, start, size, where, r,
+                     values)
+
+
+@numba.njit(cache=True)
+def _section(b, kind, jacobian, frame, axes, theta, q, y, rotation_dofs, w, w_xi, kink,
+             kink_xi, compliance, R0, k0, k0_xi, scale, start, size, where, r, values):
+    """Orientation constraints on the line's section frame, linear in the rotations, for
+    member ``b``.
+
+    ``g_j = g0_j(xi) + n_j(xi) . (theta_b - theta_L)``: classical (``j = 2, 3``)
+    ``g0 = e_j . t0``, ``n = e_j x t0``; spline (``j = 1``) ``g0 = t0 . ax(F R0^T)``,
+    ``n = t0`` -- eqs. (4), (5) and Sec. 4 linearised, with ``R0 = [t0, ...]`` the line's
+    reference frame, ``t1, t2`` the first two ``xi``-derivatives of ``t0`` and ``F`` the
+    slider frame.  The virtual work of ``sum mu_j g_j`` gives the couple ``m = sum mu_j n_j``
+    on the body, ``-w_a m`` on the two line nodes that carry ``theta_L`` and the ``xi`` row.
+    The constraint reads ``theta_L`` plus ``kink C m``: the exact rotation at a couple lies
+    off the linear interpolation of its nodal values by that much (``docs/sliders.md``).
+    """
+    t = start[XI]
+    n_mu = size[MU]
+    n_w = w.shape[1]
+    mu = np.empty(n_mu)
+    for j in range(n_mu):
+        mu[j] = y[b, 4 + j]
+    theta_L = np.zeros(3)
+    theta_L_xi = np.zeros(3)
+    for a in range(n_w):
+        for c in range(3):
+            value = q[b, rotation_dofs[b, a, c]]
+            theta_L[c] += w[b, a] * value
+            theta_L_xi[c] += w_xi[b, a] * value
+    t0 = np.empty(3)
+    t1 = np.empty(3)
+    t2 = np.empty(3)
+    v = np.empty(3)
+    for c in range(3):
+        t0[c] = R0[b, c, 0]
+    _cross(k0[b], t0, t1)
+    _cross(k0_xi[b], t0, t2)
+    _cross(k0[b], t1, v)
+    for c in range(3):
+        t2[c] += v[c]
+    # rows j of n_i: axes_j x t_i (classical), then t_i (spline); g_i likewise
+    n0 = np.empty((n_mu, 3))
+    n1 = np.empty((n_mu, 3))
+    n2 = np.empty((n_mu, 3))
+    g0 = np.empty(n_mu)
+    g1 = np.empty(n_mu)
+    g2 = np.empty(n_mu)
+    for j in range(2):
+        _cross(axes[j], t0, n0[j])
+        _cross(axes[j], t1, n1[j])
+        _cross(axes[j], t2, n2[j])
+        g0[j], g1[j], g2[j] = _dot(t0, axes[j]), _dot(t1, axes[j]), _dot(t2, axes[j])
+    if kind == 2:
+        F = frame @ R0[b].T
+        K = np.empty((3, 3))
+        _skew(k0[b], K)
+        dF = -(F @ K)
+        ddF = -(dF @ K)
+        _skew(k0_xi[b], K)
+        ddF -= F @ K
+        a0, a1, a2 = np.empty(3), np.empty(3), np.empty(3)
+        _axial(F, a0)
+        _axial(dF, a1)
+        _axial(ddF, a2)
+        for c in range(3):
+            n0[2, c], n1[2, c], n2[2, c] = t0[c], t1[c], t2[c]
+        g0[2] = _dot(t0, a0)
+        g1[2] = _dot(t1, a0) + _dot(t0, a1)
+        g2[2] = _dot(t2, a0) + 2 * _dot(t1, a1) + _dot(t0, a2)
+    d = np.empty(3)
+    m = np.zeros(3)
+    m_xi = np.zeros(3)
+    for c in range(3):
+        d[c] = theta[c] - theta_L[c]
+        for j in range(n_mu):
+            m[c] += mu[j] * n0[j, c]
+            m_xi[c] += mu[j] * n1[j, c]
+    C = compliance[b] / scale
+    shift = kink[b] * (C @ m)
+    along = np.empty(n_mu)
+    for j in range(n_mu):
+        along[j] = g1[j] + _dot(n1[j], d) - _dot(n0[j], theta_L_xi)
+        r[b, t] += mu[j] * along[j]
+        r[b, t + 4 + j] = g0[j] + _dot(n0[j], d) - _dot(n0[j], shift)
+    for c in range(3):
+        r[b, 3 + c] += m[c]
+        for a in range(n_w):
+            r[b, start[ROTATION] + 3 * a + c] -= w[b, a] * m[c]
+    if not jacobian:
+        return
+    s = 0.0
+    for j in range(n_mu):
+        s += mu[j] * (g2[j] + _dot(n2[j], d) - 2 * _dot(n1[j], theta_L_xi))
+    _add(values, b, where, start, size, XI, XI, 0, 0, s)
+    rate = C @ (kink_xi[b] * m + kink[b] * m_xi)
+    for c in range(3):
+        _add(values, b, where, start, size, TURN, XI, c, 0, m_xi[c])
+        _add(values, b, where, start, size, XI, TURN, 0, c, m_xi[c])
+        for a in range(n_w):
+            _add(values, b, where, start, size, ROTATION, XI, 3 * a + c, 0,
+                 -(w_xi[b, a] * m[c] + w[b, a] * m_xi[c]))
+            _add(values, b, where, start, size, XI, ROTATION, 0, 3 * a + c,
+                 -(w[b, a] * m_xi[c] + w_xi[b, a] * m[c]))
+    for j in range(n_mu):
+        _add(values, b, where, start, size, XI, MU, 0, j, along[j])
+        _add(values, b, where, start, size, MU, XI, j, 0,
+             along[j] - _dot(n1[j], shift) - _dot(n0[j], rate))
+        Cn = C @ n0[j]
+        for i in range(n_mu):
+            _add(values, b, where, start, size, MU, MU, i, j, -kink[b] * _dot(n0[i], Cn))
+        for c in range(3):
+            _add(values, b, where, start, size, TURN, MU, c, j, n0[j, c])
+            _add(values, b, where, start, size, MU, TURN, j, c, n0[j, c])
+            for a in range(n_w):
+                _add(values, b, where, start, size, ROTATION, MU, 3 * a + c, j,
+                     -w[b, a] * n0[j, c])
+                _add(values, b, where, start, size, MU, ROTATION, j, 3 * a + c,
+                     -w[b, a] * n0[j, c])
+
+
+@numba.njit(cache=True)
+def _slope(b, jacobian, axes, theta, y, l, l_xi, l_xixi, dN, d2N, G, dG, start, size, where,
+           r, values):
+    """The classical slider on the line's gradient, ``e_bj . l = 0`` (paper eq. 4), for member
+    ``b``: the couple ``m = sum mu_j e_bj x l`` on the body, carried to the line's rotation
+    dofs by the test functions (the rotational columns of ``G``)."""
+    t = start[XI]
+    n_load, npe = G.shape[1], dN.shape[1]
+    e_b = np.empty((2, 3))
+    m = np.zeros(3)
+    v = np.empty(3)
+    for j in range(2):
+        _cross(theta, axes[j], v)
+        for c in range(3):
+            e_b[j, c] = axes[j, c] + v[c]
+        _cross(e_b[j], l[b], v)
+        for c in range(3):
+            m[c] += y[b, 4 + j] * v[c]
+    for c in range(3):
+        r[b, 3 + c] += m[c]
+    for k in range(n_load):
+        s = 0.0
+        for c in range(3):
+            s += G[b, k, 3 + c] * m[c]
+        r[b, start[LOAD] + k] -= s
+        if jacobian:
+            s = 0.0
+            for c in range(3):
+                s += dG[b, k, 3 + c] * m[c]
+            _add(values, b, where, start, size, LOAD, XI, k, 0, -s)
+    L = np.empty((3, 3))
+    E0 = np.empty((3, 3))
+    E = np.empty((3, 3))
+    dm_dtheta = np.empty((3, 3))
+    dm_dxi = np.empty(3)
+    dm_dmu = np.empty(3)
+    for j in range(2):
+        e, e0, mu_j = e_b[j], axes[j], y[b, 4 + j]
+        r[b, t] += mu_j * _dot(e, l_xi[b])
+        r[b, t + 4 + j] = _dot(e, l[b])
+        if not jacobian:
+            continue
+        _skew(l[b], L)
+        _skew(e0, E0)
+        _skew(e, E)
+        for i in range(3):
+            for c in range(3):
+                dm_dtheta[i, c] = mu_j * (L[i, 0] * E0[0, c] + L[i, 1] * E0[1, c]
+                                          + L[i, 2] * E0[2, c])
+        _cross(e, l_xi[b], dm_dxi)
+        _cross(e, l[b], dm_dmu)
+        for i in range(3):
+            dm_dxi[i] *= mu_j
+        for i in range(3):
+            _add(values, b, where, start, size, TURN, XI, i, 0, dm_dxi[i])
+            _add(values, b, where, start, size, TURN, MU, i, j, dm_dmu[i])
+            for c in range(3):
+                _add(values, b, where, start, size, TURN, TURN, i, c, dm_dtheta[i, c])
+            for a in range(npe):
+                for c in range(3):
+                    _add(values, b, where, start, size, TURN, INTERP, i, 3 * a + c,
+                         mu_j * E[i, c] * dN[b, a])
+        for k in range(n_load):
+            g = G[b, k, 3:]
+            _add(values, b, where, start, size, LOAD, XI, k, 0, -_dot(g, dm_dxi))
+            _add(values, b, where, start, size, LOAD, MU, k, j, -_dot(g, dm_dmu))
+            for c in range(3):
+                _add(values, b, where, start, size, LOAD, TURN, k, c,
+                     -(g[0] * dm_dtheta[0, c] + g[1] * dm_dtheta[1, c]
+                       + g[2] * dm_dtheta[2, c]))
+                for a in range(npe):
+                    _add(values, b, where, start, size, LOAD, INTERP, k, 3 * a + c,
+                         -mu_j * dN[b, a] * (g[0] * E[0, c] + g[1] * E[1, c] + g[2] * E[2, c]))
+        _cross(e0, l_xi[b], v)
+        for c in range(3):
+            _add(values, b, where, start, size, XI, TURN, 0, c, mu_j * v[c])
+        _add(values, b, where, start, size, XI, XI, 0, 0, mu_j * _dot(e, l_xixi[b]))
+        _add(values, b, where, start, size, XI, MU, 0, j, _dot(e, l_xi[b]))
+        _cross(e0, l[b], v)
+        for c in range(3):
+            _add(values, b, where, start, size, MU, TURN, j, c, v[c])
+        _add(values, b, where, start, size, MU, XI, j, 0, _dot(e, l_xi[b]))
+        for a in range(npe):
+            for c in range(3):
+                _add(values, b, where, start, size, XI, INTERP, 0, 3 * a + c,
+                     mu_j * d2N[b, a] * e[c])
+                _add(values, b, where, start, size, MU, INTERP, j, 3 * a + c, dN[b, a] * e[c])
