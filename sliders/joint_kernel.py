@@ -26,13 +26,13 @@ KINDS = {"spherical": 0, "classical": 1, "spline": 2}
 ORIENTATIONS = {"section": 0, "slope": 1}
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _add(values, b, where, start, size, R, C, i, j, v):
     """Add ``v`` to entry ``(i, j)`` of block ``(R, C)`` of member ``b``."""
     values[b, where[R, C] + i * size[C] + j] += v
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _cross(a, b, out):
     """``out = a x b`` for 3-vectors."""
     out[0] = a[1] * b[2] - a[2] * b[1]
@@ -40,13 +40,13 @@ def _cross(a, b, out):
     out[2] = a[0] * b[1] - a[1] * b[0]
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _dot(a, b):
     """``a . b`` for 3-vectors."""
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _skew(v, out):
     """``out = skew(v)``, the matrix of ``v x``."""
     out[0, 0], out[0, 1], out[0, 2] = 0.0, -v[2], v[1]
@@ -54,7 +54,7 @@ def _skew(v, out):
     out[2, 0], out[2, 1], out[2, 2] = -v[1], v[0], 0.0
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _axial(A, out):
     """``out = ax(A)``, the vector of the skew-symmetric part of ``A``."""
     out[0] = 0.5 * (A[2, 1] - A[1, 2])
@@ -169,22 +169,33 @@ def joint_equations(kind, slope, jacobian, offset, frame, body, reference, q, y,
             for a in range(npe):
                 for c in range(3):
                     _add(values, b, where, start, size, LAM, INTERP, c, 3 * a + c, -N[b, a])
-        if kind == 0:
-            continue
-        if slope:
-            _slope(b, jacobian, axes, theta, y, l, l_xi, l_xixi, dN, d2N, G, dG, start, size,
-                   where, r, values)
-        else:
-            _section(b, kind, jacobian, frame, axes, theta, q, y, rotation_dofs, w, w_xi,
-                     kink, kink_xi, compliance, R0, k0, k0_xi, scale, start, size, where, r,
-                     values)
+    if kind != 0 and slope:
+        _slope(jacobian, axes, body, q, y, l, l_xi, l_xixi, dN, d2N, G, dG, start, size,
+               where, r, values)
+    elif kind != 0:
+        _section(kind, jacobian, frame, axes, body, q, y, rotation_dofs, w, w_xi, kink,
+                 kink_xi, compliance, R0, k0, k0_xi, scale, start, size, where, r, values)
 
 
 @numba.njit(cache=True)
-def _section(b, kind, jacobian, frame, axes, theta, q, y, rotation_dofs, w, w_xi, kink,
-             kink_xi, compliance, R0, k0, k0_xi, scale, start, size, where, r, values):
-    """Orientation constraints on the line's section frame, linear in the rotations, for
-    member ``b``.
+def _matvec(A, v, out):
+    """``out = A v`` for a 3x3 ``A``."""
+    for i in range(3):
+        out[i] = A[i, 0] * v[0] + A[i, 1] * v[1] + A[i, 2] * v[2]
+
+
+@numba.njit(cache=True)
+def _matmul(A, B, out):
+    """``out = A B`` for 3x3 matrices."""
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = A[i, 0] * B[0, j] + A[i, 1] * B[1, j] + A[i, 2] * B[2, j]
+
+
+@numba.njit(cache=True)
+def _section(kind, jacobian, frame, axes, body, q, y, rotation_dofs, w, w_xi, kink, kink_xi,
+             compliance, R0, k0, k0_xi, scale, start, size, where, r, values):
+    """Orientation constraints on the line's section frame, linear in the rotations.
 
     ``g_j = g0_j(xi) + n_j(xi) . (theta_b - theta_L)``: classical (``j = 2, 3``)
     ``g0 = e_j . t0``, ``n = e_j x t0``; spline (``j = 1``) ``g0 = t0 . ax(F R0^T)``,
@@ -199,190 +210,197 @@ def _section(b, kind, jacobian, frame, axes, theta, q, y, rotation_dofs, w, w_xi
     n_mu = size[MU]
     n_w = w.shape[1]
     mu = np.empty(n_mu)
-    for j in range(n_mu):
-        mu[j] = y[b, 4 + j]
-    theta_L = np.zeros(3)
-    theta_L_xi = np.zeros(3)
-    for a in range(n_w):
-        for c in range(3):
-            value = q[b, rotation_dofs[b, a, c]]
-            theta_L[c] += w[b, a] * value
-            theta_L_xi[c] += w_xi[b, a] * value
-    t0 = np.empty(3)
-    t1 = np.empty(3)
-    t2 = np.empty(3)
-    v = np.empty(3)
-    for c in range(3):
-        t0[c] = R0[b, c, 0]
-    _cross(k0[b], t0, t1)
-    _cross(k0_xi[b], t0, t2)
-    _cross(k0[b], t1, v)
-    for c in range(3):
-        t2[c] += v[c]
+    theta, theta_L, theta_L_xi = np.empty(3), np.empty(3), np.empty(3)
+    t0, t1, t2, v, d = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    m, m_xi, shift, rate, Cn = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    a0, a1, a2 = np.empty(3), np.empty(3), np.empty(3)
     # rows j of n_i: axes_j x t_i (classical), then t_i (spline); g_i likewise
-    n0 = np.empty((n_mu, 3))
-    n1 = np.empty((n_mu, 3))
-    n2 = np.empty((n_mu, 3))
-    g0 = np.empty(n_mu)
-    g1 = np.empty(n_mu)
-    g2 = np.empty(n_mu)
-    for j in range(2):
-        _cross(axes[j], t0, n0[j])
-        _cross(axes[j], t1, n1[j])
-        _cross(axes[j], t2, n2[j])
-        g0[j], g1[j], g2[j] = _dot(t0, axes[j]), _dot(t1, axes[j]), _dot(t2, axes[j])
-    if kind == 2:
-        F = frame @ R0[b].T
-        K = np.empty((3, 3))
-        _skew(k0[b], K)
-        dF = -(F @ K)
-        ddF = -(dF @ K)
-        _skew(k0_xi[b], K)
-        ddF -= F @ K
-        a0, a1, a2 = np.empty(3), np.empty(3), np.empty(3)
-        _axial(F, a0)
-        _axial(dF, a1)
-        _axial(ddF, a2)
-        for c in range(3):
-            n0[2, c], n1[2, c], n2[2, c] = t0[c], t1[c], t2[c]
-        g0[2] = _dot(t0, a0)
-        g1[2] = _dot(t1, a0) + _dot(t0, a1)
-        g2[2] = _dot(t2, a0) + 2 * _dot(t1, a1) + _dot(t0, a2)
-    d = np.empty(3)
-    m = np.zeros(3)
-    m_xi = np.zeros(3)
-    for c in range(3):
-        d[c] = theta[c] - theta_L[c]
+    n0, n1, n2 = np.empty((n_mu, 3)), np.empty((n_mu, 3)), np.empty((n_mu, 3))
+    g0, g1, g2, along = np.empty(n_mu), np.empty(n_mu), np.empty(n_mu), np.empty(n_mu)
+    R0T, F, K, dF, ddF, P = (np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3)),
+                             np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3)))
+    C = np.empty((3, 3))
+    for b in range(len(y)):
         for j in range(n_mu):
-            m[c] += mu[j] * n0[j, c]
-            m_xi[c] += mu[j] * n1[j, c]
-    C = compliance[b] / scale
-    shift = kink[b] * (C @ m)
-    along = np.empty(n_mu)
-    for j in range(n_mu):
-        along[j] = g1[j] + _dot(n1[j], d) - _dot(n0[j], theta_L_xi)
-        r[b, t] += mu[j] * along[j]
-        r[b, t + 4 + j] = g0[j] + _dot(n0[j], d) - _dot(n0[j], shift)
-    for c in range(3):
-        r[b, 3 + c] += m[c]
-        for a in range(n_w):
-            r[b, start[ROTATION] + 3 * a + c] -= w[b, a] * m[c]
-    if not jacobian:
-        return
-    s = 0.0
-    for j in range(n_mu):
-        s += mu[j] * (g2[j] + _dot(n2[j], d) - 2 * _dot(n1[j], theta_L_xi))
-    _add(values, b, where, start, size, XI, XI, 0, 0, s)
-    rate = C @ (kink_xi[b] * m + kink[b] * m_xi)
-    for c in range(3):
-        _add(values, b, where, start, size, TURN, XI, c, 0, m_xi[c])
-        _add(values, b, where, start, size, XI, TURN, 0, c, m_xi[c])
-        for a in range(n_w):
-            _add(values, b, where, start, size, ROTATION, XI, 3 * a + c, 0,
-                 -(w_xi[b, a] * m[c] + w[b, a] * m_xi[c]))
-            _add(values, b, where, start, size, XI, ROTATION, 0, 3 * a + c,
-                 -(w[b, a] * m_xi[c] + w_xi[b, a] * m[c]))
-    for j in range(n_mu):
-        _add(values, b, where, start, size, XI, MU, 0, j, along[j])
-        _add(values, b, where, start, size, MU, XI, j, 0,
-             along[j] - _dot(n1[j], shift) - _dot(n0[j], rate))
-        Cn = C @ n0[j]
-        for i in range(n_mu):
-            _add(values, b, where, start, size, MU, MU, i, j, -kink[b] * _dot(n0[i], Cn))
+            mu[j] = y[b, 4 + j]
         for c in range(3):
-            _add(values, b, where, start, size, TURN, MU, c, j, n0[j, c])
-            _add(values, b, where, start, size, MU, TURN, j, c, n0[j, c])
+            theta[c] = q[b, body[b, 3 + c]]
+            theta_L[c] = 0.0
+            theta_L_xi[c] = 0.0
             for a in range(n_w):
-                _add(values, b, where, start, size, ROTATION, MU, 3 * a + c, j,
-                     -w[b, a] * n0[j, c])
-                _add(values, b, where, start, size, MU, ROTATION, j, 3 * a + c,
-                     -w[b, a] * n0[j, c])
+                value = q[b, rotation_dofs[b, a, c]]
+                theta_L[c] += w[b, a] * value
+                theta_L_xi[c] += w_xi[b, a] * value
+            t0[c] = R0[b, c, 0]
+        _cross(k0[b], t0, t1)
+        _cross(k0_xi[b], t0, t2)
+        _cross(k0[b], t1, v)
+        for c in range(3):
+            t2[c] += v[c]
+        for j in range(2):
+            _cross(axes[j], t0, n0[j])
+            _cross(axes[j], t1, n1[j])
+            _cross(axes[j], t2, n2[j])
+            g0[j], g1[j], g2[j] = _dot(t0, axes[j]), _dot(t1, axes[j]), _dot(t2, axes[j])
+        if kind == 2:
+            for i in range(3):
+                for c in range(3):
+                    R0T[i, c] = R0[b, c, i]
+            _matmul(frame, R0T, F)
+            _skew(k0[b], K)
+            _matmul(F, K, dF)
+            dF *= -1.0
+            _matmul(dF, K, ddF)
+            _skew(k0_xi[b], K)
+            _matmul(F, K, P)
+            for i in range(3):
+                for c in range(3):
+                    ddF[i, c] = -ddF[i, c] - P[i, c]
+            _axial(F, a0)
+            _axial(dF, a1)
+            _axial(ddF, a2)
+            for c in range(3):
+                n0[2, c], n1[2, c], n2[2, c] = t0[c], t1[c], t2[c]
+            g0[2] = _dot(t0, a0)
+            g1[2] = _dot(t1, a0) + _dot(t0, a1)
+            g2[2] = _dot(t2, a0) + 2 * _dot(t1, a1) + _dot(t0, a2)
+        for c in range(3):
+            d[c] = theta[c] - theta_L[c]
+            m[c] = 0.0
+            m_xi[c] = 0.0
+            for j in range(n_mu):
+                m[c] += mu[j] * n0[j, c]
+                m_xi[c] += mu[j] * n1[j, c]
+            for i in range(3):
+                C[c, i] = compliance[b, c, i] / scale
+        _matvec(C, m, shift)
+        for c in range(3):
+            shift[c] *= kink[b]
+        for j in range(n_mu):
+            along[j] = g1[j] + _dot(n1[j], d) - _dot(n0[j], theta_L_xi)
+            r[b, t] += mu[j] * along[j]
+            r[b, t + 4 + j] = g0[j] + _dot(n0[j], d) - _dot(n0[j], shift)
+        for c in range(3):
+            r[b, 3 + c] += m[c]
+            for a in range(n_w):
+                r[b, start[ROTATION] + 3 * a + c] -= w[b, a] * m[c]
+        if not jacobian:
+            continue
+        s = 0.0
+        for j in range(n_mu):
+            s += mu[j] * (g2[j] + _dot(n2[j], d) - 2 * _dot(n1[j], theta_L_xi))
+        _add(values, b, where, start, size, XI, XI, 0, 0, s)
+        for c in range(3):
+            v[c] = kink_xi[b] * m[c] + kink[b] * m_xi[c]
+        _matvec(C, v, rate)
+        for c in range(3):
+            _add(values, b, where, start, size, TURN, XI, c, 0, m_xi[c])
+            _add(values, b, where, start, size, XI, TURN, 0, c, m_xi[c])
+            for a in range(n_w):
+                _add(values, b, where, start, size, ROTATION, XI, 3 * a + c, 0,
+                     -(w_xi[b, a] * m[c] + w[b, a] * m_xi[c]))
+                _add(values, b, where, start, size, XI, ROTATION, 0, 3 * a + c,
+                     -(w[b, a] * m_xi[c] + w_xi[b, a] * m[c]))
+        for j in range(n_mu):
+            _add(values, b, where, start, size, XI, MU, 0, j, along[j])
+            _add(values, b, where, start, size, MU, XI, j, 0,
+                 along[j] - _dot(n1[j], shift) - _dot(n0[j], rate))
+            _matvec(C, n0[j], Cn)
+            for i in range(n_mu):
+                _add(values, b, where, start, size, MU, MU, i, j, -kink[b] * _dot(n0[i], Cn))
+            for c in range(3):
+                _add(values, b, where, start, size, TURN, MU, c, j, n0[j, c])
+                _add(values, b, where, start, size, MU, TURN, j, c, n0[j, c])
+                for a in range(n_w):
+                    _add(values, b, where, start, size, ROTATION, MU, 3 * a + c, j,
+                         -w[b, a] * n0[j, c])
+                    _add(values, b, where, start, size, MU, ROTATION, j, 3 * a + c,
+                         -w[b, a] * n0[j, c])
 
 
 @numba.njit(cache=True)
-def _slope(b, jacobian, axes, theta, y, l, l_xi, l_xixi, dN, d2N, G, dG, start, size, where,
-           r, values):
-    """The classical slider on the line's gradient, ``e_bj . l = 0`` (paper eq. 4), for member
-    ``b``: the couple ``m = sum mu_j e_bj x l`` on the body, carried to the line's rotation
-    dofs by the test functions (the rotational columns of ``G``)."""
+def _slope(jacobian, axes, body, q, y, l, l_xi, l_xixi, dN, d2N, G, dG, start, size, where, r,
+           values):
+    """The classical slider on the line's gradient, ``e_bj . l = 0`` (paper eq. 4): the
+    couple ``m = sum mu_j e_bj x l`` on the body, carried to the line's rotation dofs by the
+    test functions (the rotational columns of ``G``)."""
     t = start[XI]
     n_load, npe = G.shape[1], dN.shape[1]
+    theta, m, v = np.empty(3), np.empty(3), np.empty(3)
     e_b = np.empty((2, 3))
-    m = np.zeros(3)
-    v = np.empty(3)
-    for j in range(2):
-        _cross(theta, axes[j], v)
+    L, E0, E, dm_dtheta = np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3))
+    dm_dxi, dm_dmu = np.empty(3), np.empty(3)
+    for b in range(len(y)):
         for c in range(3):
-            e_b[j, c] = axes[j, c] + v[c]
-        _cross(e_b[j], l[b], v)
+            theta[c] = q[b, body[b, 3 + c]]
+            m[c] = 0.0
+        for j in range(2):
+            _cross(theta, axes[j], v)
+            for c in range(3):
+                e_b[j, c] = axes[j, c] + v[c]
+            _cross(e_b[j], l[b], v)
+            for c in range(3):
+                m[c] += y[b, 4 + j] * v[c]
         for c in range(3):
-            m[c] += y[b, 4 + j] * v[c]
-    for c in range(3):
-        r[b, 3 + c] += m[c]
-    for k in range(n_load):
-        s = 0.0
-        for c in range(3):
-            s += G[b, k, 3 + c] * m[c]
-        r[b, start[LOAD] + k] -= s
-        if jacobian:
+            r[b, 3 + c] += m[c]
+        for k in range(n_load):
             s = 0.0
             for c in range(3):
-                s += dG[b, k, 3 + c] * m[c]
-            _add(values, b, where, start, size, LOAD, XI, k, 0, -s)
-    L = np.empty((3, 3))
-    E0 = np.empty((3, 3))
-    E = np.empty((3, 3))
-    dm_dtheta = np.empty((3, 3))
-    dm_dxi = np.empty(3)
-    dm_dmu = np.empty(3)
-    for j in range(2):
-        e, e0, mu_j = e_b[j], axes[j], y[b, 4 + j]
-        r[b, t] += mu_j * _dot(e, l_xi[b])
-        r[b, t + 4 + j] = _dot(e, l[b])
-        if not jacobian:
-            continue
-        _skew(l[b], L)
-        _skew(e0, E0)
-        _skew(e, E)
-        for i in range(3):
+                s += G[b, k, 3 + c] * m[c]
+            r[b, start[LOAD] + k] -= s
+            if jacobian:
+                s = 0.0
+                for c in range(3):
+                    s += dG[b, k, 3 + c] * m[c]
+                _add(values, b, where, start, size, LOAD, XI, k, 0, -s)
+        for j in range(2):
+            e, e0, mu_j = e_b[j], axes[j], y[b, 4 + j]
+            r[b, t] += mu_j * _dot(e, l_xi[b])
+            r[b, t + 4 + j] = _dot(e, l[b])
+            if not jacobian:
+                continue
+            _skew(l[b], L)
+            _skew(e0, E0)
+            _skew(e, E)
+            _matmul(L, E0, dm_dtheta)
+            dm_dtheta *= mu_j
+            _cross(e, l_xi[b], dm_dxi)
+            _cross(e, l[b], dm_dmu)
+            for i in range(3):
+                dm_dxi[i] *= mu_j
+            for i in range(3):
+                _add(values, b, where, start, size, TURN, XI, i, 0, dm_dxi[i])
+                _add(values, b, where, start, size, TURN, MU, i, j, dm_dmu[i])
+                for c in range(3):
+                    _add(values, b, where, start, size, TURN, TURN, i, c, dm_dtheta[i, c])
+                for a in range(npe):
+                    for c in range(3):
+                        _add(values, b, where, start, size, TURN, INTERP, i, 3 * a + c,
+                             mu_j * E[i, c] * dN[b, a])
+            for k in range(n_load):
+                g = G[b, k, 3:]
+                _add(values, b, where, start, size, LOAD, XI, k, 0, -_dot(g, dm_dxi))
+                _add(values, b, where, start, size, LOAD, MU, k, j, -_dot(g, dm_dmu))
+                for c in range(3):
+                    _add(values, b, where, start, size, LOAD, TURN, k, c,
+                         -(g[0] * dm_dtheta[0, c] + g[1] * dm_dtheta[1, c]
+                           + g[2] * dm_dtheta[2, c]))
+                    for a in range(npe):
+                        _add(values, b, where, start, size, LOAD, INTERP, k, 3 * a + c,
+                             -mu_j * dN[b, a] * (g[0] * E[0, c] + g[1] * E[1, c]
+                                                 + g[2] * E[2, c]))
+            _cross(e0, l_xi[b], v)
             for c in range(3):
-                dm_dtheta[i, c] = mu_j * (L[i, 0] * E0[0, c] + L[i, 1] * E0[1, c]
-                                          + L[i, 2] * E0[2, c])
-        _cross(e, l_xi[b], dm_dxi)
-        _cross(e, l[b], dm_dmu)
-        for i in range(3):
-            dm_dxi[i] *= mu_j
-        for i in range(3):
-            _add(values, b, where, start, size, TURN, XI, i, 0, dm_dxi[i])
-            _add(values, b, where, start, size, TURN, MU, i, j, dm_dmu[i])
+                _add(values, b, where, start, size, XI, TURN, 0, c, mu_j * v[c])
+            _add(values, b, where, start, size, XI, XI, 0, 0, mu_j * _dot(e, l_xixi[b]))
+            _add(values, b, where, start, size, XI, MU, 0, j, _dot(e, l_xi[b]))
+            _cross(e0, l[b], v)
             for c in range(3):
-                _add(values, b, where, start, size, TURN, TURN, i, c, dm_dtheta[i, c])
+                _add(values, b, where, start, size, MU, TURN, j, c, v[c])
+            _add(values, b, where, start, size, MU, XI, j, 0, _dot(e, l_xi[b]))
             for a in range(npe):
                 for c in range(3):
-                    _add(values, b, where, start, size, TURN, INTERP, i, 3 * a + c,
-                         mu_j * E[i, c] * dN[b, a])
-        for k in range(n_load):
-            g = G[b, k, 3:]
-            _add(values, b, where, start, size, LOAD, XI, k, 0, -_dot(g, dm_dxi))
-            _add(values, b, where, start, size, LOAD, MU, k, j, -_dot(g, dm_dmu))
-            for c in range(3):
-                _add(values, b, where, start, size, LOAD, TURN, k, c,
-                     -(g[0] * dm_dtheta[0, c] + g[1] * dm_dtheta[1, c]
-                       + g[2] * dm_dtheta[2, c]))
-                for a in range(npe):
-                    _add(values, b, where, start, size, LOAD, INTERP, k, 3 * a + c,
-                         -mu_j * dN[b, a] * (g[0] * E[0, c] + g[1] * E[1, c] + g[2] * E[2, c]))
-        _cross(e0, l_xi[b], v)
-        for c in range(3):
-            _add(values, b, where, start, size, XI, TURN, 0, c, mu_j * v[c])
-        _add(values, b, where, start, size, XI, XI, 0, 0, mu_j * _dot(e, l_xixi[b]))
-        _add(values, b, where, start, size, XI, MU, 0, j, _dot(e, l_xi[b]))
-        _cross(e0, l[b], v)
-        for c in range(3):
-            _add(values, b, where, start, size, MU, TURN, j, c, v[c])
-        _add(values, b, where, start, size, MU, XI, j, 0, _dot(e, l_xi[b]))
-        for a in range(npe):
-            for c in range(3):
-                _add(values, b, where, start, size, XI, INTERP, 0, 3 * a + c,
-                     mu_j * d2N[b, a] * e[c])
-                _add(values, b, where, start, size, MU, INTERP, j, 3 * a + c, dN[b, a] * e[c])
+                    _add(values, b, where, start, size, XI, INTERP, 0, 3 * a + c,
+                         mu_j * d2N[b, a] * e[c])
+                    _add(values, b, where, start, size, MU, INTERP, j, 3 * a + c,
+                         dN[b, a] * e[c])

@@ -19,6 +19,9 @@ ways of running the positions:
     :meth:`SlidingBeams.stiffness` per position, Newton from the projected abscissae.
     These two build every position's statics (:meth:`SlidingBeams.problem`) inside the time.
 
+The compiled kernels (numba) are compiled, or loaded from their cache, before any timing by
+one small sweep per kind (``warmup_seconds``: about 20 s the first time on a machine, a
+fraction of a second once cached), like the imports the timing leaves out.
 Reported beside each time: the microseconds per position, the mean Newton iterations per
 converged position, the singular positions, and the largest error against the analytic
 two-beam stiffness; times are wall clock (``seconds``) and this process's CPU time
@@ -109,6 +112,8 @@ def bench(elements: tuple[int, ...] = (1, 3, 5), modes: tuple[str, ...] = MODES,
     exact = {kind: np.array([sliding_beams(s * L, L, EJ, GA, kind)["k_norm"]
                              for s in STATIONS]) for kind in KINDS}
     rows, interrupted = [], False
+    _, warmup, _ = timed(lambda: [SlidingBeams("fv3", 1, kind).solve(STATIONS[:2])
+                                  for kind in KINDS])
     jobs = [(mode, kind, n) for mode in modes for kind in KINDS for n in elements]
     try:
         for mode, kind, n in tqdm(jobs, disable=None if progress else True, desc="sweeps"):
@@ -128,6 +133,7 @@ def bench(elements: tuple[int, ...] = (1, 3, 5), modes: tuple[str, ...] = MODES,
         interrupted = True
     total = {mode: sum(r["seconds"] for r in rows if r["mode"] == mode) for mode in modes}
     return {"rows": rows, "total_seconds": total, "main_sweep": main_sweep(rows),
+            "warmup_seconds": warmup,
             "target_seconds": 0.1, "solver": "condensed", "interrupted": interrupted}
 
 
