@@ -50,10 +50,9 @@ def element_shape(X: float, he: float, N: np.ndarray, dN: np.ndarray, d2N: np.nd
     """The shape functions ``N`` (npe,) at ``X`` of an element of length ``he``, and their
     derivatives ``dN``, ``d2N`` in the abscissa ``xi`` (``X`` affine in it)."""
     shape_at(X, len(N), N, dN, d2N)
-    inverse = 1 / he
     for a in range(len(N)):
-        dN[a] = dN[a] * inverse
-        d2N[a] = d2N[a] * (inverse * inverse)
+        dN[a] = dN[a] / he
+        d2N[a] = d2N[a] / (he * he)
 
 
 @numba.njit(cache=True, inline="never")
@@ -67,25 +66,25 @@ def interpolation_one(element: int, X: float, h: np.ndarray, N: np.ndarray, dN: 
     there is none).  ``ends`` (2, npe): ``dN/dX`` at ``X = 0`` and ``1``; ``h``: the
     member's element lengths (E,)."""
     npe = len(N)
-    inverse = 1 / h[element]
-    element_shape(X, h[element], N, dN, d2N)
+    he = h[element]
+    element_shape(X, he, N, dN, d2N)
     for a in range(npe):
         T[a], T_xi[a] = dN[a], d2N[a]
     for side in range(2):
         other = element - 1 if side == 0 else element + 1
         there = 0 <= other < len(h)
         weight = 0.5 * (1 - X) if side == 0 else 0.5 * X
-        weight_xi = -0.5 * inverse if side == 0 else 0.5 * inverse
+        weight_xi = 0.5 * (-1 / he) if side == 0 else 0.5 * (1 / he)
         if not there:
             other, weight, weight_xi = element, 0.0, 0.0
         neighbours[side] = other
         own, theirs = ends[side], ends[1 - side]
-        inverse_other = 1 / h[other]
+        ho = h[other]
         for a in range(npe):
-            T[a] = T[a] - weight * (own[a] * inverse)
-            T_xi[a] = T_xi[a] - weight_xi * (own[a] * inverse)
-            T[(side + 1) * npe + a] = weight * (theirs[a] * inverse_other)
-            T_xi[(side + 1) * npe + a] = weight_xi * (theirs[a] * inverse_other)
+            T[a] = T[a] - weight * (own[a] / he)
+            T_xi[a] = T_xi[a] - weight_xi * (own[a] / he)
+            T[(side + 1) * npe + a] = weight * (theirs[a] / ho)
+            T_xi[(side + 1) * npe + a] = weight_xi * (theirs[a] / ho)
 
 
 @numba.njit(cache=True, inline="never")
@@ -121,15 +120,14 @@ def rotation_one(X: float, he: float, lag: float, npe: int, pair: np.ndarray, w:
     else:
         pair[0], pair[1], a0, a1 = 2, 1, 0.5, 1.0
     span = (a1 - a0) * he
-    inverse = 1 / span
-    t = (X - a0) * he * inverse
+    t = (X - a0) * he / span
     w[0], w[1] = 1 - t, t
-    w_xi[0], w_xi[1] = -inverse, inverse
+    w_xi[0], w_xi[1] = -1 / span, 1 / span
     shift = lag * he
     mid0, mid1 = (1.0 if pair[0] == 2 else 0.0), (1.0 if pair[1] == 2 else 0.0)
     w_mid = w[0] * mid0 + w[1] * mid1
     kink = t * (1 - t) * span + shift * (w_mid * w_mid)
-    kink_xi = 1 - 2 * t + 2 * shift * w_mid * (mid1 - mid0) * inverse
+    kink_xi = 1 - 2 * t + 2 * shift * w_mid * (mid1 - mid0) / span
     return kink, kink_xi
 
 
