@@ -13,11 +13,11 @@ import numpy as np
 import scipy.linalg
 import scipy.optimize
 
-from fvbeam.elements import TIE
+from fvbeam.pointwise import TIE
 
 
 def _step(x: np.ndarray, L: float = 1.0) -> np.ndarray:
-    """Heaviside step, 1/2 within the library's tie band (``elements.TIE`` element lengths)."""
+    """Heaviside step, 1/2 within the library's tie band (``pointwise.TIE`` element lengths)."""
     tie = np.abs(x) <= TIE * L
     return np.where(tie, 0.5, np.where(x > 0, 1.0, 0.0))
 

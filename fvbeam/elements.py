@@ -20,12 +20,8 @@ import numpy as np
 from skfem.element import DiscreteField, Element
 from skfem.refdom import RefLine
 
-from fvbeam.geometry import skew_matrices
-from fvbeam.mesh import BeamMesh, shape_functions
-
-_E = np.eye(3)
-#: Distance (reference coordinate) within which a point counts as on a region boundary.
-TIE = 1e-12
+from fvbeam.mesh import BeamMesh
+from fvbeam.pointwise import indicator_many, rigid_motions_many
 
 
 def evaluation_points(nodes_per_element: int) -> np.ndarray:
@@ -51,21 +47,15 @@ def influence_regions(nodes_per_element: int) -> np.ndarray:
 
 
 def indicator(X: np.ndarray, nodes_per_element: int) -> np.ndarray:
-    """Region indicators ``chi_a(X)``, shape ``(npe,) + X.shape``.
+    """Region indicators ``chi_a(X)``, shape ``(npe,) + X.shape``
+    (:func:`fvbeam.pointwise.indicator_at` at each point).
 
     A point exactly on an evaluation point belongs half to each neighbouring region, the limit
     of a symmetric smearing of vanishing width.
     """
-    bounds = influence_regions(nodes_per_element)
     X = np.asarray(X, dtype=float)
-    flat = X.reshape(1, -1)
-    lo, hi = bounds[:, :1], bounds[:, 1:]
-    near_lo = np.abs(flat - lo) <= TIE   # np.isclose(rtol=0, atol=TIE) without its
-    near_hi = np.abs(flat - hi) <= TIE   # overhead (run once per slider evaluation)
-    inner = (flat > lo) & (flat < hi) & ~near_lo & ~near_hi
-    chi = (inner + np.where(lo == 0, 1.0, 0.5) * near_lo
-           + np.where(hi == 1, 1.0, 0.5) * near_hi)
-    return chi.reshape((len(bounds),) + X.shape)
+    chi = indicator_many(np.ascontiguousarray(X).ravel(), influence_regions(nodes_per_element))
+    return chi.reshape((nodes_per_element,) + X.shape)
 
 
 def jumps(nodes_per_element: int) -> np.ndarray:
@@ -73,21 +63,6 @@ def jumps(nodes_per_element: int) -> np.ndarray:
     p = evaluation_points(nodes_per_element)
     bounds = influence_regions(nodes_per_element)
     return (bounds[:, :1] == p).astype(float) - (bounds[:, 1:] == p)
-
-
-def _unit_blocks(lever: np.ndarray) -> np.ndarray:
-    """``[[I, 0], [skew(lever_a), I]]`` per local node: ``P + (npe, 6, 6)``."""
-    out = np.zeros(lever.shape[:-1] + (6, 6))
-    out[..., :3, :3] = np.eye(3)
-    out[..., 3:, 3:] = np.eye(3)
-    out[..., 3:, :3] = skew_matrices(lever)
-    return out
-
-
-def _scaled(blocks: np.ndarray, chi: np.ndarray) -> np.ndarray:
-    """``chi_a`` times node ``a``'s block (``P + (npe, 6, 6)``), as rows ``6a + c``."""
-    c = np.moveaxis(chi, 0, -1)[..., None, None]                # P + (npe, 1, 1)
-    return (blocks * c).reshape(blocks.shape[:-3] + (6 * blocks.shape[-3], 6))
 
 
 def rigid_motions(mesh: BeamMesh, e: np.ndarray, X: np.ndarray, chi: np.ndarray,
@@ -118,16 +93,16 @@ def rigid_motions_at(nodes: np.ndarray, h: np.ndarray, X: np.ndarray, chi: np.nd
     chi, dchi
         Indicator values and their derivatives in ``xi``, shape ``(npe,) + P``.
     """
-    N, dN = shape_functions(X, nodes.shape[-2])
-    lever = np.einsum("a...,...ak->...k", N, nodes)[..., None, :] - nodes
-    dx = np.einsum("a...,...ak->...k", dN, nodes) / np.asarray(h)[..., None]
-    turn = np.zeros(chi.shape[1:] + (nodes.shape[-2], 6, 6))
-    turn[..., 3:, :3] = skew_matrices(dx)[..., None, :, :]
-    blocks = _unit_blocks(lever)
-    grad = _scaled(turn, chi)
-    if np.any(dchi):
-        grad += _scaled(blocks, dchi)
-    return _scaled(blocks, chi), grad
+    nodes = np.asarray(nodes, dtype=float)
+    npe, points = nodes.shape[-2], nodes.shape[:-2]
+    G, dG = rigid_motions_many(
+        np.ascontiguousarray(nodes.reshape(-1, npe, 3)),
+        np.ascontiguousarray(np.broadcast_to(h, points), dtype=float).ravel(),
+        np.ascontiguousarray(np.broadcast_to(X, points), dtype=float).ravel(),
+        *(np.ascontiguousarray(np.moveaxis(np.broadcast_to(f, (npe,) + points), 0, -1),
+                               dtype=float).reshape(-1, npe) for f in (chi, dchi)))
+    shape = points + (6 * npe, 6)
+    return G.reshape(shape), dG.reshape(shape)
 
 
 class ElementBeamFV(Element):

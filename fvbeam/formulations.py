@@ -17,13 +17,15 @@ galerkin-p2   P2 shape functions             reduced: 2 Gauss points; full: 3
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 from skfem.element import Element, ElementLineP1, ElementLineP2, ElementVector
 
-from fvbeam.elements import (ElementBeamFV, evaluation_points, indicator, influence_regions,
-                             jumps, rigid_motions, rigid_motions_at)
-from fvbeam.mesh import BeamMesh, shape_functions
+from fvbeam.elements import (ElementBeamFV, evaluation_points, influence_regions, jumps,
+                             rigid_motions)
+from fvbeam.mesh import BeamMesh
+from fvbeam.pointwise import transfer_many
 
 
 def gauss(n: int, a: float = 0.0, b: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
@@ -44,6 +46,9 @@ class Formulation:
 
     name: str
     nodes_per_element: int
+    #: Whether the test functions are the rigid motions of the nodes' influence regions (fv,
+    #: eq. T4) rather than the trial shape functions (Galerkin).
+    rigid_test: ClassVar[bool] = False
 
     def trial_element(self) -> Element:
         """Lagrange interpolation of the six nodal fields."""
@@ -75,8 +80,16 @@ class Formulation:
                     X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`transfer` in elements given by their node positions ``P + (npe, 3)`` and
         lengths ``P``, at reference coordinates ``X`` (shape ``P``): elements of several
-        meshes at once (the members of a batch, :mod:`sliders.stack`)."""
-        raise NotImplementedError
+        meshes at once (:func:`fvbeam.pointwise.transfer_at` at each point)."""
+        nodes = np.asarray(nodes, dtype=float)
+        npe, points = self.nodes_per_element, np.shape(X)
+        G, dG = transfer_many(self.rigid_test, influence_regions(npe),
+                              np.ascontiguousarray(nodes.reshape(-1, npe, 3)),
+                              np.ascontiguousarray(np.broadcast_to(h, points),
+                                                   dtype=float).ravel(),
+                              np.ascontiguousarray(X, dtype=float).ravel())
+        shape = points + (6 * npe, 6)
+        return G.reshape(shape), dG.reshape(shape)
 
     def breakpoints(self) -> np.ndarray:
         """Reference coordinates where the test functions are not smooth (element ends...)."""
@@ -98,6 +111,8 @@ class Formulation:
 class FiniteVolume(Formulation):
     """Finite-volume beam of Ghiringhelli, Masarati and Mantegazza (paper ref. [8], Sec. 5)."""
 
+    rigid_test: ClassVar[bool] = True
+
     def test_element(self, mesh: BeamMesh) -> Element:
         return ElementBeamFV(mesh)
 
@@ -117,11 +132,6 @@ class FiniteVolume(Formulation):
     def load_quadrature(self) -> tuple[np.ndarray, np.ndarray]:
         X, W = composite_gauss(self.breakpoints(), 4)
         return X[None, :], W
-
-    def transfer_at(self, nodes: np.ndarray, h: np.ndarray,
-                    X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        chi = indicator(X, self.nodes_per_element)
-        return rigid_motions_at(nodes, h, X, chi, np.zeros_like(chi))
 
 
 @dataclass(frozen=True)
@@ -146,18 +156,6 @@ class Galerkin(Formulation):
     def load_quadrature(self) -> tuple[np.ndarray, np.ndarray]:
         X, W = gauss(4)
         return X[None, :], W
-
-    def transfer_at(self, nodes: np.ndarray, h: np.ndarray,
-                    X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        X = np.asarray(X, dtype=float)
-        N, dN = shape_functions(X, self.nodes_per_element)
-        dN = dN / h
-        shape = X.shape + (6 * self.nodes_per_element, 6)
-
-        def blocks(f: np.ndarray) -> np.ndarray:
-            return (np.moveaxis(f, 0, -1)[..., None, None] * np.eye(6)).reshape(shape)
-
-        return blocks(N), blocks(dN)
 
 
 FORMULATIONS = ("fv2", "fv3", "galerkin-p1", "galerkin-p2")

@@ -19,13 +19,15 @@ import numpy as np
 
 from fvbeam.geometry import locate_abscissa, section_frames
 from fvbeam.io import write_atomic
+from fvbeam.pointwise import shape_functions_many
 
 _GAUSS8 = np.polynomial.legendre.leggauss(8)
 _CELL_TYPES = {"line": 2, "line3": 3}
 
 
 def shape_functions(X: np.ndarray, nodes_per_element: int) -> tuple[np.ndarray, np.ndarray]:
-    """Lagrange shape functions and their derivatives on the reference element [0, 1].
+    """Lagrange shape functions and their derivatives on the reference element [0, 1]
+    (:func:`fvbeam.pointwise.shape_at` at each point).
 
     Local node order is meshio's and scikit-fem's: end 0, end 1, then the mid node.
 
@@ -34,10 +36,9 @@ def shape_functions(X: np.ndarray, nodes_per_element: int) -> tuple[np.ndarray, 
     N, dN : arrays of shape ``(nodes_per_element,) + X.shape``
     """
     X = np.asarray(X, dtype=float)
-    if nodes_per_element == 2:
-        return np.stack([1 - X, X]), np.stack([-np.ones_like(X), np.ones_like(X)])
-    return (np.stack([1 - 3 * X + 2 * X**2, -X + 2 * X**2, 4 * X - 4 * X**2]),
-            np.stack([-3 + 4 * X, -1 + 4 * X, 4 - 8 * X]))
+    N, dN = shape_functions_many(np.ascontiguousarray(X).ravel(), nodes_per_element)
+    shape = (nodes_per_element,) + X.shape
+    return N.reshape(shape), dN.reshape(shape)
 
 
 @dataclass(frozen=True, eq=False)

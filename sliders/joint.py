@@ -308,16 +308,14 @@ class SliderBatch:
         """The lines' geometry, interpolation and load transfer at ``xi`` (B,)."""
         B = len(xi)
         if self.chains is not None:
-            interp = self.chains.interpolation(xi)
-            x, l, l_xi = interp.geometry(q)  # noqa: E741
-            dofs, G, dG = self.chains.transfer(xi, self.smearing, self.kernel)
-            rotation = (self.chains.rotation(xi) if self.kind != "spherical"
-                        and self.orientation == "section" else None)
-            tangent, tangent_xi = interp.tangent(q)
-            return _LineState(x, l, l_xi, np.zeros((B, 3)),
-                              interp.N, interp.dN, interp.d2N, dofs, G, dG, rotation, None,
-                              tangent, tangent_xi, interp.tangent_dofs.reshape(B, -1),
-                              interp.T, interp.T_xi)
+            s = self.chains.line_state(xi, q, self.kind != "spherical"
+                                       and self.orientation == "section",
+                                       self.smearing, self.kernel)
+            interp = s.interpolation
+            return _LineState(s.x, s.l, s.l_xi, np.zeros((B, 3)),
+                              interp.N, interp.dN, interp.d2N, s.load_dofs, s.G, s.dG,
+                              s.rotation, None, s.tangent, s.tangent_xi,
+                              interp.tangent_dofs.reshape(B, -1), interp.T, interp.T_xi)
         p = [s.line.at(float(x)) for s, x in zip(self.sliders, xi)]
         x, l, l_xi, l_xixi, R, k, k_xi = (np.array([getattr(a, f) for a in p]) for f in
                                           ("x", "l", "l_xi", "l_xixi", "R", "k", "k_xi"))

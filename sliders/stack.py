@@ -16,8 +16,11 @@ dimension ``B``:
 * :meth:`ChainStack.transfer`: the test functions at ``xi`` read as load-transfer matrices
   ``G(xi)`` (eq. T6) and ``dG/dxi``; with smearing, each member's
   :meth:`~sliders.chain.BeamChain.transfer` padded to a common size with zero rows;
-* :meth:`ChainStack.project`: the initial ``xi`` by projection.
+* :meth:`ChainStack.project`: the initial ``xi`` by projection;
+* :meth:`ChainStack.line_state`: all a joint needs at once on the states ``q`` (the deformed
+  line, the recovered tangent, the load transfer and the section rotation).
 
+Every query is one call of the compiled kernel :func:`sliders.stack_kernel.line_state`.
 The single-point queries of :class:`~sliders.chain.BeamChain` are the ``B = 1`` case.  The
 chain's beams must all have the same number of nodes per element (fixed-size slots).
 """
@@ -30,9 +33,11 @@ from typing import TYPE_CHECKING, NamedTuple, Sequence
 
 import numpy as np
 
+from fvbeam.elements import influence_regions
 from fvbeam.formulations import FiniteVolume
 from fvbeam.geometry import locate_abscissa
 from fvbeam.mesh import shape_functions
+from sliders import stack_kernel
 from sliders.lines import curvature_rate, frame_and_curvature, project
 
 if TYPE_CHECKING:
@@ -49,11 +54,6 @@ MID_NODE_LAG = {"fv": 0.25 - np.sqrt(3.0) / 8, "galerkin": 1.0 / 16}
 #: Relative tolerance on the element lengths of the members: a rigid move recomputes them
 #: from the moved nodes (8-point Gauss rule on ``|dx/dX|``), with a roundoff of some ``eps``.
 LENGTH_TIE = 1e-12
-
-
-def second_derivatives(nodes_per_element: int) -> np.ndarray:
-    """d^2 N / dX^2 of the Lagrange shape functions on [0, 1] (constant)."""
-    return np.zeros(2) if nodes_per_element == 2 else np.array([4.0, 4.0, -8.0])
 
 
 def gather(q: np.ndarray, dofs: np.ndarray) -> np.ndarray:
@@ -79,9 +79,7 @@ class ElementInterpolation:
 
     def geometry(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``x``, ``l`` and ``l_/xi`` of the deformed line."""
-        current = self.X + gather(q, self.dofs)
-        return tuple(np.einsum("...a,...ak->...k", f, current)
-                     for f in (self.N, self.dN, self.d2N))
+        return _weighted(np.stack([self.N, self.dN, self.d2N], axis=-2), self.X, q, self.dofs)
 
 
 @dataclass(frozen=True)
@@ -98,9 +96,8 @@ class Interpolation(ElementInterpolation):
 
     def tangent(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The recovered tangent ``l~`` and ``l~_/xi`` of the deformed line."""
-        current = self.tangent_X + gather(q, self.tangent_dofs)
-        return (np.einsum("...a,...ak->...k", self.T, current),
-                np.einsum("...a,...ak->...k", self.T_xi, current))
+        return _weighted(np.stack([self.T, self.T_xi], axis=-2), self.tangent_X, q,
+                         self.tangent_dofs)
 
     def member(self, b: int) -> Interpolation:
         """Member ``b`` of a stacked interpolation."""
@@ -141,6 +138,53 @@ class ElementFrames(NamedTuple):
     compliance: np.ndarray
 
 
+class LineState(NamedTuple):
+    """All a joint needs of its chains at ``xi`` on the states ``q``, per member (leading
+    axis B, :meth:`ChainStack.line_state`): the interpolation with the recovered tangent,
+    the deformed line ``x``, ``l``, ``l_/xi``, the recovered tangent ``l~`` and ``l~_/xi``
+    (3,), the load transfer (``load_dofs``, ``G``, ``dG``, :meth:`ChainStack.transfer`) and
+    the section rotation (None unless asked)."""
+
+    interpolation: Interpolation
+    x: np.ndarray
+    l: np.ndarray  # noqa: E741
+    l_xi: np.ndarray
+    tangent: np.ndarray
+    tangent_xi: np.ndarray
+    load_dofs: np.ndarray
+    G: np.ndarray
+    dG: np.ndarray
+    rotation: LineRotation | None
+
+
+class _Answer(NamedTuple):
+    """What :func:`sliders.stack_kernel.line_state` returns, by name."""
+
+    beam: np.ndarray
+    element: np.ndarray
+    X: np.ndarray
+    dofs: np.ndarray
+    nodes: np.ndarray
+    N: np.ndarray
+    dN: np.ndarray
+    d2N: np.ndarray
+    tangent_dofs: np.ndarray
+    tangent_nodes: np.ndarray
+    T: np.ndarray
+    T_xi: np.ndarray
+    geometry: np.ndarray
+    load_dofs: np.ndarray
+    G: np.ndarray
+    dG: np.ndarray
+    rotation_dofs: np.ndarray
+    w: np.ndarray
+    w_xi: np.ndarray
+    kink: np.ndarray
+    kink_xi: np.ndarray
+    R0: np.ndarray
+    compliance: np.ndarray
+
+
 class ChainStack:
     """``B`` chains of one topology (module docstring), queried together; each
     member keeps its own element lengths and abscissae (equal to :data:`LENGTH_TIE`).
@@ -172,12 +216,15 @@ class ChainStack:
         # (one here; a joined stack holds one per chain of the structure, :meth:`joined`)
         self.maps = np.concatenate([
             first.structure.dof_maps[i][6 * beam.mesh.cells[:, :, None] + np.arange(6)]
-            for i, beam in zip(first.indices, self.beams)])[None]
-        self.map = np.zeros(len(self.chains), dtype=int)
+            for i, beam in zip(first.indices, self.beams)])[None].astype(np.int64)
+        self.map = np.zeros(len(self.chains), dtype=np.int64)
         self.breaks = np.stack([chain.offsets for chain in self.chains])
-        self.vertices = [np.stack([chain.beams[j].mesh.vertex_s for chain in self.chains])
-                         for j in range(len(self.beams))]
-        self.h = np.concatenate([np.diff(v, axis=1) for v in self.vertices], axis=1)
+        # each member's beams' vertex abscissae, one beam after the other (B, E + n_beams)
+        self.vertex_s = np.stack([np.concatenate([beam.mesh.vertex_s for beam in chain.beams])
+                                  for chain in self.chains])
+        self.h = np.concatenate([np.diff(self.vertex_s[:, f + j:f + j + n + 1], axis=1)
+                                 for j, (f, n) in enumerate(zip(self.first_element, counts))],
+                                axis=1)
         self.up = np.concatenate([np.tile(beam.mesh.up, (n, 1))
                                   for beam, n in zip(self.beams, counts)])
         self.lag = np.concatenate([np.full(n, MID_NODE_LAG[
@@ -188,9 +235,10 @@ class ChainStack:
         # the rotational block of each beam's inverse section stiffness, in section axes
         # (in global axes: R C R^T, the section stiffness rotating by blockdiag(R, R))
         self.compliance = [np.linalg.inv(beam.section.stiffness)[3:, 3:] for beam in self.beams]
+        self.rigid = np.array([beam.formulation.rigid_test for beam in self.beams])
+        self.regions = influence_regions(self.npe)
         self.members = np.arange(len(self.chains))
-        self._ends = shape_functions(np.array([0.0, 1.0]), self.npe)[1].T
-        self._located: tuple[np.ndarray, tuple] | None = None
+        self._ends = np.ascontiguousarray(shape_functions(np.array([0.0, 1.0]), self.npe)[1].T)
         self._frames: ElementFrames | None = None
 
     def subset(self, members: np.ndarray) -> ChainStack:
@@ -198,9 +246,8 @@ class ChainStack:
         out = copy.copy(self)
         out.chains = [self.chains[b] for b in members]
         out.breaks, out.h, out.points = self.breaks[members], self.h[members], self.points[members]
-        out.vertices = [v[members] for v in self.vertices]
-        out.map = self.map[members]
-        out.members, out._located = np.arange(len(out.chains)), None
+        out.vertex_s, out.map = self.vertex_s[members], self.map[members]
+        out.members = np.arange(len(out.chains))
         if self._frames is not None:
             out._frames = ElementFrames(*(f[members] for f in self._frames))
         return out
@@ -220,13 +267,13 @@ class ChainStack:
                                  "than their node positions and dof maps")
         out = copy.copy(first)
         out.chains = [c for stack in stacks for c in stack.chains]
-        out.breaks, out.h, out.points = (np.concatenate([getattr(stack, f) for stack in stacks])
-                                         for f in ("breaks", "h", "points"))
-        out.vertices = [np.concatenate(v) for v in zip(*(stack.vertices for stack in stacks))]
+        out.breaks, out.h, out.points, out.vertex_s = (
+            np.concatenate([getattr(stack, f) for stack in stacks])
+            for f in ("breaks", "h", "points", "vertex_s"))
         out.maps = np.concatenate([stack.maps for stack in stacks])
         out.map = np.concatenate([stack.map + sum(len(s.maps) for s in stacks[:i])
                                   for i, stack in enumerate(stacks)])
-        out.members, out._located = np.arange(len(out.chains)), None
+        out.members = np.arange(len(out.chains))
         out._frames = (None if any(stack._frames is None for stack in stacks) else
                        ElementFrames(*(np.concatenate(f) for f in
                                        zip(*(stack._frames for stack in stacks)))))
@@ -259,75 +306,57 @@ class ChainStack:
         """Beam (position in the chain), element of the chain (global index) and reference
         coordinate ``X`` of each member's abscissa ``xi`` (B,), on the member's own abscissae
         (as :func:`fvbeam.geometry.locate_abscissa` and :meth:`fvbeam.mesh.BeamMesh.locate`,
-        which report an abscissa off the chain).  The last answer is kept: a joint
-        evaluation asks for the same ``xi`` up to three times (interpolation, load transfer,
-        rotation)."""
-        last = self._located
-        if last is not None and np.array_equal(last[0], xi):
-            return last[1]
-        located = self._locate(xi)
-        self._located = (xi.copy(), located)
-        return located
+        which report an abscissa off the chain; :func:`sliders.stack_kernel.locate_one`)."""
+        xi = self._checked(xi)
+        return stack_kernel.locate(xi, self.breaks, self.vertex_s, self.first_element, self.h)
 
-    def _locate(self, xi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """:meth:`locate`, computed."""
+    def _checked(self, xi: np.ndarray) -> np.ndarray:
+        """``xi`` (B,) as contiguous floats; raises ``ValueError`` for an abscissa off the
+        chain (:func:`fvbeam.geometry.locate_abscissa`)."""
+        xi = np.ascontiguousarray(xi, dtype=float)
         if not (0.0 <= xi.min() and xi.max() <= self.length):  # NaN fails too
             locate_abscissa(xi, self.offsets, self.name, "the chain")  # raises if off it
-        k = _interval(self.breaks, xi)
-        rows = self.members
-        local = np.clip(xi - self.breaks[rows, k], 0.0,
-                        self.breaks[rows, k + 1] - self.breaks[rows, k])
-        element, X = np.zeros(len(xi), dtype=int), np.zeros(len(xi))
-        for j in np.unique(k):
-            on = k == j
-            vertex = self.vertices[j][on]
-            e = _interval(vertex, local[on])
-            inside = np.arange(len(e))
-            offset = np.clip(local[on] - vertex[inside, e], 0.0,
-                             vertex[inside, e + 1] - vertex[inside, e])
-            element[on] = self.first_element[j] + e
-            X[on] = np.clip(offset / self.h[rows[on], element[on]], 0.0, 1.0)
-        return k, element, X
+        return xi
+
+    def _query(self, xi: np.ndarray, q: np.ndarray | None, transfer: bool,
+               rotation: bool) -> _Answer:
+        """:func:`sliders.stack_kernel.line_state` at ``xi`` (B,): the deformed line on the
+        states ``q`` (B, n) unless None, the load transfer and the rotation if asked."""
+        xi = self._checked(xi)
+        frames = self.element_frames() if rotation else None
+        none = np.zeros((0, 0, 3, 3))
+        return _Answer(*stack_kernel.line_state(
+            xi, np.zeros((len(xi), 0)) if q is None else np.ascontiguousarray(q, dtype=float),
+            self.map, self.maps, self.cells, self.points, self.breaks, self.vertex_s,
+            self.first_element, self.h, self.lag, self.rigid, self.regions, self._ends,
+            none if frames is None else frames.R0, none if frames is None else
+            frames.compliance, q is not None, transfer, rotation))
+
+    def line_state(self, xi: np.ndarray, q: np.ndarray, rotation: bool,
+                   smearing: float = 0.0, kernel: str = "box") -> LineState:
+        """What a joint needs of each member at ``xi`` (B,) on its state ``q`` (B, n), in one
+        kernel call (:class:`LineState`): with ``smearing > 0`` the load transfer is each
+        member's smeared one (:meth:`transfer`); ``rotation``: the section rotation too."""
+        a = self._query(xi, q, smearing == 0, rotation)
+        load = (a.load_dofs, a.G, a.dG) if smearing == 0 else self.transfer(xi, smearing, kernel)
+        return LineState(self._interpolation(a), *(a.geometry[:, j] for j in range(5)), *load,
+                         self._rotation(a) if rotation else None)
+
+    @staticmethod
+    def _interpolation(a: _Answer) -> Interpolation:
+        """The interpolation of a kernel answer."""
+        return Interpolation(a.dofs, a.nodes, a.N, a.dN, a.d2N, a.tangent_dofs,
+                             a.tangent_nodes, a.T, a.T_xi)
 
     def _nodes(self, element: np.ndarray) -> np.ndarray:
         """Reference node positions ``(B, ..., npe, 3)`` of each member's ``element``
         (B, ...)."""
         return self.points[self.members.reshape((-1,) + (1,) * element.ndim), self.cells[element]]
 
-    def element_interpolation(self, xi: np.ndarray) -> ElementInterpolation:
-        """Where each member's ``xi`` sits and how its element interpolates the line there."""
-        _, element, X = self.locate(xi)
-        h = self.h[self.members, element][:, None]
-        N, dN = (f.T for f in shape_functions(X, self.npe))
-        return ElementInterpolation(self._dofs(element)[:, :, :3], self._nodes(element), N,
-                                    dN / h, second_derivatives(self.npe) / h**2)
-
     def interpolation(self, xi: np.ndarray) -> Interpolation:
-        """:meth:`element_interpolation` with the recovered tangent (module docstring)."""
-        _, element, X = self.locate(xi)
-        inside = self.element_interpolation(xi)
-        h = self.h[self.members, element][:, None]
-        dN, d2N = inside.dN, inside.d2N
-        T, T_xi = [dN], [d2N.copy()]
-        dofs, nodes = [inside.dofs], [inside.X]
-        ends = self._ends
-        for side, weight, weight_xi, end in ((-1, 1 - X, -1 / h[:, 0], 0),
-                                             (1, X, 1 / h[:, 0], 1)):
-            other = element + side
-            there = (other >= 0) & (other < self.h.shape[1])
-            other = np.where(there, other, element)
-            weight, weight_xi = 0.5 * weight * there, 0.5 * weight_xi * there
-            own = ends[end] / h
-            T[0] = T[0] - weight[:, None] * own
-            T_xi[0] = T_xi[0] - weight_xi[:, None] * own
-            theirs = ends[1 - end] / self.h[self.members, other][:, None]
-            T.append(weight[:, None] * theirs)
-            T_xi.append(weight_xi[:, None] * theirs)
-            dofs.append(self._dofs(other)[:, :, :3])
-            nodes.append(self._nodes(other))
-        return Interpolation(inside.dofs, inside.X, inside.N, dN, d2N,
-                             np.concatenate(dofs, axis=1), np.concatenate(nodes, axis=1),
-                             np.concatenate(T, axis=1), np.concatenate(T_xi, axis=1))
+        """Where each member's ``xi`` sits, how its element interpolates the line there, and
+        the recovered tangent (module docstring)."""
+        return self._interpolation(self._query(xi, None, False, False))
 
     def rotation(self, xi: np.ndarray) -> LineRotation:
         """The section rotation at ``xi`` and its reference frame, per member.
@@ -345,46 +374,35 @@ class ChainStack:
         taken in the element's reference frame at ``xi``.  When every member's element is
         straight, both are read from :meth:`element_frames` (``k0 = k0_/xi = 0``).
         """
-        beam, element, X = self.locate(xi)
-        h = self.h[self.members, element]
-        along = np.array([0.0, 1.0, 0.5])[:self.npe]
-        order = np.argsort(along)
-        j = np.minimum(np.searchsorted(along[order], X, side="right") - 1, self.npe - 2)
-        pair = np.stack([order[j], order[j + 1]], axis=1)
-        span = (along[pair[:, 1]] - along[pair[:, 0]]) * h
-        t = (X - along[pair[:, 0]]) * h / span
-        w = np.stack([1 - t, t], axis=1)
-        mid = pair == 2
-        shift = self.lag[element] * h
-        w_mid = np.sum(w * mid, axis=1)
-        kink = t * (1 - t) * span + shift * w_mid**2
-        kink_xi = 1 - 2 * t + 2 * shift * w_mid * (mid[:, 1] * 1.0 - mid[:, 0]) / span
-        frames = self.element_frames()
-        if frames.straight[self.members, element].all():
-            R0, compliance = (f[self.members, element] for f in (frames.R0, frames.compliance))
-            k0 = k0_xi = np.zeros((len(xi), 3))
-        else:
+        return self._rotation(self._query(xi, None, False, True))
+
+    def _rotation(self, a: _Answer) -> LineRotation:
+        """The rotation of a kernel answer; off straight elements, the frame, curvature and
+        compliance computed at ``xi`` (:meth:`rotation`)."""
+        beam, element, X = a.beam, a.element, a.X
+        R0, compliance = a.R0, a.compliance
+        k0 = k0_xi = np.zeros((len(X), 3))
+        if not self.element_frames().straight[self.members, element].all():
             l0, l0_xi = self._reference_line(element, X)
             R0, k0 = frame_and_curvature(l0, l0_xi, self.up[element])
             k0_xi = curvature_rate(l0, l0_xi, np.zeros(3), self.up[element])
-            compliance = np.zeros((len(xi), 3, 3))
+            compliance = np.zeros((len(X), 3, 3))
             for b in np.unique(beam):
                 on = beam == b
                 compliance[on] = R0[on] @ self.compliance[b] @ np.swapaxes(R0[on], 1, 2)
-        dofs = self._dofs(element)[self.members[:, None], pair][:, :, 3:]
-        return LineRotation(dofs, w, np.stack([-1 / span, 1 / span], axis=1), kink, kink_xi,
-                            compliance, R0, k0, k0_xi)
+        return LineRotation(a.rotation_dofs, a.w, a.w_xi, a.kink, a.kink_xi, compliance, R0,
+                            k0, k0_xi)
 
     def _reference_line(self, element: np.ndarray,
                         X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The reference line's ``l0`` and ``l0_/xi`` at the reference coordinates ``X``
         (...) of the members' ``element`` (...)."""
         nodes = self._nodes(element)
-        h = self.h[self.members.reshape((-1,) + (1,) * (element.ndim - 1)), element][..., None]
-        dN = np.moveaxis(shape_functions(X.ravel(), self.npe)[1], 0, -1).reshape(
-            X.shape + (self.npe,)) / h
-        return (np.einsum("...a,...ak->...k", dN, nodes),
-                np.einsum("a,...ak->...k", second_derivatives(self.npe), nodes) / h ** 2)
+        h = self.h[self.members.reshape((-1,) + (1,) * (element.ndim - 1)), element]
+        l0, l0_xi = stack_kernel.reference_line(
+            np.ascontiguousarray(nodes.reshape(-1, self.npe, 3)), h.ravel(),
+            np.ascontiguousarray(X, dtype=float).ravel())
+        return l0.reshape(X.shape + (3,)), l0_xi.reshape(X.shape + (3,))
 
     def element_frames(self) -> ElementFrames:
         """Per member and element, whether the element is straight in the reference
@@ -421,14 +439,8 @@ class ChainStack:
             G, dG = (np.array([np.pad(p[i], ((0, size - len(p[0])), (0, 0))) for p in parts])
                      for i in (1, 2))
             return dofs, G, dG
-        beam, element, X = self.locate(xi)
-        G = np.zeros((len(xi), 6 * self.npe, 6))
-        dG = np.zeros_like(G)
-        nodes, h = self._nodes(element), self.h[self.members, element]
-        for b in np.unique(beam):
-            on = beam == b
-            G[on], dG[on] = self.beams[b].formulation.transfer_at(nodes[on], h[on], X[on])
-        return self._dofs(element).reshape(len(xi), -1), G, dG
+        a = self._query(xi, None, True, False)
+        return a.load_dofs, a.G, a.dG
 
     def project(self, points: np.ndarray, q: np.ndarray) -> np.ndarray:
         """Abscissae of the points of the deformed chains (states ``q``, (B, n)) closest to
@@ -437,11 +449,13 @@ class ChainStack:
                                          for offset, beam in zip(self.offsets, self.beams)]))
         # the grid located once, on the first member (the members' abscissae are tied)
         _, element, X = self.subset(np.zeros(len(grid), dtype=int)).locate(grid)
-        element = np.broadcast_to(element, (len(self), len(grid)))
-        current = self._nodes(element) + gather(q, self._dofs(element)[..., :3])
-        sampled = np.einsum("ga,bgak->bgk", shape_functions(X, self.npe)[0].T, current)
-        return project(lambda xi: self.element_interpolation(xi).geometry(q), grid, points,
-                       sampled)
+        B, G = len(self), len(grid)
+        element = np.broadcast_to(element, (B, G))
+        N = np.broadcast_to(shape_functions(X, self.npe)[0].T[:, None], (B, G, 1, self.npe))
+        sampled = _weighted(N, self._nodes(element), q, self._dofs(element)[..., :3],
+                            np.repeat(np.arange(B), G))[0]
+        return project(lambda xi: tuple(self._query(xi, q, False, False).geometry[:, j]
+                                        for j in range(3)), grid, points, sampled)
 
 
 def _same_topology(a: BeamChain, b: BeamChain, maps: bool = True) -> bool:
@@ -469,7 +483,20 @@ def _tied(a: np.ndarray, b: np.ndarray) -> bool:
     return a.shape == b.shape and bool(np.all(np.abs(a - b) <= LENGTH_TIE * np.abs(b)))
 
 
-def _interval(breaks: np.ndarray, xi: np.ndarray) -> np.ndarray:
-    """Per row, the interval of ``breaks`` (B, n + 1), increasing, holding ``xi`` (B,):
-    ``searchsorted(side="right") - 1`` clipped to ``0 .. n - 1``."""
-    return np.clip(np.sum(breaks <= xi[:, None], axis=1) - 1, 0, breaks.shape[1] - 2)
+def _weighted(f: np.ndarray, nodes: np.ndarray, q: np.ndarray, dofs: np.ndarray,
+              rows: np.ndarray | None = None) -> tuple[np.ndarray, ...]:
+    """``sum_a f_ja (nodes_a + q[dofs_a])`` for each ``j`` of coefficients ``f`` (..., k, m),
+    nodes (..., m, 3) and dofs (..., m, 3): on one state ``q`` (n,), or on each member's own
+    (``q`` (B, n), leading axis of ``f`` B), or on the states ``q[rows]`` for flattened
+    leading axes (:func:`sliders.stack_kernel.weighted_current`).  Returns ``k`` arrays
+    (..., 3)."""
+    lead, (k, m) = f.shape[:-2], f.shape[-2:]
+    P = int(np.prod(lead))
+    if rows is None:
+        rows = np.arange(P) if q.ndim == 2 else np.zeros(P, dtype=np.int64)
+    out = stack_kernel.weighted_current(
+        np.ascontiguousarray(f, dtype=float).reshape(P, k, m),
+        np.ascontiguousarray(nodes, dtype=float).reshape(P, m, 3),
+        np.ascontiguousarray(np.atleast_2d(q), dtype=float), rows,
+        np.ascontiguousarray(dofs, dtype=np.int64).reshape(P, m, 3)).reshape(lead + (k, 3))
+    return tuple(out[..., j, :] for j in range(k))

@@ -1,0 +1,169 @@
+"""A beam's interpolation and test functions at one point, compiled (numba).
+
+The functions of one point write into arrays the caller owns (no temporaries), so that the
+compiled kernels of :mod:`sliders.stack_kernel` call them per member; the ``*_many``
+functions loop them over flat arrays of points for the numpy-facing wrappers of
+:mod:`fvbeam.mesh` (:func:`~fvbeam.mesh.shape_functions`), :mod:`fvbeam.elements`
+(:func:`~fvbeam.elements.indicator`, :func:`~fvbeam.elements.rigid_motions_at`) and
+:mod:`fvbeam.formulations` (``transfer_at``).  Reference coordinates ``X`` run over the
+element [0, 1], local nodes in meshio's order: end 0, end 1, then the mid node.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+#: Distance (reference coordinate) within which a point counts as on a region boundary.
+TIE = 1e-12
+
+
+@numba.njit(cache=True, inline="never")
+def shape_at(X: float, npe: int, N: np.ndarray, dN: np.ndarray, d2N: np.ndarray) -> None:
+    """Lagrange shape functions ``N``, ``dN/dX`` and ``d^2N/dX^2`` (npe,) at ``X``
+    (``docs/theory.md``, the trial interpolation of the six nodal fields)."""
+    if npe == 2:
+        N[0], N[1] = 1 - X, X
+        dN[0], dN[1] = -1.0, 1.0
+        d2N[0], d2N[1] = 0.0, 0.0
+    else:
+        N[0] = 1 - 3 * X + 2 * (X * X)
+        N[1] = -X + 2 * (X * X)
+        N[2] = 4 * X - 4 * (X * X)
+        dN[0], dN[1], dN[2] = -3 + 4 * X, -1 + 4 * X, 4 - 8 * X
+        d2N[0], d2N[1], d2N[2] = 4.0, 4.0, -8.0
+
+
+@numba.njit(cache=True, inline="never")
+def indicator_at(X: float, regions: np.ndarray, chi: np.ndarray) -> None:
+    """Influence-region indicators ``chi_a(X)`` (npe,) of the fv test functions (eq. T4) for
+    the regions' bounds ``regions`` (npe, 2) (:func:`fvbeam.elements.influence_regions`).
+
+    A point within :data:`TIE` of an evaluation point belongs half to each neighbouring
+    region, the limit of a symmetric smearing of vanishing width; the element's ends count
+    whole."""
+    for a in range(regions.shape[0]):
+        lo, hi = regions[a, 0], regions[a, 1]
+        near_lo, near_hi = abs(X - lo) <= TIE, abs(X - hi) <= TIE
+        value = 1.0 if (X > lo and X < hi and not near_lo and not near_hi) else 0.0
+        if near_lo:
+            value += 1.0 if lo == 0 else 0.5
+        if near_hi:
+            value += 1.0 if hi == 1 else 0.5
+        chi[a] = value
+
+
+@numba.njit(cache=True, inline="never")
+def rigid_blocks_at(nodes: np.ndarray, h: float, N: np.ndarray, dN: np.ndarray,
+                    chi: np.ndarray, dchi: np.ndarray, G: np.ndarray, dG: np.ndarray) -> None:
+    """The fv test functions (eq. T4) at a point of an element with node positions ``nodes``
+    (npe, 3) and length ``h``, from the shape functions ``N``, ``dN/dX`` there, into ``G``
+    and ``dG`` (6 npe, 6) (:func:`fvbeam.elements.rigid_motions_at`): node ``a``'s block
+    ``chi_a [[I, 0], [skew(x - x_a), I]]`` and its ``xi``-derivative
+    ``chi_a [[0, 0], [skew(x_/xi), 0]] + dchi_a [[I, 0], [skew(x - x_a), I]]``."""
+    G[:] = 0.0
+    dG[:] = 0.0
+    npe = nodes.shape[0]
+    x0 = x1 = x2 = d0 = d1 = d2 = 0.0
+    for b in range(npe):
+        x0 += N[b] * nodes[b, 0]
+        x1 += N[b] * nodes[b, 1]
+        x2 += N[b] * nodes[b, 2]
+        d0 += dN[b] * nodes[b, 0]
+        d1 += dN[b] * nodes[b, 1]
+        d2 += dN[b] * nodes[b, 2]
+    d0, d1, d2 = d0 / h, d1 / h, d2 / h
+    for a in range(npe):
+        r = 6 * a
+        c, dc = chi[a], dchi[a]
+        v0, v1, v2 = x0 - nodes[a, 0], x1 - nodes[a, 1], x2 - nodes[a, 2]
+        for k in range(3):
+            G[r + k, k] = c
+            G[r + 3 + k, 3 + k] = c
+            dG[r + k, k] = dc
+            dG[r + 3 + k, 3 + k] = dc
+        G[r + 3, 1], G[r + 3, 2] = -v2 * c, v1 * c
+        G[r + 4, 0], G[r + 4, 2] = v2 * c, -v0 * c
+        G[r + 5, 0], G[r + 5, 1] = -v1 * c, v0 * c
+        dG[r + 3, 1], dG[r + 3, 2] = -d2 * c + -v2 * dc, d1 * c + v1 * dc
+        dG[r + 4, 0], dG[r + 4, 2] = d2 * c + v2 * dc, -d0 * c + -v0 * dc
+        dG[r + 5, 0], dG[r + 5, 1] = -d1 * c + -v1 * dc, d0 * c + v0 * dc
+
+
+@numba.njit(cache=True, inline="never")
+def shape_blocks_at(h: float, N: np.ndarray, dN: np.ndarray, G: np.ndarray,
+                    dG: np.ndarray) -> None:
+    """The Galerkin test functions at a point as load-transfer blocks ``N_a I`` (6 npe, 6)
+    into ``G`` and their ``xi``-derivatives ``dN_a/dX / h I`` into ``dG``."""
+    G[:] = 0.0
+    dG[:] = 0.0
+    for a in range(N.shape[0]):
+        slope = dN[a] / h
+        for c in range(6):
+            G[6 * a + c, c] = N[a]
+            dG[6 * a + c, c] = slope
+
+
+@numba.njit(cache=True, inline="never")
+def transfer_at(fv: bool, regions: np.ndarray, nodes: np.ndarray, h: float, X: float,
+                N: np.ndarray, dN: np.ndarray, d2N: np.ndarray, chi: np.ndarray,
+                dchi: np.ndarray, G: np.ndarray, dG: np.ndarray) -> None:
+    """The test functions at ``X`` as load-transfer matrices ``G`` and ``dG/dxi``
+    (6 npe, 6), eq. T6: fv (``fv``, region bounds ``regions``) or Galerkin; ``N``, ``dN``,
+    ``d2N``, ``chi``, ``dchi`` (npe,) are scratch."""
+    shape_at(X, nodes.shape[0], N, dN, d2N)
+    if fv:
+        indicator_at(X, regions, chi)
+        dchi[:] = 0.0
+        rigid_blocks_at(nodes, h, N, dN, chi, dchi, G, dG)
+    else:
+        shape_blocks_at(h, N, dN, G, dG)
+
+
+@numba.njit(cache=True)
+def shape_functions_many(X: np.ndarray, npe: int) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`shape_at` at the points ``X`` (P,): ``N`` and ``dN/dX``, (npe, P)."""
+    N, dN = np.empty((npe, len(X))), np.empty((npe, len(X)))
+    n, dn, d2n = np.empty(npe), np.empty(npe), np.empty(npe)
+    for p in range(len(X)):
+        shape_at(X[p], npe, n, dn, d2n)
+        N[:, p], dN[:, p] = n, dn
+    return N, dN
+
+
+@numba.njit(cache=True)
+def indicator_many(X: np.ndarray, regions: np.ndarray) -> np.ndarray:
+    """:func:`indicator_at` at the points ``X`` (P,): (npe, P)."""
+    chi, one = np.empty((regions.shape[0], len(X))), np.empty(regions.shape[0])
+    for p in range(len(X)):
+        indicator_at(X[p], regions, one)
+        chi[:, p] = one
+    return chi
+
+
+@numba.njit(cache=True)
+def rigid_motions_many(nodes: np.ndarray, h: np.ndarray, X: np.ndarray, chi: np.ndarray,
+                       dchi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`rigid_blocks_at` at the points ``X`` (P,) of elements ``nodes`` (P, npe, 3),
+    ``h`` (P,), indicators ``chi``, ``dchi`` (P, npe): (P, 6 npe, 6) each."""
+    P, npe = nodes.shape[0], nodes.shape[1]
+    G, dG = np.empty((P, 6 * npe, 6)), np.empty((P, 6 * npe, 6))
+    N, dN, d2N = np.empty(npe), np.empty(npe), np.empty(npe)
+    for p in range(P):
+        shape_at(X[p], npe, N, dN, d2N)
+        rigid_blocks_at(nodes[p], h[p], N, dN, chi[p], dchi[p], G[p], dG[p])
+    return G, dG
+
+
+@numba.njit(cache=True)
+def transfer_many(fv: bool, regions: np.ndarray, nodes: np.ndarray, h: np.ndarray,
+                  X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`transfer_at` at the points ``X`` (P,) of elements ``nodes`` (P, npe, 3),
+    ``h`` (P,): (P, 6 npe, 6) each."""
+    P, npe = nodes.shape[0], nodes.shape[1]
+    G, dG = np.empty((P, 6 * npe, 6)), np.empty((P, 6 * npe, 6))
+    N, dN, d2N = np.empty(npe), np.empty(npe), np.empty(npe)
+    chi, dchi = np.empty(npe), np.empty(npe)
+    for p in range(P):
+        transfer_at(fv, regions, nodes[p], h[p], X[p], N, dN, d2N, chi, dchi, G[p], dG[p])
+    return G, dG

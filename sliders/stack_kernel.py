@@ -1,0 +1,253 @@
+"""The line state of ``B`` chains at their abscissae, compiled (numba).
+
+One call of :func:`line_state` answers every query of :class:`sliders.stack.ChainStack` for
+``B`` members at once, member by member without temporaries: where ``xi`` lies
+(:func:`locate_one`), the element interpolation and the recovered tangent
+(``docs/sliders.md``, :func:`interpolation_one`), the deformed line (:func:`weighted`), the
+load transfer (eq. T6, :func:`fvbeam.pointwise.transfer_at`) and the section rotation with
+its kink correction (:func:`rotation_one`).  The stack's arrays are described in
+:class:`sliders.stack.ChainStack`; the kernels expect them C-contiguous, float64 and int64.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from fvbeam.pointwise import shape_at, transfer_at
+
+
+@numba.njit(cache=True, inline="never")
+def interval(breaks: np.ndarray, start: int, n: int, value: float) -> int:
+    """The interval of ``breaks[start:start + n + 1]`` (increasing) holding ``value``:
+    ``searchsorted(side="right") - 1`` clipped to ``0 .. n - 1``."""
+    count = 0
+    for i in range(n + 1):
+        if breaks[start + i] <= value:
+            count += 1
+    return min(max(count - 1, 0), n - 1)
+
+
+@numba.njit(cache=True, inline="never")
+def locate_one(xi: float, breaks: np.ndarray, vertex_s: np.ndarray,
+               first_element: np.ndarray, h: np.ndarray) -> tuple[int, int, float]:
+    """Beam ``k`` of the chain, element (chain index) and reference coordinate ``X`` of the
+    abscissa ``xi`` (on the chain, checked by the caller) of one member: its beam breaks
+    ``breaks`` (n_beams + 1,), vertex abscissae ``vertex_s`` (each beam's from 0, one after
+    the other) and element lengths ``h``."""
+    k = interval(breaks, 0, len(breaks) - 1, xi)
+    local = min(max(xi - breaks[k], 0.0), breaks[k + 1] - breaks[k])
+    start = first_element[k] + k
+    e = interval(vertex_s, start, first_element[k + 1] - first_element[k], local)
+    offset = min(max(local - vertex_s[start + e], 0.0),
+                 vertex_s[start + e + 1] - vertex_s[start + e])
+    element = first_element[k] + e
+    return k, element, min(max(offset / h[element], 0.0), 1.0)
+
+
+@numba.njit(cache=True, inline="never")
+def element_shape(X: float, he: float, N: np.ndarray, dN: np.ndarray, d2N: np.ndarray) -> None:
+    """The shape functions ``N`` (npe,) at ``X`` of an element of length ``he``, and their
+    derivatives ``dN``, ``d2N`` in the abscissa ``xi`` (``X`` affine in it)."""
+    shape_at(X, len(N), N, dN, d2N)
+    for a in range(len(N)):
+        dN[a] = dN[a] / he
+        d2N[a] = d2N[a] / (he * he)
+
+
+@numba.njit(cache=True, inline="never")
+def interpolation_one(element: int, X: float, h: np.ndarray, N: np.ndarray, dN: np.ndarray, d2N: np.ndarray, ends: np.ndarray,
+                      T: np.ndarray, T_xi: np.ndarray, neighbours: np.ndarray) -> None:
+    """The shape functions ``N``, ``dN``, ``d2N`` (npe,) in ``xi`` of ``element`` at ``X``,
+    and the recovered tangent's coefficients ``T``, ``T_xi`` (3 npe,) (``docs/sliders.md``):
+    ``l~ = l + (1 - X) (l_a - l(a)) + X (l_b - l(b))`` with ``l_a``, ``l_b`` the tangents of
+    the elements before and after at the shared vertices, averaged (weights 1/2), zero where
+    there is none; ``neighbours`` (2,) receives those elements (``element`` itself where
+    there is none).  ``ends`` (2, npe): ``dN/dX`` at ``X = 0`` and ``1``; ``h``: the
+    member's element lengths (E,)."""
+    npe = len(N)
+    he = h[element]
+    element_shape(X, he, N, dN, d2N)
+    for a in range(npe):
+        T[a], T_xi[a] = dN[a], d2N[a]
+    for side in range(2):
+        other = element - 1 if side == 0 else element + 1
+        there = 0 <= other < len(h)
+        weight = 0.5 * (1 - X) if side == 0 else 0.5 * X
+        weight_xi = 0.5 * (-1 / he) if side == 0 else 0.5 * (1 / he)
+        if not there:
+            other, weight, weight_xi = element, 0.0, 0.0
+        neighbours[side] = other
+        own, theirs = ends[side], ends[1 - side]
+        ho = h[other]
+        for a in range(npe):
+            T[a] = T[a] - weight * (own[a] / he)
+            T_xi[a] = T_xi[a] - weight_xi * (own[a] / he)
+            T[(side + 1) * npe + a] = weight * (theirs[a] / ho)
+            T_xi[(side + 1) * npe + a] = weight_xi * (theirs[a] / ho)
+
+
+@numba.njit(cache=True, inline="never")
+def current(nodes: np.ndarray, q: np.ndarray, dofs: np.ndarray, out: np.ndarray) -> None:
+    """Deformed node positions ``nodes + q[dofs]`` (m, 3) into ``out``."""
+    for a in range(nodes.shape[0]):
+        for c in range(3):
+            out[a, c] = nodes[a, c] + q[dofs[a, c]]
+
+
+@numba.njit(cache=True, inline="never")
+def weighted(f: np.ndarray, points: np.ndarray, out: np.ndarray) -> None:
+    """``sum_a f_a points_a`` (3,) into ``out``: the line interpolated from its nodes
+    ``x = sum N_a x_a`` (paper Sec. 4) and its derivatives, or the recovered tangent."""
+    out[:] = 0.0
+    for a in range(len(f)):
+        for c in range(3):
+            out[c] += f[a] * points[a, c]
+
+
+@numba.njit(cache=True, inline="never")
+def rotation_one(X: float, he: float, lag: float, npe: int, pair: np.ndarray, w: np.ndarray,
+                 w_xi: np.ndarray) -> tuple[float, float]:
+    """The section rotation's interpolation at ``X`` of an element of length ``he``
+    (:meth:`sliders.stack.ChainStack.rotation`): the two consecutive nodes around ``X``
+    (``pair``, local indices, along the element: end 0, mid node, end 1), their weights
+    ``w`` and ``w_xi``; returns ``kink = t (1 - t) span + lag h w_mid^2`` and its
+    derivative in ``xi``."""
+    if npe == 2:
+        pair[0], pair[1], a0, a1 = 0, 1, 0.0, 1.0
+    elif X < 0.5:
+        pair[0], pair[1], a0, a1 = 0, 2, 0.0, 0.5
+    else:
+        pair[0], pair[1], a0, a1 = 2, 1, 0.5, 1.0
+    span = (a1 - a0) * he
+    t = (X - a0) * he / span
+    w[0], w[1] = 1 - t, t
+    w_xi[0], w_xi[1] = -1 / span, 1 / span
+    shift = lag * he
+    mid0, mid1 = (1.0 if pair[0] == 2 else 0.0), (1.0 if pair[1] == 2 else 0.0)
+    w_mid = w[0] * mid0 + w[1] * mid1
+    kink = t * (1 - t) * span + shift * (w_mid * w_mid)
+    kink_xi = 1 - 2 * t + 2 * shift * w_mid * (mid1 - mid0) / span
+    return kink, kink_xi
+
+
+@numba.njit(cache=True)
+def locate(xi: np.ndarray, breaks: np.ndarray, vertex_s: np.ndarray,
+           first_element: np.ndarray, h: np.ndarray) -> tuple[np.ndarray, np.ndarray,
+                                                              np.ndarray]:
+    """:func:`locate_one` for each member (rows of ``breaks``, ``vertex_s``, ``h``)."""
+    B = len(xi)
+    beam, element, X = np.empty(B, np.int64), np.empty(B, np.int64), np.empty(B)
+    for b in range(B):
+        beam[b], element[b], X[b] = locate_one(xi[b], breaks[b], vertex_s[b], first_element,
+                                               h[b])
+    return beam, element, X
+
+
+@numba.njit(cache=True)
+def line_state(xi: np.ndarray, q: np.ndarray, member_map: np.ndarray, maps: np.ndarray,
+               cells: np.ndarray, points: np.ndarray, breaks: np.ndarray,
+               vertex_s: np.ndarray, first_element: np.ndarray, h: np.ndarray,
+               lag: np.ndarray, rigid: np.ndarray, regions: np.ndarray, ends: np.ndarray,
+               R0_of: np.ndarray, compliance_of: np.ndarray, state: bool, transfer: bool,
+               rotation: bool) -> tuple:
+    """The line state of each member at ``xi`` (B,) on its states ``q`` (B, n), on the
+    stack's arrays (:class:`sliders.stack.ChainStack`): ``member_map`` (B,) into ``maps``
+    (M, E, npe, 6), ``cells`` (E, npe), ``points`` (B, n_nodes, 3), ``breaks``
+    (B, n_beams + 1), ``vertex_s`` (B, E + n_beams), ``first_element`` (n_beams + 1,), ``h``
+    (B, E), ``lag`` (E,), ``rigid`` (n_beams,) fv beams, ``regions`` (npe, 2) the fv
+    influence regions, ``ends`` (2, npe) ``dN/dX`` at the element ends, the stored element
+    frames ``R0_of`` and compliances ``compliance_of`` (B, E, 3, 3).
+
+    ``state``: the deformed line ``x``, ``l``, ``l_/xi`` and the recovered tangent with its
+    derivative; ``transfer``: the load dofs, ``G`` and ``dG`` (eq. T6); ``rotation``: the
+    rotation dofs, weights and kink (:func:`rotation_one`) and the stored frame and
+    compliance of the element.  The arrays of what is not asked have a zero size.
+
+    Returns the tuple ``beam, element, X, dofs, nodes, N, dN, d2N, tangent_dofs,
+    tangent_nodes, T, T_xi, geometry (B, 5, 3): x, l, l_xi, l~, l~_xi, load_dofs, G, dG,
+    rotation_dofs, w, w_xi, kink, kink_xi, R0, compliance``.
+    """
+    B, npe = len(xi), cells.shape[1]
+    m = 3 * npe
+    nb, nt, nr = (B if state else 0), (B if transfer else 0), (B if rotation else 0)
+    beam, element, X = np.empty(B, np.int64), np.empty(B, np.int64), np.empty(B)
+    dofs, nodes = np.empty((B, m, 3), np.int64), np.empty((B, m, 3))
+    N, dN, d2N = np.empty((B, npe)), np.empty((B, npe)), np.empty((B, npe))
+    T, T_xi = np.empty((B, m)), np.empty((B, m))
+    geometry = np.empty((nb, 5, 3))
+    load_dofs, G, dG = (np.empty((nt, 6 * npe), np.int64), np.empty((nt, 6 * npe, 6)),
+                        np.empty((nt, 6 * npe, 6)))
+    rotation_dofs, w, w_xi = np.empty((nr, 2, 3), np.int64), np.empty((nr, 2)), np.empty((nr, 2))
+    kink, kink_xi = np.empty(nr), np.empty(nr)
+    R0, compliance = np.empty((nr, 3, 3)), np.empty((nr, 3, 3))
+    neighbours, pair = np.empty(2, np.int64), np.empty(2, np.int64)
+    n, dn, d2n, chi, dchi = (np.empty(npe), np.empty(npe), np.empty(npe), np.empty(npe),
+                             np.empty(npe))
+    moved = np.empty((m, 3))
+    for b in range(B):
+        k, e, Xb = locate_one(xi[b], breaks[b], vertex_s[b], first_element, h[b])
+        beam[b], element[b], X[b] = k, e, Xb
+        interpolation_one(e, Xb, h[b], N[b], dN[b], d2N[b], ends, T[b], T_xi[b],
+                          neighbours)
+        dof_map = maps[member_map[b]]
+        for slot in range(3):
+            el = e if slot == 0 else neighbours[slot - 1]
+            for a in range(npe):
+                node = cells[el, a]
+                for c in range(3):
+                    dofs[b, slot * npe + a, c] = dof_map[el, a, c]
+                    nodes[b, slot * npe + a, c] = points[b, node, c]
+        if state:
+            current(nodes[b], q[b], dofs[b], moved)
+            weighted(N[b], moved[:npe], geometry[b, 0])
+            weighted(dN[b], moved[:npe], geometry[b, 1])
+            weighted(d2N[b], moved[:npe], geometry[b, 2])
+            weighted(T[b], moved, geometry[b, 3])
+            weighted(T_xi[b], moved, geometry[b, 4])
+        if transfer:
+            for a in range(npe):
+                for c in range(6):
+                    load_dofs[b, 6 * a + c] = dof_map[e, a, c]
+            transfer_at(rigid[k], regions, nodes[b, :npe], h[b, e], Xb, n, dn, d2n, chi, dchi,
+                        G[b], dG[b])
+        if rotation:
+            kink[b], kink_xi[b] = rotation_one(Xb, h[b, e], lag[e], npe, pair, w[b], w_xi[b])
+            for s in range(2):
+                for c in range(3):
+                    rotation_dofs[b, s, c] = dof_map[e, pair[s], 3 + c]
+            R0[b] = R0_of[b, e]
+            compliance[b] = compliance_of[b, e]
+    return (beam, element, X, dofs[:, :npe], nodes[:, :npe], N, dN, d2N, dofs, nodes, T, T_xi,
+            geometry, load_dofs, G, dG, rotation_dofs, w, w_xi, kink, kink_xi, R0, compliance)
+
+
+@numba.njit(cache=True)
+def weighted_current(f: np.ndarray, nodes: np.ndarray, q: np.ndarray, rows: np.ndarray,
+                     dofs: np.ndarray) -> np.ndarray:
+    """``sum_a f_ja (nodes_a + q[dofs_a])`` (P, k, 3) for coefficients ``f`` (P, k, m) at
+    points with nodes ``nodes`` and dofs ``dofs`` (P, m, 3), on the states ``q[rows]``
+    (``q`` (R, n), ``rows`` (P,)): :func:`weighted` on :func:`current`."""
+    P, k, m = f.shape
+    out, moved = np.empty((P, k, 3)), np.empty((m, 3))
+    for p in range(P):
+        current(nodes[p], q[rows[p]], dofs[p], moved)
+        for j in range(k):
+            weighted(f[p, j], moved, out[p, j])
+    return out
+
+
+@numba.njit(cache=True)
+def reference_line(nodes: np.ndarray, h: np.ndarray,
+                   X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The reference line's ``l0`` and ``l0_/xi`` (P, 3) at ``X`` (P,) of elements with node
+    positions ``nodes`` (P, npe, 3) and lengths ``h`` (P,) (:func:`element_shape`,
+    :func:`weighted`)."""
+    P, npe = nodes.shape[0], nodes.shape[1]
+    l0, l0_xi = np.empty((P, 3)), np.empty((P, 3))
+    N, dN, d2N = np.empty(npe), np.empty(npe), np.empty(npe)
+    for p in range(P):
+        element_shape(X[p], h[p], N, dN, d2N)
+        weighted(dN, nodes[p], l0[p])
+        weighted(d2N, nodes[p], l0_xi[p])
+    return l0, l0_xi
