@@ -137,11 +137,11 @@ class CondensedOperator:
         if pivots.min() <= 1e-13 * pivots.max():
             raise ValueError(message)
         self._slot = np.full(self.n_free, -1)
-        self._store = np.zeros((self.n_free + self.n_rigid, 0))
+        self._store = np.zeros((0, self.n_free + self.n_rigid))
         self._inverse_T = None
         if self.n_free + self.n_rigid <= DENSE_LIMIT:
             self._columns(np.arange(self.n_free))
-            self._inverse_T = np.ascontiguousarray(self._store.T)
+            self._inverse_T = self._store
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         """``B^{-1} [b; 0]`` for right-hand sides ``b`` (B, n_free) on the free dofs:
@@ -152,18 +152,17 @@ class CondensedOperator:
         rhs = np.concatenate([b, np.zeros((len(b), self.n_rigid))], axis=1)
         return self.lu.solve(np.asfortranarray(rhs.T)).T  # SuperLU reads columns
 
-    def _columns(self, positions: np.ndarray) -> np.ndarray:
-        """Store slots of the columns ``B^{-1}[U; 0]`` for the free dofs at ``positions``;
-        each column is computed once and kept."""
-        slots = self._slot[positions]
-        if slots.min(initial=0) >= 0:
-            return slots
-        missing = np.unique(positions[slots < 0])
+    def _columns(self, positions: np.ndarray) -> None:
+        """Store the columns ``B^{-1}[U; 0]`` of the free dofs at ``positions`` as rows of
+        ``_store`` (``_slot``: the row of each free dof, -1 until computed); each column is
+        computed once and kept."""
+        missing = np.unique(positions[self._slot[positions] < 0])
+        if not missing.size:
+            return
         unit = np.zeros((self.n_free + self.n_rigid, missing.size), order="F")
         unit[missing, np.arange(missing.size)] = 1.0
-        self._slot[missing] = self._store.shape[1] + np.arange(missing.size)
-        self._store = np.hstack([self._store, self.lu.solve(unit)])
-        return self._slot[positions]
+        self._slot[missing] = len(self._store) + np.arange(missing.size)
+        self._store = np.vstack([self._store, self.lu.solve(unit).T])
 
     def step(self, r_free: np.ndarray, slots: list[np.ndarray], blocks: list[SlotJacobian],
              r_y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -25,23 +25,6 @@ import numpy as np
 
 
 @numba.njit(inline="never")
-def _index(dof: int, where: np.ndarray, dofs: np.ndarray, counts: np.ndarray, kind: int,
-           rows: np.ndarray) -> int:
-    """The local index of free dof ``dof`` among ``dofs`` (``where``: the index of each
-    free dof, -1 if absent); a new dof is appended (``counts[kind]`` their number) and its
-    row of ``rows`` zeroed."""
-    i = where[dof]
-    if i < 0:
-        i = counts[kind]
-        where[dof] = i
-        dofs[i] = dof
-        counts[kind] = i + 1
-        for j in range(rows.shape[1]):
-            rows[i, j] = 0.0
-    return i
-
-
-@numba.njit(inline="never")
 def _entries(tables: np.ndarray, batches: np.ndarray, slot_of: np.ndarray) -> None:
     """The row and column slot of every entry of every batch's ``values`` row (``slot_of``
     (2, total width), batch after batch), from its ``table`` (:class:`sliders.slots.
@@ -49,7 +32,7 @@ def _entries(tables: np.ndarray, batches: np.ndarray, slot_of: np.ndarray) -> No
     at = 0
     for j in range(len(batches)):
         for block in range(batches[j, 6], batches[j, 7]):
-            r0, nr, q0, nq = tables[block, 0], tables[block, 1], tables[block, 2], tables[block, 3]
+            r0, nr, q0, nq = tables[block, :4]
             for p in range(nr):
                 for q in range(nq):
                     e = at + tables[block, 4] + p * nq + q
@@ -72,18 +55,23 @@ def _joint(t: int, slots: np.ndarray, s0: int, values: np.ndarray, v0: int, widt
         if v == 0.0:
             continue
         rs, cs = slot_of[0, e0 + e], slot_of[1, e0 + e]
-        if rs < t:
-            if slots[s0 + rs] < 0 or (cs < t and slots[s0 + cs] < 0):
-                continue
-            f = _index(slots[s0 + rs], where_f, fd, counts, 0, G)
-            G[f, c_at + c_of[c0 + cs] if cs < t else nc + y_at + cs - t] += v
-        elif cs < t:
-            if slots[s0 + cs] < 0:
-                continue
-            r = _index(slots[s0 + cs], where_r, rd, counts, 1, Ct)
-            Ct[r, y_at + rs - t] += v
-        else:
+        if rs >= t and cs >= t:
             D[y_at + rs - t, y_at + cs - t] += v
+            continue
+        force = rs < t
+        dof = slots[s0 + rs] if force else slots[s0 + cs]
+        if dof < 0 or (force and cs < t and slots[s0 + cs] < 0):
+            continue
+        where, dofs, rows = (where_f, fd, G) if force else (where_r, rd, Ct)
+        i = where[dof]
+        if i < 0:  # a new dof: appended, its row zeroed
+            i = counts[1 - force]
+            where[dof], dofs[i], counts[1 - force] = i, dof, i + 1
+            rows[i] = 0.0
+        if not force:
+            Ct[i, y_at + rs - t] += v
+        else:
+            G[i, c_at + c_of[c0 + cs] if cs < t else nc + y_at + cs - t] += v
 
 
 @numba.njit(inline="never")
@@ -105,11 +93,13 @@ def _gather(b: int, members: int, slots: np.ndarray, values: np.ndarray, slot_of
             s0 = batches[j, 4] + (i * members + b) * t
             if n_c:
                 for e in range(t):
+                    dof = slots[s0 + e]
                     if c_of[c0 + e] >= 0:
-                        dof = slots[s0 + e]
                         c_dof[c_at + c_of[c0 + e]] = dof
-                        if dof >= 0:
-                            _index(dof, where_r, rd, counts, 1, Ct)
+                    if c_of[c0 + e] >= 0 and dof >= 0 and where_r[dof] < 0:
+                        where_r[dof], rd[counts[1]] = counts[1], dof
+                        Ct[counts[1]] = 0.0
+                        counts[1] += 1
             _joint(t, slots, s0, values, batches[j, 5] + (i * members + b) * width, width,
                    slot_of, e0, c_of, c0, y_at, c_at, nc, where_f, where_r, fd, rd, counts, G,
                    Ct, D)
@@ -122,7 +112,8 @@ def _gather(b: int, members: int, slots: np.ndarray, values: np.ndarray, slot_of
 def _columns(store: np.ndarray, column: np.ndarray, n: int, fd: np.ndarray, n_f: int,
              rd: np.ndarray, n_r: int, G: np.ndarray, Y: np.ndarray, Y_z: np.ndarray) -> None:
     """``Y = B^{-1}[rd, fd] G`` and ``Y_z = B^{-1}[n:, fd] G`` from the stored columns of
-    ``B^{-1}`` (``column``: the store column of each free dof), over the nonzeros of ``G``."""
+    ``B^{-1}`` (rows of ``store``; ``column``: the row of each free dof), over the nonzeros
+    of ``G``."""
     Y[:n_r, :] = 0.0
     Y_z[:, :] = 0.0
     for f in range(n_f):
@@ -132,9 +123,9 @@ def _columns(store: np.ndarray, column: np.ndarray, n: int, fd: np.ndarray, n_f:
             if g == 0.0:
                 continue
             for r in range(n_r):
-                Y[r, j] += store[rd[r], at] * g
+                Y[r, j] += store[at, rd[r]] * g
             for z in range(Y_z.shape[0]):
-                Y_z[z, j] += store[n + z, at] * g
+                Y_z[z, j] += store[at, n + z] * g
 
 
 @numba.njit(inline="never")
@@ -273,8 +264,8 @@ def condensed_step(store: np.ndarray, column: np.ndarray, phi: np.ndarray, base:
 
     Parameters
     ----------
-    store, column : (n + k, s), (n,)
-        Stored columns of ``B^{-1}`` and the store column of each free dof (those of every
+    store, column : (s, n + k), (n,)
+        Stored columns of ``B^{-1}`` (as rows) and the row of each free dof (those of every
         force dof are stored).
     phi : (n, k)
         The rigid modes.
