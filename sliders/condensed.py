@@ -36,8 +36,6 @@ problem).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 import scipy.linalg as la
 import scipy.sparse as sp
@@ -45,6 +43,7 @@ import scipy.sparse.linalg as spla
 from scipy.sparse.csgraph import connected_components
 
 from fvbeam.statics import Structure
+from sliders.condensed_kernel import condensed_step
 from sliders.slots import SlotJacobian
 
 #: A small system whose row- and column-equilibrated reciprocal condition number (1-norm)
@@ -123,7 +122,7 @@ class CondensedOperator:
 
     def __init__(self, structure: Structure, K: sp.spmatrix, free: np.ndarray) -> None:
         K_free = sp.csr_matrix(K)[free][:, free]
-        self.phi = unresisted(rigid_modes(structure, K, free), K_free)
+        self.phi = np.ascontiguousarray(unresisted(rigid_modes(structure, K, free), K_free))
         self.n_free, self.n_rigid = len(free), self.phi.shape[1]
         scale = np.abs(K_free).max()
         B = sp.bmat([[K_free, scale * sp.csr_matrix(self.phi)],
@@ -138,11 +137,11 @@ class CondensedOperator:
         if pivots.min() <= 1e-13 * pivots.max():
             raise ValueError(message)
         self._slot = np.full(self.n_free, -1)
-        self._store = np.zeros((self.n_free + self.n_rigid, 0))
+        self._store = np.zeros((0, self.n_free + self.n_rigid))
         self._inverse_T = None
         if self.n_free + self.n_rigid <= DENSE_LIMIT:
             self._columns(np.arange(self.n_free))
-            self._inverse_T = np.ascontiguousarray(self._store.T)
+            self._inverse_T = self._store
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         """``B^{-1} [b; 0]`` for right-hand sides ``b`` (B, n_free) on the free dofs:
@@ -153,36 +152,23 @@ class CondensedOperator:
         rhs = np.concatenate([b, np.zeros((len(b), self.n_rigid))], axis=1)
         return self.lu.solve(np.asfortranarray(rhs.T)).T  # SuperLU reads columns
 
-    def _columns(self, positions: np.ndarray) -> np.ndarray:
-        """Store slots of the columns ``B^{-1}[U; 0]`` for the free dofs at ``positions``;
-        each column is computed once and kept."""
-        slots = self._slot[positions]
-        if slots.min(initial=0) >= 0:
-            return slots
-        missing = np.unique(positions[slots < 0])
+    def _columns(self, positions: np.ndarray) -> None:
+        """Store the columns ``B^{-1}[U; 0]`` of the free dofs at ``positions`` as rows of
+        ``_store`` (``_slot``: the row of each free dof, -1 until computed); each column is
+        computed once and kept."""
+        missing = np.unique(positions[self._slot[positions] < 0])
+        if not missing.size:
+            return
         unit = np.zeros((self.n_free + self.n_rigid, missing.size), order="F")
         unit[missing, np.arange(missing.size)] = 1.0
-        self._slot[missing] = self._store.shape[1] + np.arange(missing.size)
-        self._store = np.hstack([self._store, self.lu.solve(unit)])
-        return self._slot[positions]
-
-    def _read(self, rows: np.ndarray, columns: np.ndarray, F: np.ndarray) -> np.ndarray:
-        """``Y = B^{-1}[rows, columns] F`` per member (``rows`` (B, r) free-dof positions,
-        ``columns`` (B, f) store slots, ``F`` (B, f, p)): the block of ``B^{-1}`` is gathered
-        once per distinct pair of index rows (the members of a sweep share a few elements, so
-        a few patterns) and multiplies all members that have it."""
-        patterns, groups = _patterns(np.concatenate([rows, columns], axis=1))
-        r = rows.shape[1]
-        if len(patterns) == 1:
-            return self._store[patterns[0, :r, None], patterns[0, None, r:]] @ F
-        Y = np.empty((len(F), r, F.shape[2]))
-        for key, members in zip(patterns, groups):
-            Y[members] = self._store[key[:r, None], key[None, r:]] @ F[members]
-        return Y
+        self._slot[missing] = len(self._store) + np.arange(missing.size)
+        self._store = np.vstack([self._store, self.lu.solve(unit).T])
 
     def step(self, r_free: np.ndarray, slots: list[np.ndarray], blocks: list[SlotJacobian],
              r_y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Newton increments of ``B`` members sharing this operator (module docstring).
+        """Newton increments of ``B`` members sharing this operator (module docstring): the
+        small systems formed and solved per member by
+        :func:`sliders.condensed_kernel.condensed_step`.
 
         Parameters
         ----------
@@ -203,140 +189,55 @@ class CondensedOperator:
         The increments on the free dofs (B, n_free) and on ``y`` (B, m), and which members'
         small systems are regular (the increments of the others are not to be used).
         """
-        B, m, k, n = len(r_free), r_y.shape[1], self.n_rigid, self.n_free
-        parts = [part for p, J in zip(slots, blocks) for part in _joint_parts(p, J, B)]
-        nc = sum(len(p.c) for p in parts)
-        nf, nr = sum(len(p.forces) for p in parts), sum(len(p.reads) for p in parts)
-        F, C, D = np.zeros((B, nf, nc + m)), np.zeros((B, m, nr)), np.zeros((B, m, m))
-        at_f = at_c = at_r = at_y = 0
-        for p in parts:
-            f, c, r, y = len(p.forces), len(p.c), len(p.reads), p.D.shape[1]
-            F[:, at_f:at_f + f, at_c:at_c + c] = p.E
-            F[:, at_f:at_f + f, nc + at_y:nc + at_y + y] = p.A
-            C[:, at_y:at_y + y, at_r:at_r + r] = p.C
-            D[:, at_y:at_y + y, at_y:at_y + y] = p.D
-            at_f, at_c, at_r, at_y = at_f + f, at_c + c, at_r + r, at_y + y
-        force_at = np.concatenate([p.at[:, p.forces] for p in parts], axis=1)
-        read_at = np.concatenate([p.at[:, p.reads] for p in parts], axis=1)
-        c_at = np.concatenate([p.at[:, p.c] for p in parts], axis=1)
-        in_c = np.concatenate([o + np.searchsorted(p.reads, p.c) for o, p in
-                               zip(np.cumsum([0] + [len(p.reads) for p in parts]), parts)])
-        columns = self._columns(force_at)
-        Y = self._read(read_at, columns, F)
-        Y_z = np.moveaxis(self._store[n:][:, columns], 0, 1) @ F
-        base = self.solve(r_free)
-        rows = np.arange(B)[:, None]
-        phi = self.phi[read_at]
-        small = np.zeros((B, nc + k + m, nc + m + k))
-        small[:, :nc, :nc + m] = Y[:, in_c]
-        small[:, np.arange(nc), np.arange(nc)] += 1.0
-        small[:, :nc, nc + m:] = -phi[:, in_c]
-        small[:, nc:nc + k, :nc + m] = Y_z
-        small[:, nc + k:, :nc + m] = -C @ Y
-        small[:, nc + k:, nc:nc + m] += D
-        small[:, nc + k:, nc + m:] = C @ phi
-        rhs = np.concatenate([-base[rows, c_at], -base[:, n:],
-                              -r_y + np.einsum("bij,bj->bi", C, base[rows, read_at])], axis=1)
-        z, regular = _equilibrated_solve(small, rhs)
-        force = r_free.copy()
-        np.add.at(force, (rows, force_at), np.einsum("bij,bj->bi", F, z[:, :nc + m]))
-        dq = -self.solve(force)[:, :n] + z[:, nc + m:] @ self.phi.T
-        return dq, z[:, nc:nc + m], regular
+        B, m, n = len(r_free), r_y.shape[1], self.n_free
+        layout = _Layout(slots, blocks, B)
+        if self._inverse_T is None:
+            self._columns(layout.force_dofs)
+        r_free = np.ascontiguousarray(r_free, dtype=float)
+        force, z, regular = condensed_step(
+            self._store, self._slot, self.phi, self.solve(r_free), r_free,
+            np.ascontiguousarray(r_y, dtype=float), layout.slots, layout.values, layout.tables,
+            layout.c_of, layout.batches, layout.nc, SINGULAR_RCOND)
+        dq = -self.solve(force)[:, :n] + z[:, layout.nc + m:] @ self.phi.T
+        return dq, z[:, layout.nc:layout.nc + m], regular
 
 
-@dataclass(frozen=True)
-class _JointPart:
-    """One joint's share of a condensed step: its slots' free-dof positions ``at`` (B, t;
-    supported ones read as 0, their entries zeroed), the slots that carry forces, the slots
-    ``c`` whose displacements the force Jacobian reads, the slots the joint equations read
-    (``reads``, containing ``c``), and its Jacobian blocks on them: ``E`` (forces x c), ``A``
-    (forces x y), ``C`` (y x reads) and ``D`` (y x y)."""
+class _Layout:
+    """The joints of a condensed step laid out for :func:`sliders.condensed_kernel.
+    condensed_step`: every batch's slot positions (int64), Jacobian values and tables
+    flattened one batch after the other, per batch its sizes and offsets (``batches``), the
+    index of each structure slot among the joint's ``c`` slots (the columns the force
+    Jacobian reads: the structure groups with a block in a structure row; -1 for the
+    others), the ``c`` slots of a member (``nc``) and the free dofs that carry forces
+    (``force_dofs``: the held slots of the structure groups with a block)."""
 
-    at: np.ndarray
-    forces: np.ndarray
-    c: np.ndarray
-    reads: np.ndarray
-    E: np.ndarray
-    A: np.ndarray
-    C: np.ndarray
-    D: np.ndarray
-
-
-def _joint_part(slots: np.ndarray, J: SlotJacobian) -> _JointPart:
-    """The compact blocks of a joint's Jacobian ``J`` on its slots ``slots`` (B, t), the
-    supported slots (-1) removed (:class:`_JointPart`): the pattern is that of the blocks
-    the joint writes (:class:`sliders.slots.SlotJacobian`)."""
-    held = slots >= 0
-    forces_of = J.written_rows(J.structure)
-    c_of = J.read(J.structure, J.structure)
-    read = set(J.read(J.unknowns, J.structure) + c_of)
-    reads_of = [g for g in J.structure if g in read]
-    forces, c, reads = J.slots(forces_of), J.slots(c_of), J.slots(reads_of)
-    rows = held[:, forces, None]
-    return _JointPart(np.maximum(slots, 0), forces, c, reads,
-                      J.gather(forces_of, c_of) * rows * held[:, None, c],
-                      J.gather(forces_of, J.unknowns) * rows,
-                      J.gather(J.unknowns, reads_of) * held[:, None, reads],
-                      J.gather(J.unknowns, J.unknowns))
+    def __init__(self, slots: list[np.ndarray], blocks: list[SlotJacobian], B: int) -> None:
+        rows, c_of, forces = [], [], []
+        at = np.zeros(4, dtype=np.int64)
+        self.nc = 0
+        for p, J in zip(slots, blocks):
+            k, t = len(p) // B, p.shape[1]
+            c = J.slots(J.read(J.structure, J.structure))
+            index = np.full(t, -1, dtype=np.int64)
+            index[c] = np.arange(len(c))
+            c_of.append(index)
+            held = p[:, J.slots(J.written_rows(J.structure))]
+            forces.append(held[held >= 0])
+            rows.append([k, t, J.n - t, J.values.shape[1], at[0], at[1], at[2],
+                         at[2] + len(J.table), at[3], len(c)])
+            at += [p.size, J.values.size, len(J.table), t]
+            self.nc += k * len(c)
+        self.batches = np.array(rows, dtype=np.int64)
+        self.slots = _flat([p.astype(np.int64, copy=False) for p in slots])
+        self.values = _flat([J.values for J in blocks])
+        self.tables = np.ascontiguousarray(np.concatenate([J.table for J in blocks]))
+        self.c_of = np.concatenate(c_of)
+        self.force_dofs = np.concatenate(forces)
 
 
-def _joint_parts(slots: np.ndarray, J: SlotJacobian, B: int) -> list[_JointPart]:
-    """:func:`_joint_part` of a batch of ``k`` alike joints of ``B`` members (``slots``
-    (k B, t), joint ``i`` of member ``b`` in row ``i B + b``), computed once and split
-    per joint."""
-    whole = _joint_part(slots, J)
-    if len(slots) == B:
-        return [whole]
-    return [_JointPart(whole.at[rows], whole.forces, whole.c, whole.reads, whole.E[rows],
-                       whole.A[rows], whole.C[rows], whole.D[rows])
-            for rows in (slice(i * B, (i + 1) * B) for i in range(len(slots) // B))]
-
-
-def _patterns(keys: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
-    """The distinct rows of the non-negative integer array ``keys`` (B, w), in the order of
-    their hashes, and the indices of the rows holding each (increasing): a stable sort of a
-    polynomial hash of the rows (wrapping in 64 bits; its base odd, so that no power of it
-    wraps to 0 and every column counts), checked; the exact sort of the rows
-    (``np.unique(keys, axis=0)``) taken only if two distinct rows share a hash."""
-    base = np.int64((keys.max(initial=0) + 1) | 1)
-    hashes = keys @ np.cumprod(np.full(keys.shape[1], base, dtype=np.int64))
-    order = np.argsort(hashes, kind="stable")
-    ordered = hashes[order]
-    starts = np.flatnonzero(np.concatenate([[True], ordered[1:] != ordered[:-1]]))
-    groups = np.split(order, starts[1:])
-    patterns = keys[order[starts]]
-    if np.array_equal(np.repeat(patterns, np.diff(np.append(starts, len(keys))), axis=0),
-                      keys[order]):
-        return patterns, groups
-    patterns, which = np.unique(keys, axis=0, return_inverse=True)
-    which = which.ravel()
-    order = np.argsort(which, kind="stable")
-    return patterns, np.split(order, np.cumsum(np.bincount(which, minlength=len(patterns)))[:-1])
-
-
-def _equilibrated_solve(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Solutions of the stacked systems ``A x = b`` (B, n, n) after scaling their rows and
-    columns to unit largest entries, and which are regular: reciprocal condition number
-    (1-norm, of the scaled matrix) at least :data:`SINGULAR_RCOND`."""
-    magnitude = np.abs(A)  # scaled alongside A: |a / s| is |a| / s, exactly
-    rows = magnitude.max(axis=2).clip(1e-300)
-    magnitude /= rows[:, :, None]
-    cols = magnitude.max(axis=1).clip(1e-300)
-    magnitude /= cols[:, None, :]
-    A = A / rows[:, :, None] / cols[:, None, :]
-    try:
-        inverse = np.linalg.inv(A)
-    except np.linalg.LinAlgError:
-        inverse = np.stack([_inverse_or_nan(a) for a in A])
-    norm = magnitude.sum(axis=1).max(axis=1) * np.abs(inverse).sum(axis=1).max(axis=1)
-    regular = 1.0 / norm >= SINGULAR_RCOND
-    x = np.einsum("bij,bj->bi", inverse, b / rows) / cols
-    return np.where(regular[:, None], x, 0.0), regular
-
-
-def _inverse_or_nan(A: np.ndarray) -> np.ndarray:
-    """``A^{-1}``, or NaN where ``A`` is exactly singular."""
-    try:
-        return np.linalg.inv(A)
-    except np.linalg.LinAlgError:
-        return np.full_like(A, np.nan)
+def _flat(arrays: list[np.ndarray]) -> np.ndarray:
+    """The arrays raveled one after the other, C-contiguous (a view of a single contiguous
+    array)."""
+    if len(arrays) == 1:
+        return np.ascontiguousarray(arrays[0]).ravel()
+    return np.concatenate([a.ravel() for a in arrays])

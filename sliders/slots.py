@@ -108,18 +108,6 @@ class SlotJacobian:
         return np.concatenate([np.arange(self.at[g].start, self.at[g].stop) for g in groups]
                               + [np.zeros(0, dtype=int)])
 
-    def gather(self, rows: Sequence[str], cols: Sequence[str]) -> np.ndarray:
-        """The (B, rows, cols) matrix of the given row and column groups, in that order."""
-        offsets = np.cumsum([0] + [self.size[g] for g in rows])
-        col_offsets = np.cumsum([0] + [self.size[g] for g in cols])
-        out = np.zeros((self.members, offsets[-1], col_offsets[-1]))
-        for i, r in enumerate(rows):
-            for j, c in enumerate(cols):
-                if (r, c) in self.blocks:
-                    out[:, offsets[i]:offsets[i + 1],
-                        col_offsets[j]:col_offsets[j + 1]] = self.blocks[r, c]
-        return out
-
     def dense(self) -> np.ndarray:
         """The whole (B, n, n) matrix on the slots."""
         out = np.zeros((self.members, self.n, self.n))

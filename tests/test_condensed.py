@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from fvbeam import Beam, RigidBody, Structure, Support, straight
-from sliders.condensed import _patterns, node_positions, rigid_modes
+from sliders.condensed import node_positions, rigid_modes
 from sliders.joint import Slider
 from sliders.lines import CircularArc
 from sliders.statics import SliderStatics
@@ -161,23 +161,3 @@ def test_node_positions_hold_the_rigid_bodies():
     np.testing.assert_array_equal(x[structure.node_dofs((0, "start"))[0] // 6], [0, 0, 0])
     np.testing.assert_array_equal(x[structure.node_dofs("tip")[0] // 6], [1, 0, 0])
     np.testing.assert_array_equal(x[structure.node_dofs("hub")[0] // 6], [3, 4, 5])
-
-
-@pytest.mark.parametrize("colliding", [False, True])
-def test_slot_patterns_are_the_distinct_rows(colliding):
-    """The distinct index rows of a step (``_patterns``) and the rows holding each are
-    ``np.unique``'s, also when two distinct rows share a hash.  A collision: with the largest
-    key ``2^32`` the base is ``b = 2^32 + 1``, and the rows ``(1, 0, 1)`` and ``(0, 2, 0)``
-    hash to ``b + b^3`` and ``2 b^2``, whose difference ``b (b - 1)^2 = b 2^64`` wraps to 0."""
-    rng = np.random.default_rng(1)
-    keys = rng.integers(0, 3, size=(40, 3))
-    keys[1] = keys[0]
-    if colliding:
-        keys[:3] = [[1, 0, 1], [0, 2, 0], [2**32, 0, 0]]
-        keys[3] = keys[0]
-    patterns, groups = _patterns(keys)
-    expected = np.unique(keys, axis=0)
-    assert len(patterns) == len(expected) == len(groups)
-    assert {tuple(p) for p in patterns} == {tuple(p) for p in expected}
-    for pattern, members in zip(patterns, groups):
-        assert np.array_equal(members, np.flatnonzero(np.all(keys == pattern, axis=1)))

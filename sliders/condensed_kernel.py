@@ -1,0 +1,331 @@
+"""Compiled per-member work of the condensed Newton step.
+
+:meth:`sliders.condensed.CondensedOperator.step` hands :func:`condensed_step` the joints'
+Jacobians as they are stored (:class:`sliders.slots.SlotJacobian`: the flat ``values`` of
+every member, laid out by ``table``) and the cached columns of ``B^{-1}``; per member the
+kernel forms and solves the small system of :mod:`sliders.condensed` (module docstring):
+
+    w_c + Y_c u - Phi_c a           = -x_r,c
+    Y_z u                           = -z_r
+    -C Y_x u + [0, D] u + C Phi a   = -r_y + C x_r
+
+with ``u = [w_c; dy]``, ``Y = B^{-1}[P F; 0]`` and ``C`` read on the slots.  A Jacobian entry
+is a force one (``F = [E_c, A]``) in a structure row, an equation one (``C``, ``D``) in an
+unknown row.  The structure slots are merged by free dof first: the slots that share a dof
+(a node's load, rotation, interpolation and neighbour slots) add their force entries into one
+row of ``P F`` and their equation entries into one column of ``C P^T``, and the supported
+slots (dof -1) and the zero entries drop out, so ``B^{-1}`` is read only on the distinct dofs
+that carry a nonzero entry.  A supported slot in ``c`` has ``w_c = 0`` (its row ``w_c = 0``).
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+
+@numba.njit(inline="never")
+def _entries(tables: np.ndarray, batches: np.ndarray, slot_of: np.ndarray) -> None:
+    """The row and column slot of every entry of every batch's ``values`` row (``slot_of``
+    (2, total width), batch after batch), from its ``table`` (:class:`sliders.slots.
+    SlotJacobian`: first row slot, rows, first column slot, columns, offset)."""
+    at = 0
+    for j in range(len(batches)):
+        for block in range(batches[j, 6], batches[j, 7]):
+            r0, nr, q0, nq = tables[block, :4]
+            for p in range(nr):
+                for q in range(nq):
+                    e = at + tables[block, 4] + p * nq + q
+                    slot_of[0, e], slot_of[1, e] = r0 + p, q0 + q
+        at += batches[j, 3]
+
+
+@numba.njit(inline="never")
+def _joint(t: int, slots: np.ndarray, s0: int, values: np.ndarray, v0: int, width: int,
+           slot_of: np.ndarray, e0: int, c_of: np.ndarray, c0: int, y_at: int, c_at: int,
+           nc: int, where_f: np.ndarray, where_r: np.ndarray, fd: np.ndarray, rd: np.ndarray,
+           counts: np.ndarray, G: np.ndarray, Ct: np.ndarray, D: np.ndarray) -> None:
+    """One joint's nonzero Jacobian entries ``values[v0:v0 + width]`` (their row and column
+    slots ``slot_of[:, e0:]``) added into ``G = P F``, ``Ct = (C P^T)^T`` and ``D`` (its
+    unknowns from ``y_at``, its ``c`` slots from ``c_at``; ``c_of[c0:]`` the index of each
+    structure slot among them), the free dofs of its slots ``slots[s0:]`` registered as force
+    dofs ``fd`` or read dofs ``rd`` (``counts``: how many of each so far, updated)."""
+    for e in range(width):
+        v = values[v0 + e]
+        if v == 0.0:
+            continue
+        rs, cs = slot_of[0, e0 + e], slot_of[1, e0 + e]
+        if rs >= t and cs >= t:
+            D[y_at + rs - t, y_at + cs - t] += v
+            continue
+        force = rs < t
+        dof = slots[s0 + rs] if force else slots[s0 + cs]
+        if dof < 0 or (force and cs < t and slots[s0 + cs] < 0):
+            continue
+        where, dofs, rows = (where_f, fd, G) if force else (where_r, rd, Ct)
+        i = where[dof]
+        if i < 0:  # a new dof: appended, its row zeroed
+            i = counts[1 - force]
+            where[dof], dofs[i], counts[1 - force] = i, dof, i + 1
+            rows[i] = 0.0
+        if not force:
+            Ct[i, y_at + rs - t] += v
+        else:
+            G[i, c_at + c_of[c0 + cs] if cs < t else nc + y_at + cs - t] += v
+
+
+@numba.njit(inline="never")
+def _gather(b: int, members: int, slots: np.ndarray, values: np.ndarray, slot_of: np.ndarray,
+            c_of: np.ndarray, batches: np.ndarray, nc: int, where_f: np.ndarray,
+            where_r: np.ndarray, fd: np.ndarray, rd: np.ndarray, counts: np.ndarray,
+            G: np.ndarray, Ct: np.ndarray, D: np.ndarray, c_dof: np.ndarray) -> None:
+    """Member ``b``'s Jacobian entries merged by free dof (:func:`_joint`), joints in the
+    order of :meth:`sliders.condensed.CondensedOperator.step` (batch after batch, joint
+    ``i`` of a batch in its row ``i B + b``), and the free dof of each ``c`` slot (-1 if
+    supported; registered as a read dof).  ``counts``: the numbers of force and read dofs."""
+    counts[0] = counts[1] = 0
+    D[:, :] = 0.0
+    y_at = c_at = e0 = 0
+    for j in range(len(batches)):
+        k, t, m, width = batches[j, 0], batches[j, 1], batches[j, 2], batches[j, 3]
+        c0, n_c = batches[j, 8], batches[j, 9]
+        for i in range(k):
+            s0 = batches[j, 4] + (i * members + b) * t
+            if n_c:
+                for e in range(t):
+                    dof = slots[s0 + e]
+                    if c_of[c0 + e] >= 0:
+                        c_dof[c_at + c_of[c0 + e]] = dof
+                    if c_of[c0 + e] >= 0 and dof >= 0 and where_r[dof] < 0:
+                        where_r[dof], rd[counts[1]] = counts[1], dof
+                        Ct[counts[1]] = 0.0
+                        counts[1] += 1
+            _joint(t, slots, s0, values, batches[j, 5] + (i * members + b) * width, width,
+                   slot_of, e0, c_of, c0, y_at, c_at, nc, where_f, where_r, fd, rd, counts, G,
+                   Ct, D)
+            y_at += m
+            c_at += n_c
+        e0 += width
+
+
+@numba.njit(inline="never")
+def _columns(store: np.ndarray, column: np.ndarray, n: int, fd: np.ndarray, n_f: int,
+             rd: np.ndarray, n_r: int, G: np.ndarray, Y: np.ndarray, Y_z: np.ndarray) -> None:
+    """``Y = B^{-1}[rd, fd] G`` and ``Y_z = B^{-1}[n:, fd] G`` from the stored columns of
+    ``B^{-1}`` (rows of ``store``; ``column``: the row of each free dof), over the nonzeros
+    of ``G``."""
+    Y[:n_r, :] = 0.0
+    Y_z[:, :] = 0.0
+    for f in range(n_f):
+        at = column[fd[f]]
+        for j in range(G.shape[1]):
+            g = G[f, j]
+            if g == 0.0:
+                continue
+            for r in range(n_r):
+                Y[r, j] += store[at, rd[r]] * g
+            for z in range(Y_z.shape[0]):
+                Y_z[z, j] += store[at, n + z] * g
+
+
+@numba.njit(inline="never")
+def _small(base: np.ndarray, r_y: np.ndarray, phi: np.ndarray, c_dof: np.ndarray,
+           where_r: np.ndarray, rd: np.ndarray, n_r: int, Y: np.ndarray, Y_z: np.ndarray,
+           Ct: np.ndarray, D: np.ndarray, A: np.ndarray, rhs: np.ndarray) -> None:
+    """One member's small system ``A`` (rows ``c``, rigid, equations; columns ``u_c``,
+    ``dy``, rigid amplitudes) and right-hand side (module docstring), its base solution
+    ``base = B^{-1}[r_q; 0]`` and joint residuals ``r_y``."""
+    nc, k, m = len(c_dof), phi.shape[1], len(r_y)
+    ncm, n = nc + m, len(base) - k
+    A[:, :] = 0.0
+    for i in range(nc):
+        dof = c_dof[i]
+        if dof < 0:
+            A[i, i] = 1.0
+            rhs[i] = 0.0
+            continue
+        A[i, :ncm] = Y[where_r[dof]]
+        A[i, i] += 1.0
+        A[i, ncm:] = -phi[dof]
+        rhs[i] = -base[dof]
+    for z in range(k):
+        A[nc + z, :ncm] = Y_z[z]
+        rhs[nc + z] = -base[n + z]
+    for y in range(m):
+        rhs[nc + k + y] = 0.0
+    for r in range(n_r):
+        for y in range(m):
+            c = Ct[r, y]
+            if c == 0.0:
+                continue
+            row = nc + k + y
+            for j in range(ncm):
+                A[row, j] -= c * Y[r, j]
+            for z in range(k):
+                A[row, ncm + z] += c * phi[rd[r], z]
+            rhs[row] += c * base[rd[r]]
+    for y in range(m):
+        for j in range(m):
+            A[nc + k + y, nc + j] += D[y, j]
+        rhs[nc + k + y] -= r_y[y]
+
+
+@numba.njit(inline="never")
+def _invert(a: np.ndarray, swaps: np.ndarray) -> bool:
+    """``a`` replaced by its inverse: Gauss-Jordan elimination with partial pivoting (row
+    interchanges, undone on the columns at the end; Higham, Accuracy and Stability of
+    Numerical Algorithms, Sec. 14.4); False, and ``a`` undefined, when a pivot is exactly
+    zero."""
+    n = len(a)
+    for k in range(n):
+        p, big = k, abs(a[k, k])
+        for r in range(k + 1, n):
+            if abs(a[r, k]) > big:
+                p, big = r, abs(a[r, k])
+        if big == 0.0:
+            return False
+        swaps[k] = p
+        if p != k:
+            for j in range(n):
+                a[p, j], a[k, j] = a[k, j], a[p, j]
+        pivot = a[k, k]
+        a[k, k] = 1.0
+        for j in range(n):
+            a[k, j] /= pivot
+        for i in range(n):
+            factor = a[i, k]
+            if i == k or factor == 0.0:
+                continue
+            a[i, k] = 0.0
+            for j in range(n):
+                a[i, j] -= factor * a[k, j]
+    for k in range(n - 1, -1, -1):
+        p = swaps[k]
+        if p != k:
+            for i in range(n):
+                a[i, p], a[i, k] = a[i, k], a[i, p]
+    return True
+
+
+@numba.njit(inline="never")
+def _equilibrated_solve(A: np.ndarray, rhs: np.ndarray, threshold: float, x: np.ndarray,
+                        inverse: np.ndarray, swaps: np.ndarray, rows: np.ndarray,
+                        cols: np.ndarray) -> bool:
+    """Solve ``A x = rhs`` after scaling the rows, then the columns, of ``A`` to unit largest
+    entries (at least 1e-300); regular when the reciprocal condition number of the scaled
+    matrix in the 1-norm, from its exact inverse, is at least ``threshold``.  A singular
+    system (exactly, or below the threshold) gives ``x = 0`` and False."""
+    n = len(A)
+    for i in range(n):
+        big = 0.0
+        for j in range(n):
+            big = max(big, abs(A[i, j]))
+        rows[i] = max(big, 1e-300)
+    cols[:] = 0.0
+    for i in range(n):
+        for j in range(n):
+            cols[j] = max(cols[j], abs(A[i, j]) / rows[i])
+    for j in range(n):
+        cols[j] = max(cols[j], 1e-300)
+    for i in range(n):
+        for j in range(n):
+            inverse[i, j] = A[i, j] / rows[i] / cols[j]
+    norm = _norm_1(inverse, x)
+    x[:] = 0.0
+    if not _invert(inverse, swaps):
+        return False
+    if not 1.0 / (norm * _norm_1(inverse, x)) >= threshold:
+        x[:] = 0.0
+        return False
+    for i in range(n):
+        total = 0.0
+        for j in range(n):
+            total += inverse[i, j] * (rhs[j] / rows[j])
+        x[i] = total / cols[i]
+    return True
+
+
+@numba.njit(inline="never")
+def _norm_1(a: np.ndarray, sums: np.ndarray) -> float:
+    """The 1-norm of ``a`` (largest column sum of magnitudes; ``sums`` a scratch row)."""
+    sums[:] = 0.0
+    for i in range(len(a)):
+        for j in range(len(a)):
+            sums[j] += abs(a[i, j])
+    return sums.max()
+
+
+@numba.njit(cache=True)
+def condensed_step(store: np.ndarray, column: np.ndarray, phi: np.ndarray, base: np.ndarray,
+                   r_free: np.ndarray, r_y: np.ndarray, slots: np.ndarray, values: np.ndarray,
+                   tables: np.ndarray, c_of: np.ndarray, batches: np.ndarray, nc: int,
+                   threshold: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The small systems of ``B`` members solved (:mod:`sliders.condensed`, module docstring).
+
+    Parameters
+    ----------
+    store, column : (s, n + k), (n,)
+        Stored columns of ``B^{-1}`` (as rows) and the row of each free dof (those of every
+        force dof are stored).
+    phi : (n, k)
+        The rigid modes.
+    base : (B, n + k)
+        ``B^{-1}[r_q; 0]`` per member.
+    r_free, r_y : (B, n), (B, m)
+        The structure residuals and the joint residuals.
+    slots, values, tables : int64, float64, int64 (., 5)
+        Every batch's slot free-dof positions (-1 supported; (k B, t) raveled), Jacobian
+        ``values`` ((k B, width) raveled) and ``table``, one batch after the other.
+    c_of : int64
+        Per batch and structure slot, its index among the batch joint's ``c`` slots, or -1.
+    batches : (n_batches, 10) int64
+        Per batch: joints ``k``, structure slots ``t``, unknowns ``m``, values ``width``,
+        its offsets into ``slots``, ``values``, ``tables`` (first and last row) and
+        ``c_of``, and its joints' ``c`` slots.
+    nc : int
+        The ``c`` slots of a member, all joints.
+    threshold : float
+        The reciprocal condition number below which a small system is singular.
+
+    Returns
+    -------
+    ``r_q + P F u`` (B, n), the solutions ``[u_c, dy, a]`` (B, nc + m + k) and which members'
+    systems are regular (the solution of the others is zero).
+    """
+    members, n = r_free.shape
+    m, k = r_y.shape[1], phi.shape[1]
+    ncm = nc + m
+    size = 0
+    for j in range(len(batches)):
+        size += batches[j, 0] * batches[j, 1]
+    where_f = np.full(n, -1, dtype=np.int64)
+    where_r = np.full(n, -1, dtype=np.int64)
+    fd = np.empty(size, dtype=np.int64)
+    rd = np.empty(size, dtype=np.int64)
+    c_dof = np.empty(nc, dtype=np.int64)
+    G, Y = np.empty((size, ncm)), np.empty((size, ncm))
+    Ct, D, Y_z = np.empty((size, m)), np.empty((m, m)), np.empty((k, ncm))
+    A, inverse = np.empty((ncm + k, ncm + k)), np.empty((ncm + k, ncm + k))
+    rhs, rows, cols = np.empty(ncm + k), np.empty(ncm + k), np.empty(ncm + k)
+    swaps = np.empty(ncm + k, dtype=np.int64)
+    counts = np.zeros(2, dtype=np.int64)
+    slot_of = np.empty((2, batches[:, 3].sum()), dtype=np.int64)
+    _entries(tables, batches, slot_of)
+    force = r_free.copy()
+    z = np.zeros((members, ncm + k))
+    regular = np.zeros(members, dtype=np.bool_)
+    for b in range(members):
+        _gather(b, members, slots, values, slot_of, c_of, batches, nc, where_f, where_r, fd, rd,
+                counts, G, Ct, D, c_dof)
+        n_f, n_r = counts[0], counts[1]
+        _columns(store, column, n, fd, n_f, rd, n_r, G, Y, Y_z)
+        _small(base[b], r_y[b], phi, c_dof, where_r, rd, n_r, Y, Y_z, Ct, D, A, rhs)
+        regular[b] = _equilibrated_solve(A, rhs, threshold, z[b], inverse, swaps, rows, cols)
+        for f in range(n_f):
+            total = 0.0
+            for j in range(ncm):
+                total += G[f, j] * z[b, j]
+            force[b, fd[f]] += total
+        where_f[fd[:n_f]] = -1
+        where_r[rd[:n_r]] = -1
+    return force, z, regular
