@@ -17,6 +17,7 @@ $(BIN)/python:
 
 $(VENV)/.installed-%: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install -q -e ".[$*]"
+	$(BIN)/fvslider compile
 	touch $@
 
 # Debian only (dpkg-query); elsewhere EGL or OSMesa must be installed by hand.

@@ -26,6 +26,7 @@ examples:
   fvslider reproduce fig1
   fvslider reproduce               # Figures 1, 4, 5 into results/ (under a minute)
   fvslider reproduce fig2          # Figure 2, three time integrations (about 10 minutes)
+  fvslider compile                 # compile the numba kernels once (make does it)
 
 scenes are documented in docs/scenes.md; exit codes: 0 ok, 1 a solve failed,
 2 invalid scene or arguments, 130 interrupted (Ctrl-C keeps what was computed)
@@ -148,6 +149,16 @@ def _reproduce(args: argparse.Namespace) -> int:
     return 0
 
 
+def _compile(args: argparse.Namespace) -> int:
+    from studies.fig4_stiffness import compile_kernels
+
+    print("compiling the numba kernels into their cache (once per checkout)...", flush=True)
+    start = time.perf_counter()
+    compile_kernels()
+    print(f"compiled in {time.perf_counter() - start:.1f} s")
+    return 0
+
+
 def _figure(name: str) -> str:
     """A figure name as its study's key (``fig5`` is drawn by ``fig4``)."""
     key = ALIASES.get(name, name)
@@ -183,6 +194,10 @@ def _parser() -> argparse.ArgumentParser:
     reproduce.add_argument("--out", type=Path, default=Path("results"),
                            help="output directory (default results/)")
     reproduce.set_defaults(command=_reproduce)
+    compile_ = commands.add_parser("compile", help="compile the numba kernels into their "
+                                   "cache (make does it after installing; else the first "
+                                   "solve does it, about half a minute)")
+    compile_.set_defaults(command=_compile)
     return parser
 
 

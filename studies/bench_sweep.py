@@ -19,9 +19,9 @@ ways of running the positions:
     :meth:`SlidingBeams.stiffness` per position, Newton from the projected abscissae.
     These two build every position's statics (:meth:`SlidingBeams.problem`) inside the time.
 
-The compiled kernels (numba) are compiled, or loaded from their cache, before any timing by
-one small sweep per kind (``warmup_seconds``: about 20 s the first time on a machine, a
-fraction of a second once cached), like the imports the timing leaves out.
+The compiled kernels (numba) are compiled, or loaded from their cache, before any timing
+(:func:`studies.fig4_stiffness.compile_kernels`, ``warmup_seconds``), like the imports the
+timing leaves out.
 Reported beside each time: the microseconds per position, the mean Newton iterations per
 converged position, the singular positions, and the largest error against the analytic
 two-beam stiffness; times are wall clock (``seconds``) and this process's CPU time
@@ -48,7 +48,8 @@ import numpy as np
 from sliders.analytic import sliding_beams
 from sliders.sweep import sweep
 from studies.bench import environment, write_merged
-from studies.fig4_stiffness import EJ, GA, KINDS, L, STATIONS, SlidingBeams, tip_stiffness
+from studies.fig4_stiffness import (EJ, GA, KINDS, L, STATIONS, SlidingBeams, compile_kernels,
+                                    tip_stiffness)
 
 KEY = "fig4_sweep"
 #: The per-position modes (the default of :func:`bench`); ``main`` runs ``batched`` first.
@@ -112,8 +113,7 @@ def bench(elements: tuple[int, ...] = (1, 3, 5), modes: tuple[str, ...] = MODES,
     exact = {kind: np.array([sliding_beams(s * L, L, EJ, GA, kind)["k_norm"]
                              for s in STATIONS]) for kind in KINDS}
     rows, interrupted = [], False
-    _, warmup, _ = timed(lambda: [SlidingBeams("fv3", 1, kind).solve(STATIONS[:2])
-                                  for kind in KINDS])
+    _, warmup, _ = timed(compile_kernels)
     jobs = [(mode, kind, n) for mode in modes for kind in KINDS for n in elements]
     try:
         for mode, kind, n in tqdm(jobs, disable=None if progress else True, desc="sweeps"):

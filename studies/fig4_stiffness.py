@@ -127,6 +127,15 @@ class SlidingBeams:
         return tip_stiffness(statics, solution)
 
 
+def compile_kernels() -> None:
+    """Compile the numba kernels of a static solve (joint equations, line state, condensed
+    step, test functions at a point), or load them from their cache: two positions of
+    each slider kind on one fv3 element (``fvslider compile``; about half a minute the
+    first time on a machine, well under a second once cached)."""
+    for kind in KINDS:
+        SlidingBeams("fv3", 1, kind).solve(STATIONS[:2])
+
+
 def tip_stiffness(statics: SliderStatics, solution: SliderSolution) -> float:
     """``F L^3 / (EJ v)`` from the piston's tip deflection ``v``."""
     structure = statics.structure

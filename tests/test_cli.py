@@ -132,3 +132,14 @@ def test_reproduce_rejects_unknown_figures(capsys):
         main(["reproduce", "fig7"])
     assert info.value.code == 2
     assert "unknown figure 'fig7'" in capsys.readouterr().err
+
+
+def test_compile_solves_each_slider_kind(capsys, monkeypatch):
+    import studies.fig4_stiffness as fig4
+
+    solved = []
+    monkeypatch.setattr(fig4.SlidingBeams, "solve",
+                        lambda self, stations: solved.append((self.kind, len(stations))))
+    assert main(["compile"]) == 0
+    assert sorted(solved) == [("classical", 2), ("spherical", 2)]
+    assert "compiled in" in capsys.readouterr().out
