@@ -45,10 +45,18 @@ class SlotJacobian:
         self._views(np.zeros((members, int(self.table[:, 1] @ self.table[:, 3]))))
 
     def _views(self, values: np.ndarray) -> None:
-        """Keep ``values`` (B, size) and the views ``blocks`` of it."""
+        """Keep ``values`` (B, size); its block views are made when first asked for."""
         self.values = values
-        self.blocks = {key: values[:, o:o + nr * nc].reshape(len(values), nr, nc)
-                       for key, (_, nr, _, nc, o) in zip(self.pattern, self.table)}
+        self._blocks: dict[tuple[str, str], np.ndarray] | None = None
+
+    @property
+    def blocks(self) -> dict[tuple[str, str], np.ndarray]:
+        """The (B, rows, cols) view of each block of the pattern, by ``(rows, cols)``."""
+        if self._blocks is None:
+            values = self.values
+            self._blocks = {key: values[:, o:o + nr * nc].reshape(len(values), nr, nc)
+                            for key, (_, nr, _, nc, o) in zip(self.pattern, self.table)}
+        return self._blocks
 
     def index(self, groups: Sequence[str]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """For a kernel: the first slot and size of each of ``groups`` (g,), and the
@@ -62,20 +70,6 @@ class SlotJacobian:
             return self.blocks[rows, cols]
         except KeyError:
             raise KeyError(f"block ({rows}, {cols}) is not in the joint's pattern") from None
-
-    def add(self, rows: str, cols: str | tuple[str, ...], value: np.ndarray | float) -> None:
-        """Add ``value`` (broadcast to (B, rows, cols)) to the block of groups ``rows`` and
-        ``cols``; ``cols`` may be consecutive groups, among which the columns of ``value``
-        are split."""
-        if isinstance(cols, tuple):
-            value = np.broadcast_to(value, (self.members, self.size[rows],
-                                            sum(self.size[c] for c in cols)))
-            start = 0
-            for c in cols:
-                self.add(rows, c, value[:, :, start:start + self.size[c]])
-                start += self.size[c]
-            return
-        self.block(rows, cols)[...] += value
 
     def unit_row(self, row: str, members: np.ndarray | slice = slice(None)) -> None:
         """Replace the derivatives of the one-row group ``row`` of the given ``members`` by

@@ -240,6 +240,7 @@ class ChainStack:
         self.members = np.arange(len(self.chains))
         self._ends = np.ascontiguousarray(shape_functions(np.array([0.0, 1.0]), self.npe)[1].T)
         self._frames: ElementFrames | None = None
+        self._node_map: np.ndarray | None = None
 
     def subset(self, members: np.ndarray) -> ChainStack:
         """The stack of the given members only (their topology already checked)."""
@@ -271,6 +272,7 @@ class ChainStack:
             np.concatenate([getattr(stack, f) for stack in stacks])
             for f in ("breaks", "h", "points", "vertex_s"))
         out.maps = np.concatenate([stack.maps for stack in stacks])
+        out._node_map = None
         out.map = np.concatenate([stack.map + sum(len(s.maps) for s in stacks[:i])
                                   for i, stack in enumerate(stacks)])
         out.members = np.arange(len(out.chains))
@@ -444,18 +446,32 @@ class ChainStack:
 
     def project(self, points: np.ndarray, q: np.ndarray) -> np.ndarray:
         """Abscissae of the points of the deformed chains (states ``q``, (B, n)) closest to
-        ``points`` (B, 3)."""
-        grid = np.unique(np.concatenate([offset + beam.mesh.node_abscissae()
-                                         for offset, beam in zip(self.offsets, self.beams)]))
-        # the grid located once, on the first member (the members' abscissae are tied)
-        _, element, X = self.subset(np.zeros(len(grid), dtype=int)).locate(grid)
-        B, G = len(self), len(grid)
-        element = np.broadcast_to(element, (B, G))
-        N = np.broadcast_to(shape_functions(X, self.npe)[0].T[:, None], (B, G, 1, self.npe))
-        sampled = _weighted(N, self._nodes(element), q, self._dofs(element)[..., :3],
-                            np.repeat(np.arange(B), G))[0]
-        return project(lambda xi: tuple(self._query(xi, q, False, False).geometry[:, j]
-                                        for j in range(3)), grid, points, sampled)
+        ``points`` (B, 3), Newton started from the closest node
+        (:func:`sliders.lines.project`)."""
+        grid, node = self._node_grid()
+        sampled = self.points[:, node] + gather(q, self._node_dofs()[self.map[:, None], node])
+
+        def curve(xi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+            x = self._query(xi, q, False, False).geometry
+            return x[:, 0], x[:, 1], x[:, 2]
+
+        return project(curve, grid, points, sampled)
+
+    def _node_grid(self) -> tuple[np.ndarray, np.ndarray]:
+        """The distinct node abscissae of the chain, increasing (tied for all members), and
+        a node (of :attr:`points`) at each: the beams' nodes are their vertices along the
+        beam, then their mid nodes (:class:`fvbeam.mesh.BeamMesh`)."""
+        return np.unique(np.concatenate([offset + beam.mesh.node_abscissae()
+                                         for offset, beam in zip(self.offsets, self.beams)]),
+                         return_index=True)
+
+    def _node_dofs(self) -> np.ndarray:
+        """The translational dofs (maps, nodes, 3) of every node of :attr:`points`, per dof
+        map, computed once."""
+        if self._node_map is None:
+            self._node_map = np.zeros((len(self.maps), self.points.shape[1], 3), dtype=np.int64)
+            self._node_map[:, self.cells] = self.maps[..., :3]
+        return self._node_map
 
 
 def _same_topology(a: BeamChain, b: BeamChain, maps: bool = True) -> bool:

@@ -262,10 +262,12 @@ def converged(dq: np.ndarray, dy: np.ndarray, sizes: Sequence[int],
     (B, n), ``dy`` (B, m) with the sliders' ``sizes`` and line ``lengths``.  A ``q``
     increment below ``resolution`` (what the positions ``X + q`` can resolve) also passes:
     a solution at rest (``q = 0``, the load taken by the sliders) moves by roundoff only."""
-    ok = np.abs(dq).max(axis=1, initial=0.0) <= np.maximum(tol * reach, resolution)
-    for d, length in zip(np.split(dy, np.cumsum(sizes)[:-1], axis=1), lengths):
-        ok &= (np.abs(d[:, 0]) <= tol * length) & (np.abs(d[:, 1:]).max(axis=1) <= tol * force)
-    return ok
+    first = np.cumsum([0] + list(sizes[:-1]))
+    multipliers = np.ones(dy.shape[1], dtype=bool)
+    multipliers[first] = False
+    return ((np.abs(dq).max(axis=1, initial=0.0) <= np.maximum(tol * reach, resolution))
+            & np.all(np.abs(dy[:, first]) <= tol * np.asarray(lengths, dtype=float), axis=1)
+            & (np.abs(dy[:, multipliers]).max(axis=1, initial=0.0) <= tol * force))
 
 
 def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch],
@@ -306,13 +308,14 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
     # 4 ulp of the largest coordinate (at least 1: rotations are dimensionless)
     resolution = 4 * np.finfo(float).eps * max(1.0, np.abs(node_positions(lead.structure)).max())
     reach = np.abs(Q).max(axis=1, initial=0.0)
-    done = np.zeros(B, dtype=bool)
-    residuals: list[list[float]] = [[] for _ in range(B)]
+    done, ended = np.zeros(B, dtype=bool), np.zeros(B, dtype=bool)
+    # the scaled residual of each member at each evaluation, up to its last (``last``)
+    history, last = np.zeros((max_iterations + 1, B)), np.zeros(B, dtype=int)
     outcome: list = [None] * B
     active, view = np.arange(B), full
     multipliers = np.ones(sum(sizes), dtype=bool)
     multipliers[[i for i, _ in bounds]] = False
-    for _ in range(max_iterations + 1):
+    for iteration in range(max_iterations + 1):
         R = (lead.K @ Q[active].T).T - loads[active]
         going = ~done[active]
         r_y = np.zeros((len(active), sum(sizes)))
@@ -330,10 +333,9 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
             if going[on][0]:
                 parts, whole = evaluated, stacked
         measure = np.maximum(np.abs(R[:, lead.free]).max(axis=1), np.abs(r_y).max(axis=1))
-        for b, value in zip(active, measure / load_scale[active]):
-            residuals[b].append(float(value))
-        for b in active[done[active]]:
-            outcome[b] = (Q[b].copy(), [Y[b, i:j].copy() for i, j in bounds], residuals[b])
+        history[iteration, active] = measure / load_scale[active]
+        last[active] = iteration
+        ended[active[~going]] = True  # converged, and its residual evaluated once more
         if not going.any():
             active = active[going]
             break
@@ -364,7 +366,11 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
                          for v, (i, j) in zip(batches, bounds)], 0)
         outcome[b] = members[b]._diagnose(
             first, f"Newton did not converge in {max_iterations} iterations "
-                   f"(scaled residual {residuals[b][-1]:.3g})")
+                   f"(scaled residual {history[last[b], b]:.3g})")
+    finished = np.flatnonzero(ended)
+    parts = [Y[finished, i:j] for i, j in bounds]
+    for n_b, b, q, *y in zip(last[finished] + 1, finished, Q[finished], *parts):
+        outcome[b] = (q, y, history[:n_b, b].tolist())
     return outcome
 
 
