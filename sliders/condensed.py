@@ -212,17 +212,15 @@ class _Layout:
     (``force_dofs``: the held slots of the structure groups with a block)."""
 
     def __init__(self, slots: list[np.ndarray], blocks: list[SlotJacobian], B: int) -> None:
-        rows, c_of, forces = [], [], []
+        rows, c_of = [], []
         at = np.zeros(4, dtype=np.int64)
         self.nc = 0
+        self._forces = []
         for p, J in zip(slots, blocks):
             k, t = len(p) // B, p.shape[1]
-            c = J.slots(J.read(J.structure, J.structure))
-            index = np.full(t, -1, dtype=np.int64)
-            index[c] = np.arange(len(c))
+            c, forces, index = J.coupling()
             c_of.append(index)
-            held = p[:, J.slots(J.written_rows(J.structure))]
-            forces.append(held[held >= 0])
+            self._forces.append((p, forces))
             rows.append([k, t, J.n - t, J.values.shape[1], at[0], at[1], at[2],
                          at[2] + len(J.table), at[3], len(c)])
             at += [p.size, J.values.size, len(J.table), t]
@@ -232,7 +230,13 @@ class _Layout:
         self.values = _flat([J.values for J in blocks])
         self.tables = np.ascontiguousarray(np.concatenate([J.table for J in blocks]))
         self.c_of = np.concatenate(c_of)
-        self.force_dofs = np.concatenate(forces)
+
+    @property
+    def force_dofs(self) -> np.ndarray:
+        """The free dofs that carry forces: the held slots of the structure groups with a
+        block."""
+        held = np.concatenate([p[:, f].ravel() for p, f in self._forces])
+        return held[held >= 0]
 
 
 def _flat(arrays: list[np.ndarray]) -> np.ndarray:

@@ -40,8 +40,8 @@ class SlotJacobian:
         self.members = members
         self.structure = [name for name, _ in structure]
         self.unknowns = [name for name, _ in unknowns]
-        self.size, self.at, self.n, self.pattern, self.table = _layout(
-            tuple(structure) + tuple(unknowns), tuple(pattern))
+        self._key = (tuple(structure) + tuple(unknowns), tuple(pattern), len(self.structure))
+        self.size, self.at, self.n, self.pattern, self.table = _layout(*self._key[:2])
         self._views(np.zeros((members, int(self.table[:, 1] @ self.table[:, 3]))))
 
     def _views(self, values: np.ndarray) -> None:
@@ -86,21 +86,13 @@ class SlotJacobian:
         out.members = len(out.values)
         return out
 
-    def read(self, rows: Sequence[str], among: Sequence[str]) -> list[str]:
-        """The column groups of ``among`` (in slot order) with a block in a row of ``rows``
-        (the pattern of the equations, whatever the values)."""
-        written = {c for r, c in self.pattern if r in rows}
-        return [name for name in among if name in written]
-
-    def written_rows(self, among: Sequence[str]) -> list[str]:
-        """The row groups of ``among`` (in slot order) with a block."""
-        written = {r for r, _ in self.pattern}
-        return [name for name in among if name in written]
-
-    def slots(self, groups: Sequence[str]) -> np.ndarray:
-        """Slot indices of the ``groups``, in the given order."""
-        return np.concatenate([np.arange(self.at[g].start, self.at[g].stop) for g in groups]
-                              + [np.zeros(0, dtype=int)])
+    def coupling(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The structure slots of the groups with a block in a structure row (``c``: the
+        displacements the slot forces depend on), of the groups with a block in their rows
+        (the slots that carry forces), and the index of each structure slot among the ``c``
+        slots (-1 for the others): the pattern of the equations, whatever the values, once
+        per layout."""
+        return _coupling(*self._key)
 
     def dense(self) -> np.ndarray:
         """The whole (B, n, n) matrix on the slots."""
@@ -140,3 +132,22 @@ def _index(sizes: tuple[tuple[str, int], ...], pattern: tuple[tuple[str, str], .
         where[groups.index(r), groups.index(c)] = offset
         offset += size[r] * size[c]
     return start, np.array([size[g] for g in groups], dtype=np.int64), where
+
+
+@lru_cache(maxsize=64)
+def _coupling(groups: tuple[tuple[str, int], ...], pattern: tuple[tuple[str, str], ...],
+              n_structure: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:meth:`SlotJacobian.coupling`, once per layout."""
+    _, at, _, _, _ = _layout(groups, pattern)
+    names = [name for name, _ in groups[:n_structure]]
+    read = {c for r, c in pattern if r in names}
+    rows = {r for r, _ in pattern}
+
+    def slots(chosen: list[str]) -> np.ndarray:
+        return np.concatenate([np.arange(at[g].start, at[g].stop) for g in chosen]
+                              + [np.zeros(0, dtype=np.int64)]).astype(np.int64)
+
+    c = slots([g for g in names if g in read])
+    index = np.full(sum(n for _, n in groups[:n_structure]), -1, dtype=np.int64)
+    index[c] = np.arange(len(c))
+    return c, slots([g for g in names if g in rows]), index

@@ -102,6 +102,17 @@ class SliderStatics:
     def initial_unknowns(self, q: np.ndarray) -> list[np.ndarray]:
         return [s.initial_unknowns(self.structure, q) for s in self.sliders]
 
+    def prepare_translations(self) -> None:
+        """Build what :func:`solve_translated` moves to every position, once: each slider's
+        one-member batch (:meth:`~sliders.joint.Slider.batch`) and its chain's element
+        frames (:meth:`~sliders.stack.ChainStack.element_frames`; a translation keeps
+        them).  Part of a template's setup; without it the first :func:`solve_translated`
+        builds them."""
+        for slider in self.sliders:
+            batch = slider.batch(self.structure)
+            if batch.chains is not None:
+                batch.chains.element_frames()
+
     def solve(self, f: np.ndarray, start: tuple[np.ndarray, list[np.ndarray]] | None = None,
               tol: float = 1e-8, max_iterations: int = 25, load_steps: int = 1) -> SliderSolution:
         """Newton-Raphson from ``start`` (default: no displacement, projected ``xi``).

@@ -103,8 +103,11 @@ class SlidingBeams:
     def template(self) -> tuple[SliderStatics, np.ndarray]:
         """The problem with the piston on the cylinder (``s = 0``): the statics every
         position's is a translation of (its stiffness assembled and factorised here, once)
-        and the tip load."""
-        return self.problem(0.0)
+        and the tip load; the sliders' batches that every position moves are built here
+        too (:meth:`sliders.statics.SliderStatics.prepare_translations`)."""
+        statics, load = self.problem(0.0)
+        statics.prepare_translations()
+        return statics, load
 
     def shifts(self, stations: np.ndarray) -> np.ndarray:
         """The beams' translations (B, 2, 3) at the stations ``s / L``: the cylinder stays,
