@@ -188,10 +188,10 @@ def _invert(a: np.ndarray, swaps: np.ndarray) -> bool:
         if p != k:
             for j in range(n):
                 a[p, j], a[k, j] = a[k, j], a[p, j]
-        pivot = a[k, k]
+        pivot = 1.0 / a[k, k]
         a[k, k] = 1.0
         for j in range(n):
-            a[k, j] /= pivot
+            a[k, j] *= pivot
         for i in range(n):
             factor = a[i, k]
             if i == k or factor == 0.0:
@@ -227,9 +227,12 @@ def _equilibrated_solve(A: np.ndarray, rhs: np.ndarray, threshold: float, x: np.
             cols[j] = max(cols[j], abs(A[i, j]) / rows[i])
     for j in range(n):
         cols[j] = max(cols[j], 1e-300)
+    for j in range(n):
+        cols[j] = 1.0 / cols[j]  # reciprocals from here on: a multiply costs less
     for i in range(n):
+        scale = 1.0 / rows[i]
         for j in range(n):
-            inverse[i, j] = A[i, j] / rows[i] / cols[j]
+            inverse[i, j] = A[i, j] * scale * cols[j]
     norm = _norm_1(inverse, x)
     x[:] = 0.0
     if not _invert(inverse, swaps):
@@ -241,7 +244,7 @@ def _equilibrated_solve(A: np.ndarray, rhs: np.ndarray, threshold: float, x: np.
         total = 0.0
         for j in range(n):
             total += inverse[i, j] * (rhs[j] / rows[j])
-        x[i] = total / cols[i]
+        x[i] = total * cols[i]
     return True
 
 
