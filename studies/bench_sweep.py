@@ -11,8 +11,11 @@ ways of running the positions:
     positions' joint batches from the template and the shifts, the projections, every joint
     evaluation and every Newton step.  Not in it: imports, the beams, and the template
     (``setup_seconds``: the piston at s = 0, the stiffness assembled by scikit-fem and the
-    condensed operator factorised with its dense inverse, once per mesh and kind), and the
-    tip stiffness read from each solution afterwards.
+    condensed operator factorised with its dense inverse, and the sliders' template batches,
+    once per mesh and kind), and the tip stiffness read from each solution afterwards.
+    Run :data:`REPEATS` times, each pass on models built anew: the row of a sweep is its
+    fastest pass (the run least slowed by other jobs on the shared cores), with the median
+    and every pass beside it; ``main_sweep`` also gives each whole pass's CPU time.
 ``continuation``
     :func:`sliders.sweep.sweep`, each position from the secant prediction of the last two;
 ``cold``
@@ -25,8 +28,8 @@ timing leaves out.
 Reported beside each time: the microseconds per position, the mean Newton iterations per
 converged position, the singular positions, and the largest error against the analytic
 two-beam stiffness; times are wall clock (``seconds``) and this process's CPU time
-(``cpu_seconds``: less inflated than the wall clock by other jobs on the cores).  ``main_sweep`` sums the batched
-rows (with and without the setup).
+(``cpu_seconds``: less inflated than the wall clock by other jobs on the cores).
+``main_sweep`` sums the batched rows (with and without the setup).
 ``--profile N`` prints the N most expensive functions (cProfile, cumulative time) of the
 main sweep.  An interruption (Ctrl-C) keeps and writes the rows completed so far, marked
 ``interrupted``.  Run with ``OPENBLAS_NUM_THREADS=1`` (``docs/sliders.md``, "Cost").
@@ -55,6 +58,8 @@ KEY = "fig4_sweep"
 #: The per-position modes (the default of :func:`bench`); ``main`` runs ``batched`` first.
 MODES = ("continuation", "cold")
 ALL_MODES = ("batched",) + MODES
+#: Passes of the batched sweeps in ``main`` (the machine's other jobs slow some of them).
+REPEATS = 7
 
 
 def timed(call: Callable[[], Any]) -> tuple[Any, float, float]:
@@ -102,11 +107,15 @@ def cold(model: SlidingBeams, k: np.ndarray) -> None:
 
 
 def bench(elements: tuple[int, ...] = (1, 3, 5), modes: tuple[str, ...] = MODES,
-          progress: bool = True) -> dict[str, Any]:
+          progress: bool = True, repeats: int = 1) -> dict[str, Any]:
     """Time, iterations and worst error of each (mode, kind, elements) sweep.
 
-    ``total_seconds`` maps each mode to the sum of its sweeps; ``interrupted`` is set when
-    Ctrl-C ended the benchmark (the rows completed so far are kept).
+    ``repeats``: passes of the ``batched`` sweeps (each on models built anew, its setup
+    untimed); a batched row keeps the smallest time of its passes (``seconds``,
+    ``cpu_seconds``: the run least disturbed by other jobs on the machine) and the median
+    and every pass's CPU time beside it.  ``total_seconds`` maps each mode to the sum of its
+    rows; ``interrupted`` is set when Ctrl-C ended the benchmark (the rows completed so far
+    are kept).
     """
     from tqdm import tqdm
 
@@ -114,7 +123,9 @@ def bench(elements: tuple[int, ...] = (1, 3, 5), modes: tuple[str, ...] = MODES,
                              for s in STATIONS]) for kind in KINDS}
     rows, interrupted = [], False
     _, warmup, _ = timed(compile_kernels)
-    jobs = [(mode, kind, n) for mode in modes for kind in KINDS for n in elements]
+    jobs = [(mode, kind, n) for mode in modes
+            for _ in range(repeats if mode == "batched" else 1)
+            for kind in KINDS for n in elements]
     try:
         for mode, kind, n in tqdm(jobs, disable=None if progress else True, desc="sweeps"):
             elapsed, cpu, setup, k, iterations = run(kind, n, mode)
@@ -131,29 +142,53 @@ def bench(elements: tuple[int, ...] = (1, 3, 5), modes: tuple[str, ...] = MODES,
                   f"{row['max_abs_rel_error']:.4f}", flush=True)
     except KeyboardInterrupt:
         interrupted = True
+    passes = _passes([r for r in rows if r["mode"] == "batched"], len(KINDS) * len(elements))
+    rows = _fastest(passes) + [r for r in rows if r["mode"] != "batched"]
     total = {mode: sum(r["seconds"] for r in rows if r["mode"] == mode) for mode in modes}
-    return {"rows": rows, "total_seconds": total, "main_sweep": main_sweep(rows),
+    return {"rows": rows, "total_seconds": total, "main_sweep": main_sweep(rows, passes),
             "warmup_seconds": warmup,
             "target_seconds": 0.1, "solver": "condensed", "interrupted": interrupted}
 
 
-def main_sweep(rows: list[dict[str, Any]]) -> dict[str, Any] | None:
-    """The batched rows summed (module docstring): wall-clock and CPU seconds, untimed
-    setup, positions, microseconds per position (wall clock) and mean Newton iterations;
-    None without batched rows."""
+def _passes(batched: list[dict[str, Any]], per_pass: int) -> list[list[dict[str, Any]]]:
+    """The batched rows cut into complete passes (an interrupted pass is dropped)."""
+    return [batched[i:i + per_pass] for i in range(0, len(batched) - per_pass + 1, per_pass)]
+
+
+def _fastest(passes: list[list[dict[str, Any]]]) -> list[dict[str, Any]]:
+    """Per sweep, its row of the pass with the least CPU time, with the median and every
+    pass's CPU time."""
+    out = []
+    for same in zip(*passes):
+        cpu = [r["cpu_seconds"] for r in same]
+        out.append(dict(min(same, key=lambda r: r["cpu_seconds"]),
+                        cpu_seconds_median=float(np.median(cpu)), cpu_seconds_passes=cpu))
+    return out
+
+
+def main_sweep(rows: list[dict[str, Any]],
+               passes: list[list[dict[str, Any]]]) -> dict[str, Any] | None:
+    """The batched rows summed (module docstring): wall-clock and CPU seconds (each sweep's
+    fastest pass), untimed setup, positions, microseconds per position (wall clock) and
+    mean Newton iterations; beside them, the CPU time of each whole pass and its smallest
+    and median.  None without batched rows."""
     batched = [r for r in rows if r["mode"] == "batched"]
     if not batched:
         return None
     seconds = sum(r["seconds"] for r in batched)
     setup = sum(r["setup_seconds"] for r in batched)
     positions = sum(r["positions"] for r in batched)
+    whole = [sum(r["cpu_seconds"] for r in p) for p in passes]
     return {"seconds": seconds, "cpu_seconds": sum(r["cpu_seconds"] for r in batched),
+            "pass_cpu_seconds": whole, "pass_cpu_seconds_min": min(whole),
+            "pass_cpu_seconds_median": float(np.median(whole)),
             "setup_seconds": setup, "with_setup_seconds": seconds + setup,
             "positions": positions, "us_per_position": 1e6 * seconds / positions,
             "mean_newton_iterations": float(np.mean([r["mean_newton_iterations"]
                                                      for r in batched])),
             "timed": "per-position batches from the template, projections, joint "
-                     "evaluations, Newton steps; not imports, beams, template setup"}
+                     "evaluations, Newton steps; not imports, kernel compilation, beams, "
+                     "template setup"}
 
 
 def profile(top: int) -> None:
@@ -172,12 +207,14 @@ def main(argv: list[str] | None = None) -> None:
     if args.profile:
         profile(args.profile)
         return
-    result = bench(modes=ALL_MODES)
+    result = bench(modes=ALL_MODES, repeats=REPEATS)
     write_merged(args.out, {"environment": environment(), KEY: result})
     totals = ", ".join(f"{mode} {t:.3f} s" for mode, t in result["total_seconds"].items())
     main = result["main_sweep"]
     if main is not None:
-        print(f"main sweep (batched): {main['seconds']:.3f} s (CPU {main['cpu_seconds']:.3f} s), "
+        print(f"main sweep (batched): {main['seconds']:.3f} s (CPU {main['cpu_seconds']:.3f} s; "
+              f"whole passes {main['pass_cpu_seconds_min']:.3f} s fastest, "
+              f"{main['pass_cpu_seconds_median']:.3f} s median of {REPEATS}), "
               f"{main['us_per_position']:.0f} us per position, "
               f"{main['mean_newton_iterations']:.2f} Newton iterations (target "
               f"{result['target_seconds']} s; setup apart {main['setup_seconds']:.3f} s)")
