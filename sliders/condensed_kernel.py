@@ -25,57 +25,59 @@ import numpy as np
 
 
 @numba.njit(inline="never")
-def _entries(tables: np.ndarray, batches: np.ndarray, slot_of: np.ndarray) -> None:
-    """The row and column slot of every entry of every batch's ``values`` row (``slot_of``
-    (2, total width), batch after batch), from its ``table`` (:class:`sliders.slots.
-    SlotJacobian`: first row slot, rows, first column slot, columns, offset)."""
-    at = 0
-    for j in range(len(batches)):
-        for block in range(batches[j, 6], batches[j, 7]):
-            r0, nr, q0, nq = tables[block, :4]
+def _joint(t: int, slots: np.ndarray, s0: int, values: np.ndarray, v0: int,
+           table: np.ndarray, c_of: np.ndarray, c0: int, y_at: int, c_at: int, nc: int,
+           where_f: np.ndarray, where_r: np.ndarray, fd: np.ndarray, rd: np.ndarray,
+           counts: np.ndarray, G: np.ndarray, Ct: np.ndarray, D: np.ndarray) -> None:
+    """One joint's nonzero Jacobian entries (``values[v0:]``, laid out by its blocks
+    ``table``: first row slot, rows, first column slot, columns, offset) added into
+    ``G = P F``, ``Ct = (C P^T)^T`` and ``D`` (its unknowns from ``y_at``, its ``c`` slots
+    from ``c_at``; ``c_of[c0:]`` the index of each structure slot among them), block by
+    block: a block of unknown rows and columns goes to ``D``, one of unknown rows and slot
+    columns to ``Ct`` (a column per free dof), one of slot rows to ``G`` (a row per free
+    dof).  A free dof is registered as a force dof ``fd`` or a read dof ``rd`` at its first
+    nonzero entry (``counts``: how many of each so far, updated); supported slots drop."""
+    for block in range(len(table)):
+        r0, nr, q0, nq, off = table[block, 0], table[block, 1], table[block, 2], \
+            table[block, 3], v0 + table[block, 4]
+        if r0 >= t and q0 >= t:
             for p in range(nr):
                 for q in range(nq):
-                    e = at + tables[block, 4] + p * nq + q
-                    slot_of[0, e], slot_of[1, e] = r0 + p, q0 + q
-        at += batches[j, 3]
-
-
-@numba.njit(inline="never")
-def _joint(t: int, slots: np.ndarray, s0: int, values: np.ndarray, v0: int, width: int,
-           slot_of: np.ndarray, e0: int, c_of: np.ndarray, c0: int, y_at: int, c_at: int,
-           nc: int, where_f: np.ndarray, where_r: np.ndarray, fd: np.ndarray, rd: np.ndarray,
-           counts: np.ndarray, G: np.ndarray, Ct: np.ndarray, D: np.ndarray) -> None:
-    """One joint's nonzero Jacobian entries ``values[v0:v0 + width]`` (their row and column
-    slots ``slot_of[:, e0:]``) added into ``G = P F``, ``Ct = (C P^T)^T`` and ``D`` (its
-    unknowns from ``y_at``, its ``c`` slots from ``c_at``; ``c_of[c0:]`` the index of each
-    structure slot among them), the free dofs of its slots ``slots[s0:]`` registered as force
-    dofs ``fd`` or read dofs ``rd`` (``counts``: how many of each so far, updated)."""
-    for e in range(width):
-        v = values[v0 + e]
-        if v == 0.0:
-            continue
-        rs, cs = slot_of[0, e0 + e], slot_of[1, e0 + e]
-        if rs >= t and cs >= t:
-            D[y_at + rs - t, y_at + cs - t] += v
-            continue
-        force = rs < t
-        dof = slots[s0 + rs] if force else slots[s0 + cs]
-        if dof < 0 or (force and cs < t and slots[s0 + cs] < 0):
-            continue
-        where, dofs, rows = (where_f, fd, G) if force else (where_r, rd, Ct)
-        i = where[dof]
-        if i < 0:  # a new dof: appended, its row zeroed
-            i = counts[1 - force]
-            where[dof], dofs[i], counts[1 - force] = i, dof, i + 1
-            rows[i] = 0.0
-        if not force:
-            Ct[i, y_at + rs - t] += v
+                    D[y_at + r0 - t + p, y_at + q0 - t + q] += values[off + p * nq + q]
+        elif r0 >= t:
+            for q in range(nq):
+                dof = slots[s0 + q0 + q]
+                if dof < 0:
+                    continue
+                i = where_r[dof]
+                for p in range(nr):
+                    v = values[off + p * nq + q]
+                    if v == 0.0:
+                        continue
+                    if i < 0:  # a new dof: appended, its row zeroed
+                        i = counts[1]
+                        where_r[dof], rd[i], counts[1] = i, dof, i + 1
+                        Ct[i] = 0.0
+                    Ct[i, y_at + r0 - t + p] += v
         else:
-            G[i, c_at + c_of[c0 + cs] if cs < t else nc + y_at + cs - t] += v
+            for p in range(nr):
+                dof = slots[s0 + r0 + p]
+                if dof < 0:
+                    continue
+                i = where_f[dof]
+                for q in range(nq):
+                    v = values[off + p * nq + q]
+                    if v == 0.0 or (q0 < t and slots[s0 + q0 + q] < 0):
+                        continue
+                    if i < 0:
+                        i = counts[0]
+                        where_f[dof], fd[i], counts[0] = i, dof, i + 1
+                        G[i] = 0.0
+                    G[i, c_at + c_of[c0 + q0 + q] if q0 < t else nc + y_at + q0 - t + q] += v
 
 
 @numba.njit(inline="never")
-def _gather(b: int, members: int, slots: np.ndarray, values: np.ndarray, slot_of: np.ndarray,
+def _gather(b: int, members: int, slots: np.ndarray, values: np.ndarray, tables: np.ndarray,
             c_of: np.ndarray, batches: np.ndarray, nc: int, where_f: np.ndarray,
             where_r: np.ndarray, fd: np.ndarray, rd: np.ndarray, counts: np.ndarray,
             G: np.ndarray, Ct: np.ndarray, D: np.ndarray, c_dof: np.ndarray) -> None:
@@ -85,7 +87,7 @@ def _gather(b: int, members: int, slots: np.ndarray, values: np.ndarray, slot_of
     supported; registered as a read dof).  ``counts``: the numbers of force and read dofs."""
     counts[0] = counts[1] = 0
     D[:, :] = 0.0
-    y_at = c_at = e0 = 0
+    y_at = c_at = 0
     for j in range(len(batches)):
         k, t, m, width = batches[j, 0], batches[j, 1], batches[j, 2], batches[j, 3]
         c0, n_c = batches[j, 8], batches[j, 9]
@@ -100,12 +102,11 @@ def _gather(b: int, members: int, slots: np.ndarray, values: np.ndarray, slot_of
                         where_r[dof], rd[counts[1]] = counts[1], dof
                         Ct[counts[1]] = 0.0
                         counts[1] += 1
-            _joint(t, slots, s0, values, batches[j, 5] + (i * members + b) * width, width,
-                   slot_of, e0, c_of, c0, y_at, c_at, nc, where_f, where_r, fd, rd, counts, G,
-                   Ct, D)
+            _joint(t, slots, s0, values, batches[j, 5] + (i * members + b) * width,
+                   tables[batches[j, 6]:batches[j, 7]], c_of, c0, y_at, c_at, nc, where_f,
+                   where_r, fd, rd, counts, G, Ct, D)
             y_at += m
             c_at += n_c
-        e0 += width
 
 
 @numba.njit(inline="never")
@@ -312,13 +313,11 @@ def condensed_step(store: np.ndarray, column: np.ndarray, phi: np.ndarray, base:
     rhs, rows, cols = np.empty(ncm + k), np.empty(ncm + k), np.empty(ncm + k)
     swaps = np.empty(ncm + k, dtype=np.int64)
     counts = np.zeros(2, dtype=np.int64)
-    slot_of = np.empty((2, batches[:, 3].sum()), dtype=np.int64)
-    _entries(tables, batches, slot_of)
     force = r_free.copy()
     z = np.zeros((members, ncm + k))
     regular = np.zeros(members, dtype=np.bool_)
     for b in range(members):
-        _gather(b, members, slots, values, slot_of, c_of, batches, nc, where_f, where_r, fd, rd,
+        _gather(b, members, slots, values, tables, c_of, batches, nc, where_f, where_r, fd, rd,
                 counts, G, Ct, D, c_dof)
         n_f, n_r = counts[0], counts[1]
         _columns(store, column, n, fd, n_f, rd, n_r, G, Y, Y_z)
