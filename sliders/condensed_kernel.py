@@ -25,6 +25,17 @@ import numpy as np
 
 
 @numba.njit(inline="never")
+def _register(dof: int, where: np.ndarray, dofs: np.ndarray, rows: np.ndarray,
+              counts: np.ndarray, kind: int) -> int:
+    """A new free dof appended to the force (``kind`` 0) or read (1) dofs ``dofs``, its row
+    of ``rows`` zeroed; returns that row."""
+    i = counts[kind]
+    where[dof], dofs[i], counts[kind] = i, dof, i + 1
+    rows[i] = 0.0
+    return i
+
+
+@numba.njit(inline="never")
 def _joint(t: int, slots: np.ndarray, s0: int, values: np.ndarray, v0: int,
            table: np.ndarray, c_of: np.ndarray, c0: int, y_at: int, c_at: int, nc: int,
            where_f: np.ndarray, where_r: np.ndarray, fd: np.ndarray, rd: np.ndarray,
@@ -54,10 +65,8 @@ def _joint(t: int, slots: np.ndarray, s0: int, values: np.ndarray, v0: int,
                     v = values[off + p * nq + q]
                     if v == 0.0:
                         continue
-                    if i < 0:  # a new dof: appended, its row zeroed
-                        i = counts[1]
-                        where_r[dof], rd[i], counts[1] = i, dof, i + 1
-                        Ct[i] = 0.0
+                    if i < 0:
+                        i = _register(dof, where_r, rd, Ct, counts, 1)
                     Ct[i, y_at + r0 - t + p] += v
         else:
             for p in range(nr):
@@ -70,9 +79,7 @@ def _joint(t: int, slots: np.ndarray, s0: int, values: np.ndarray, v0: int,
                     if v == 0.0 or (q0 < t and slots[s0 + q0 + q] < 0):
                         continue
                     if i < 0:
-                        i = counts[0]
-                        where_f[dof], fd[i], counts[0] = i, dof, i + 1
-                        G[i] = 0.0
+                        i = _register(dof, where_f, fd, G, counts, 0)
                     G[i, c_at + c_of[c0 + q0 + q] if q0 < t else nc + y_at + q0 - t + q] += v
 
 
