@@ -35,6 +35,9 @@ test: render-libs $(VENV)/.installed-test
 demo: render-libs $(VENV)/.installed-all
 	$(BIN)/fvslider reproduce --out $(RESULTS)
 
+# One BLAS thread: the solvers' small dense products slow down by tens of times when
+# OpenBLAS threads contend for the two cores (docs/sliders.md, "Cost").
+bench: export OPENBLAS_NUM_THREADS = 1
 bench: $(VENV)/.installed-all
 	$(BIN)/python -m studies.bench --out $(RESULTS)/bench.json
 	$(BIN)/python -m studies.bench_sweep --out $(RESULTS)/bench.json
