@@ -241,10 +241,12 @@ class SliderBatch:
         if shifts.ndim != 3 or shifts.shape[1:] != (len(structure.beams), 3):
             raise ValueError(f"{slider.name}: shifts must be (B, {len(structure.beams)}, 3), "
                              f"got {shifts.shape}")
-        one = slider.batch(structure)
-        out = one.subset(np.zeros(len(shifts), dtype=int))
+        one, B = slider.batch(structure), len(shifts)
+        out = copy.copy(one)
+        out.sliders, out.structures, out.drives = [slider] * B, [structure] * B, one.drives * B
+        out.body = np.repeat(one.body, B, axis=0)
         moved = (shifts[:, structure.beam_index(slider.body[0])]
-                 if isinstance(slider.body, tuple) else np.zeros((len(shifts), 3)))
+                 if isinstance(slider.body, tuple) else np.zeros((B, 3)))
         out.reference = structure.node_position(slider.body) + moved + slider.offset
         out.chains = one.chains.translated(shifts) if one.chains is not None else None
         return out

@@ -327,7 +327,8 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
     multipliers = np.ones(sum(sizes), dtype=bool)
     multipliers[[i for i, _ in bounds]] = False
     for iteration in range(max_iterations + 1):
-        R = (lead.K @ Q[active].T).T - loads[active]
+        rows = _rows(active, B)
+        R = (lead.K @ Q[rows].T).T - loads[rows]
         going = ~done[active]
         r_y = np.zeros((len(active), sum(sizes)))
         # the converged members need their residuals only (the convergence check)
@@ -361,14 +362,15 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
         active = active[going][regular]
         if not active.size:
             break
-        dq, dy = dq[regular], dy[regular]
-        Q[active] += dq
-        Y[active] += dy
-        reach[active] = np.maximum.reduce([reach[active], np.abs(dq).max(axis=1),
-                                           np.abs(Q[active]).max(axis=1)])
-        force = np.maximum(load_scale[active], np.abs(Y[active][:, multipliers]).max(axis=1))
-        done[active] = converged(dq, dy, sizes, lengths, reach[active], force, tol,
-                                 resolution)
+        if not regular.all():
+            dq, dy = dq[regular], dy[regular]
+        rows = _rows(active, B)
+        Q[rows] += dq
+        Y[rows] += dy
+        reach[rows] = np.maximum.reduce([reach[rows], np.abs(dq).max(axis=1),
+                                         np.abs(Q[rows]).max(axis=1)])
+        force = np.maximum(load_scale[rows], np.abs(Y[rows][:, multipliers]).max(axis=1))
+        done[rows] = converged(dq, dy, sizes, lengths, reach[rows], force, tol, resolution)
         if len(active) < len(view[0]) // len(spans[0]):
             view = [_pick(v, len(span), B, active) for v, span in zip(full, spans)]
     for b in active:
@@ -383,6 +385,12 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
     for n_b, b, q, *y in zip(last[finished] + 1, finished, Q[finished], *parts):
         outcome[b] = (q, y, history[:n_b, b].tolist())
     return outcome
+
+
+def _rows(active: np.ndarray, B: int) -> np.ndarray | slice:
+    """``active`` (increasing members of ``B``) as an index: a slice when it holds them all
+    (a view, where a fancy index copies)."""
+    return slice(None) if len(active) == B else active
 
 
 def scatter_add(R: np.ndarray, rows: np.ndarray, columns: np.ndarray,
