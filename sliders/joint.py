@@ -1,10 +1,10 @@
 """Slider joints: a node of the structure slides on a line (paper Secs. 3-4).
 
 The body is a node of the structure (a beam node or a rigid body, six dofs ``u_b, theta_b``,
-linear kinematics like the beams) carrying the sliding point at ``offset`` and the slider axes ``frame``
-(columns ``e1, e2, e3``; ``e1`` along the line).  The line is a :class:`BeamChain` or a rigid
-line.  Unknowns ``y = [xi, lambda (3), mu_2, mu_3, mu_1]``: ``mu_2, mu_3`` for the classical
-and spline sliders, ``mu_1`` for the spline slider.  With
+linear kinematics like the beams) carrying the sliding point at ``offset`` and the slider
+axes ``frame`` (columns ``e1, e2, e3``; ``e1`` along the line).  The line is a
+:class:`BeamChain` or a rigid line.  Unknowns ``y = [xi, lambda (3), mu_2, mu_3, mu_1]``:
+``mu_2, mu_3`` for the classical and spline sliders, ``mu_1`` for the spline slider.  With
 ``x_b = X_b + offset + u_b + theta_b x offset`` and ``m`` the couple of the orientation
 constraints:
 

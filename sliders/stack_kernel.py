@@ -56,8 +56,9 @@ def element_shape(X: float, he: float, N: np.ndarray, dN: np.ndarray, d2N: np.nd
 
 
 @numba.njit(cache=True, inline="never")
-def interpolation_one(element: int, X: float, h: np.ndarray, N: np.ndarray, dN: np.ndarray, d2N: np.ndarray, ends: np.ndarray,
-                      T: np.ndarray, T_xi: np.ndarray, neighbours: np.ndarray) -> None:
+def interpolation_one(element: int, X: float, h: np.ndarray, N: np.ndarray, dN: np.ndarray,
+                      d2N: np.ndarray, ends: np.ndarray, T: np.ndarray, T_xi: np.ndarray,
+                      neighbours: np.ndarray) -> None:
     """The shape functions ``N``, ``dN``, ``d2N`` (npe,) in ``xi`` of ``element`` at ``X``,
     and the recovered tangent's coefficients ``T``, ``T_xi`` (3 npe,) (``docs/sliders.md``):
     ``l~ = l + (1 - X) (l_a - l(a)) + X (l_b - l(b))`` with ``l_a``, ``l_b`` the tangents of

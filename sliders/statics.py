@@ -291,9 +291,10 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
     holds, per slider, the members' sliders (:class:`~sliders.joint.SliderBatch`);
     ``loads`` (B, n); ``starts``: per member ``(q, unknowns)`` or None (no displacement,
     projected ``xi``); ``time`` and ``scale``: where the drives are read and the scaling of
-    the multipliers (:meth:`~sliders.joint.SliderBatch.evaluate`).  Each member stops when it has converged (:func:`converged`, then
-    one more residual), or fails on its own.  Returns per member the converged ``q``, slider
-    unknowns and scaled residual history, or the message of its failure: the
+    the multipliers (:meth:`~sliders.joint.SliderBatch.evaluate`).  Each member stops when it
+    has converged (:func:`converged`, then one more residual), or fails on its own.  Returns
+    per member the converged ``q``, slider unknowns and scaled residual history, or the
+    message of its failure: the
     singular-configuration diagnostic naming the free motion, or the last residual when
     Newton does not converge in ``max_iterations``.
     """

@@ -2,7 +2,8 @@
 
 Sources of the asserted numbers: the drive's own formula (a driven abscissa equals it to the
 Newton tolerance), the massless body's equilibrium (its reaction equals the load it carries,
-exactly: the body has no inertia), and determinism (a restart repeats the same arithmetic, up to the roundoff of its step times).
+exactly: the body has no inertia), and determinism (a restart repeats the same arithmetic,
+up to the roundoff of its step times).
 """
 
 import csv
