@@ -138,17 +138,17 @@ class CondensedOperator:
             raise ValueError(message)
         self._slot = np.full(self.n_free, -1)
         self._store = np.zeros((0, self.n_free + self.n_rigid))
-        self._inverse_T = None
-        if self.n_free + self.n_rigid <= DENSE_LIMIT:
+        # below the limit every column is stored, in order: the store is the dense inverse
+        self._dense = self.n_free + self.n_rigid <= DENSE_LIMIT
+        if self._dense:
             self._columns(np.arange(self.n_free))
-            self._inverse_T = self._store
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         """``B^{-1} [b; 0]`` for right-hand sides ``b`` (B, n_free) on the free dofs:
         (B, n_free + k); from the dense inverse below :data:`DENSE_LIMIT` (its columns
         computed in order at construction)."""
-        if self._inverse_T is not None:
-            return b @ self._inverse_T
+        if self._dense:
+            return b @ self._store
         rhs = np.concatenate([b, np.zeros((len(b), self.n_rigid))], axis=1)
         return self.lu.solve(np.asfortranarray(rhs.T)).T  # SuperLU reads columns
 
@@ -191,7 +191,7 @@ class CondensedOperator:
         """
         B, m, n = len(r_free), r_y.shape[1], self.n_free
         layout = _Layout(slots, blocks, B)
-        if self._inverse_T is None:
+        if not self._dense:
             self._columns(layout.force_dofs)
         r_free = np.ascontiguousarray(r_free, dtype=float)
         force, z, regular = condensed_step(

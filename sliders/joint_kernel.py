@@ -27,7 +27,7 @@ ORIENTATIONS = {"section": 0, "slope": 1}
 
 
 @numba.njit(cache=True)
-def _add(values, b, where, start, size, R, C, i, j, v):
+def _add(values, b, where, size, R, C, i, j, v):
     """Add ``v`` to entry ``(i, j)`` of block ``(R, C)`` of member ``b``."""
     values[b, where[R, C] + i * size[C] + j] += v
 
@@ -134,11 +134,11 @@ def joint_equations(kind, slope, jacobian, offset, frame, body, reference, q, y,
             _skew(arm, S1)
             for i in range(3):
                 for c in range(3):
-                    _add(values, b, where, start, size, BODY, LAM, i, c, eye[i, c])
-                    _add(values, b, where, start, size, LAM, BODY, i, c, eye[i, c])
-                    _add(values, b, where, start, size, TURN, LAM, i, c, S1[i, c])
-                _add(values, b, where, start, size, LAM, XI, i, 0, -l[b, i])
-                _add(values, b, where, start, size, XI, LAM, 0, i, -tangent[b, i])
+                    _add(values, b, where, size, BODY, LAM, i, c, eye[i, c])
+                    _add(values, b, where, size, LAM, BODY, i, c, eye[i, c])
+                    _add(values, b, where, size, TURN, LAM, i, c, S1[i, c])
+                _add(values, b, where, size, LAM, XI, i, 0, -l[b, i])
+                _add(values, b, where, size, XI, LAM, 0, i, -tangent[b, i])
             if lever:
                 _skew(lam, S1)
                 _skew(offset, S2)
@@ -147,28 +147,28 @@ def joint_equations(kind, slope, jacobian, offset, frame, body, reference, q, y,
                         s = 0.0
                         for e in range(3):
                             s += S1[i, e] * S2[e, c]
-                        _add(values, b, where, start, size, TURN, TURN, i, c, s)
-                        _add(values, b, where, start, size, LAM, TURN, i, c, -S2[i, c])
+                        _add(values, b, where, size, TURN, TURN, i, c, s)
+                        _add(values, b, where, size, LAM, TURN, i, c, -S2[i, c])
             for k in range(n_load):
                 s = 0.0
                 for c in range(3):
                     s += dG[b, k, c] * lam[c]
-                    _add(values, b, where, start, size, LOAD, LAM, k, c, -G[b, k, c])
-                _add(values, b, where, start, size, LOAD, XI, k, 0, -s)
-            _add(values, b, where, start, size, XI, XI, 0, 0,
+                    _add(values, b, where, size, LOAD, LAM, k, c, -G[b, k, c])
+                _add(values, b, where, size, LOAD, XI, k, 0, -s)
+            _add(values, b, where, size, XI, XI, 0, 0,
                  -(tangent_xi[b, 0] * lam[0] + tangent_xi[b, 1] * lam[1]
                    + tangent_xi[b, 2] * lam[2]))
             for a in range(n_tangent):
                 for c in range(3):
                     col = 3 * a + c
                     if col < size[INTERP]:
-                        _add(values, b, where, start, size, XI, INTERP, 0, col, -T[b, a] * lam[c])
+                        _add(values, b, where, size, XI, INTERP, 0, col, -T[b, a] * lam[c])
                     else:
-                        _add(values, b, where, start, size, XI, BESIDE, 0, col - size[INTERP],
+                        _add(values, b, where, size, XI, BESIDE, 0, col - size[INTERP],
                              -T[b, a] * lam[c])
             for a in range(npe):
                 for c in range(3):
-                    _add(values, b, where, start, size, LAM, INTERP, c, 3 * a + c, -N[b, a])
+                    _add(values, b, where, size, LAM, INTERP, c, 3 * a + c, -N[b, a])
     if kind != 0 and slope:
         _slope(jacobian, axes, body, q, y, l, l_xi, l_xixi, dN, d2N, G, dG, start, size,
                where, r, values)
@@ -289,32 +289,32 @@ def _section(kind, jacobian, frame, axes, body, q, y, rotation_dofs, w, w_xi, ki
         s = 0.0
         for j in range(n_mu):
             s += mu[j] * (g2[j] + _dot(n2[j], d) - 2 * _dot(n1[j], theta_L_xi))
-        _add(values, b, where, start, size, XI, XI, 0, 0, s)
+        _add(values, b, where, size, XI, XI, 0, 0, s)
         for c in range(3):
             v[c] = kink_xi[b] * m[c] + kink[b] * m_xi[c]
         _matvec(C, v, rate)
         for c in range(3):
-            _add(values, b, where, start, size, TURN, XI, c, 0, m_xi[c])
-            _add(values, b, where, start, size, XI, TURN, 0, c, m_xi[c])
+            _add(values, b, where, size, TURN, XI, c, 0, m_xi[c])
+            _add(values, b, where, size, XI, TURN, 0, c, m_xi[c])
             for a in range(n_w):
-                _add(values, b, where, start, size, ROTATION, XI, 3 * a + c, 0,
+                _add(values, b, where, size, ROTATION, XI, 3 * a + c, 0,
                      -(w_xi[b, a] * m[c] + w[b, a] * m_xi[c]))
-                _add(values, b, where, start, size, XI, ROTATION, 0, 3 * a + c,
+                _add(values, b, where, size, XI, ROTATION, 0, 3 * a + c,
                      -(w[b, a] * m_xi[c] + w_xi[b, a] * m[c]))
         for j in range(n_mu):
-            _add(values, b, where, start, size, XI, MU, 0, j, along[j])
-            _add(values, b, where, start, size, MU, XI, j, 0,
+            _add(values, b, where, size, XI, MU, 0, j, along[j])
+            _add(values, b, where, size, MU, XI, j, 0,
                  along[j] - _dot(n1[j], shift) - _dot(n0[j], rate))
             _matvec(C, n0[j], Cn)
             for i in range(n_mu):
-                _add(values, b, where, start, size, MU, MU, i, j, -kink[b] * _dot(n0[i], Cn))
+                _add(values, b, where, size, MU, MU, i, j, -kink[b] * _dot(n0[i], Cn))
             for c in range(3):
-                _add(values, b, where, start, size, TURN, MU, c, j, n0[j, c])
-                _add(values, b, where, start, size, MU, TURN, j, c, n0[j, c])
+                _add(values, b, where, size, TURN, MU, c, j, n0[j, c])
+                _add(values, b, where, size, MU, TURN, j, c, n0[j, c])
                 for a in range(n_w):
-                    _add(values, b, where, start, size, ROTATION, MU, 3 * a + c, j,
+                    _add(values, b, where, size, ROTATION, MU, 3 * a + c, j,
                          -w[b, a] * n0[j, c])
-                    _add(values, b, where, start, size, MU, ROTATION, j, 3 * a + c,
+                    _add(values, b, where, size, MU, ROTATION, j, 3 * a + c,
                          -w[b, a] * n0[j, c])
 
 
@@ -352,7 +352,7 @@ def _slope(jacobian, axes, body, q, y, l, l_xi, l_xixi, dN, d2N, G, dG, start, s
                 s = 0.0
                 for c in range(3):
                     s += dG[b, k, 3 + c] * m[c]
-                _add(values, b, where, start, size, LOAD, XI, k, 0, -s)
+                _add(values, b, where, size, LOAD, XI, k, 0, -s)
         for j in range(2):
             e, e0, mu_j = e_b[j], axes[j], y[b, 4 + j]
             r[b, t] += mu_j * _dot(e, l_xi[b])
@@ -369,38 +369,38 @@ def _slope(jacobian, axes, body, q, y, l, l_xi, l_xixi, dN, d2N, G, dG, start, s
             for i in range(3):
                 dm_dxi[i] *= mu_j
             for i in range(3):
-                _add(values, b, where, start, size, TURN, XI, i, 0, dm_dxi[i])
-                _add(values, b, where, start, size, TURN, MU, i, j, dm_dmu[i])
+                _add(values, b, where, size, TURN, XI, i, 0, dm_dxi[i])
+                _add(values, b, where, size, TURN, MU, i, j, dm_dmu[i])
                 for c in range(3):
-                    _add(values, b, where, start, size, TURN, TURN, i, c, dm_dtheta[i, c])
+                    _add(values, b, where, size, TURN, TURN, i, c, dm_dtheta[i, c])
                 for a in range(npe):
                     for c in range(3):
-                        _add(values, b, where, start, size, TURN, INTERP, i, 3 * a + c,
+                        _add(values, b, where, size, TURN, INTERP, i, 3 * a + c,
                              mu_j * E[i, c] * dN[b, a])
             for k in range(n_load):
                 g = G[b, k, 3:]
-                _add(values, b, where, start, size, LOAD, XI, k, 0, -_dot(g, dm_dxi))
-                _add(values, b, where, start, size, LOAD, MU, k, j, -_dot(g, dm_dmu))
+                _add(values, b, where, size, LOAD, XI, k, 0, -_dot(g, dm_dxi))
+                _add(values, b, where, size, LOAD, MU, k, j, -_dot(g, dm_dmu))
                 for c in range(3):
-                    _add(values, b, where, start, size, LOAD, TURN, k, c,
+                    _add(values, b, where, size, LOAD, TURN, k, c,
                          -(g[0] * dm_dtheta[0, c] + g[1] * dm_dtheta[1, c]
                            + g[2] * dm_dtheta[2, c]))
                     for a in range(npe):
-                        _add(values, b, where, start, size, LOAD, INTERP, k, 3 * a + c,
+                        _add(values, b, where, size, LOAD, INTERP, k, 3 * a + c,
                              -mu_j * dN[b, a] * (g[0] * E[0, c] + g[1] * E[1, c]
                                                  + g[2] * E[2, c]))
             _cross(e0, l_xi[b], v)
             for c in range(3):
-                _add(values, b, where, start, size, XI, TURN, 0, c, mu_j * v[c])
-            _add(values, b, where, start, size, XI, XI, 0, 0, mu_j * _dot(e, l_xixi[b]))
-            _add(values, b, where, start, size, XI, MU, 0, j, _dot(e, l_xi[b]))
+                _add(values, b, where, size, XI, TURN, 0, c, mu_j * v[c])
+            _add(values, b, where, size, XI, XI, 0, 0, mu_j * _dot(e, l_xixi[b]))
+            _add(values, b, where, size, XI, MU, 0, j, _dot(e, l_xi[b]))
             _cross(e0, l[b], v)
             for c in range(3):
-                _add(values, b, where, start, size, MU, TURN, j, c, v[c])
-            _add(values, b, where, start, size, MU, XI, j, 0, _dot(e, l_xi[b]))
+                _add(values, b, where, size, MU, TURN, j, c, v[c])
+            _add(values, b, where, size, MU, XI, j, 0, _dot(e, l_xi[b]))
             for a in range(npe):
                 for c in range(3):
-                    _add(values, b, where, start, size, XI, INTERP, 0, 3 * a + c,
+                    _add(values, b, where, size, XI, INTERP, 0, 3 * a + c,
                          mu_j * d2N[b, a] * e[c])
-                    _add(values, b, where, start, size, MU, INTERP, j, 3 * a + c,
+                    _add(values, b, where, size, MU, INTERP, j, 3 * a + c,
                          dN[b, a] * e[c])

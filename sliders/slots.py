@@ -62,7 +62,7 @@ class SlotJacobian:
         """For a kernel: the first slot and size of each of ``groups`` (g,), and the
         offset of block ``(groups[i], groups[j])`` in ``values`` at ``[i, j]`` (g, g), -1
         where it is not in the pattern."""
-        return _index(tuple(self.size.items()), tuple(self.pattern), tuple(groups))
+        return _index(*self._key[:2], tuple(groups))
 
     def block(self, rows: str, cols: str) -> np.ndarray:
         """The (B, rows, cols) block of the pattern (a view, to write into)."""
@@ -120,18 +120,16 @@ def _layout(groups: tuple[tuple[str, int], ...], pattern: tuple[tuple[str, str],
 
 
 @lru_cache(maxsize=64)
-def _index(sizes: tuple[tuple[str, int], ...], pattern: tuple[tuple[str, str], ...],
-           groups: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """:meth:`SlotJacobian.index`, once per layout."""
-    size = dict(sizes)
-    first = np.cumsum([0] + list(size.values()))
-    start = np.array([first[list(size).index(g)] for g in groups], dtype=np.int64)
-    where = np.full((len(groups), len(groups)), -1, dtype=np.int64)
-    offset = 0
-    for r, c in pattern:
-        where[groups.index(r), groups.index(c)] = offset
-        offset += size[r] * size[c]
-    return start, np.array([size[g] for g in groups], dtype=np.int64), where
+def _index(groups: tuple[tuple[str, int], ...], pattern: tuple[tuple[str, str], ...],
+           names: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:meth:`SlotJacobian.index` of the groups ``names``, read from :func:`_layout`, once
+    per layout."""
+    size, at, _, blocks, table = _layout(groups, pattern)
+    where = np.full((len(names), len(names)), -1, dtype=np.int64)
+    for (r, c), row in zip(blocks, table):
+        where[names.index(r), names.index(c)] = row[4]
+    return (np.array([at[g].start for g in names], dtype=np.int64),
+            np.array([size[g] for g in names], dtype=np.int64), where)
 
 
 @lru_cache(maxsize=64)

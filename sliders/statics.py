@@ -273,12 +273,19 @@ def converged(dq: np.ndarray, dy: np.ndarray, sizes: Sequence[int],
     (B, n), ``dy`` (B, m) with the sliders' ``sizes`` and line ``lengths``.  A ``q``
     increment below ``resolution`` (what the positions ``X + q`` can resolve) also passes:
     a solution at rest (``q = 0``, the load taken by the sliders) moves by roundoff only."""
-    first = np.cumsum([0] + list(sizes[:-1]))
-    multipliers = np.ones(dy.shape[1], dtype=bool)
-    multipliers[first] = False
+    first, multipliers = _unknown_columns(sizes)
     return ((np.abs(dq).max(axis=1, initial=0.0) <= np.maximum(tol * reach, resolution))
             & np.all(np.abs(dy[:, first]) <= tol * np.asarray(lengths, dtype=float), axis=1)
             & (np.abs(dy[:, multipliers]).max(axis=1, initial=0.0) <= tol * force))
+
+
+def _unknown_columns(sizes: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
+    """Of the joints' unknowns side by side (``sizes`` of them each): the column of each
+    joint's abscissa ``xi`` (its first), and the mask of the multipliers (the others)."""
+    first = np.cumsum([0] + list(sizes[:-1]))
+    multipliers = np.ones(sum(sizes), dtype=bool)
+    multipliers[first] = False
+    return first, multipliers
 
 
 def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch],
@@ -325,8 +332,7 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
     history, last = np.zeros((max_iterations + 1, B)), np.zeros(B, dtype=int)
     outcome: list = [None] * B
     active, view = np.arange(B), full
-    multipliers = np.ones(sum(sizes), dtype=bool)
-    multipliers[[i for i, _ in bounds]] = False
+    multipliers = _unknown_columns(sizes)[1]
     for iteration in range(max_iterations + 1):
         rows = _rows(active, B)
         R = (lead.K @ Q[rows].T).T - loads[rows]
