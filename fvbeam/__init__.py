@@ -14,7 +14,9 @@ from fvbeam.body import RigidBody
 from fvbeam.formulations import FORMULATIONS, formulation
 from fvbeam.mesh import BeamMesh, arc, from_curve, read_beams, straight
 from fvbeam.section import Section
-from fvbeam.statics import LinearStatics, Structure, Support
+from fvbeam.linear_statics import LinearStatics
+from fvbeam.structure import Structure
+from fvbeam.support import Support
 
 __all__ = ["Beam", "BeamMesh", "FORMULATIONS", "InternalForces", "LinearStatics", "RigidBody",
            "Section", "Structure", "Support", "arc", "formulation", "from_curve", "read_beams",

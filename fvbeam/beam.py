@@ -97,7 +97,7 @@ class Beam:
         """The six dofs of a mesh node (index, ``'start'`` or ``'end'``)."""
         return 6 * self.node_index(node) + np.arange(6)
 
-    def _geometry(self, X: np.ndarray) -> tuple[dict[str, np.ndarray], np.ndarray]:
+    def geometry(self, X: np.ndarray) -> tuple[dict[str, np.ndarray], np.ndarray]:
         """Form fields (tangent, metric, global section stiffness) at reference points X
         (1, nqp), and the section frames there, shape (nel, nqp, 3, 3)."""
         e = np.repeat(np.arange(self.mesh.n_elements)[:, None], X.shape[-1], axis=1)
@@ -112,7 +112,7 @@ class Beam:
     @cached_property
     def _stiffness_geometry(self) -> tuple[dict[str, np.ndarray], np.ndarray]:
         """Geometry at the stiffness quadrature points, which are also the recovery points."""
-        return self._geometry(self.trial_basis.X)
+        return self.geometry(self.trial_basis.X)
 
     # -- residual and tangent ------------------------------------------------------------
     @cached_property
@@ -214,7 +214,7 @@ class Beam:
         X, W = self.formulation.load_quadrature()
         basis = CellBasis(self.skfem_mesh, self._test_element, quadrature=(X, W),
                           disable_doflocs=True)
-        geometry, _ = self._geometry(X)
+        geometry, _ = self.geometry(X)
         xi = self.mesh.abscissae(np.arange(self.mesh.n_elements)[:, None], X)
         fields = {k: _sample(v, xi, k) for k, v in (("f", force), ("m", moment))}
         return asm(distributed_load, basis, metric=geometry["metric"], **fields)

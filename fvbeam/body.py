@@ -11,7 +11,7 @@ from fvbeam.geometry import inertia3, orthonormal3, skew_matrices, vector3
 
 @dataclass(frozen=True, eq=False)
 class RigidBody:
-    """A rigid body: one node of a :class:`~fvbeam.statics.Structure` with the six dofs
+    """A rigid body: one node of a :class:`~fvbeam.structure.Structure` with the six dofs
     ``ux uy uz rx ry rz`` (small displacement and rotation of the node, linear kinematics like
     the beams), attached to the rest only through ties, supports and joints.
 

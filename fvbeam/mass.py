@@ -27,25 +27,34 @@ offset centre of mass is not modelled (the section has no such offset).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
 import scipy.sparse as sp
-from skfem import CellBasis, asm
+from skfem import CellBasis, MeshLine1, asm
 
 from fvbeam.elements import indicator
-from fvbeam.formulations import FiniteVolume, gauss
 from fvbeam.forms import inertia
-from fvbeam.mesh import shape_functions
+from fvbeam.formulations import FiniteVolume, Formulation, gauss
+from fvbeam.mesh import BeamMesh, shape_functions
+from fvbeam.section import Section
 
-if TYPE_CHECKING:
-    from fvbeam.beam import Beam
+
+class MassSource(Protocol):
+    """What a mass matrix reads of a beam (:class:`fvbeam.beam.Beam` is one)."""
+
+    mesh: BeamMesh
+    section: Section
+    formulation: Formulation
+    skfem_mesh: MeshLine1
+
+    def geometry(self, X: np.ndarray) -> tuple[dict[str, np.ndarray], np.ndarray]: ...
 
 #: Mass matrix kinds.
 KINDS = ("lumped", "consistent")
 
 
-def check_kind(beam: "Beam", kind: str) -> None:
+def check_kind(beam: MassSource, kind: str) -> None:
     """``ValueError`` naming the beam when ``kind`` is unknown, or not available for its
     formulation, or when its section has no mass."""
     name = f"beam {beam.mesh.name!r} ({beam.formulation.name})"
@@ -60,15 +69,15 @@ def check_kind(beam: "Beam", kind: str) -> None:
                          "to assemble a mass matrix")
 
 
-def _section_fields(beam: "Beam", X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _section_fields(beam: MassSource, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Global section inertia ``R J R^T`` (nel, nqp, 3, 3) and ``ds / dX`` (nel, nqp) at
     reference points ``X`` (1, nqp)."""
-    geometry, frames = beam._geometry(X)
+    geometry, frames = beam.geometry(X)
     J = frames @ beam.section.inertia @ np.swapaxes(frames, -1, -2)
     return J, geometry["metric"] * beam.mesh.element_length[:, None]
 
 
-def lumped(beam: "Beam") -> sp.csr_matrix:
+def lumped(beam: MassSource) -> sp.csr_matrix:
     """Block-diagonal mass: each node carries ``int phi_a (m, R J R^T) ds`` (module doc)."""
     npe = beam.mesh.nodes_per_element
     X, W = beam.formulation.load_quadrature()
@@ -86,7 +95,7 @@ def lumped(beam: "Beam") -> sp.csr_matrix:
     return sp.block_diag(list(blocks), format="csr")
 
 
-def consistent(beam: "Beam") -> sp.csr_matrix:
+def consistent(beam: MassSource) -> sp.csr_matrix:
     """Galerkin mass ``int N_a N_b (m I, R J R^T) ds`` (scikit-fem, :func:`forms.inertia`)."""
     X, W = gauss(beam.mesh.nodes_per_element + 1)
     basis = CellBasis(beam.skfem_mesh, beam.formulation.trial_element(),

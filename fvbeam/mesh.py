@@ -246,7 +246,7 @@ def read_beams(mesh: meshio.Mesh | str | Path, up: Sequence[float] = (0.0, 0.0, 
     block (a Gmsh physical group, say, is a block).
 
     All line cells must be of one kind (``line`` or ``line3``).  Nodes shared by two beams keep
-    the same ``point_ids``; :meth:`fvbeam.statics.Structure.from_shared_points` joins them.  A
+    the same ``point_ids``; :meth:`fvbeam.structure.Structure.from_shared_points` joins them.  A
     chain keeps the direction of its first cell in the file.
     """
     if not isinstance(mesh, meshio.Mesh):

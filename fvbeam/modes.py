@@ -2,7 +2,7 @@
 
 The finite-volume stiffness is unsymmetric (Petrov-Galerkin), so the problem is solved in the
 inverse form ``M phi = mu K phi``, ``mu = 1 / omega^2``: the supported ``K`` is regular (the
-check of :class:`~fvbeam.statics.LinearStatics`), while a lumped ``M`` may be singular (zero
+check of :class:`~fvbeam.linear_statics.LinearStatics`), while a lumped ``M`` may be singular (zero
 section inertia), whose modes then have ``mu = 0`` (infinite frequency) and fall last.  Small
 problems use dense solvers (``scipy.linalg.eigh`` when ``K`` is symmetric, ``eig`` otherwise);
 large ones ARPACK in shift-invert mode about 0 (``eigsh`` / ``eigs``) on the factorised ``K``.
@@ -18,7 +18,9 @@ import scipy.linalg as sla
 import scipy.sparse.linalg as spla
 
 from fvbeam.beam import Beam
-from fvbeam.statics import LinearStatics, Structure, Support
+from fvbeam.linear_statics import LinearStatics
+from fvbeam.structure import Structure
+from fvbeam.support import Support
 
 #: Free dofs up to which the dense solvers are used.
 DENSE_LIMIT = 800

@@ -1,7 +1,7 @@
 """A beam's interpolation and test functions at one point, compiled (numba).
 
 The functions of one point write into arrays the caller owns (no temporaries), so that the
-compiled kernels of :mod:`sliders.stack_kernel` call them per member; the ``*_many``
+compiled kernels of :mod:`sliders.lines.batched_kernel` call them per member; the ``*_many``
 functions loop them over flat arrays of points for the numpy-facing wrappers of
 :mod:`fvbeam.mesh` (:func:`~fvbeam.mesh.shape_functions`), :mod:`fvbeam.elements`
 (:func:`~fvbeam.elements.indicator`, :func:`~fvbeam.elements.rigid_motions_at`) and

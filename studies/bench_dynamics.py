@@ -8,7 +8,7 @@
     vector (``Beam.point_load`` and ``Structure.gather``).  Reported: seconds per step (median
     and minimum of the repeats), steps per second, and beside them the relative max-norm error
     of the mid-span deflection against the closed form
-    (:func:`fvbeam.analytic.moving_load_simply_supported`), split into its spatial part (the
+    (:func:`fvbeam.closed_forms.moving_load_simply_supported`), split into its spatial part (the
     exact semi-discrete solution against the closed form) and its time part (the steps
     against the exact semi-discrete solution), all three on the scale of the closed form's
     largest mid-span deflection (so the parts bound the total).
@@ -16,7 +16,7 @@
     The Figure 2 scene (:mod:`studies.fig2_smearing`: one fv3 element, a body pushed across
     the evaluation point ``b`` in 100 first-mode periods, ``zeta = 2 %``, step ``T_1 / 40``)
     at smearing 0 and 1 %.  Timed with :func:`time.perf_counter` around
-    :meth:`sliders.dynamics.Dynamics.run` (the static start and the step operator's build are
+    :meth:`sliders.solve.dynamics.Dynamics.run` (the static start and the step operator's build are
     inside; building the model is not).  Reported per level: seconds, steps, time per step,
     steps per second, mean Newton iterations per step, and beside them the errors of the end
     state against the static closed forms (:func:`studies.fig2_smearing.static_shear_and_tip`:

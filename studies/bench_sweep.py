@@ -7,7 +7,7 @@ ways of running the positions:
 ``batched`` (the main sweep, whose total is compared with the 0.1 s target)
     :meth:`SlidingBeams.solve`, what the Figures 4-5 study runs: all 96 positions of a sweep
     at once, each from its projected abscissae, as translations of one template problem
-    (:func:`sliders.statics.solve_translated`).  ``seconds`` is that call: building the 96
+    (:func:`sliders.solve.statics.solve_translated`).  ``seconds`` is that call: building the 96
     positions' joint batches from the template and the shifts, the projections, every joint
     evaluation and every Newton step.  Not in it: imports, the beams, and the template
     (``setup_seconds``: the piston at s = 0, the stiffness assembled by scikit-fem and the
@@ -17,13 +17,13 @@ ways of running the positions:
     fastest pass (the run least slowed by other jobs on the shared cores), with the median
     and every pass beside it; ``main_sweep`` also gives each whole pass's CPU time.
 ``continuation``
-    :func:`sliders.sweep.sweep`, each position from the secant prediction of the last two;
+    :func:`sliders.solve.sweep.sweep`, each position from the secant prediction of the last two;
 ``cold``
     :meth:`SlidingBeams.stiffness` per position, Newton from the projected abscissae.
     These two build every position's statics (:meth:`SlidingBeams.problem`) inside the time.
 
 The compiled kernels (numba) are compiled, or loaded from their cache, before any timing
-(:func:`studies.fig4_stiffness.compile_kernels`, ``warmup_seconds``), like the imports the
+(:func:`sliders.sliding_beams.model.compile_kernels`, ``warmup_seconds``), like the imports the
 timing leaves out.
 Reported beside each time: the microseconds per position, the mean Newton iterations per
 converged position, the singular positions, and the largest error against the analytic
@@ -48,11 +48,11 @@ from typing import Any, Callable
 
 import numpy as np
 
-from sliders.analytic import sliding_beams
-from sliders.sweep import sweep
+from sliders.sliding_beams.exact import sliding_beams
+from sliders.solve.sweep import sweep
 from studies.bench import environment, write_merged
-from studies.fig4_stiffness import (EJ, GA, KINDS, L, STATIONS, SlidingBeams, compile_kernels,
-                                    tip_stiffness)
+from studies.fig4_stiffness import EJ, GA, L, STATIONS
+from sliders.sliding_beams.model import KINDS, SlidingBeams, compile_kernels
 
 KEY = "fig4_sweep"
 #: The per-position modes (the default of :func:`bench`); ``main`` runs ``batched`` first.
@@ -82,7 +82,7 @@ def run(kind: str, n: int,
         outcomes, elapsed, cpu = timed(lambda: model.solve(STATIONS))
         solved = [(i, o) for i, o in enumerate(outcomes) if not isinstance(o, str)]
         for i, solution in solved:
-            k[i] = tip_stiffness(statics, solution)
+            k[i] = model.tip_stiffness(statics, solution)
         return elapsed, cpu, setup, k, [o.iterations for _, o in solved]
     if mode == "continuation":
         result, elapsed, cpu = timed(lambda: sweep(STATIONS, model.problem, progress=False))
@@ -91,7 +91,7 @@ def run(kind: str, n: int,
         solutions = result.solutions
         for i, solution in enumerate(solutions):
             if solution is not None:
-                k[i] = tip_stiffness(model._previous, solution)
+                k[i] = model.tip_stiffness(model._previous, solution)
         return elapsed, cpu, None, k, [s.iterations for s in solutions if s is not None]
     _, elapsed, cpu = timed(lambda: cold(model, k))
     return elapsed, cpu, None, k, model.iterations

@@ -3,7 +3,7 @@
 A cantilever of length ``L = 1``, clamped at 0, with ``EJ = GA = 1``, carries a unit
 transverse force ``F`` at the station ``xi``.  Figure 1 plots, against ``xi / L``, the
 flexural and the shear parts of the tip displacement ``v(L)`` and the tip rotation
-``phi(L)`` (paper Secs. 5.1-5.4).  Closed forms (``fvbeam.analytic``):
+``phi(L)`` (paper Secs. 5.1-5.4).  Closed forms (``fvbeam.closed_forms``):
 
 * exact Timoshenko beam (Sec. 5.1)::
 
@@ -49,7 +49,7 @@ from pathlib import Path
 
 import numpy as np
 
-from fvbeam import Beam, LinearStatics, Section, Support, analytic, straight
+from fvbeam import Beam, LinearStatics, Section, Support, closed_forms, straight
 from fvbeam.io import write_atomic
 
 SCENE = Path(__file__).parent / "scenes" / "fig1_cantilever.toml"
@@ -58,7 +58,7 @@ SCENE = Path(__file__).parent / "scenes" / "fig1_cantilever.toml"
 def read_setup(path: Path = SCENE) -> tuple[float, float, float, float]:
     """``L``, ``EJ``, ``F`` and the stiffness of ``EA`` and ``GJ`` (no role in this bending
     problem) from the scene: its one straight beam, its section and its point load."""
-    from sliders.scene import load_scene
+    from sliders.app.scene import load_scene
 
     scene = load_scene(path)
     beam, section, load = scene.beam[0], scene.section[0], scene.load[0]
@@ -68,8 +68,8 @@ def read_setup(path: Path = SCENE) -> tuple[float, float, float, float]:
 
 L, EJ, F, STIFFNESS = read_setup()
 FORMULATIONS = ("exact", "fv2", "fv3", "galerkin-p1", "galerkin-p2")
-CLOSED_FORMS = {"exact": analytic.cantilever_exact, "fv2": analytic.cantilever_fv2,
-                "fv3": analytic.cantilever_fv3}
+CLOSED_FORMS = {"exact": closed_forms.cantilever_exact, "fv2": closed_forms.cantilever_fv2,
+                "fv3": closed_forms.cantilever_fv3}
 COLUMNS = ("formulation", "xi_over_L", "v_flexural", "v_shear", "phi")
 STATIONS = np.arange(101) / 100
 SPLIT_TOLERANCE = 1e-12
@@ -144,7 +144,7 @@ def compute(stations: np.ndarray | None = None, *,
     for name in FORMULATIONS:
         start = time.perf_counter()
         if name == "exact":
-            values = analytic.cantilever_exact(stations * L, L=L, EJ=EJ, GA=1.0, F=F)
+            values = closed_forms.cantilever_exact(stations * L, L=L, EJ=EJ, GA=1.0, F=F)
         else:
             values = split(name, stations)
         if timings is not None:
@@ -200,7 +200,7 @@ def closed_form_errors(rows: list[dict]) -> list[tuple[str, float, str]]:
         xi = np.array([r["xi_over_L"] for r in mine]) * L
         got = np.array([[r[k] for k in COLUMNS[2:]] for r in mine]).T
         diff = np.abs(got - np.array(closed_form(xi, L=L, EJ=EJ, GA=1.0, F=F))).max()
-        out.append((name, float(diff), f"analytic.cantilever_{name}"))
+        out.append((name, float(diff), f"closed_forms.cantilever_{name}"))
     return out
 
 

@@ -11,7 +11,7 @@ orders above the first bending mode).  Light structural damping: a viscoelastic 
 
 A massless body carrying a unit transverse force ``F`` (global y) slides on the element
 (``spherical`` slider, the body's rotations held) and is pushed at constant speed
-(:class:`sliders.drives.Linear`) from ``xi = 0.6 L`` to ``xi = 0.95 L`` in ``PERIODS = 100``
+(:class:`sliders.joints.drives.Linear`) from ``xi = 0.6 L`` to ``xi = 0.95 L`` in ``PERIODS = 100``
 periods ``T_1 = 2 pi / omega_1`` of the first mode, starting from the static equilibrium at
 ``xi = 0.6 L``.  On the way it crosses the element's second evaluation point
 ``b = L (1 + 1/sqrt(3)) / 2`` (natural coordinate ``+1/sqrt(3)``), where its reaction passes
@@ -25,7 +25,7 @@ spans 2 natural units), i.e. over ``dL L`` of arc length (``../shared/notes``; i
 value 0.01 is the paper's 1 %).  With this reading every level starts with the whole load on
 the mid node's region and ends with it on the tip node's.
 
-Time integration: generalized-alpha, ``rho_inf = RHO_INF`` (:class:`sliders.dynamics.Dynamics`),
+Time integration: generalized-alpha, ``rho_inf = RHO_INF`` (:class:`sliders.solve.dynamics.Dynamics`),
 fixed step ``T_1 / STEPS_PER_PERIOD``.  ``docs/stability.md`` gives the step-halving check and
 the measured numbers.
 
@@ -52,14 +52,14 @@ from pathlib import Path
 
 import numpy as np
 
-from fvbeam import Beam, RigidBody, Section, Structure, Support, analytic, straight
+from fvbeam import Beam, RigidBody, Section, Structure, Support, closed_forms, straight
 from fvbeam.io import write_atomic
 from fvbeam.modes import natural_frequencies
-from sliders.chain import BeamChain
-from sliders.drives import Linear
-from sliders.dynamics import Dynamics
-from sliders.history import Recorder
-from sliders.joint import Slider
+from sliders.lines.chain import BeamChain
+from sliders.joints.drives import Linear
+from sliders.solve.dynamics import Dynamics
+from sliders.app.history import Recorder
+from sliders.joints.slider import Slider
 
 L, EJ, GA, F = 1.0, 1.0, 1.0, 1.0
 MASS_PER_LENGTH = 1.0
@@ -120,7 +120,7 @@ def static_shear_and_tip(xi: float, smearing: float) -> tuple[float, float]:
     when the kernel lies on one side of ``b``.
 
     On the tip node's region (``xi > b``) the shear at ``b`` is ``F`` and the tip displacement
-    (:func:`fvbeam.analytic.cantilever_fv3`) is linear in the load's station, so a smeared
+    (:func:`fvbeam.closed_forms.cantilever_fv3`) is linear in the load's station, so a smeared
     load acts at its kernel's mean station; on the mid node's region the shear is 0.
     """
     lo, hi = max(xi - smearing * L / 2, 0.0), min(xi + smearing * L / 2, L)
@@ -128,7 +128,7 @@ def static_shear_and_tip(xi: float, smearing: float) -> tuple[float, float]:
         raise ValueError(f"the kernel [{lo:.4g}, {hi:.4g}] straddles b = "
                          f"{EVALUATION_POINT:.4g}: no single-region closed form")
     mean = (lo + hi) / 2 if hi > lo else xi
-    flexural, shear, _ = analytic.cantilever_fv3(mean, L=L, EJ=EJ, GA=GA, F=F)
+    flexural, shear, _ = closed_forms.cantilever_fv3(mean, L=L, EJ=EJ, GA=GA, F=F)
     return (F if mean > EVALUATION_POINT else 0.0), float(flexural + shear) * EJ / (F * L**3)
 
 
@@ -270,7 +270,7 @@ def summary(runs: dict[float, dict[str, np.ndarray]],
                 (f"{case} end |V(b) - V_static|", abs(run["shear"][-1] - shear),
                  "static closed form"),
                 (f"{case} end |v(L) - v_static|", abs(run["tip"][-1] - tip),
-                 "analytic.cantilever_fv3")]
+                 "closed_forms.cantilever_fv3")]
     return out
 
 

@@ -8,7 +8,7 @@ bottom end node slides on C.  Slider B: C's top end node slides on P.  A transve
 ``F`` at P's tip.  ``EJ = 4.1e4 N m^2``, ``GA = 1.1e8 N``, ``L = 0.6 m``; ``EA = 10 GA`` and
 ``GJ = EJ`` play no role in this bending problem.  The tip stiffness ``k = F / v(s + L)`` is
 normalised by ``EJ / L^3`` and compared with the analytic two-beam solution
-(:func:`sliders.analytic.sliding_beams`, ``docs/sliders.md``).  The section, ``L`` and ``F``
+(:func:`sliders.sliding_beams.exact.sliding_beams`, ``docs/sliders.md``).  The section, ``L`` and ``F``
 are read from the setup's scene, ``studies/scenes/fig4_sliding_beams.toml``; this script
 varies the slider kind, the formulation, the mesh, the smearing and the stations.
 
@@ -26,37 +26,33 @@ import argparse
 import csv
 import importlib.util
 import time
-from functools import cached_property
 from pathlib import Path
 
 import numpy as np
 
-from fvbeam import Beam, Section, Structure, Support, straight
+from fvbeam import Section
 from fvbeam.io import write_atomic
-from sliders.analytic import sliding_beams
-from sliders.chain import BeamChain
-from sliders.joint import Slider
-from sliders.statics import SliderSolution, SliderStatics, solve_translated
+from sliders.sliding_beams.exact import sliding_beams
+from sliders.sliding_beams.model import KINDS, Setup, SlidingBeams
 
 SCENE = Path(__file__).parent / "scenes" / "fig4_sliding_beams.toml"
 
 
-def read_setup(path: Path = SCENE) -> tuple[Section, float, float]:
+def read_setup(path: Path = SCENE) -> Setup:
     """The section, the beams' length ``L`` and the tip force ``F`` from the scene (its
     first section and beam, its one load), which ``fvslider run`` also runs."""
-    from sliders.scene import load_scene
+    from sliders.app.scene import load_scene
 
     scene = load_scene(path)
     tube, beam = scene.section[0], scene.beam[0]
     section = Section.diagonal(EA=tube.EA, GAy=tube.GAy, GAz=tube.GAz, GJ=tube.GJ,
                                EJy=tube.EJy, EJz=tube.EJz)
     length = float(np.linalg.norm(np.subtract(beam.straight.end, beam.straight.start)))
-    return section, length, float(np.linalg.norm(scene.load[0].force))
+    return Setup(section, length, float(np.linalg.norm(scene.load[0].force)))
 
 
-SECTION, L, F = read_setup()
-EJ, GA = float(SECTION.stiffness[5, 5]), float(SECTION.stiffness[1, 1])  # EJz, GAy
-KINDS = ("spherical", "classical")
+SETUP = read_setup()
+L, EJ, GA = SETUP.length, SETUP.EJ, SETUP.GA
 STATIONS = np.arange(96) / 100
 CASES = ([("fv3", n) for n in (1, 3, 5, 10, 20, 40)] + [("galerkin-p2", n) for n in (1, 3, 5)])
 SMEARINGS = (0.0, 0.01)
@@ -67,94 +63,15 @@ BOUNDS = {"spherical": ((1, 0.07, 0.07), (3, 0.02, 0.011), (5, 0.02, 0.011)),
           "classical": ((1, 0.07, 0.07), (3, 0.025, 0.015), (5, 0.025, 0.015))}
 
 
-class SlidingBeams:
-    """The two beams built once; :meth:`stiffness` moves the piston and solves.
-    ``orientation``: the classical sliders' form (:class:`sliders.joint.Slider`).  The
-    piston is the cylinder's beam moved (same mesh, section and formulation), so one
-    stiffness is assembled for both."""
-
-    def __init__(self, formulation: str, n_elements: int, kind: str,
-                 smearing: float = 0.0, orientation: str = "section") -> None:
-        npe = 2 if formulation in ("fv2", "galerkin-p1") else 3
-        self.cylinder = Beam(straight((0, 0, 0), (L, 0, 0), n_elements, npe), SECTION,
-                             formulation)
-        self.kind, self.smearing = kind, smearing * L / n_elements
-        self.orientation = orientation if kind == "classical" else "section"
-        self.supports = [Support(0, "start"), Support(1, "start", "ux+rx")]
-        self._previous: SliderStatics | None = None
-        self.iterations: list[int] = []
-
-    def problem(self, s_over_L: float) -> tuple[SliderStatics, np.ndarray]:
-        """The statics (condensed back end) and the tip load with the piston at
-        ``s = s_over_L L``."""
-        piston = self.cylinder.translated((s_over_L * L, 0, 0))
-        structure = Structure([self.cylinder, piston])
-        options = dict(smearing=self.smearing, orientation=self.orientation)
-        sliders = [Slider(self.kind, BeamChain(structure, [0], "C"), (1, "start"), name="A",
-                          **options),
-                   Slider(self.kind, BeamChain(structure, [1], "P"), (0, "end"), name="B",
-                          **options)]
-        statics = SliderStatics(structure, self.supports, sliders, reuse=self._previous,
-                                method="condensed")
-        self._previous = statics
-        return statics, structure.gather(1, piston.nodal_load("end", (0, F, 0)))
-
-    @cached_property
-    def template(self) -> tuple[SliderStatics, np.ndarray]:
-        """The problem with the piston on the cylinder (``s = 0``): the statics every
-        position's is a translation of (its stiffness assembled and factorised here, once)
-        and the tip load; the sliders' batches that every position moves are built here
-        too (:meth:`sliders.statics.SliderStatics.prepare_translations`)."""
-        statics, load = self.problem(0.0)
-        statics.prepare_translations()
-        return statics, load
-
-    def shifts(self, stations: np.ndarray) -> np.ndarray:
-        """The beams' translations (B, 2, 3) at the stations ``s / L``: the cylinder stays,
-        the piston moves along x by ``s``."""
-        shifts = np.zeros((len(stations), 2, 3))
-        shifts[:, 1, 0] = np.asarray(stations, dtype=float) * L
-        return shifts
-
-    def solve(self, stations: np.ndarray) -> list[SliderSolution | str]:
-        """Every station at once, from the template moved (:func:`sliders.statics.
-        solve_translated`): per station its solution or its failure message."""
-        statics, f = self.template
-        return solve_translated(statics, self.shifts(stations), np.tile(f, (len(stations), 1)))
-
-    def stiffness(self, s_over_L: float) -> float:
-        """Normalised tip stiffness ``F L^3 / (EJ v)`` with the piston at ``s = s_over_L L``."""
-        statics, f = self.problem(s_over_L)
-        solution = statics.solve(f)
-        self.iterations.append(solution.iterations)
-        return tip_stiffness(statics, solution)
-
-
-def compile_kernels() -> None:
-    """Compile the numba kernels of a static solve (joint equations, line state, condensed
-    step, test functions at a point), or load them from their cache: two positions of
-    each slider kind on one fv3 element (``fvslider compile``; about half a minute the
-    first time on a machine, well under a second once cached)."""
-    for kind in KINDS:
-        SlidingBeams("fv3", 1, kind).solve(STATIONS[:2])
-
-
-def tip_stiffness(statics: SliderStatics, solution: SliderSolution) -> float:
-    """``F L^3 / (EJ v)`` from the piston's tip deflection ``v``."""
-    structure = statics.structure
-    tip = structure.beams[1].displacements(structure.local(1, solution.q), L)[0, 1]
-    return F / tip * L**3 / EJ
-
-
 def sweep(kind: str, formulation: str, n: int, smearing: float,
           stations: np.ndarray = STATIONS) -> tuple[np.ndarray, SlidingBeams]:
     """``k_norm`` at every station (all solved at once, :meth:`SlidingBeams.solve`); NaN
     where the configuration is singular."""
-    model = SlidingBeams(formulation, n, kind, smearing)
+    model = SlidingBeams(formulation, n, kind, smearing, setup=SETUP)
     out = np.full(len(stations), np.nan)
     for i, solution in enumerate(model.solve(stations)):
         if not isinstance(solution, str):
-            out[i] = tip_stiffness(model.template[0], solution)
+            out[i] = model.tip_stiffness(model.template[0], solution)
             model.iterations.append(solution.iterations)
     return out, model
 

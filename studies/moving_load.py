@@ -13,7 +13,7 @@ and ``rx`` at ``x = 0``, ``uy uz`` at ``x = L``; the out-of-plane dofs carry no 
 
 Two references (``docs/dynamics.md``, "Moving load"):
 
-* :func:`fvbeam.analytic.moving_load_simply_supported`, the continuum's modal series;
+* :func:`fvbeam.closed_forms.moving_load_simply_supported`, the continuum's modal series;
 * :func:`semi_discrete`, the exact solution of the model's own ODE ``M qdd + K q = f(t)``
   (no time-stepping error): the massless rotations condensed out, the translations in the
   modes of ``(K*, M)``, each mode integrated in closed form over the intervals on which the
@@ -31,9 +31,9 @@ import numpy as np
 import scipy.linalg as sla
 
 from fvbeam import Beam, Section, Structure, Support, straight
-from fvbeam.analytic import moving_load_simply_supported
-from sliders.dynamics import Dynamics
-from sliders.integrator import State
+from fvbeam.closed_forms import moving_load_simply_supported
+from sliders.solve.dynamics import Dynamics
+from sliders.solve.integrator import State
 
 L, EJ, GA, M_PER_LENGTH, F = 1.0, 1.0, 1e5, 1.0, 1.0
 #: Speed: half the critical speed ``pi sqrt(EJ / m) / L`` of the Euler-Bernoulli beam.

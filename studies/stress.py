@@ -3,7 +3,7 @@
 The model: five straight fv3 beams of length ``L = 1`` (two elements each, element length
 ``h_e = 1/2``) joined end to start along x into a chain of length ``L_c = 5``, clamped at both
 ends; a massless rigid body on a spherical slider whose abscissa ``xi`` is driven
-(:class:`sliders.drives.Tabulated`, piecewise linear: constant speed ``c`` between turning
+(:class:`sliders.joints.drives.Tabulated`, piecewise linear: constant speed ``c`` between turning
 points), carrying a transverse force ``F = (0, 1, 0)``.  Section: ``EJ = 1``,
 ``GA = EJ / (r L^2)`` with the slenderness ratio ``r``, ``EA = 1e4``, ``GJ = 1``, ``m = 1``,
 rotary inertia ``1e-4`` per length; no damping, generalized-alpha (``Case.rho_inf``).
@@ -58,11 +58,11 @@ from fvbeam import Beam, RigidBody, Section, Structure, Support, straight
 from fvbeam.elements import evaluation_points
 from fvbeam.io import replace_directory, write_atomic
 from fvbeam.modes import natural_frequencies
-from sliders.chain import BeamChain
-from sliders.drives import Tabulated
-from sliders.dynamics import Dynamics, DynamicsError
-from sliders.history import Recorder
-from sliders.joint import Slider
+from sliders.lines.chain import BeamChain
+from sliders.joints.drives import Tabulated
+from sliders.solve.dynamics import Dynamics, DynamicsError
+from sliders.app.history import Recorder
+from sliders.joints.slider import Slider
 
 BEAMS, ELEMENTS, LENGTH, EJ = 5, 2, 1.0, 1.0
 ELEMENT = LENGTH / ELEMENTS
@@ -216,7 +216,7 @@ def residual_bound(reach: float, tol: float = TOL, length: float = CHAIN) -> flo
     """Largest position-constraint residual a converged step may leave.
 
     Newton stops when its last increments satisfy ``|dq| <= tol reach`` and
-    ``|d xi| <= tol L_c`` (:func:`sliders.statics.converged`).  The constraint
+    ``|d xi| <= tol L_c`` (:func:`sliders.solve.statics.converged`).  The constraint
     ``r = x_b - sum N_i (X_i + u_i)`` was zero to first order after that increment, so what is
     left is at most the change of its Jacobian times the increment:
     ``|r| <= 2 (|dr/dq| |dq| + |dr/dxi| |dxi|)`` with ``|dr/dq| <= 1 + Lambda`` (the body's

@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 
 from fvbeam import Support
-from sliders.joint import SliderBatch
-from sliders.statics import SliderStatics, solve_many, solve_translated
-from sliders.sweep import sweep_batched
-from studies.fig4_stiffness import SlidingBeams
+from sliders.joints.slider import SliderBatch
+from sliders.solve.statics import SliderStatics, solve_many, solve_translated
+from sliders.solve.sweep import sweep_batched
+from sliders.sliding_beams.model import SlidingBeams
 from test_condensed import agreement_bound, state, tip_on_an_arc
 from test_spline_slider import line_with_body
 

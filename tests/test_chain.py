@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from fvbeam import Beam, Section, Structure, straight
-from sliders.chain import BeamChain
+from sliders.lines.chain import BeamChain
 
 SECTION = Section.diagonal(EA=10.0, GAy=2.0, GAz=3.0, GJ=1.0, EJy=1.5, EJz=0.8)
 

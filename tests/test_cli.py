@@ -7,16 +7,16 @@ from pathlib import Path
 
 import pytest
 
-from sliders.cli import main
+from sliders.app.cli import main
 from test_scenes import ROOT, SCENES
 
 HEAVY = ("matplotlib", "pyvista")
 
 
 def fvslider(*args: str, importtime: bool = False) -> subprocess.CompletedProcess:
-    """``python -m sliders.cli ARGS`` in a fresh interpreter, from the repository root."""
+    """``python -m sliders.app.cli ARGS`` in a fresh interpreter, from the repository root."""
     flags = ["-X", "importtime"] if importtime else []
-    return subprocess.run([sys.executable, *flags, "-m", "sliders.cli", *args], cwd=ROOT,
+    return subprocess.run([sys.executable, *flags, "-m", "sliders.app.cli", *args], cwd=ROOT,
                           capture_output=True, text=True, timeout=120)
 
 
@@ -92,7 +92,7 @@ def test_run_refuses_a_foreign_output_directory(tmp_path, capsys):
 
 def test_interrupted_run_exits_130_after_writing_the_completed_samples(tmp_path, monkeypatch,
                                                                        capsys):
-    from sliders.model import Model
+    from sliders.app.model import Model
 
     build, calls = Model.problem, []
 
@@ -135,7 +135,7 @@ def test_reproduce_rejects_unknown_figures(capsys):
 
 
 def test_compile_solves_each_slider_kind(capsys, monkeypatch):
-    import studies.fig4_stiffness as fig4
+    import sliders.sliding_beams.model as fig4
 
     solved = []
     monkeypatch.setattr(fig4.SlidingBeams, "solve",

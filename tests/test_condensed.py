@@ -17,10 +17,10 @@ import numpy as np
 import pytest
 
 from fvbeam import Beam, RigidBody, Structure, Support, straight
-from sliders.condensed import node_positions, rigid_modes
-from sliders.joint import Slider
-from sliders.lines import CircularArc
-from sliders.statics import SliderStatics
+from sliders.solve.condensed import node_positions, rigid_modes
+from sliders.joints.slider import Slider
+from sliders.lines.rigid import CircularArc
+from sliders.solve.statics import SliderStatics
 from test_sliders import L, SECTION, sliding_beams_model
 
 EPS = np.finfo(float).eps

@@ -1,4 +1,4 @@
-"""The time integrator (sliders.integrator, sliders.dynamics) against closed forms.
+"""The time integrator (sliders.solve.integrator, sliders.solve.dynamics) against closed forms.
 
 Tolerance sources:
 
@@ -30,12 +30,12 @@ from scipy.special import ellipj, ellipk
 
 from fvbeam import Beam, RigidBody, Section, Structure, Support, straight
 from fvbeam.modes import natural_frequencies
-from sliders.drives import DofDrive, Linear, Ramp, Tabulated
-from sliders.dynamics import Adaptive, Dynamics, DynamicsError
-from sliders.history import Recorder
-from sliders.integrator import GeneralizedAlpha, State
-from sliders.joint import Slider
-from sliders.lines import CircularArc
+from sliders.joints.drives import DofDrive, Linear, Ramp, Tabulated
+from sliders.solve.dynamics import Adaptive, Dynamics, DynamicsError
+from sliders.app.history import Recorder
+from sliders.solve.integrator import GeneralizedAlpha, State
+from sliders.joints.slider import Slider
+from sliders.lines.rigid import CircularArc
 
 EPS = np.finfo(float).eps
 SCHEME = 1e-11
@@ -50,7 +50,7 @@ def cantilever(name: str = "fv3", n: int = 2) -> tuple[Structure, list[Support]]
 
 def amplification(scheme: GeneralizedAlpha, omega: float, h: float) -> np.ndarray:
     """The scheme's step on ``qdd + omega^2 q = 0``, state ``(q, v, a, qdd)``: the
-    recursion of :mod:`sliders.integrator` written for one dof."""
+    recursion of :mod:`sliders.solve.integrator` written for one dof."""
     b, g, am, af = scheme.beta, scheme.gamma, scheme.alpha_m, scheme.alpha_f
     w2 = omega * omega
     # unknowns (q1, v1, a1, qdd1); rows: the three updates and the equation of motion

@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 from fvbeam import Beam, Section, Structure, Support, straight
-from sliders.joint import Slider
-from sliders.lines import StraightLine
-from sliders.statics import SliderStatics
+from sliders.joints.slider import Slider
+from sliders.lines.rigid import StraightLine
+from sliders.solve.statics import SliderStatics
 
 EJ, GA, L = 4.0e4, 1.0e8, 1.0
 SECTION = Section.diagonal(EA=1e9, GAy=GA, GAz=GA, GJ=EJ, EJy=EJ, EJz=EJ)

@@ -7,7 +7,7 @@ import csv
 import numpy as np
 import pytest
 
-from fvbeam import analytic
+from fvbeam import closed_forms
 from studies.fig1_tip_response import main
 
 HEADER = ["formulation", "xi_over_L", "v_flexural", "v_shear", "phi"]
@@ -47,7 +47,7 @@ def test_layout(lines, table):
 
 @pytest.mark.parametrize("name", ["exact", "fv2", "fv3"])
 def test_closed_forms(table, name):
-    closed_form = getattr(analytic, f"cantilever_{name}")
+    closed_form = getattr(closed_forms, f"cantilever_{name}")
     xi, *values = table[name]
     # exact rows are the closed form itself written with repr: only round-off of the print.
     # fv rows: the closed forms are exact for one element (paper Secs. 5.2-5.3); 1e-10

@@ -6,7 +6,7 @@ Where each asserted number comes from:
   element with unit stiffnesses).  In an fv3 element the shear at ``b`` is the load on the
   tip node's region ``[b, L]``: 0 at ``xi = 0.6 L`` (every level's kernel, at most
   ``[0.5, 0.7]``, lies in ``[a, b]``), ``F`` at ``xi = 0.95 L``.  There the tip displacement is
-  :func:`fvbeam.analytic.cantilever_fv3`, linear in the load's station on ``[b, L]``, so a
+  :func:`fvbeam.closed_forms.cantilever_fv3`, linear in the load's station on ``[b, L]``, so a
   smeared load acts at its kernel's mean: ``0.95 L`` up to 10 % (the 10 % kernel just reaches
   ``L``), ``0.925 L`` for 20 % (``[0.85, 1.05]`` cut at ``L``).
 * **Overshoot cut by an order of magnitude** (the paper's claim for 1 % smearing, asserted as
@@ -38,7 +38,7 @@ later ``xi_start``: the same motion from the static state just before the kernel
 import numpy as np
 import pytest
 
-from fvbeam import analytic
+from fvbeam import closed_forms
 from studies import fig2_smearing as fig2
 
 B = fig2.EVALUATION_POINT
@@ -63,7 +63,7 @@ def test_static_ends(level):
     assert abs(start.shear(q)) < 1e-10
     end = fig2.Crossing(level, xi_start=xi_end)
     q = end.dynamics.static_state().q
-    flexural, shear, _ = analytic.cantilever_fv3(expected_tip)
+    flexural, shear, _ = closed_forms.cantilever_fv3(expected_tip)
     assert end.shear(q) == pytest.approx(1.0, abs=1e-10)
     assert end.tip(q) == pytest.approx(flexural + shear, abs=1e-10)
     assert fig2.static_shear_and_tip(xi_end, level) == pytest.approx((1.0, flexural + shear))

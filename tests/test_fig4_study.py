@@ -5,7 +5,7 @@ import csv
 import numpy as np
 import pytest
 
-from sliders.analytic import sliding_beams
+from sliders.sliding_beams.exact import sliding_beams
 from studies import fig4_stiffness as study
 
 STATIONS = np.array([0.0, 0.3, 0.6, 0.9])

@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from fvbeam import Beam, LinearStatics, Section, Support, analytic, straight
+from fvbeam import Beam, LinearStatics, Section, Support, closed_forms, straight
 from fvbeam.elements import evaluation_points
 
 ROUNDOFF = 1e-10
@@ -32,8 +32,8 @@ def close(actual, expected, rtol=ROUNDOFF, scale=1.0):
     np.testing.assert_allclose(actual, expected, rtol=rtol, atol=rtol * scale)
 
 
-@pytest.mark.parametrize("name,closed_form", [("fv2", analytic.cantilever_fv2),
-                                               ("fv3", analytic.cantilever_fv3)])
+@pytest.mark.parametrize("name,closed_form", [("fv2", closed_forms.cantilever_fv2),
+                                               ("fv3", closed_forms.cantilever_fv3)])
 @settings(max_examples=60, deadline=None)
 @given(fraction=st.floats(0.0, 1.0), L=st.floats(0.2, 5.0), EJ=st.floats(0.5, 20.0),
        GA=st.floats(0.5, 20.0))
@@ -65,7 +65,7 @@ def test_internal_forces_at_evaluation_points_are_exact(name, n, fraction):
     beam, statics = cantilever(name, n)
     q, _ = tip(beam, statics, fraction, 1.0)
     forces = beam.internal_forces(q)
-    shear, moment = analytic.cantilever_internal_forces(forces.xi, fraction)
+    shear, moment = closed_forms.cantilever_internal_forces(forces.xi, fraction)
     close(forces.force[:, 1], shear)
     close(forces.moment[:, 2], moment)
     close(forces.force[:, [0, 2]], 0.0)
@@ -92,7 +92,7 @@ def test_three_node_is_exact_for_tip_nodal_and_uniform_loads(n):
     beam, statics = cantilever("fv3", n)
     for xi in np.arange(1, n + 1) / n:
         _, u = tip(beam, statics, xi, 1.0)
-        flex, shear, phi = analytic.cantilever_exact(xi)
+        flex, shear, phi = closed_forms.cantilever_exact(xi)
         close(u[[1, 5]], [flex + shear, phi])
     u = beam.displacements(statics.solve(beam.distributed_load(force=(0, 1, 0))), 1.0)[0]
     close(u[[1, 5]], [1 / 8 + 1 / 2, 1 / 6])
@@ -113,7 +113,7 @@ def test_convergence_to_the_exact_timoshenko_cantilever(name, flexural_order):
         xi = (round(0.7 * n) + 0.3) / n
         v = [tip(*cantilever(name, n, GA=GA), xi, 1.0)[1][1] for GA in (1.0, 2.0)]
         shear = 2 * (v[0] - v[1])
-        exact_flex, exact_shear, _ = analytic.cantilever_exact(xi)
+        exact_flex, exact_shear, _ = closed_forms.cantilever_exact(xi)
         flex_err.append(abs(v[0] - shear - exact_flex) / exact_flex)
         shear_err.append(abs(shear - exact_shear) / exact_shear)
     assert abs(observed_order(flex_err, ns) - flexural_order) < 0.5
@@ -130,7 +130,7 @@ def test_reduced_galerkin_converges_with_consistent_loads(name):
     for n in ns:
         xi = (round(0.7 * n) + 0.3) / n
         v = [tip(*cantilever(name, n, GA=GA), xi, 1.0)[1][1] for GA in (1.0, 2.0)]
-        exact_flex, exact_shear, _ = analytic.cantilever_exact(xi)
+        exact_flex, exact_shear, _ = closed_forms.cantilever_exact(xi)
         close(2 * (v[0] - v[1]), exact_shear, rtol=1e-9)
         errors.append(abs(v[0] - 2 * (v[0] - v[1]) - exact_flex) / exact_flex)
     assert observed_order(errors, ns) > 2 - 0.5

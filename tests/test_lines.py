@@ -8,7 +8,7 @@ bound with three orders of margin.
 import numpy as np
 import pytest
 
-from sliders.lines import CircularArc, CubicSpline, Helix, StraightLine, axial
+from sliders.lines.rigid import CircularArc, CubicSpline, Helix, StraightLine, axial
 
 H, FD = 1e-5, 1e-7
 

@@ -22,12 +22,12 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from fvbeam import Beam, LinearStatics, Section, Support, analytic, arc, straight
+from fvbeam import Beam, LinearStatics, Section, Support, closed_forms, arc, straight
 
 EPS = np.finfo(float).eps
 L, EJ, GA, F = 1.0, 1.0, 1.0e6, 1.0                  # GA L^2 / EJ = 1e6: a thin beam
 SECTION = Section.diagonal(EA=10 * GA, GAy=GA, GAz=GA, GJ=1.0, EJy=EJ, EJz=EJ)
-V_FLEX, V_SHEAR, PHI = analytic.cantilever_exact(L, L, EJ, GA, F)
+V_FLEX, V_SHEAR, PHI = closed_forms.cantilever_exact(L, L, EJ, GA, F)
 V_EXACT = V_FLEX + V_SHEAR
 RTOL_FORMULA = 1e1 * EPS       # roundoff of evaluating a closed form: ~10 operations
 
@@ -110,8 +110,8 @@ def test_fv2_stiffness_equals_one_point_p1(mesh, section):
 @pytest.mark.parametrize("form", ["fv3", "galerkin-p2"])
 def test_three_node_reduced_does_not_lock(form):
     tip, tol, _ = _tip(form, "reduced", 4)
-    # both are exact for a tip load on a straight beam (fv3: analytic.cantilever_fv3 at
+    # both are exact for a tip load on a straight beam (fv3: closed_forms.cantilever_fv3 at
     # xi = L; P2 with 2-point Gauss: the shear is constant and the moment linear)
-    assert analytic.cantilever_fv3(L, L, EJ, GA, F)[0] == pytest.approx(V_FLEX, rel=RTOL_FORMULA)
+    assert closed_forms.cantilever_fv3(L, L, EJ, GA, F)[0] == pytest.approx(V_FLEX, rel=RTOL_FORMULA)
     np.testing.assert_allclose(tip[1], V_EXACT, rtol=RTOL_FORMULA, atol=tol[1])
     np.testing.assert_allclose(tip[5], PHI, rtol=RTOL_FORMULA, atol=tol[5])

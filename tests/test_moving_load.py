@@ -2,7 +2,7 @@
 
 Sources of the asserted numbers (``docs/dynamics.md``, "Moving load"):
 
-* **Closed form.** :func:`fvbeam.analytic.moving_load_simply_supported` is Fryba's modal series
+* **Closed form.** :func:`fvbeam.closed_forms.moving_load_simply_supported` is Fryba's modal series
   (1999, Ch. 1) extended to a Timoshenko beam without rotary inertia.  Its checks:
 
   - *Fryba's Euler-Bernoulli series* as printed, ``v0 sum 1/(j^2 (j^2 - alpha^2)) [sin(j w t)
@@ -47,7 +47,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fvbeam.analytic import (moving_load_simply_supported, moving_load_truncation,
+from fvbeam.closed_forms import (moving_load_simply_supported, moving_load_truncation,
                              simply_supported_point_load)
 from studies import moving_load as ml
 

@@ -1,4 +1,4 @@
-"""VTU snapshots and PVD series (:mod:`sliders.output`): every field read back with meshio
+"""VTU snapshots and PVD series (:mod:`sliders.app.vtu`): every field read back with meshio
 against the arrays it came from, cell counts, the PVD index, atomic writes, bad input.
 
 Exactness: VTU stores float64 in binary, so a value copied from an array must come back
@@ -20,12 +20,12 @@ import pytest
 from fvbeam.io import OUTPUT_MARKER
 
 from fvbeam import Beam, RigidBody, Section, Structure, straight
-from sliders.chain import BeamChain
-from sliders.joint import Slider
-from sliders.lines import StraightLine
-from sliders.output import (PARTS, RADIUS_FRACTION, Frame, to_meshio, write_pvd,
+from sliders.lines.chain import BeamChain
+from sliders.joints.slider import Slider
+from sliders.lines.rigid import StraightLine
+from sliders.app.vtu import (PARTS, RADIUS_FRACTION, Frame, to_meshio, write_pvd,
                             write_series, write_vtu)
-from studies.fig4_stiffness import SlidingBeams
+from sliders.sliding_beams.model import SlidingBeams
 
 EPS = np.finfo(float).eps
 POSITION = 8 * EPS

@@ -26,9 +26,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from sliders.output import RADIUS_FRACTION
+from sliders.app.vtu import RADIUS_FRACTION
 from studies.fig4_stiffness import L, SlidingBeams
-from studies.render import AUTO_FRACTION, SPHERE_FACTOR, render
+from sliders.app.render import AUTO_FRACTION, SPHERE_FACTOR, render
 
 S_OVER_L = 0.3
 WINDOW = (1200, 600)
@@ -37,8 +37,8 @@ ROOT = Path(__file__).resolve().parents[1]
 CHILD = """
 import json, os, sys
 from pathlib import Path
-from studies.fig4_stiffness import SlidingBeams
-from studies.render import render
+from sliders.sliding_beams.model import SlidingBeams
+from sliders.app.render import render
 out = Path(sys.argv[1])
 statics, load = SlidingBeams("fv3", 5, "classical").problem({s})
 solution = statics.solve(load)
@@ -120,7 +120,7 @@ def test_render_bad_input(tmp_path):
 
 
 def test_packages_import_without_pyvista():
-    code = ("import sys, fvbeam, sliders.output, studies.render; "
+    code = ("import sys, fvbeam, sliders.app.vtu, studies.render; "
             "print(sorted(m for m in ('pyvista', 'vtk', 'vtkmodules', 'matplotlib') "
             "if m in sys.modules))")
     child = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,

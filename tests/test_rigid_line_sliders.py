@@ -25,9 +25,9 @@ import numpy as np
 import pytest
 
 from fvbeam import Beam, LinearStatics, RigidBody, Section, Structure, Support, straight
-from sliders.joint import Slider
-from sliders.lines import CircularArc, Helix
-from sliders.statics import SliderStatics
+from sliders.joints.slider import Slider
+from sliders.lines.rigid import CircularArc, Helix
+from sliders.solve.statics import SliderStatics
 
 ROUNDOFF = 1e-10
 EJ, GA, LS = 2.0, 50.0, 0.5

@@ -11,10 +11,10 @@ import csv
 import numpy as np
 import pytest
 
-from sliders.cli import main
-from sliders.model import Model
-from sliders.run_dynamic import run_dynamic
-from sliders.scene import parse_scene
+from sliders.app.cli import main
+from sliders.app.model import Model
+from sliders.app.run_dynamic import run_dynamic
+from sliders.app.scene import parse_scene
 from test_scenes import SCENES, data, problems
 
 TOL = 1e-8

@@ -17,9 +17,9 @@ import math
 
 from hypothesis import HealthCheck, given, settings, strategies as st
 
-from sliders.model import Model
-from sliders.scene import parse_scene
-from sliders.scene_errors import SceneError
+from sliders.app.model import Model
+from sliders.app.scene import parse_scene
+from sliders.app.errors import SceneError
 from test_scenes import FILES, SCENES, data
 
 BASES = [p.stem for p in FILES]

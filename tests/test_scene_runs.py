@@ -7,13 +7,13 @@ import tomllib
 import numpy as np
 import pytest
 
-from fvbeam import analytic
+from fvbeam import closed_forms
 from fvbeam.io import replace_directory
-from sliders.analytic import sliding_beams
-from sliders.model import Model
-from sliders.run import run
-from sliders.scene import load_scene, parse_scene
-from sliders.tables import COLUMNS, MARKER, write_results
+from sliders.sliding_beams.exact import sliding_beams
+from sliders.app.model import Model
+from sliders.app.run import run
+from sliders.app.scene import load_scene, parse_scene
+from sliders.app.tables import COLUMNS, MARKER, write_results
 from studies.fig4_stiffness import EJ, GA, L, SlidingBeams
 from test_condensed import agreement_bound, state
 from test_scenes import SCENES, data
@@ -56,12 +56,12 @@ def test_sliding_beams_scene_is_the_fig4_model(kind):
 
 def test_fig1_scene_is_the_paper_closed_form():
     """Tip deflection and rotation of the one-element fv3 cantilever equal
-    fvbeam.analytic.cantilever_fv3 (paper Sec. 5.3; exact for one element) to the roundoff
+    fvbeam.closed_forms.cantilever_fv3 (paper Sec. 5.3; exact for one element) to the roundoff
     bound of the solve (agreement_bound of a solution with itself bounds its distance from
     the exact discrete solution twice over) plus the closed form's own rounding (4 eps)."""
     results = run(Model(load_scene(SCENES / "fig1_cantilever.toml")), progress=False)
     values = np.array([s.value for s in results.samples])
-    v_flex, v_shear, phi = analytic.cantilever_fv3(values, L=1.0, EJ=1.0, GA=1.0, F=1.0)
+    v_flex, v_shear, phi = closed_forms.cantilever_fv3(values, L=1.0, EJ=1.0, GA=1.0, F=1.0)
     for sample, v, rz in zip(results.samples, v_flex + v_shear, phi):
         statics, sol = sample.statics, sample.solution
         bound = agreement_bound(statics, sol, sol, sample.load)

@@ -8,9 +8,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from sliders.model import COINCIDENT, ON_LINE, Model
-from sliders.scene import dump_scene, load_scene, parse_scene
-from sliders.scene_errors import SceneError
+from sliders.app.model import COINCIDENT, ON_LINE, Model
+from sliders.app.scene import dump_scene, load_scene, parse_scene
+from sliders.app.errors import SceneError
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ROOT / "studies" / "scenes"

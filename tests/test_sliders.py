@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 
 from fvbeam import Beam, Section, Structure, Support, straight
-from sliders.analytic import sliding_beams
-from sliders.chain import BeamChain
-from sliders.joint import Slider
-from sliders.lines import CircularArc
-from sliders.statics import SliderStatics
+from sliders.sliding_beams.exact import sliding_beams
+from sliders.lines.chain import BeamChain
+from sliders.joints.slider import Slider
+from sliders.lines.rigid import CircularArc
+from sliders.solve.statics import SliderStatics
 
 EJ, GA, L = 4.1e4, 1.1e8, 0.6
 SECTION = Section.diagonal(EA=10 * GA, GAy=GA, GAz=GA, GJ=EJ, EJy=EJ, EJz=EJ)

@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from fvbeam import Beam, Section, Structure, Support, straight
-from sliders.chain import BeamChain
-from sliders.joint import Slider
-from sliders.lines import Helix, StraightLine
-from sliders.statics import SliderStatics
+from sliders.lines.chain import BeamChain
+from sliders.joints.slider import Slider
+from sliders.lines.rigid import Helix, StraightLine
+from sliders.solve.statics import SliderStatics
 from test_sliders import SECTION, check_jacobian
 
 GJ = 2.0e4

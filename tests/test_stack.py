@@ -12,9 +12,9 @@ import pytest
 
 from fvbeam import Beam, Structure, straight
 from fvbeam.mesh import arc
-from sliders.chain import BeamChain
-from sliders.lines import frame_and_curvature
-from sliders.stack import ChainStack
+from sliders.lines.chain import BeamChain
+from sliders.lines.rigid import frame_and_curvature
+from sliders.lines.batched import ChainStack
 from test_chain import SECTION, chain_of_three
 
 EPS = np.finfo(float).eps
@@ -99,7 +99,7 @@ def test_subset_answers_as_a_stack_of_its_members():
 def test_stored_frames_of_straight_elements_equal_the_frames_at_xi(npe):
     """On straight elements the rotation reads the frame and compliance stored per element
     (:meth:`ChainStack.element_frames`): they equal the frame of the reference line at each
-    ``xi`` (:func:`sliders.lines.frame_and_curvature`) and ``R0 C R0^T``, to the roundoff of
+    ``xi`` (:func:`sliders.lines.rigid.frame_and_curvature`) and ``R0 C R0^T``, to the roundoff of
     the direction (``16 eps``, as above), with ``k0 = k0_/xi = 0``; a translated stack keeps
     its template's frames, which equal those of the moved chains built afresh (to the same
     roundoff: the moved node positions carry that of the shift)."""

@@ -11,7 +11,7 @@ Assertions and where their numbers come from:
   spherical joint is linear in ``(q, lambda)`` (position constraint linear in ``q``, load
   transfer linear in ``lambda``) and the beams are linear, so the second iteration solves the
   step exactly and the third one's increments are roundoff, which passes the convergence rule
-  (:func:`sliders.statics.converged`).
+  (:func:`sliders.solve.statics.converged`).
 * Position-constraint residual <= :func:`studies.stress.residual_bound` at every step: the
   convergence rule bounds the last increments by ``tol`` times their scales, and the
   constraint's Jacobian bounds what those increments leave (derivation in that function).
@@ -30,7 +30,7 @@ Assertions and where their numbers come from:
 * Every column finite; the crossings counted from the recorded ``xi``
   (:func:`studies.stress.crossings`), at least those the issue asks for.
 
-Failure modes: each raises :class:`sliders.dynamics.DynamicsError` with one message naming
+Failure modes: each raises :class:`sliders.solve.dynamics.DynamicsError` with one message naming
 the time and what failed, its ``state`` the last converged one, and the recorder's
 ``history.csv`` renamed from its ``.part`` file with whole rows up to that state.
 """
@@ -40,8 +40,8 @@ import csv
 import numpy as np
 import pytest
 
-from sliders.dynamics import Adaptive, Dynamics, DynamicsError
-from sliders.history import Recorder
+from sliders.solve.dynamics import Adaptive, Dynamics, DynamicsError
+from sliders.app.history import Recorder
 from studies import stress
 
 pytestmark = pytest.mark.stress
@@ -180,9 +180,9 @@ def free_bead(steps: int) -> tuple[dict, float]:
     the abscissa held, the rail being frictionless and straight, so ``lambda_x = 0``) with
     the bead's acceleration ``F_x / m``.  Returns the recorded table and ``T``."""
     from fvbeam import RigidBody, Structure, Support
-    from sliders.chain import BeamChain
-    from sliders.drives import Linear
-    from sliders.joint import Slider
+    from sliders.lines.chain import BeamChain
+    from sliders.joints.drives import Linear
+    from sliders.joints.slider import Slider
 
     m, Fx, Fy = 1.0, 1.0, 0.01
     beams, ties = stress.chain_beams(1e-2)

@@ -6,8 +6,8 @@ Solutions are compared with the first-order agreement bound of tests/test_conden
 import numpy as np
 import pytest
 
-from sliders.sweep import sweep
-from studies.fig4_stiffness import SlidingBeams
+from sliders.solve.sweep import sweep
+from sliders.sliding_beams.model import SlidingBeams
 from test_condensed import agreement_bound, state
 
 STATIONS = np.arange(0, 93, 4) / 100

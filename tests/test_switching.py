@@ -40,9 +40,9 @@ import numpy as np
 import pytest
 
 from fvbeam import Beam, RigidBody, Section, Structure, Support, straight
-from sliders.chain import BeamChain
-from sliders.joint import Slider
-from sliders.statics import SliderStatics
+from sliders.lines.chain import BeamChain
+from sliders.joints.slider import Slider
+from sliders.solve.statics import SliderStatics
 from test_sliders import check_jacobian
 
 EJ, GA, H = 4.1e4, 1.0e5, 0.6          # shear-soft enough for the fv jumps to show

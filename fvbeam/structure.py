@@ -1,74 +1,16 @@
-"""Structures of beams and rigid bodies, supports, and the linear static solve on a cached
-factorisation."""
+"""Structures: beams and rigid bodies joined at shared nodes into one set of global dofs."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Sequence
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from fvbeam.beam import Beam
 from fvbeam.body import RigidBody
 from fvbeam.geometry import wrench
-
-#: Names of the six nodal dofs, in order.
-DOF_NAMES = ("ux", "uy", "uz", "rx", "ry", "rz")
-
-
-#: A structure node: ``(beam index, node)`` (node: index, ``'start'`` or ``'end'``) or the
-#: name of a rigid body.
-NodeRef = tuple[int, int | str] | str
-
-
-@dataclass(frozen=True)
-class Support:
-    """A node held fixed: ``clamp`` (all six dofs), ``pin`` (the three translations), or the
-    dofs named and joined by ``+`` (from ``ux uy uz rx ry rz``), e.g. ``"ux+rx"``.
-
-    ``Support(beam, node, kind)`` holds a beam node; ``Support("hub", kind=...)`` holds the
-    rigid body named ``hub`` (a body is one node, so it takes no ``node``).
-    """
-
-    beam: int | str
-    node: int | str | None = None
-    kind: str = "clamp"
-
-    def __post_init__(self) -> None:
-        if isinstance(self.beam, str) and self.node is not None:
-            raise ValueError(f"support of body {self.beam!r}: a body is a single node, so no "
-                             f"node is given (got {self.node!r}); write the kind by keyword, "
-                             f"e.g. Support({self.beam!r}, kind='pin')")
-        if not isinstance(self.beam, str) and self.node is None:
-            raise ValueError(f"support of beam {self.beam!r} needs a node "
-                             "(index, 'start' or 'end')")
-        self.dofs()
-
-    @classmethod
-    def at(cls, ref: NodeRef, kind: str = "clamp") -> "Support":
-        """The support of kind ``kind`` at the structure node ``ref`` (``(beam, node)`` or a
-        body name): the inverse of :attr:`ref`."""
-        return cls(ref, kind=kind) if isinstance(ref, str) else cls(*ref, kind)
-
-    @property
-    def ref(self) -> NodeRef:
-        """The supported node as a structure node reference."""
-        return self.beam if isinstance(self.beam, str) else (self.beam, self.node)
-
-    def dofs(self) -> np.ndarray:
-        """Local dof indices (0..5) the support holds."""
-        if self.kind == "clamp":
-            return np.arange(6)
-        if self.kind == "pin":
-            return np.arange(3)
-        names = self.kind.split("+")
-        unknown = [n for n in names if n not in DOF_NAMES]
-        if unknown or not names:
-            raise ValueError(f"support kind must be 'clamp', 'pin' or dof names from "
-                             f"{' '.join(DOF_NAMES)} joined by '+', got {self.kind!r}")
-        return np.array(sorted({DOF_NAMES.index(n) for n in names}))
+from fvbeam.support import DOF_NAMES, NodeRef, Support
 
 
 class Structure:
@@ -270,43 +212,3 @@ class Structure:
         """Global dofs held by ``supports``."""
         fixed = [self.node_dofs(s.ref)[s.dofs()] for s in supports]
         return np.unique(np.concatenate(fixed)) if fixed else np.zeros(0, dtype=int)
-
-
-class LinearStatics:
-    """``K q = f`` with supports, factorised once; every further load case is one solve.
-
-    Raises ``ValueError`` naming the problem when the supports leave a rigid motion free.
-    """
-
-    def __init__(self, structure: Structure | Beam, supports: Sequence[Support]) -> None:
-        if isinstance(structure, Beam):
-            structure = Structure([structure])
-        self.structure = structure
-        self.fixed = structure.support_dofs(supports)
-        self.free = np.setdiff1d(np.arange(structure.n_dofs), self.fixed)
-        self.K = structure.tangent(np.zeros(structure.n_dofs))
-        Kff = self.K[self.free][:, self.free].tocsc()
-        try:
-            self.lu = spla.splu(Kff)
-        except RuntimeError as exc:
-            raise ValueError("the stiffness is singular: the supports leave a rigid-body "
-                             "motion free (clamp or pin more nodes)") from exc
-        diag = np.abs(self.lu.U.diagonal())
-        if diag.min() <= 1e-13 * diag.max():
-            raise ValueError("the stiffness is singular to working precision: the supports "
-                             "leave a rigid-body motion free (clamp or pin more nodes)")
-
-    def solve(self, f: np.ndarray) -> np.ndarray:
-        """Displacements for the load vector ``f`` (global dofs; zero at the supports)."""
-        f = np.asarray(f, dtype=float)
-        if f.shape[0] != self.structure.n_dofs or not np.all(np.isfinite(f)):
-            raise ValueError(f"load vector must be finite with {self.structure.n_dofs} rows")
-        q = np.zeros_like(f)
-        q[self.free] = self.lu.solve(f[self.free])
-        return q
-
-    def reactions(self, q: np.ndarray, f: np.ndarray) -> np.ndarray:
-        """Support reactions ``K q - f`` on the fixed dofs (global vector, zero elsewhere)."""
-        r = np.zeros_like(f)
-        r[self.fixed] = (self.K @ q - f)[self.fixed]
-        return r

@@ -1,6 +1,6 @@
 """A chain of deformable beams as one line with a continuous arc-length abscissa ``xi``.
 
-The beams of a :class:`~fvbeam.statics.Structure` listed in order, each beam's end vertex being
+The beams of a :class:`~fvbeam.structure.Structure` listed in order, each beam's end vertex being
 the next beam's start vertex (the same structure node).  ``xi`` runs from 0 at the first
 beam's start to the sum of the beam lengths; the chain finds the beam and element, so the user
 never keeps offsets or indices.  Deformed geometry (paper Sec. 4): with ``X_i`` the node
@@ -11,7 +11,7 @@ The interpolated centreline is only C0 at the element vertices: its one-sided ta
 there by the discretisation error of the slope (much more on shear-soft beams).  The
 frictionless condition ``l . lambda = 0`` then has no root for body positions in a band
 around the vertex, and Newton fails there.  The joint reads it on a *recovered* tangent
-instead, continuous along the chain (:meth:`sliders.stack.ChainStack.interpolation`); the
+instead, continuous along the chain (:meth:`sliders.lines.batched.ChainStack.interpolation`); the
 position, the load transfer and the constraints keep the interpolation itself.
 """
 
@@ -25,8 +25,8 @@ import numpy as np
 from fvbeam.formulations import composite_gauss
 from fvbeam.geometry import locate_abscissa
 from fvbeam.smearing import check_smearing, density
-from fvbeam.statics import Structure
-from sliders.stack import ChainStack, Interpolation, LineRotation
+from fvbeam.structure import Structure
+from sliders.lines.batched import ChainStack, Interpolation, LineRotation
 
 
 def memoised(method: Callable) -> Callable:

@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import ast
 import importlib
+import importlib.metadata
 import importlib.util
 import sys
 import time
@@ -32,9 +33,9 @@ scenes are documented in docs/scenes.md; exit codes: 0 ok, 1 a solve failed,
 2 invalid scene or arguments, 130 interrupted (Ctrl-C keeps what was computed)
 """
 
-#: The paper's figure studies by name (``fig4`` draws Figures 4 and 5).
-STUDIES = {"fig1": "studies.fig1_tip_response", "fig2": "studies.fig2_smearing",
-           "fig4": "studies.fig4_stiffness"}
+#: Entry-point group in which the figure studies register their modules (``pyproject.toml``):
+#: the library finds them by name and never imports them itself.
+STUDY_GROUP = "fvslider.studies"
 #: Studies that ``reproduce`` runs only when named: Figure 2 integrates 3 x 5 crossings of
 #: 4000 steps each (about 10 minutes).
 LONG = ("fig2",)
@@ -43,8 +44,8 @@ ALIASES = {"fig5": "fig4"}
 
 def _load(path: Path):
     """The scene at ``path`` validated and built (raises ``SceneError``)."""
-    from sliders.model import Model
-    from sliders.scene import load_scene
+    from sliders.app.model import Model
+    from sliders.app.scene import load_scene
 
     return Model(load_scene(path), source=str(path))
 
@@ -65,8 +66,8 @@ def _check(args: argparse.Namespace) -> int:
 
 def _run(args: argparse.Namespace) -> int:
     from fvbeam.io import check_replaceable
-    from sliders.run import run
-    from sliders.tables import MARKER, write_results
+    from sliders.app.run import run
+    from sliders.app.tables import MARKER, write_results
 
     model = _load(args.scene)
     out = args.out if args.out is not None else Path("results") / args.scene.stem
@@ -96,7 +97,7 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _run_dynamic(model, out: Path) -> int:
-    from sliders.run_dynamic import run_dynamic
+    from sliders.app.run_dynamic import run_dynamic
 
     try:
         outcome = run_dynamic(model, out, progress=True)
@@ -115,29 +116,37 @@ def _run_dynamic(model, out: Path) -> int:
     return 0
 
 
+def registered_studies() -> dict[str, str]:
+    """The paper's figure studies registered under :data:`STUDY_GROUP`: key (``fig4`` draws
+    Figures 4 and 5) to module name, in key order."""
+    found = {ep.name: ep.value for ep in importlib.metadata.entry_points(group=STUDY_GROUP)}
+    return dict(sorted(found.items()))
+
+
 def describe(key: str) -> str:
     """The first line of a study's docstring, read without importing it."""
-    origin = importlib.util.find_spec(STUDIES[key]).origin
+    origin = importlib.util.find_spec(registered_studies()[key]).origin
     doc = ast.get_docstring(ast.parse(Path(origin).read_text())) or ""
     return doc.splitlines()[0] if doc else ""
 
 
 def _studies(args: argparse.Namespace) -> int:
-    for key, module in STUDIES.items():
+    for key, module in registered_studies().items():
         path = "/".join(module.split(".")) + ".py"
         print(f"{key:5s} {path:30s} {describe(key)}")
     return 0
 
 
 def _reproduce(args: argparse.Namespace) -> int:
-    keys = list(dict.fromkeys(args.figures or [k for k in STUDIES if k not in LONG]))
+    registered = registered_studies()
+    keys = list(dict.fromkeys(args.figures or [k for k in registered if k not in LONG]))
     plot = importlib.util.find_spec("matplotlib") is not None
     if not plot:
         print("matplotlib is not installed: CSV only (pip install 'fvslider[plot]' for the "
               "PNGs)", file=sys.stderr)
     table = []
     for key in keys:
-        module = importlib.import_module(STUDIES[key])
+        module = importlib.import_module(registered[key])
         start = time.perf_counter()
         rows = module.reproduce(args.out, plot_png=plot)
         seconds = time.perf_counter() - start
@@ -150,7 +159,7 @@ def _reproduce(args: argparse.Namespace) -> int:
 
 
 def _compile(args: argparse.Namespace) -> int:
-    from studies.fig4_stiffness import compile_kernels
+    from sliders.sliding_beams.model import compile_kernels
 
     print("compiling the numba kernels into their cache (once per checkout)...", flush=True)
     start = time.perf_counter()
@@ -162,8 +171,9 @@ def _compile(args: argparse.Namespace) -> int:
 def _figure(name: str) -> str:
     """A figure name as its study's key (``fig5`` is drawn by ``fig4``)."""
     key = ALIASES.get(name, name)
-    if key not in STUDIES:
-        choices = ", ".join(list(STUDIES) + list(ALIASES))
+    registered = registered_studies()
+    if key not in registered:
+        choices = ", ".join(list(registered) + list(ALIASES))
         raise argparse.ArgumentTypeError(f"unknown figure {name!r} (choose from {choices})")
     return key
 
@@ -189,7 +199,7 @@ def _parser() -> argparse.ArgumentParser:
     reproduce = commands.add_parser("reproduce", help="run the paper's figure studies and "
                                     "print their errors against the closed forms")
     reproduce.add_argument("figures", nargs="*", metavar="FIG", type=_figure,
-                           help=f"figures to run, from {', '.join(list(STUDIES) + list(ALIASES))}"
+                           help=f"figures to run, from {', '.join(list(registered_studies()) + list(ALIASES))}"
                            f" (default: all but {', '.join(LONG)})")
     reproduce.add_argument("--out", type=Path, default=Path("results"),
                            help="output directory (default results/)")
@@ -204,7 +214,7 @@ def _parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Run the command line ``argv`` (default ``sys.argv[1:]``); return the exit code."""
     args = _parser().parse_args(argv)
-    from sliders.scene_errors import SceneError
+    from sliders.app.errors import SceneError
 
     try:
         return args.command(args)

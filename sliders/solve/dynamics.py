@@ -1,17 +1,17 @@
 """Implicit dynamics of linear beams, rigid bodies, sliders and drives.
 
-The equations of motion and the scheme are in :mod:`sliders.integrator`.  A step is a static
+The equations of motion and the scheme are in :mod:`sliders.solve.integrator`.  A step is a static
 problem on the scaled operator ``K' = M + (gamma'/beta') C + s K`` with the load
 ``s (f(t_{n+1}) + M (beta' q_hat - qdd_hat) + C (gamma' q_hat - v_hat))`` and the joint
 multipliers scaled by ``s = 1 / beta'``: the one Newton loop of the package
-(:func:`sliders.statics.newton_many`) solves it, with either linear-algebra back end.  ``K'``
+(:func:`sliders.solve.statics.newton_many`) solves it, with either linear-algebra back end.  ``K'``
 depends on the step size only, so it is built and factorised once per step size (the
 condensed back end then iterates on the slider unknowns alone); a structure without sliders
 needs one triangular solve per step.
 
-Prescribed motions: dofs driven by :class:`~sliders.drives.DofDrive` are eliminated like
+Prescribed motions: dofs driven by :class:`~sliders.joints.drives.DofDrive` are eliminated like
 supports and set to their value at ``t_{n+1}``; a slider's abscissa drive replaces its ``xi``
-equation (:class:`~sliders.joint.Slider`).
+equation (:class:`~sliders.joints.slider.Slider`).
 
 Failures (Newton not converging, a singular configuration, a slider leaving its line, an
 adaptive step falling below its minimum) raise :class:`DynamicsError`, one message with the
@@ -22,7 +22,7 @@ steps computed so far stay on disk.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Callable, Sequence
+from typing import Callable, Protocol, Sequence
 
 import numpy as np
 import scipy.sparse as sp
@@ -30,14 +30,24 @@ import scipy.sparse.linalg as spla
 from tqdm.auto import tqdm
 
 from fvbeam.geometry import vector3
-from fvbeam.statics import DOF_NAMES, Structure, Support
-from sliders.drives import DofDrive
-from sliders.integrator import GeneralizedAlpha, Prediction, State
-from sliders.joint import Slider
-from sliders.statics import SliderStatics, newton_many
+from fvbeam.structure import Structure
+from fvbeam.support import DOF_NAMES, Support
+from sliders.joints.drives import DofDrive
+from sliders.solve.integrator import GeneralizedAlpha, Prediction, State
+from sliders.joints.slider import Slider
+from sliders.solve.statics import SliderStatics, newton_many
 
-if TYPE_CHECKING:
-    from sliders.history import Recorder
+
+
+class Recorder(Protocol):
+    """What :meth:`Dynamics.run` tells an observer of the integration
+    (:class:`sliders.app.history.Recorder` is one)."""
+
+    def start(self, dynamics: "Dynamics", state: State) -> None: ...
+
+    def record(self, dynamics: "Dynamics", new: State, old: State) -> None: ...
+
+    def close(self) -> None: ...
 
 #: A load: a fixed global vector, or a function of time returning one.
 Load = np.ndarray | Callable[[float], np.ndarray]
@@ -80,7 +90,7 @@ class Dynamics:
     load
         External load: a global vector or a function of time (default none).
     mass
-        ``lumped`` or ``consistent`` (:meth:`fvbeam.statics.Structure.mass`).
+        ``lumped`` or ``consistent`` (:meth:`fvbeam.structure.Structure.mass`).
     damping
         Stiffness-proportional damping ``C = damping K`` (a viscoelastic section: the
         damping ratio of a mode of frequency ``omega`` is ``damping omega / 2``), or a
@@ -90,9 +100,9 @@ class Dynamics:
     rho_inf
         Spectral radius at infinity of the scheme (:class:`GeneralizedAlpha`).
     method
-        ``bordered`` or ``condensed`` (:class:`sliders.statics.SliderStatics`).
+        ``bordered`` or ``condensed`` (:class:`sliders.solve.statics.SliderStatics`).
     tol, max_iterations
-        Newton's convergence rule (:func:`sliders.statics.converged`).
+        Newton's convergence rule (:func:`sliders.solve.statics.converged`).
     """
 
     def __init__(self, structure: Structure, supports: Sequence[Support] = (),

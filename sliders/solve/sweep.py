@@ -4,7 +4,7 @@
 geometry, a load factor scales the load, ...); a list of load vectors on one structure is
 ``sweep(loads, lambda f: (statics, f))``.  Each point starts from a prediction when the
 unknowns have the same shapes (continuation), else from the default start
-(:meth:`sliders.statics.SliderStatics.solve`): for real values, the secant through the last
+(:meth:`sliders.solve.statics.SliderStatics.solve`): for real values, the secant through the last
 two converged points (``z + (v - v_1) / (v_1 - v_0) (z_1 - z_0)``, exact for unknowns
 linear in the value, such as the abscissae of a slider moved along its line); otherwise, or
 with a single converged point, the last converged point.
@@ -28,7 +28,7 @@ from typing import Any, Callable, Iterable
 
 import numpy as np
 
-from sliders.statics import SliderSolution, SliderStatics, solve_many
+from sliders.solve.statics import SliderSolution, SliderStatics, solve_many
 
 Build = Callable[[Any], tuple[SliderStatics, np.ndarray]]
 
@@ -163,7 +163,7 @@ def sweep_batched(values: Iterable[Any], build: Build, *, tol: float = 1e-8,
 
     The points are independent problems; those whose statics share an operator (built with
     ``reuse``, as :class:`studies.fig4_stiffness.SlidingBeams` does) are solved together by
-    :func:`sliders.statics.solve_many`, each from its default start, each converging or
+    :func:`sliders.solve.statics.solve_many`, each from its default start, each converging or
     failing on its own.  Same points, solutions and failure messages as
     ``sweep(values, build, continuation=False)`` (to roundoff); a point whose ``build``
     raises ``ValueError`` is recorded as failed.  ``KeyboardInterrupt`` returns the groups

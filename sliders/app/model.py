@@ -1,7 +1,7 @@
 """A validated scene as fvbeam and sliders objects, and the problem of each study point.
 
 :class:`Model` builds the sections, beams, bodies, rigid lines, supports and sliders of a
-:class:`~sliders.scene.Scene` by name, and checks the geometry (phase 3 of validation): the
+:class:`~sliders.app.schema.Scene` by name, and checks the geometry (phase 3 of validation): the
 library's own checks on every part, ties between coincident nodes, point loads on their
 beams, and every slider's body on its line, in the scene and at every value of a sweep that
 moves it.  Nothing is assembled or solved until :meth:`Model.problem` is called.
@@ -19,18 +19,18 @@ import dataclasses
 import numpy as np
 
 from fvbeam import Beam, BeamMesh, RigidBody, Section, Structure, Support, arc, straight
-from fvbeam.statics import NodeRef
-from sliders.chain import BeamChain
-from sliders.drives import DofDrive, Linear, Motion, Ramp, Tabulated
-from sliders.dynamics import Dynamics
-from sliders.joint import Slider
-from sliders.lines import (CircularArc, CubicSpline, Helix, RigidLine, StraightLine,
+from fvbeam.support import NodeRef
+from sliders.lines.chain import BeamChain
+from sliders.joints.drives import DofDrive, Linear, Motion, Ramp, Tabulated
+from sliders.solve.dynamics import Dynamics
+from sliders.joints.slider import Slider
+from sliders.lines.rigid import (CircularArc, CubicSpline, Helix, RigidLine, StraightLine,
                            project_one)
-from sliders.scene import (Abscissa, BeamSpec, LoadFactor, PointLoad, Scene, SliderSpec,
-                           SweepStudy, Translation)
-from sliders.scene_checks import part_of, tied_parts
-from sliders.scene_errors import Problems
-from sliders.statics import SliderStatics
+from sliders.app.schema import (Abscissa, BeamSpec, LoadFactor, PointLoad, Scene, SliderSpec,
+                                SweepStudy, Translation)
+from sliders.app.checks import part_of, tied_parts
+from sliders.app.errors import Problems
+from sliders.solve.statics import SliderStatics
 
 #: Body-on-line tolerance, relative to the line's size (module docstring).
 ON_LINE = 1e-6
@@ -112,7 +112,7 @@ class Model:
     Parameters
     ----------
     scene
-        A scene that passed :func:`sliders.scene.parse_scene`.
+        A scene that passed :func:`sliders.app.scene.parse_scene`.
     source
         Name of the scene in error messages.
 

@@ -1,12 +1,12 @@
 """The slider joint's equations, compiled: residuals and Jacobian blocks of ``B`` members.
 
-:meth:`sliders.joint.SliderBatch.evaluate` gathers what the joints need (the line state at
+:meth:`sliders.joints.slider.SliderBatch.evaluate` gathers what the joints need (the line state at
 ``xi``, the body's displacements, the unknowns) and calls :func:`joint_equations`, which
 writes, member by member, the residual on the slots and the Jacobian blocks of the joint's
-pattern (:class:`sliders.slots.SlotJacobian`: one flat array, ``where[row group, column
+pattern (:class:`sliders.joints.blocks.SlotJacobian`: one flat array, ``where[row group, column
 group]`` the offset of a block, -1 where it is not in the pattern).  The equations are those
-of the table of :mod:`sliders.joint` (paper eqs. 1-5, Sec. 4), with the two orientation
-models (``section``: :meth:`~sliders.joint.SliderBatch.evaluate`'s docstring and
+of the table of :mod:`sliders.joints.slider` (paper eqs. 1-5, Sec. 4), with the two orientation
+models (``section``: :meth:`~sliders.joints.slider.SliderBatch.evaluate`'s docstring and
 ``docs/sliders.md``; ``slope``: paper eq. 4).
 
 Slot groups, in this order (their first slot ``start`` and ``size``): ``body`` (3), ``turn``
@@ -20,7 +20,7 @@ import numba
 import numpy as np
 
 BODY, TURN, LOAD, ROTATION, INTERP, BESIDE, XI, LAM, MU = range(9)
-#: Group names in the order of the indices above (:class:`sliders.slots.SlotJacobian`).
+#: Group names in the order of the indices above (:class:`sliders.joints.blocks.SlotJacobian`).
 GROUPS = ("body", "turn", "load", "rotation", "interp", "beside", "xi", "lam", "mu")
 KINDS = {"spherical": 0, "classical": 1, "spline": 2}
 ORIENTATIONS = {"section": 0, "slope": 1}
@@ -82,7 +82,7 @@ def joint_equations(kind, slope, jacobian, offset, frame, body, reference, q, y,
     q, y
         The structure states (B, n) and the joints' unknowns (B, m).
     x, l, l_xi, l_xixi, N, dN, d2N, G, dG, tangent, tangent_xi, T
-        The line at ``xi`` (:class:`sliders.joint._LineState`): position and derivatives,
+        The line at ``xi`` (:class:`sliders.joints.slider._LineState`): position and derivatives,
         shape functions (B, npe), load transfer (B, k, 6) and its derivative, the tangent
         of the frictionless condition and its coefficients on the tangent slots (B, p).
     rotation_dofs, w, w_xi, kink, kink_xi, compliance

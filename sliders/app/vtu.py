@@ -33,7 +33,7 @@ value that does not apply is NaN, or -1 for integers):
   point (:meth:`fvbeam.beam.Beam.internal_forces`);
 * ``reaction``: a slider's ``lambda``; ``couple``: the couple ``m`` of its orientation
   constraints (zero for a spherical slider).  Both as they enter the body's residual
-  (:mod:`sliders.joint`): the joint pushes the body with ``-lambda, -m`` and the line with
+  (:mod:`sliders.joints.slider`): the joint pushes the body with ``-lambda, -m`` and the line with
   ``+lambda, +m``.
 """
 
@@ -49,9 +49,9 @@ import meshio
 import numpy as np
 
 from fvbeam.io import replace_directory, write_atomic
-from fvbeam.statics import Structure
-from sliders.chain import BeamChain
-from sliders.joint import Slider
+from fvbeam.structure import Structure
+from sliders.lines.chain import BeamChain
+from sliders.joints.slider import Slider
 
 #: Default tube radius as a fraction of the diagonal of the structure's bounding box.
 RADIUS_FRACTION = 0.01
@@ -201,7 +201,7 @@ def to_meshio(structure: Structure, q: np.ndarray, sliders: Sequence[Slider] = (
         Global displacements, ``(structure.n_dofs,)``.
     sliders, unknowns
         The sliders and their unknowns ``[xi, lambda, mu...]`` in the same order
-        (:class:`sliders.statics.SliderSolution` ``.unknowns``).
+        (:class:`sliders.solve.statics.SliderSolution` ``.unknowns``).
     radius
         Tube radius: one value, one per beam, or ``None`` for ``RADIUS_FRACTION`` of the
         structure's size; sliders and bodies carry the largest beam radius.

@@ -15,7 +15,7 @@ supports are eliminated).  Two linear-algebra back ends share one Newton loop:
 ``condensed``
     factorises ``K``, bordered by the free parts' rigid motions, once per structure and
     support set, and solves a small dense system on ``T``, ``y`` and the rigid amplitudes
-    per step (:mod:`sliders.condensed`).
+    per step (:mod:`sliders.solve.condensed`).
 
 :func:`newton_many` is the Newton loop, for independent members of one shape at once
 (:func:`solve_many`; the condensed steps of all members are one stacked solve); a single
@@ -32,9 +32,11 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from fvbeam.statics import Structure, Support
-from sliders.condensed import CondensedOperator, node_positions
-from sliders.joint import Slider, SliderBatch
+from fvbeam.structure import Structure
+
+from fvbeam.support import Support
+from sliders.solve.condensed import CondensedOperator, node_positions
+from sliders.joints.slider import Slider, SliderBatch
 
 METHODS = ("bordered", "condensed")
 
@@ -65,7 +67,7 @@ class SliderStatics:
     is then taken as it is; a sweep over positions builds it once.  ``method``: the
     linear-algebra back end, ``bordered`` or ``condensed`` (module docstring).  ``operator``:
     a matrix that takes the place of the stiffness (the time integrator's
-    ``M + c_v C + c_q K``, :mod:`sliders.dynamics`); default the structure's stiffness.
+    ``M + c_v C + c_q K``, :mod:`sliders.solve.dynamics`); default the structure's stiffness.
     """
 
     def __init__(self, structure: Structure, supports: Sequence[Support],
@@ -104,8 +106,8 @@ class SliderStatics:
 
     def prepare_translations(self) -> None:
         """Build what :func:`solve_translated` moves to every position, once: each slider's
-        one-member batch (:meth:`~sliders.joint.Slider.batch`) and its chain's element
-        frames (:meth:`~sliders.stack.ChainStack.element_frames`; a translation keeps
+        one-member batch (:meth:`~sliders.joints.slider.Slider.batch`) and its chain's element
+        frames (:meth:`~sliders.lines.batched.ChainStack.element_frames`; a translation keeps
         them).  Part of a template's setup; without it the first :func:`solve_translated`
         builds them."""
         for slider in self.sliders:
@@ -295,10 +297,10 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
     """Newton on ``B`` independent members at once: the one Newton loop of the package.
 
     ``members`` share the first one's operator (stiffness, supports, back end); ``batches``
-    holds, per slider, the members' sliders (:class:`~sliders.joint.SliderBatch`);
+    holds, per slider, the members' sliders (:class:`~sliders.joints.slider.SliderBatch`);
     ``loads`` (B, n); ``starts``: per member ``(q, unknowns)`` or None (no displacement,
     projected ``xi``); ``time`` and ``scale``: where the drives are read and the scaling of
-    the multipliers (:meth:`~sliders.joint.SliderBatch.evaluate`).  Each member stops when it
+    the multipliers (:meth:`~sliders.joints.slider.SliderBatch.evaluate`).  Each member stops when it
     has converged (:func:`converged`, then one more residual), or fails on its own.  Returns
     per member the converged ``q``, slider unknowns and scaled residual history, or the
     message of its failure: the
@@ -435,7 +437,7 @@ def _evaluate(view: list[SliderBatch], spans: list[list], q: np.ndarray, y: np.n
     (:meth:`SliderBatch.evaluate`), each batch of ``view`` evaluated once for the sliders
     it holds (``spans``: their unknowns in ``y``, :func:`_joined`): per slider, and per
     batch (its sliders' members one slider after the other, as the condensed step takes
-    them, :meth:`sliders.condensed.CondensedOperator.step`)."""
+    them, :meth:`sliders.solve.condensed.CondensedOperator.step`)."""
     out, stacked, B = [], [], len(q)
     for batch, span in zip(view, spans):
         dofs, r, J = batch.evaluate(np.tile(q, (len(span), 1)) if len(span) > 1 else q,
@@ -457,7 +459,7 @@ def solve_many(members: Sequence[SliderStatics], loads: Sequence[np.ndarray], to
 
     ``members``: statics sharing the first one's operator (built with ``reuse``: the same
     stiffness, dof maps, supports and back end; e.g. a piston moved along its cylinder) with
-    alike sliders (:class:`~sliders.joint.SliderBatch`); ``loads``: one load vector each.
+    alike sliders (:class:`~sliders.joints.slider.SliderBatch`); ``loads``: one load vector each.
     The joints are evaluated for all members at once and, with the ``condensed`` back end,
     the Newton steps are one stacked solve (:func:`newton_many`, the loop and convergence
     rule of :meth:`SliderStatics.solve`).  Returns per member its :class:`SliderSolution`, or
@@ -490,7 +492,7 @@ def solve_translated(statics: SliderStatics, shifts: np.ndarray, loads: np.ndarr
     moved by ``shifts[b]`` (:meth:`fvbeam.beam.Beam.translated`, ``reuse=statics``) under
     ``loads[b]``, without building them: a translation changes neither the stiffness, nor
     the dofs, supports and slider unknowns, only the node positions the joints read
-    (:meth:`~sliders.joint.SliderBatch.translated`).  A piston moved along its cylinder is
+    (:meth:`~sliders.joints.slider.SliderBatch.translated`).  A piston moved along its cylinder is
     one ``statics`` and a shift per position.
 
     Parameters

@@ -35,7 +35,7 @@ Two orientation models (``docs/sliders.md`` compares them):
 Neither routes the couple through ``d l / d q`` as a force dipole on the slope: on
 shear-deformable beams the dipole form loses the couple under mesh refinement.
 
-The equations are written once, compiled, in :mod:`sliders.joint_kernel`, which
+The equations are written once, compiled, in :mod:`sliders.joints.kernel`, which
 :meth:`SliderBatch.evaluate` calls for ``B`` members at once
 (arrays with a leading member axis, fixed slots per member); :meth:`Slider.assemble` is the
 case ``B = 1``.
@@ -50,14 +50,14 @@ from typing import Sequence
 import numpy as np
 
 from fvbeam.geometry import orthonormal3, vector3
-from fvbeam.statics import Structure
-from sliders.chain import BeamChain
-from sliders.drives import Motion
-from sliders.joint_kernel import GROUPS, joint_equations
-from sliders.joint_kernel import KINDS as KERNEL_KINDS
-from sliders.lines import RigidLine
-from sliders.slots import SlotJacobian
-from sliders.stack import ChainStack, LineRotation, gather
+from fvbeam.structure import Structure
+from sliders.lines.chain import BeamChain
+from sliders.joints.drives import Motion
+from sliders.joints.kernel import GROUPS, joint_equations
+from sliders.joints.kernel import KINDS as KERNEL_KINDS
+from sliders.lines.rigid import RigidLine
+from sliders.joints.blocks import SlotJacobian
+from sliders.lines.batched import ChainStack, LineRotation, gather
 
 KINDS = ("spherical", "classical", "spline")
 ORIENTATIONS = ("section", "slope")
@@ -92,7 +92,7 @@ class Slider:
         reaction's tangential part ``l . lambda`` is the stop's force) while the stop pushes,
         and leaves it when the stop would have to pull.
     drive
-        A prescribed abscissa ``xi_d(t)`` (:mod:`sliders.drives`): the frictionless
+        A prescribed abscissa ``xi_d(t)`` (:mod:`sliders.joints.drives`): the frictionless
         equation ``l . lambda = 0`` becomes ``xi = xi_d(t)``, and ``l . lambda`` is the force
         pushing the sliding point along the line.  Statics holds ``xi`` at ``xi_d(0)``.
     name
@@ -119,7 +119,7 @@ class Slider:
             raise ValueError(f"{self.name}: orientation must be one of "
                              f"{', '.join(ORIENTATIONS)}, got {self.orientation!r}")
         if self.drive is not None and not callable(self.drive):
-            raise ValueError(f"{self.name}: drive must be a motion (sliders.drives), got "
+            raise ValueError(f"{self.name}: drive must be a motion (sliders.joints.drives), got "
                              f"{self.drive!r}")
         if self.orientation == "slope" and self.kind != "classical":
             raise ValueError(f"{self.name}: orientation 'slope' is the classical slider's "
@@ -195,7 +195,7 @@ class Slider:
 class SliderBatch:
     """``B`` sliders alike (kind, orientation, smearing, offset, frame, end stops), one per
     member of a batch of structures of one topology, on lines of one topology
-    (:class:`sliders.stack.ChainStack`, or rigid lines): the joint equations of all members
+    (:class:`sliders.lines.batched.ChainStack`, or rigid lines): the joint equations of all members
     at once (module docstring).
 
     Raises ``ValueError`` naming the first slider that differs from the first one.
@@ -256,7 +256,7 @@ class SliderBatch:
         """One batch of the members of ``batches``, one batch after the other: the joints of
         a member that are alike (kind, orientation, smearing, offset, frame, end stops, drive,
         unknowns and line length) but sit on different lines of one topology (e.g. on two
-        beams of one mesh, :meth:`sliders.stack.ChainStack.joined`) evaluated by one call.
+        beams of one mesh, :meth:`sliders.lines.batched.ChainStack.joined`) evaluated by one call.
         Raises ``ValueError`` naming the first batch that differs from the first one."""
         first = batches[0]
         for other in batches[1:]:
@@ -333,7 +333,7 @@ class SliderBatch:
         ``q`` (B, n): the members' structure states; ``y`` (B, n_unknowns): their joint
         unknowns; ``time``: where the drives are read.  ``scale``: the multipliers in ``y``
         are ``scale`` times the physical ones (the time integrator's scaling,
-        :mod:`sliders.dynamics`): every equation is homogeneous in them except the kink
+        :mod:`sliders.solve.dynamics`): every equation is homogeneous in them except the kink
         shift of the section orientation, whose compliance is divided by ``scale``.
         ``jacobian``: False for the residuals alone (a convergence check).
 
@@ -350,7 +350,7 @@ class SliderBatch:
         J : the derivative of ``r`` in ``[q_slots; y]`` by blocks of the slot groups
             ``body``, ``turn`` (the body's rotations), ``load``, ``rotation``, ``interp``,
             ``beside`` (the tangent's other dofs), ``xi``, ``lam``, ``mu``
-            (:class:`sliders.slots.SlotJacobian`); None without ``jacobian``
+            (:class:`sliders.joints.blocks.SlotJacobian`); None without ``jacobian``
         """
         B = len(y)
         xi = np.clip(y[:, 0], 0.0, self.length) if self.end_stops else y[:, 0]
@@ -421,7 +421,7 @@ class _LineState:
     the interpolation's shape functions (chains), the load transfer, the section rotation
     (chains, section orientation) or the rigid line's frame ``(R, k, k_xi)``, and the tangent
     of the frictionless condition with its dofs and coefficients (chains: the recovered
-    tangent, :meth:`sliders.stack.ChainStack.interpolation`, whose first ``3 npe`` dofs are
+    tangent, :meth:`sliders.lines.batched.ChainStack.interpolation`, whose first ``3 npe`` dofs are
     the interpolation's; rigid lines: ``l``, no dofs)."""
 
     x: np.ndarray

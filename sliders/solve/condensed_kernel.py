@@ -1,9 +1,9 @@
 """Compiled per-member work of the condensed Newton step.
 
-:meth:`sliders.condensed.CondensedOperator.step` hands :func:`condensed_step` the joints'
-Jacobians as they are stored (:class:`sliders.slots.SlotJacobian`: the flat ``values`` of
+:meth:`sliders.solve.condensed.CondensedOperator.step` hands :func:`condensed_step` the joints'
+Jacobians as they are stored (:class:`sliders.joints.blocks.SlotJacobian`: the flat ``values`` of
 every member, laid out by ``table``) and the cached columns of ``B^{-1}``; per member the
-kernel forms and solves the small system of :mod:`sliders.condensed` (module docstring):
+kernel forms and solves the small system of :mod:`sliders.solve.condensed` (module docstring):
 
     w_c + Y_c u - Phi_c a           = -x_r,c
     Y_z u                           = -z_r
@@ -89,7 +89,7 @@ def _gather(b: int, members: int, slots: np.ndarray, values: np.ndarray, tables:
             where_r: np.ndarray, fd: np.ndarray, rd: np.ndarray, counts: np.ndarray,
             G: np.ndarray, Ct: np.ndarray, D: np.ndarray, c_dof: np.ndarray) -> None:
     """Member ``b``'s Jacobian entries merged by free dof (:func:`_joint`), joints in the
-    order of :meth:`sliders.condensed.CondensedOperator.step` (batch after batch, joint
+    order of :meth:`sliders.solve.condensed.CondensedOperator.step` (batch after batch, joint
     ``i`` of a batch in its row ``i B + b``), and the free dof of each ``c`` slot (-1 if
     supported; registered as a read dof).  ``counts``: the numbers of force and read dofs."""
     counts[0] = counts[1] = 0
@@ -271,7 +271,7 @@ def condensed_step(store: np.ndarray, column: np.ndarray, phi: np.ndarray, base:
                    r_free: np.ndarray, r_y: np.ndarray, slots: np.ndarray, values: np.ndarray,
                    tables: np.ndarray, c_of: np.ndarray, batches: np.ndarray, nc: int,
                    threshold: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The small systems of ``B`` members solved (:mod:`sliders.condensed`, module docstring).
+    """The small systems of ``B`` members solved (:mod:`sliders.solve.condensed`, module docstring).
 
     Parameters
     ----------

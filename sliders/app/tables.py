@@ -33,9 +33,9 @@ from typing import Iterator, Sequence
 import numpy as np
 
 from fvbeam.io import OUTPUT_MARKER as MARKER, replace_directory
-from sliders.output import Frame, contact_point, write_series
-from sliders.run import Results, Sample
-from sliders.scene import dump_scene
+from sliders.app.vtu import Frame, contact_point, write_series
+from sliders.app.run import Results, Sample
+from sliders.app.scene import dump_scene
 
 COLUMNS = {
     "samples": ("sample", "value", "converged", "iterations", "error"),
@@ -162,7 +162,7 @@ def _frame(sample: Sample, converged: list[Sample]) -> Frame:
 
 
 def _render(sample: Sample, path: Path, title: str) -> None:
-    from studies.render import render
+    from sliders.app.render import render
 
     value = "" if sample.value is None else f", value {sample.value:g}"
     statics, solution = sample.statics, sample.solution

@@ -13,9 +13,9 @@ A *motion* is a scalar function of time with its first two derivatives,
     through ``(times, values)``: piecewise linear (``order=1``) or a not-a-knot cubic spline
     (``order=3``, :class:`scipy.interpolate.CubicSpline`), constant outside the table.
 
-A motion drives one of two things (:class:`sliders.dynamics.Dynamics`):
+A motion drives one of two things (:class:`sliders.solve.dynamics.Dynamics`):
 
-* a slider's abscissa (:attr:`sliders.joint.Slider.drive`): the frictionless ``xi`` equation
+* a slider's abscissa (:attr:`sliders.joints.slider.Slider.drive`): the frictionless ``xi`` equation
   ``l . lambda = 0`` becomes ``xi - xi_d(t) = 0``, and ``l . lambda`` is the force that
   pushes the sliding point along the line;
 * a structure dof (:class:`DofDrive`): the dof is prescribed like a support with a moving
@@ -30,7 +30,7 @@ from typing import Protocol
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from fvbeam.statics import DOF_NAMES, NodeRef
+from fvbeam.support import DOF_NAMES, NodeRef
 
 
 class Motion(Protocol):

@@ -1,8 +1,8 @@
 """Running a scene's dynamic study into an output directory.
 
-The integration (:class:`sliders.dynamics.Dynamics`) starts from the static equilibrium at
+The integration (:class:`sliders.solve.dynamics.Dynamics`) starts from the static equilibrium at
 ``t = 0`` or from the saved state ``study.restart``, and streams its steps into the new
-directory (:mod:`sliders.history`), which then replaces the output directory whole:
+directory (:mod:`sliders.app.history`), which then replaces the output directory whole:
 
 * ``history.csv`` always; ``displacements.csv`` when ``output.csv`` lists ``nodes``,
   ``internal_forces.csv`` when it lists ``internal_forces``, ``reactions.csv`` when it lists
@@ -21,12 +21,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from fvbeam.io import OUTPUT_MARKER, replace_directory
-from sliders.dynamics import Adaptive, DynamicsError
-from sliders.history import Recorder
-from sliders.integrator import State
-from sliders.model import Model
-from sliders.output import Frame, write_series
-from sliders.scene import dump_scene
+from sliders.solve.dynamics import Adaptive, DynamicsError
+from sliders.app.history import Recorder
+from sliders.solve.integrator import State
+from sliders.app.model import Model
+from sliders.app.vtu import Frame, write_series
+from sliders.app.scene import dump_scene
 
 
 @dataclass
@@ -100,7 +100,7 @@ def _frame(model: Model, state: State) -> Frame:
 
 
 def _render(model: Model, state: State, path: Path) -> None:
-    from studies.render import render
+    from sliders.app.render import render
 
     render(path, model.structure, state.q, model.sliders, state.unknowns,
            title=f"{model.scene.title or 'scene'}: t = {state.t:.4g} s")

@@ -3,7 +3,7 @@
 A sweep solves many independent problems of the same shape: the same beams moved rigidly
 (:meth:`fvbeam.beam.Beam.translated`), with the same dof maps, connectivity, element lengths,
 formulations and sections, differing only in the reference node positions.  A
-:class:`ChainStack` holds ``B`` such :class:`~sliders.chain.BeamChain` members and answers
+:class:`ChainStack` holds ``B`` such :class:`~sliders.lines.chain.BeamChain` members and answers
 their queries at abscissae ``xi`` of shape ``(B,)`` (one per member) with arrays of leading
 dimension ``B``:
 
@@ -15,13 +15,13 @@ dimension ``B``:
   ``xi``, the kink correction ``kappa = w0 w1 l + lag h w_mid^2`` and the reference frame;
 * :meth:`ChainStack.transfer`: the test functions at ``xi`` read as load-transfer matrices
   ``G(xi)`` (eq. T6) and ``dG/dxi``; with smearing, each member's
-  :meth:`~sliders.chain.BeamChain.transfer` padded to a common size with zero rows;
+  :meth:`~sliders.lines.chain.BeamChain.transfer` padded to a common size with zero rows;
 * :meth:`ChainStack.project`: the initial ``xi`` by projection;
 * :meth:`ChainStack.line_state`: all a joint needs at once on the states ``q`` (the deformed
   line, the recovered tangent, the load transfer and the section rotation).
 
-Every query is one call of the compiled kernel :func:`sliders.stack_kernel.line_state`.
-The single-point queries of :class:`~sliders.chain.BeamChain` are the ``B = 1`` case.  The
+Every query is one call of the compiled kernel :func:`sliders.lines.batched_kernel.line_state`.
+The single-point queries of :class:`~sliders.lines.chain.BeamChain` are the ``B = 1`` case.  The
 chain's beams must all have the same number of nodes per element (fixed-size slots).
 """
 
@@ -29,19 +29,33 @@ from __future__ import annotations
 
 import copy
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, NamedTuple, Sequence
+from typing import NamedTuple, Protocol, Sequence
 
 import numpy as np
 
+from fvbeam.beam import Beam
 from fvbeam.elements import influence_regions
 from fvbeam.formulations import FiniteVolume
 from fvbeam.geometry import locate_abscissa
 from fvbeam.mesh import shape_functions
-from sliders import stack_kernel
-from sliders.lines import curvature_rate, frame_and_curvature, project
+from fvbeam.structure import Structure
+from sliders.lines import batched_kernel as stack_kernel
+from sliders.lines.rigid import curvature_rate, frame_and_curvature, project
 
-if TYPE_CHECKING:
-    from sliders.chain import BeamChain
+
+
+class Chain(Protocol):
+    """What a batch reads of each member chain (:class:`sliders.lines.chain.BeamChain` is one)."""
+
+    name: str
+    structure: Structure
+    indices: list[int]
+    beams: list[Beam]
+    offsets: np.ndarray
+    length: float
+
+    def transfer(self, xi: float, smearing: float = 0.0,
+                 kernel: str = "box") -> tuple[np.ndarray, np.ndarray, np.ndarray]: ...
 
 #: Lag of a 3-node element's mid-node rotation under a couple ``M`` at the mid-node, per
 #: ``h C M`` (the exact rotation steps its rate by ``C M`` there, the elements cannot):
@@ -109,7 +123,7 @@ class LineRotation:
     """Section rotation of the line at ``xi``: ``theta = w @ q[dofs]``, with ``dofs`` (2, 3)
     the rotation dofs of the bracketing nodes, ``w`` their weights and ``w_xi`` their
     derivatives; ``kink = w0 w1 span`` and ``kink_xi`` its derivative (the correction for a
-    couple at ``xi``, :class:`sliders.joint.Slider`); the section ``compliance`` (3, 3); the
+    couple at ``xi``, :class:`sliders.joints.slider.Slider`); the section ``compliance`` (3, 3); the
     reference frame ``R0``, its curvature vector ``k0`` and ``k0_xi``.  Stacked: a leading
     member axis on every field."""
 
@@ -158,7 +172,7 @@ class LineState(NamedTuple):
 
 
 class _Answer(NamedTuple):
-    """What :func:`sliders.stack_kernel.line_state` returns, by name."""
+    """What :func:`sliders.lines.batched_kernel.line_state` returns, by name."""
 
     beam: np.ndarray
     element: np.ndarray
@@ -193,7 +207,7 @@ class ChainStack:
     anything but its node positions, or a chain mixing element sizes.
     """
 
-    def __init__(self, chains: Sequence[BeamChain]) -> None:
+    def __init__(self, chains: Sequence[Chain]) -> None:
         self.chains = list(chains)
         first = self.chains[0]
         self.name, self.beams, self.offsets = first.name, first.beams, first.offsets
@@ -308,7 +322,7 @@ class ChainStack:
         """Beam (position in the chain), element of the chain (global index) and reference
         coordinate ``X`` of each member's abscissa ``xi`` (B,), on the member's own abscissae
         (as :func:`fvbeam.geometry.locate_abscissa` and :meth:`fvbeam.mesh.BeamMesh.locate`,
-        which report an abscissa off the chain; :func:`sliders.stack_kernel.locate_one`)."""
+        which report an abscissa off the chain; :func:`sliders.lines.batched_kernel.locate_one`)."""
         xi = self._checked(xi)
         return stack_kernel.locate(xi, self.breaks, self.vertex_s, self.first_element, self.h)
 
@@ -322,7 +336,7 @@ class ChainStack:
 
     def _query(self, xi: np.ndarray, q: np.ndarray | None, transfer: bool,
                rotation: bool) -> _Answer:
-        """:func:`sliders.stack_kernel.line_state` at ``xi`` (B,): the deformed line on the
+        """:func:`sliders.lines.batched_kernel.line_state` at ``xi`` (B,): the deformed line on the
         states ``q`` (B, n) unless None, the load transfer and the rotation if asked."""
         xi = self._checked(xi)
         frames = self.element_frames() if rotation else None
@@ -409,7 +423,7 @@ class ChainStack:
     def element_frames(self) -> ElementFrames:
         """Per member and element, whether the element is straight in the reference
         configuration (``|l0_/xi| <= 1e-12 |l0|``, the test by which
-        :func:`sliders.lines.curvature_rate` takes ``k0_/xi`` as zero; ``k0`` is then zero
+        :func:`sliders.lines.rigid.curvature_rate` takes ``k0_/xi`` as zero; ``k0`` is then zero
         to roundoff), and its frame ``R0`` and section compliance in global axes
         (:meth:`rotation`), computed once per stack (a translated stack keeps its
         template's, :meth:`translated`)."""
@@ -430,7 +444,7 @@ class ChainStack:
         """How a force and couple ``[F; M]`` at each member's ``xi`` loads its chain (T6).
 
         Returns global ``dofs`` (B, k), ``G`` (B, k, 6) and ``dG/dxi`` (B, k, 6) as
-        :meth:`sliders.chain.BeamChain.transfer` (which gives the smeared loads, padded here
+        :meth:`sliders.lines.chain.BeamChain.transfer` (which gives the smeared loads, padded here
         to a common ``k`` with zero rows on the member's first dof).
         """
         if smearing > 0:
@@ -447,7 +461,7 @@ class ChainStack:
     def project(self, points: np.ndarray, q: np.ndarray) -> np.ndarray:
         """Abscissae of the points of the deformed chains (states ``q``, (B, n)) closest to
         ``points`` (B, 3), Newton started from the closest node
-        (:func:`sliders.lines.project`)."""
+        (:func:`sliders.lines.rigid.project`)."""
         grid, node = self._node_grid()
         sampled = self.points[:, node] + gather(q, self._node_dofs()[self.map[:, None], node])
 
@@ -474,7 +488,7 @@ class ChainStack:
         return self._node_map
 
 
-def _same_topology(a: BeamChain, b: BeamChain, maps: bool = True) -> bool:
+def _same_topology(a: Chain, b: Chain, maps: bool = True) -> bool:
     """Whether chains ``a`` and ``b`` differ at most in their node positions (and, without
     ``maps``, their dof maps).  Beams sharing
     their arc lengths (moved copies, :meth:`fvbeam.mesh.BeamMesh.translated`) have equal
@@ -504,7 +518,7 @@ def _weighted(f: np.ndarray, nodes: np.ndarray, q: np.ndarray, dofs: np.ndarray,
     """``sum_a f_ja (nodes_a + q[dofs_a])`` for each ``j`` of coefficients ``f`` (..., k, m),
     nodes (..., m, 3) and dofs (..., m, 3): on one state ``q`` (n,), or on each member's own
     (``q`` (B, n), leading axis of ``f`` B), or on the states ``q[rows]`` for flattened
-    leading axes (:func:`sliders.stack_kernel.weighted_current`).  Returns ``k`` arrays
+    leading axes (:func:`sliders.lines.batched_kernel.weighted_current`).  Returns ``k`` arrays
     (..., 3)."""
     lead, (k, m) = f.shape[:-2], f.shape[-2:]
     P = int(np.prod(lead))

@@ -1,7 +1,7 @@
 """Running a scene's study: every sample's solution (or failure) in memory.
 
 A static study has one sample; a sweep has one per parameter value, solved as a continuation
-(:func:`sliders.sweep.sweep`: a progress bar on a terminal, failed points recorded with their
+(:func:`sliders.solve.sweep.sweep`: a progress bar on a terminal, failed points recorded with their
 message, Ctrl-C keeping the completed points).
 """
 
@@ -12,10 +12,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from sliders.model import Model
-from sliders.scene import Scene, SweepStudy
-from sliders.statics import SliderSolution, SliderStatics
-from sliders.sweep import sweep
+from sliders.app.model import Model
+from sliders.app.schema import Scene, SweepStudy
+from sliders.solve.statics import SliderSolution, SliderStatics
+from sliders.solve.sweep import sweep
 
 
 @dataclass(frozen=True)

@@ -1,12 +1,12 @@
 """The line state of ``B`` chains at their abscissae, compiled (numba).
 
-One call of :func:`line_state` answers every query of :class:`sliders.stack.ChainStack` for
+One call of :func:`line_state` answers every query of :class:`sliders.lines.batched.ChainStack` for
 ``B`` members at once, member by member without temporaries: where ``xi`` lies
 (:func:`locate_one`), the element interpolation and the recovered tangent
 (``docs/sliders.md``, :func:`interpolation_one`), the deformed line (:func:`weighted`), the
 load transfer (eq. T6, :func:`fvbeam.pointwise.transfer_at`) and the section rotation with
 its kink correction (:func:`rotation_one`).  The stack's arrays are described in
-:class:`sliders.stack.ChainStack`; the kernels expect them C-contiguous, float64 and int64.
+:class:`sliders.lines.batched.ChainStack`; the kernels expect them C-contiguous, float64 and int64.
 """
 
 from __future__ import annotations
@@ -110,7 +110,7 @@ def weighted(f: np.ndarray, points: np.ndarray, out: np.ndarray) -> None:
 def rotation_one(X: float, he: float, lag: float, npe: int, pair: np.ndarray, w: np.ndarray,
                  w_xi: np.ndarray) -> tuple[float, float]:
     """The section rotation's interpolation at ``X`` of an element of length ``he``
-    (:meth:`sliders.stack.ChainStack.rotation`): the two consecutive nodes around ``X``
+    (:meth:`sliders.lines.batched.ChainStack.rotation`): the two consecutive nodes around ``X``
     (``pair``, local indices, along the element: end 0, mid node, end 1), their weights
     ``w`` and ``w_xi``; returns ``kink = t (1 - t) span + lag h w_mid^2`` and its
     derivative in ``xi``."""
@@ -153,7 +153,7 @@ def line_state(xi: np.ndarray, q: np.ndarray, member_map: np.ndarray, maps: np.n
                R0_of: np.ndarray, compliance_of: np.ndarray, state: bool, transfer: bool,
                rotation: bool) -> tuple:
     """The line state of each member at ``xi`` (B,) on its states ``q`` (B, n), on the
-    stack's arrays (:class:`sliders.stack.ChainStack`): ``member_map`` (B,) into ``maps``
+    stack's arrays (:class:`sliders.lines.batched.ChainStack`): ``member_map`` (B,) into ``maps``
     (M, E, npe, 6), ``cells`` (E, npe), ``points`` (B, n_nodes, 3), ``breaks``
     (B, n_beams + 1), ``vertex_s`` (B, E + n_beams), ``first_element`` (n_beams + 1,), ``h``
     (B, E), ``lag`` (E,), ``rigid`` (n_beams,) fv beams, ``regions`` (npe, 2) the fv

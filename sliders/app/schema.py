@@ -1,37 +1,23 @@
-"""Scenes: one TOML file describes one model and one study (``docs/scenes.md``).
+"""The scene schema: frozen pydantic models of every table a scene may hold (``docs/scenes.md``).
 
-A scene is read with :mod:`tomllib` and validated into frozen pydantic models before anything
-is built or solved, in three phases, each reporting all its problems at once in one
-:class:`~sliders.scene_errors.SceneError`:
-
-1. the schema (this module): keys, types, finite numbers, positive stiffnesses and masses,
-   allowed kinds, with a did-you-mean for unknown keys and kinds;
-2. references and consistency (:mod:`sliders.scene_checks`): every name refers to something
-   that exists, chains are tied end to start, the study's parameter makes sense;
-3. geometry (:class:`sliders.model.Model`): mesh files, the library's own checks, every
-   slider's body on its line (also at every value of a sweep that moves it).
-
-Everything is referred to by name; units are SI (m, N, N m, kg, rad).  Arrays of tables carry
-singular names (``[[beam]]``, ``[[slider]]``), so an error at ``slider[1].smearing`` is in the
-second ``[[slider]]`` table.
+Phase 1 of validation (:func:`sliders.app.scene.parse_scene`): keys, types, finite numbers,
+positive stiffnesses and masses, allowed kinds, with a did-you-mean for unknown keys and kinds.
 """
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 from typing import Annotated, Any, Literal, Union
 
 import numpy as np
 from pydantic import (AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, Strict,
-                      ValidationError, ValidationInfo)
+                      ValidationInfo)
 
 from fvbeam.geometry import inertia3, orthonormal3
-from sliders.scene_errors import Problem, SceneError, schema_problems
 
 NAME_PATTERN = r"^[A-Za-z_][A-Za-z0-9_\-]*$"
 FORMULATIONS = ("fv2", "fv3", "galerkin-p1", "galerkin-p2")
-#: The CSV tables a run can write (:mod:`sliders.tables`).
+#: The CSV tables a run can write (:mod:`sliders.app.tables`).
 TABLES = ("samples", "nodes", "sliders", "internal_forces", "reactions")
 
 Number = Annotated[float, Strict(), Field(allow_inf_nan=False, description="a finite number")]
@@ -216,7 +202,7 @@ LineSpec = Annotated[Union[StraightLineSpec, ArcLineSpec, HelixLineSpec, SplineL
 
 
 class SliderSpec(Table):
-    """``[[slider]]``: a node sliding on a line (``sliders.joint.Slider``)."""
+    """``[[slider]]``: a node sliding on a line (``sliders.joints.slider.Slider``)."""
 
     name: Name
     kind: Literal["spherical", "classical", "spline"]
@@ -269,7 +255,7 @@ LoadSpec = Annotated[Union[NodalLoad, PointLoad, DistributedLoad], Field(discrim
 
 # -- drives -------------------------------------------------------------------------------------
 class LinearMotion(Table):
-    """``start + velocity (t - t0)`` (:class:`sliders.drives.Linear`)."""
+    """``start + velocity (t - t0)`` (:class:`sliders.joints.drives.Linear`)."""
 
     kind: Literal["linear"]
     start: Number
@@ -278,7 +264,7 @@ class LinearMotion(Table):
 
 
 class RampMotion(Table):
-    """From ``start`` to ``end`` between ``t0`` and ``t1`` (:class:`sliders.drives.Ramp`)."""
+    """From ``start`` to ``end`` between ``t0`` and ``t1`` (:class:`sliders.joints.drives.Ramp`)."""
 
     kind: Literal["ramp"]
     start: Number
@@ -289,7 +275,7 @@ class RampMotion(Table):
 
 
 class TabulatedMotion(Table):
-    """Through ``(times, values)`` (:class:`sliders.drives.Tabulated`)."""
+    """Through ``(times, values)`` (:class:`sliders.joints.drives.Tabulated`)."""
 
     kind: Literal["tabulated"]
     times: Annotated[tuple[Number, ...], Field(min_length=2)]
@@ -323,7 +309,7 @@ DriveSpec = Annotated[Union[AbscissaDrive, DofDriveSpec], Field(discriminator="k
 
 # -- study ---------------------------------------------------------------------------------------
 class Newton(Table):
-    """Newton options (:func:`sliders.statics.newton_many`)."""
+    """Newton options (:func:`sliders.solve.statics.newton_many`)."""
 
     method: Literal["bordered", "condensed"] = "bordered"
     tol: Positive = 1e-8
@@ -331,7 +317,7 @@ class Newton(Table):
 
 
 class Solver(Newton):
-    """Newton options of the static studies (:meth:`sliders.statics.SliderStatics.solve`)."""
+    """Newton options of the static studies (:meth:`sliders.solve.statics.SliderStatics.solve`)."""
 
     load_steps: Count = 1
 
@@ -388,7 +374,7 @@ class SweepStudy(Solver):
 
 
 class AdaptiveSpec(Table):
-    """Error-controlled steps (:class:`sliders.dynamics.Adaptive`)."""
+    """Error-controlled steps (:class:`sliders.solve.dynamics.Adaptive`)."""
 
     rtol: Positive = 1e-4
     atol: NonNegative = 1e-12
@@ -398,7 +384,7 @@ class AdaptiveSpec(Table):
 
 class DynamicStudy(Newton):
     """Time integration from the static equilibrium at ``t = 0`` (or a saved ``restart``
-    state) to ``t_end`` (:class:`sliders.dynamics.Dynamics`): steps of ``step`` seconds, or
+    state) to ``t_end`` (:class:`sliders.solve.dynamics.Dynamics`): steps of ``step`` seconds, or
     ``adaptive`` ones starting there; ``damping`` is the stiffness-proportional coefficient
     (s); ``every``: keep one state in that many for the VTU series and renders."""
 
@@ -419,8 +405,8 @@ Study = Annotated[Union[StaticStudy, SweepStudy, DynamicStudy], Field(discrimina
 
 
 class Output(Table):
-    """``[output]``: the CSV tables to write (:mod:`sliders.tables`); ``vtu``: a VTU per
-    converged sample and their ``.pvd`` index (:mod:`sliders.output`); ``png``: pyvista
+    """``[output]``: the CSV tables to write (:mod:`sliders.app.tables`); ``vtu``: a VTU per
+    converged sample and their ``.pvd`` index (:mod:`sliders.app.vtu`); ``png``: pyvista
     renders of the deformed configuration, of the ``last`` converged sample or of ``all``
     (:mod:`studies.render`, needs the ``render`` extra)."""
 
@@ -446,56 +432,3 @@ class Scene(Table):
     drive: tuple[DriveSpec, ...] = ()
     study: Study
     output: Output = Output()
-
-
-def parse_scene(data: dict, base: str | Path | None = None, source: str = "scene") -> Scene:
-    """Validate a scene given as the dict ``tomllib`` reads (phases 1 and 2).
-
-    Parameters
-    ----------
-    data
-        The TOML document as a dict.
-    base
-        Folder that relative mesh paths start from (the scene file's).
-    source
-        Name of the scene in error messages.
-
-    Raises
-    ------
-    SceneError
-        Listing every problem of the first phase that finds any.
-    """
-    from sliders.scene_checks import reference_problems
-
-    if not isinstance(data, dict):
-        raise SceneError(source, [Problem("", "a scene is a TOML document (a table)")])
-    try:
-        scene = Scene.model_validate(data, context={"base": base})
-    except ValidationError as exc:
-        raise SceneError(source, schema_problems(exc, Scene)) from None
-    problems = reference_problems(scene)
-    if problems:
-        raise SceneError(source, problems)
-    return scene
-
-
-def load_scene(path: str | Path) -> Scene:
-    """Read and validate a scene file (phases 1 and 2; :class:`sliders.model.Model` does the
-    geometry).  Raises :class:`SceneError` for an unreadable or invalid file."""
-    path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text())
-    except OSError as exc:
-        raise SceneError(str(path), [Problem("", f"cannot read the file: {exc.strerror}")]) \
-            from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise SceneError(str(path), [Problem("", f"not valid TOML: {exc}")]) from None
-    return parse_scene(data, path.parent, str(path))
-
-
-def dump_scene(scene: Scene) -> str:
-    """The scene as TOML text; :func:`parse_scene` of it gives an equal scene (mesh paths are
-    written absolute)."""
-    import tomli_w
-
-    return tomli_w.dumps(scene.model_dump(mode="python", exclude_none=True))

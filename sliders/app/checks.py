@@ -3,16 +3,16 @@
 Every name a scene uses must be defined (with a did-you-mean when it is not), chains must be
 tied end to start, a slider must not slide on its own beam, and the study's parameter must
 refer to something it can move.  Nothing is built here: the geometry is checked by
-:class:`sliders.model.Model`.
+:class:`sliders.app.model.Model`.
 """
 
 from __future__ import annotations
 
 from typing import Iterable
 
-from fvbeam.statics import DOF_NAMES
-from sliders.scene import (Abscissa, DynamicStudy, PointLoad, Scene, SweepStudy, Translation)
-from sliders.scene_errors import Problem, Problems, suggest
+from fvbeam.support import DOF_NAMES
+from sliders.app.schema import Abscissa, DynamicStudy, PointLoad, Scene, SweepStudy, Translation
+from sliders.app.errors import Problem, Problems, suggest
 
 
 def part_of(ref: str) -> str:

@@ -1,6 +1,6 @@
 """A joint's Jacobian on its slots, kept by blocks of slot groups in one flat array.
 
-A joint (:meth:`sliders.joint.SliderBatch.evaluate`) writes its residual on fixed *slots*:
+A joint (:meth:`sliders.joints.slider.SliderBatch.evaluate`) writes its residual on fixed *slots*:
 groups of structure dofs (the body's translations and rotations, the line's load, rotation
 and tangent dofs) followed by groups of its own unknowns (``xi``, ``lambda``, ``mu``).  Its
 Jacobian is mostly structurally zero: 63 x 63 per member for a classical joint on fv3 with a
@@ -9,9 +9,9 @@ column group) of a *pattern* the joint declares, so the pattern is known from th
 without reading the values.  The blocks lie one after the other in one ``(B, size)`` array
 (``values``), described by ``table`` (one row per block: first row slot, rows, first column
 slot, columns, offset of its row-major entries), which the compiled kernels read and write
-directly (:mod:`sliders.joint_kernel`, :mod:`sliders.condensed_kernel`); ``blocks`` holds
+directly (:mod:`sliders.joints.kernel`, :mod:`sliders.solve.condensed_kernel`); ``blocks`` holds
 numpy views of the same entries.  The dense matrix (:meth:`SlotJacobian.dense`) is assembled
-from the blocks for the bordered back end, :meth:`sliders.joint.Slider.assemble` and the
+from the blocks for the bordered back end, :meth:`sliders.joints.slider.Slider.assemble` and the
 finite-difference tests.
 """
 

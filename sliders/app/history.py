@@ -15,13 +15,13 @@
 * the ``probes`` asked for (a name and a function of the state and the dynamics).
 
 On request, ``displacements.csv`` (``t`` and every global dof, named as
-:meth:`fvbeam.statics.Structure.dof_name`), ``internal_forces.csv`` (``t`` and, per beam
+:meth:`fvbeam.structure.Structure.dof_name`), ``internal_forces.csv`` (``t`` and, per beam
 and recovery point, ``N, Vy, Vz, T, My, Mz`` in the section frame) and ``reactions.csv``
 (``t`` and what the supports and dof drives exert on each dof they hold, global axes:
 ``M qdd + C v + K q - f`` there).
 
 Rows are written as they come into ``NAME.csv.part`` files and flushed; :meth:`Recorder.close`
-renames them to ``NAME.csv``.  :meth:`sliders.dynamics.Dynamics.run` closes the recorder on
+renames them to ``NAME.csv``.  :meth:`sliders.solve.dynamics.Dynamics.run` closes the recorder on
 every exit, so an interrupted or failed integration leaves whole rows of what it computed.
 """
 
@@ -30,14 +30,13 @@ from __future__ import annotations
 import csv
 import os
 from pathlib import Path
-from typing import TYPE_CHECKING, Callable, TextIO
+from typing import Callable, TextIO
 
 import numpy as np
 
-from sliders.integrator import State
+from sliders.solve.dynamics import Dynamics
+from sliders.solve.integrator import State
 
-if TYPE_CHECKING:
-    from sliders.dynamics import Dynamics
 
 #: A probe: an extra ``history.csv`` column computed from the state and the dynamics.
 Probe = Callable[[State, "Dynamics"], float]
@@ -48,7 +47,7 @@ FORCE_NAMES = ("N", "Vy", "Vz", "T", "My", "Mz")
 
 
 class Recorder:
-    """Collects the per-step outputs of :meth:`sliders.dynamics.Dynamics.run`.
+    """Collects the per-step outputs of :meth:`sliders.solve.dynamics.Dynamics.run`.
 
     Parameters
     ----------

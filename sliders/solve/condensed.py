@@ -13,7 +13,7 @@ is then regular and is factorised once per structure and support set.  ``B^{-1}[
 [x; z]`` gives ``K x = b - s Phi z`` with ``Phi^T x = 0`` and ``z = 0`` exactly when ``b`` is
 self-equilibrated on every free part (``Phi^T b = 0``).
 
-The joints give their residuals and Jacobians on *slots* (:meth:`sliders.joint.SliderBatch.
+The joints give their residuals and Jacobians on *slots* (:meth:`sliders.joints.slider.SliderBatch.
 evaluate`): ``P`` injects the slots into the free dofs (a dof may hold several slots; the
 supported ones are dropped).  A Newton step solves ``K dq + P g = -r_q``,
 ``C P^T dq + D dy = -r_y`` with ``g = E P^T dq + A dy`` the slot force increments
@@ -42,13 +42,13 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from scipy.sparse.csgraph import connected_components
 
-from fvbeam.statics import Structure
-from sliders.condensed_kernel import condensed_step
-from sliders.slots import SlotJacobian
+from fvbeam.structure import Structure
+from sliders.solve.condensed_kernel import condensed_step
+from sliders.joints.blocks import SlotJacobian
 
 #: A small system whose row- and column-equilibrated reciprocal condition number (1-norm)
 #: falls below this is singular: the threshold of the bordered diagnostic
-#: (:meth:`sliders.statics.SliderStatics._singular`).
+#: (:meth:`sliders.solve.statics.SliderStatics._singular`).
 SINGULAR_RCOND = 1e-12
 
 #: Up to this size (free dofs and rigid modes) every column of ``B^{-1}`` is computed at
@@ -103,7 +103,7 @@ def rigid_modes(structure: Structure, K: sp.spmatrix, free: np.ndarray) -> np.nd
 def unresisted(phi: np.ndarray, K_free: sp.spmatrix) -> np.ndarray:
     """The combinations of the rigid motions ``phi`` that ``K_free`` does not resist
     (``|K_free phi a| <= 1e-8 max|K_free|`` for unit ``a``).  A stiffness keeps them all; the
-    time integrator's operator ``M + c K`` (:mod:`sliders.dynamics`) keeps only those of the
+    time integrator's operator ``M + c K`` (:mod:`sliders.solve.dynamics`) keeps only those of the
     massless parts (a massless body held by its sliders alone)."""
     if phi.shape[1] == 0:
         return phi
@@ -168,14 +168,14 @@ class CondensedOperator:
              r_y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Newton increments of ``B`` members sharing this operator (module docstring): the
         small systems formed and solved per member by
-        :func:`sliders.condensed_kernel.condensed_step`.
+        :func:`sliders.solve.condensed_kernel.condensed_step`.
 
         Parameters
         ----------
         r_free : (B, n_free)
             The structure residuals.
         slots : list of (k B, t_j)
-            Per batch of ``k`` alike joints (:meth:`sliders.joint.SliderBatch.joined`; one
+            Per batch of ``k`` alike joints (:meth:`sliders.joints.slider.SliderBatch.joined`; one
             joint, ``k = 1``), the free-dof position of each of their slots, -1 where
             supported: joint ``i`` of member ``b`` in row ``i B + b``.
         blocks : list of SlotJacobian
@@ -203,7 +203,7 @@ class CondensedOperator:
 
 
 class _Layout:
-    """The joints of a condensed step laid out for :func:`sliders.condensed_kernel.
+    """The joints of a condensed step laid out for :func:`sliders.solve.condensed_kernel.
     condensed_step`: every batch's slot positions (int64), Jacobian values and tables
     flattened one batch after the other, per batch its sizes and offsets (``batches``), the
     index of each structure slot among the joint's ``c`` slots (the columns the force

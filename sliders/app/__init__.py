@@ -1,0 +1,10 @@
+"""The application layer: scenes, running them, and what a run writes.
+
+- :mod:`~sliders.app.schema`, :mod:`~sliders.app.checks`, :mod:`~sliders.app.errors`,
+  :mod:`~sliders.app.scene`: a TOML scene read and validated, every problem at its key path;
+- :mod:`~sliders.app.model`: a validated scene as fvbeam and sliders objects;
+- :mod:`~sliders.app.run`, :mod:`~sliders.app.run_dynamic`: a scene's study run;
+- :mod:`~sliders.app.tables`, :mod:`~sliders.app.history`, :mod:`~sliders.app.vtu`,
+  :mod:`~sliders.app.render`: CSV tables, per-step histories, VTU/PVD files, pyvista renders;
+- :mod:`~sliders.app.cli`: the ``fvslider`` command.
+"""
