@@ -12,12 +12,25 @@ Typical use::
 from fvbeam.beam import Beam, InternalForces
 from fvbeam.body import RigidBody
 from fvbeam.formulations import FORMULATIONS, formulation
+from fvbeam.linear_statics import LinearStatics
 from fvbeam.mesh import BeamMesh, arc, from_curve, read_beams, straight
 from fvbeam.section import Section
-from fvbeam.linear_statics import LinearStatics
 from fvbeam.structure import Structure
 from fvbeam.support import Support
 
-__all__ = ["Beam", "BeamMesh", "FORMULATIONS", "InternalForces", "LinearStatics", "RigidBody",
-           "Section", "Structure", "Support", "arc", "formulation", "from_curve", "read_beams",
-           "straight"]
+__all__ = [
+    "Beam",
+    "BeamMesh",
+    "FORMULATIONS",
+    "InternalForces",
+    "LinearStatics",
+    "RigidBody",
+    "Section",
+    "Structure",
+    "Support",
+    "arc",
+    "formulation",
+    "from_curve",
+    "read_beams",
+    "straight",
+]

@@ -7,17 +7,18 @@ axes, node ``k`` of the :class:`~fvbeam.mesh.BeamMesh` owning dofs ``6k .. 6k + 
 from __future__ import annotations
 
 import copy
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Callable
 
 import numpy as np
 import scipy.sparse as sp
 from skfem import CellBasis, MeshLine1, asm
 
-from fvbeam.formulations import Formulation, composite_gauss, formulation as get_formulation
-from fvbeam.forms import distributed_load, generalised_strain, internal_work
 from fvbeam import mass as beam_mass
+from fvbeam.forms import distributed_load, generalised_strain, internal_work
+from fvbeam.formulations import Formulation, composite_gauss
+from fvbeam.formulations import formulation as get_formulation
 from fvbeam.geometry import vector3, wrench
 from fvbeam.mesh import BeamMesh, shape_functions
 from fvbeam.section import Section
@@ -56,18 +57,27 @@ class Beam:
         ``reduced`` or ``full``; Galerkin formulations only.
     """
 
-    def __init__(self, mesh: BeamMesh, section: Section, formulation: str | Formulation = "fv3",
-                 integration: str = "reduced") -> None:
-        form = (get_formulation(formulation, integration) if isinstance(formulation, str)
-                else formulation)
+    def __init__(
+        self,
+        mesh: BeamMesh,
+        section: Section,
+        formulation: str | Formulation = "fv3",
+        integration: str = "reduced",
+    ) -> None:
+        form = (
+            get_formulation(formulation, integration)
+            if isinstance(formulation, str)
+            else formulation
+        )
         form.check(mesh)
         self.mesh, self.section, self.formulation = mesh, section, form
         self.skfem_mesh = MeshLine1(mesh.vertex_s[None, :], mesh.cells[:, :2].T.copy())
         self._test_element = form.test_element(mesh)
         quadrature = form.stiffness_quadrature(self._test_element)
         self.trial_basis = CellBasis(self.skfem_mesh, form.trial_element(), quadrature=quadrature)
-        self.test_basis = CellBasis(self.skfem_mesh, self._test_element, quadrature=quadrature,
-                                    disable_doflocs=True)
+        self.test_basis = CellBasis(
+            self.skfem_mesh, self._test_element, quadrature=quadrature, disable_doflocs=True
+        )
         self._mass: dict[str, sp.csr_matrix] = {}
 
     def translated(self, offset) -> "Beam":
@@ -90,8 +100,10 @@ class Beam:
             return self.mesh.n_elements
         if isinstance(node, (int, np.integer)) and 0 <= node < self.mesh.n_nodes:
             return int(node)
-        raise ValueError(f"{self.mesh.name}: node {node!r} is not 'start', 'end' or an index "
-                         f"in 0..{self.mesh.n_nodes - 1}")
+        raise ValueError(
+            f"{self.mesh.name}: node {node!r} is not 'start', 'end' or an index "
+            f"in 0..{self.mesh.n_nodes - 1}"
+        )
 
     def node_dofs(self, node: int | str) -> np.ndarray:
         """The six dofs of a mesh node (index, ``'start'`` or ``'end'``)."""
@@ -105,9 +117,11 @@ class Beam:
         dx = self.mesh.tangent_vectors(e, Xe)
         frames = self.mesh.frames(e, Xe)
         C = self.section.global_stiffness(frames)
-        return {"t": np.moveaxis(dx / np.linalg.norm(dx, axis=-1, keepdims=True), -1, 0),
-                "metric": self.mesh.metric(e, Xe),
-                "C": np.moveaxis(C, (-2, -1), (0, 1))}, frames
+        return {
+            "t": np.moveaxis(dx / np.linalg.norm(dx, axis=-1, keepdims=True), -1, 0),
+            "metric": self.mesh.metric(e, Xe),
+            "C": np.moveaxis(C, (-2, -1), (0, 1)),
+        }, frames
 
     @cached_property
     def _stiffness_geometry(self) -> tuple[dict[str, np.ndarray], np.ndarray]:
@@ -165,15 +179,22 @@ class Beam:
         transfer matrices inside the beam (fv: at the evaluation points; Galerkin: none)."""
         return self._transfer_jumps
 
-    def nodal_load(self, node: int | str, force=(0.0, 0.0, 0.0),
-                   moment=(0.0, 0.0, 0.0)) -> np.ndarray:
+    def nodal_load(
+        self, node: int | str, force=(0.0, 0.0, 0.0), moment=(0.0, 0.0, 0.0)
+    ) -> np.ndarray:
         """Load vector of a force and couple applied directly to a mesh node."""
         f = np.zeros(self.n_dofs)
         f[self.node_dofs(node)] = wrench(force, moment)
         return f
 
-    def point_load(self, xi: float, force=(0.0, 0.0, 0.0), moment=(0.0, 0.0, 0.0),
-                   smearing: float = 0.0, kernel: str = "box") -> np.ndarray:
+    def point_load(
+        self,
+        xi: float,
+        force=(0.0, 0.0, 0.0),
+        moment=(0.0, 0.0, 0.0),
+        smearing: float = 0.0,
+        kernel: str = "box",
+    ) -> np.ndarray:
         """Load vector of a force and couple at abscissa ``xi`` (eq. T6).
 
         With ``smearing > 0`` the load is spread by a kernel of half-width ``smearing``
@@ -191,29 +212,33 @@ class Beam:
         np.add.at(f, dofs, np.einsum("n,nij,j->ni", weights, values, load))
         return f
 
-    def _kernel_quadrature(self, xi: float, smearing: float,
-                           kernel: str) -> tuple[np.ndarray, np.ndarray]:
+    def _kernel_quadrature(
+        self, xi: float, smearing: float, kernel: str
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Points and weights integrating kernel x test function exactly on the beam."""
         e, _ = self.mesh.locate(np.clip([xi - smearing, xi + smearing], 0, self.mesh.length))
         local = self.formulation.breakpoints()
         elements = np.arange(e[0], e[1] + 1)
         breaks = self.mesh.abscissae(elements[:, None], local).ravel()
         breaks = np.concatenate([breaks, kernel_breaks(xi, smearing)])
-        breaks = np.unique(np.clip(breaks, max(xi - smearing, 0.0),
-                                   min(xi + smearing, self.mesh.length)))
+        breaks = np.unique(
+            np.clip(breaks, max(xi - smearing, 0.0), min(xi + smearing, self.mesh.length))
+        )
         s, w = composite_gauss(breaks, 3)
         w = w * density(s - xi, smearing, kernel)
         return s, w / w.sum()
 
-    def distributed_load(self, force: Field = (0.0, 0.0, 0.0),
-                         moment: Field = (0.0, 0.0, 0.0)) -> np.ndarray:
+    def distributed_load(
+        self, force: Field = (0.0, 0.0, 0.0), moment: Field = (0.0, 0.0, 0.0)
+    ) -> np.ndarray:
         """Load vector of a force and couple per unit length, constant or functions of ``xi``.
 
         A callable receives the abscissae, shape (n,), and returns (n, 3).
         """
         X, W = self.formulation.load_quadrature()
-        basis = CellBasis(self.skfem_mesh, self._test_element, quadrature=(X, W),
-                          disable_doflocs=True)
+        basis = CellBasis(
+            self.skfem_mesh, self._test_element, quadrature=(X, W), disable_doflocs=True
+        )
         geometry, _ = self.geometry(X)
         xi = self.mesh.abscissae(np.arange(self.mesh.n_elements)[:, None], X)
         fields = {k: _sample(v, xi, k) for k, v in (("f", force), ("m", moment))}
@@ -229,9 +254,13 @@ class Beam:
         RT = np.swapaxes(frames, -1, -2).reshape(-1, 3, 3)
         X = self.trial_basis.X[0]
         xi = self.mesh.abscissae(np.arange(self.mesh.n_elements)[:, None], X).ravel()
-        return InternalForces(xi, np.einsum("nij,nj->ni", RT, stress[:, :3]),
-                              np.einsum("nij,nj->ni", RT, stress[:, 3:]),
-                              stress[:, :3], stress[:, 3:])
+        return InternalForces(
+            xi,
+            np.einsum("nij,nj->ni", RT, stress[:, :3]),
+            np.einsum("nij,nj->ni", RT, stress[:, 3:]),
+            stress[:, :3],
+            stress[:, 3:],
+        )
 
     def displacements(self, q: np.ndarray, xi: np.ndarray | float) -> np.ndarray:
         """Displacement and rotation ``(n, 6)`` at abscissae ``xi`` (trial interpolation)."""

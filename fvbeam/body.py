@@ -49,10 +49,12 @@ class RigidBody:
             mass = np.nan
         if not (np.isfinite(mass) and mass >= 0):
             raise ValueError(f"{label}: mass must be finite and >= 0, got {self.mass!r}")
-        values = {"position": vector3(self.position, f"{label}: position").copy(),
-                  "mass": mass,
-                  "inertia": inertia3(self.inertia, f"{label}: inertia"),
-                  "centre": vector3(self.centre, f"{label}: centre").copy()}
+        values = {
+            "position": vector3(self.position, f"{label}: position").copy(),
+            "mass": mass,
+            "inertia": inertia3(self.inertia, f"{label}: inertia"),
+            "centre": vector3(self.centre, f"{label}: centre").copy(),
+        }
         if self.frame is not None:
             values["frame"] = orthonormal3(self.frame, f"{label}: frame")
         for key, value in values.items():
@@ -65,5 +67,9 @@ class RigidBody:
         ``u + theta x c``, so ``T = m |u' + theta' x c|^2 / 2 + theta' . J theta' / 2`` gives
         ``[[m I, -m S], [m S, J - m S S]]`` with ``S = skew(c)``."""
         S = skew_matrices(self.centre)
-        return np.block([[self.mass * np.eye(3), -self.mass * S],
-                         [self.mass * S, self.inertia - self.mass * S @ S]])
+        return np.block(
+            [
+                [self.mass * np.eye(3), -self.mass * S],
+                [self.mass * S, self.inertia - self.mass * S @ S],
+            ]
+        )

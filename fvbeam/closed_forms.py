@@ -32,8 +32,11 @@ def cantilever_fv2(xi, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, F: floa
     """One 2-node finite-volume element (paper Sec. 5.2)."""
     xi = np.asarray(xi, dtype=float)
     step = _step(xi - L / 2, L)
-    return (F * L**2 / (2 * EJ) * (xi - L / 2) * step, F * L / GA * step,
-            F * L / EJ * np.maximum(xi - L / 2, 0.0))
+    return (
+        F * L**2 / (2 * EJ) * (xi - L / 2) * step,
+        F * L / GA * step,
+        F * L / EJ * np.maximum(xi - L / 2, 0.0),
+    )
 
 
 def cantilever_fv3(xi, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, F: float = 1.0):
@@ -50,8 +53,7 @@ def cantilever_fv3(xi, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, F: floa
     a, b = L * (1 - 1 / np.sqrt(3)) / 2, L * (1 + 1 / np.sqrt(3)) / 2
     on_mid = _step(xi - a, L) - _step(xi - b, L)
     on_tip = _step(xi - b, L)
-    flex = (on_mid * F * L * b * (xi - a) / (2 * EJ)
-            + on_tip * F * L**2 * (3 * xi - L) / (6 * EJ))
+    flex = on_mid * F * L * b * (xi - a) / (2 * EJ) + on_tip * F * L**2 * (3 * xi - L) / (6 * EJ)
     shear = on_mid * F * L / (2 * GA) + on_tip * F * L / GA
     phi = on_mid * F * L * (xi - a) / (2 * EJ) + on_tip * F * L * (xi - L / 2) / EJ
     return flex, shear, phi
@@ -71,13 +73,19 @@ def quarter_circle_tip(R: float, P: float, GJ: float, EJ_radial: float, GA_norma
 
         delta = P R^3 [(3 pi / 4 - 2) / GJ + (pi / 4) / EJ_radial] + P R pi / (2 GA_normal)
     """
-    return (P * R**3 * ((3 * np.pi / 4 - 2) / GJ + (np.pi / 4) / EJ_radial)
-            + P * R * np.pi / (2 * GA_normal))
+    return P * R**3 * ((3 * np.pi / 4 - 2) / GJ + (np.pi / 4) / EJ_radial) + P * R * np.pi / (
+        2 * GA_normal
+    )
 
 
-def timoshenko_cantilever_determinant(omega: float, L: float = 1.0, EJ: float = 1.0,
-                                      GA: float = 1.0, m: float = 1.0,
-                                      rhoJ: float = 0.0) -> float:
+def timoshenko_cantilever_determinant(
+    omega: float,
+    L: float = 1.0,
+    EJ: float = 1.0,
+    GA: float = 1.0,
+    m: float = 1.0,
+    rhoJ: float = 0.0,
+) -> float:
     """Characteristic function of a clamped-free Timoshenko beam; its roots in ``omega`` are
     the exact natural frequencies (rad/s) of planar bending.
 
@@ -96,17 +104,22 @@ def timoshenko_cantilever_determinant(omega: float, L: float = 1.0, EJ: float = 
     ``rhoJ = 0``) has the roots ``omega = (beta L)^2 sqrt(EJ / (m L^4))``,
     ``beta L = 1.8751, 4.6941, 7.8548``.
     """
-    A = np.array([[0.0, 0.0, 1.0, 0.0],
-                  [0.0, 0.0, 0.0, 1.0],
-                  [-m * omega**2 / GA, 0.0, 0.0, 1.0],
-                  [0.0, (GA - rhoJ * omega**2) / EJ, -GA / EJ, 0.0]])
+    A = np.array(
+        [
+            [0.0, 0.0, 1.0, 0.0],
+            [0.0, 0.0, 0.0, 1.0],
+            [-m * omega**2 / GA, 0.0, 0.0, 1.0],
+            [0.0, (GA - rhoJ * omega**2) / EJ, -GA / EJ, 0.0],
+        ]
+    )
     Y = scipy.linalg.expm(A * L)
     free = np.array([[0.0, -1.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]]) @ Y[:, 2:]
     return float(np.linalg.det(free))
 
 
-def timoshenko_cantilever_frequencies(n: int, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0,
-                                      m: float = 1.0, rhoJ: float = 0.0) -> np.ndarray:
+def timoshenko_cantilever_frequencies(
+    n: int, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, m: float = 1.0, rhoJ: float = 0.0
+) -> np.ndarray:
     """The ``n`` lowest roots of :func:`timoshenko_cantilever_determinant` (rad/s): sign
     changes on a grid 1/200 of the first Euler-Bernoulli frequency apart (the Timoshenko roots
     lie below the Euler-Bernoulli ones, spaced wider than that), refined by ``brentq`` to
@@ -119,14 +132,18 @@ def timoshenko_cantilever_frequencies(n: int, L: float = 1.0, EJ: float = 1.0, G
         b = a + step
         fb = timoshenko_cantilever_determinant(b, L, EJ, GA, m, rhoJ)
         if fa * fb < 0:
-            roots.append(scipy.optimize.brentq(timoshenko_cantilever_determinant, a, b,
-                                               args=(L, EJ, GA, m, rhoJ), rtol=1e-14))
+            roots.append(
+                scipy.optimize.brentq(
+                    timoshenko_cantilever_determinant, a, b, args=(L, EJ, GA, m, rhoJ), rtol=1e-14
+                )
+            )
         a, fa = b, fb
     return np.array(roots)
 
 
-def simply_supported_point_load(x, a, L: float = 1.0, EJ: float = 1.0, GA: float = np.inf,
-                                F: float = 1.0) -> np.ndarray:
+def simply_supported_point_load(
+    x, a, L: float = 1.0, EJ: float = 1.0, GA: float = np.inf, F: float = 1.0
+) -> np.ndarray:
     """Static deflection of a simply supported Timoshenko beam under a force ``F`` at ``a``.
 
     Bending (e.g. Timoshenko and Gere, *Mechanics of Materials*, App. G) plus the shear
@@ -141,8 +158,9 @@ def simply_supported_point_load(x, a, L: float = 1.0, EJ: float = 1.0, GA: float
     return F * bb * xx * ((L**2 - bb**2 - xx**2) / (6 * EJ * L) + 1 / (GA * L))
 
 
-def _moving_load_modes(j: np.ndarray, L: float, EJ: float, GA: float, m: float,
-                       c: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _moving_load_modes(
+    j: np.ndarray, L: float, EJ: float, GA: float, m: float, c: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Wavenumbers ``k_j``, modal stiffness per length ``kappa_j`` and ``r_j = Omega_j /
     omega_j`` of a simply supported Timoshenko beam without rotary inertia."""
     k = j * np.pi / L
@@ -155,8 +173,9 @@ def _power_tail(N: float, p: int, L: float) -> float:
     return (L / np.pi) ** p * N ** (1 - p) / (p - 1)
 
 
-def moving_load_truncation(n_modes: int, L: float, EJ: float, GA: float, m: float,
-                           F: float, c: float) -> float:
+def moving_load_truncation(
+    n_modes: int, L: float, EJ: float, GA: float, m: float, F: float, c: float
+) -> float:
     """Bound on ``|w - w_N|`` of :func:`moving_load_simply_supported` kept to ``N = n_modes``
     terms of its remainder series, for every ``x`` and ``0 <= t <= L / c``
     (``docs/dynamics.md``, "Moving load").  With ``D_j = kappa_j (1 - r_j^2)``,
@@ -178,12 +197,15 @@ def moving_load_truncation(n_modes: int, L: float, EJ: float, GA: float, m: floa
     return 2 * F / L * (quasi_static + r * inverse_kappa) / (1 - r * r)
 
 
-def moving_load_n_modes(tol: float, L: float, EJ: float, GA: float, m: float, F: float,
-                        c: float) -> int:
+def moving_load_n_modes(
+    tol: float, L: float, EJ: float, GA: float, m: float, F: float, c: float
+) -> int:
     """The fewest modes whose :func:`moving_load_truncation` bound is at most ``tol``."""
     if not (tol > 0 and np.sqrt(m / GA) * c < 1):
-        raise ValueError(f"need tol > 0 and a speed c = {c:g} below the shear wave speed "
-                         f"sqrt(GA / m) = {np.sqrt(GA / m):g}, got tol = {tol:g}")
+        raise ValueError(
+            f"need tol > 0 and a speed c = {c:g} below the shear wave speed "
+            f"sqrt(GA / m) = {np.sqrt(GA / m):g}, got tol = {tol:g}"
+        )
     low, high = 0, 1
     while moving_load_truncation(high, L, EJ, GA, m, F, c) > tol:
         low, high = high, 2 * high
@@ -196,10 +218,18 @@ def moving_load_n_modes(tol: float, L: float, EJ: float, GA: float, m: float, F:
     return high
 
 
-def moving_load_simply_supported(x, t, L: float = 1.0, EJ: float = 1.0, GA: float = np.inf,
-                                 m: float = 1.0, F: float = 1.0, c: float = 1.0,
-                                 n_modes: int | None = None,
-                                 rtol: float = 1e-8) -> np.ndarray:
+def moving_load_simply_supported(
+    x,
+    t,
+    L: float = 1.0,
+    EJ: float = 1.0,
+    GA: float = np.inf,
+    m: float = 1.0,
+    F: float = 1.0,
+    c: float = 1.0,
+    n_modes: int | None = None,
+    rtol: float = 1e-8,
+) -> np.ndarray:
     """Deflection ``w(x, t)`` of a simply supported beam crossed by a constant force ``F`` at
     speed ``c``, entering at ``x = 0`` at ``t = 0`` on the beam at rest.
 
@@ -230,15 +260,19 @@ def moving_load_simply_supported(x, t, L: float = 1.0, EJ: float = 1.0, GA: floa
         ``rtol`` times the static mid-span deflection ``F L^3 / (48 EJ) + F L / (4 GA)``.
     """
     if not all(np.isfinite(v) and v > 0 for v in (L, EJ, m, c)) or not GA > m * c**2:
-        raise ValueError(f"need finite L, EJ, m, c > 0 and GA > m c^2, got L = {L}, EJ = {EJ}, "
-                         f"GA = {GA}, m = {m}, c = {c}")
+        raise ValueError(
+            f"need finite L, EJ, m, c > 0 and GA > m c^2, got L = {L}, EJ = {EJ}, "
+            f"GA = {GA}, m = {m}, c = {c}"
+        )
     x, t = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(t, dtype=float))
     if np.any(t < 0) or np.any(t > L / c * (1 + 1e-12)) or np.any((x < 0) | (x > L)):
-        raise ValueError(f"need 0 <= x <= L = {L:g} and 0 <= t <= L / c = {L / c:g} (the "
-                         "load on the beam)")
+        raise ValueError(
+            f"need 0 <= x <= L = {L:g} and 0 <= t <= L / c = {L / c:g} (the load on the beam)"
+        )
     if n_modes is None:
-        n_modes = moving_load_n_modes(rtol * (F * L**3 / (48 * EJ) + F * L / (4 * GA)),
-                                      L, EJ, GA, m, F, c)
+        n_modes = moving_load_n_modes(
+            rtol * (F * L**3 / (48 * EJ) + F * L / (4 * GA)), L, EJ, GA, m, F, c
+        )
     G = GA - m * c**2
     a = np.minimum(c * t, L)
     w = F / G * np.minimum(x, a) * (L - np.maximum(x, a)) / L
@@ -251,7 +285,10 @@ def moving_load_simply_supported(x, t, L: float = 1.0, EJ: float = 1.0, GA: floa
         near = np.abs(1 - r) < 1e-8
         with np.errstate(divide="ignore", invalid="ignore"):
             remainder = 1 / ((1 + EJ * k**2 / GA) * (1 - m * c**2 / GA) * D)
-            q = np.where(near, (np.sin(wt) - wt * np.cos(wt)) / (2 * kappa) - np.sin(ka)
-                         / (G * k**2), np.sin(ka) * remainder - r * np.sin(wt) / D)
+            q = np.where(
+                near,
+                (np.sin(wt) - wt * np.cos(wt)) / (2 * kappa) - np.sin(ka) / (G * k**2),
+                np.sin(ka) * remainder - r * np.sin(wt) / D,
+            )
         w += 2 * F / L * np.einsum("...j,...j->...", q, np.sin(np.multiply.outer(x, k)))
     return w

@@ -65,15 +65,17 @@ def jumps(nodes_per_element: int) -> np.ndarray:
     return (bounds[:, :1] == p).astype(float) - (bounds[:, 1:] == p)
 
 
-def rigid_motions(mesh: BeamMesh, e: np.ndarray, X: np.ndarray, chi: np.ndarray,
-                  dchi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def rigid_motions(
+    mesh: BeamMesh, e: np.ndarray, X: np.ndarray, chi: np.ndarray, dchi: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Values and derivatives of the fv test functions (eq. T4) in elements ``e`` of
     ``mesh``: :func:`rigid_motions_at` on their node positions."""
     return rigid_motions_at(mesh.points[mesh.cells[e]], mesh.element_length[e], X, chi, dchi)
 
 
-def rigid_motions_at(nodes: np.ndarray, h: np.ndarray, X: np.ndarray, chi: np.ndarray,
-                     dchi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def rigid_motions_at(
+    nodes: np.ndarray, h: np.ndarray, X: np.ndarray, chi: np.ndarray, dchi: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Values and derivatives of the fv test functions (eq. T4), shape ``P + (6 npe, 6)``.
 
     Row ``6a + c`` is test function ``c`` of local node ``a`` as the 6-vector ``(w, psi)``:
@@ -99,8 +101,13 @@ def rigid_motions_at(nodes: np.ndarray, h: np.ndarray, X: np.ndarray, chi: np.nd
         np.ascontiguousarray(nodes.reshape(-1, npe, 3)),
         np.ascontiguousarray(np.broadcast_to(h, points), dtype=float).ravel(),
         np.ascontiguousarray(np.broadcast_to(X, points), dtype=float).ravel(),
-        *(np.ascontiguousarray(np.moveaxis(np.broadcast_to(f, (npe,) + points), 0, -1),
-                               dtype=float).reshape(-1, npe) for f in (chi, dchi)))
+        *(
+            np.ascontiguousarray(
+                np.moveaxis(np.broadcast_to(f, (npe,) + points), 0, -1), dtype=float
+            ).reshape(-1, npe)
+            for f in (chi, dchi)
+        ),
+    )
     shape = points + (6 * npe, 6)
     return G.reshape(shape), dG.reshape(shape)
 
@@ -142,13 +149,17 @@ class ElementBeamFV(Element):
         key = (id(mapping), X.shape, X.tobytes(), tind.tobytes())
         if self._cache is None or self._cache[0] != key:
             value, grad = self._all_functions(mapping, X, tind)
-            self._cache = (key, np.moveaxis(value, (-2, -1), (0, 1)),
-                           np.moveaxis(grad, (-2, -1), (0, 1)))
+            self._cache = (
+                key,
+                np.moveaxis(value, (-2, -1), (0, 1)),
+                np.moveaxis(grad, (-2, -1), (0, 1)),
+            )
         _, value, grad = self._cache
         return (DiscreteField(value=value[i], grad=grad[i][:, None]),)
 
-    def _all_functions(self, mapping, X: np.ndarray,
-                       tind: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _all_functions(
+        self, mapping, X: np.ndarray, tind: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
         """All 6 npe test functions at once: scikit-fem asks for them one by one, at the same
         points, so they are evaluated together and kept for the next request."""
         npe = self.mesh.nodes_per_element
@@ -159,5 +170,5 @@ class ElementBeamFV(Element):
         detJ = np.abs(mapping.detDF(X, tind))
         for k, p in enumerate(self.points):
             on = np.isclose(Xe, p, rtol=0, atol=1e-14)
-            dchi[:, on] = self.jumps[:, k:k + 1] / (self.weight * detJ[on])
+            dchi[:, on] = self.jumps[:, k : k + 1] / (self.weight * detJ[on])
         return rigid_motions(self.mesh, e, Xe, chi, dchi)

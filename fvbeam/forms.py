@@ -42,8 +42,9 @@ def internal_work(u, v, w):
 def distributed_load(v, w):
     """Virtual work of a force ``f`` and a couple ``m`` per unit length (eq. T5)."""
     v = np.asarray(v)
-    work = (np.einsum("i...,i...->...", v[:3], np.asarray(w.f))
-            + np.einsum("i...,i...->...", v[3:], np.asarray(w.m)))
+    work = np.einsum("i...,i...->...", v[:3], np.asarray(w.f)) + np.einsum(
+        "i...,i...->...", v[3:], np.asarray(w.m)
+    )
     return work * np.asarray(w.metric)
 
 
@@ -54,6 +55,7 @@ def inertia(u, v, w):
     length in global axes (3x3 field); per unit of the affine element coordinate."""
     u, v = np.asarray(u), np.asarray(v)
     rotary = np.einsum("ij...,j...->i...", np.asarray(w.J), u[3:])
-    work = (np.asarray(w.m) * np.einsum("i...,i...->...", v[:3], u[:3])
-            + np.einsum("i...,i...->...", v[3:], rotary))
+    work = np.asarray(w.m) * np.einsum("i...,i...->...", v[:3], u[:3]) + np.einsum(
+        "i...,i...->...", v[3:], rotary
+    )
     return work * np.asarray(w.metric)

@@ -22,8 +22,13 @@ from typing import ClassVar
 import numpy as np
 from skfem.element import Element, ElementLineP1, ElementLineP2, ElementVector
 
-from fvbeam.elements import (ElementBeamFV, evaluation_points, influence_regions, jumps,
-                             rigid_motions)
+from fvbeam.elements import (
+    ElementBeamFV,
+    evaluation_points,
+    influence_regions,
+    jumps,
+    rigid_motions,
+)
 from fvbeam.mesh import BeamMesh
 from fvbeam.pointwise import transfer_many
 
@@ -36,7 +41,7 @@ def gauss(n: int, a: float = 0.0, b: float = 1.0) -> tuple[np.ndarray, np.ndarra
 
 def composite_gauss(breaks: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
     """n-point Gauss rule on each interval between consecutive ``breaks``."""
-    parts = [gauss(n, a, b) for a, b in zip(breaks[:-1], breaks[1:]) if b > a]
+    parts = [gauss(n, a, b) for a, b in zip(breaks[:-1], breaks[1:], strict=True) if b > a]
     return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
 
 
@@ -64,8 +69,9 @@ class Formulation:
     def load_quadrature(self) -> tuple[np.ndarray, np.ndarray]:
         raise NotImplementedError
 
-    def transfer(self, mesh: BeamMesh, e: np.ndarray,
-                 X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def transfer(
+        self, mesh: BeamMesh, e: np.ndarray, X: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Test functions at points and their derivatives in ``xi``, shape ``P + (6 npe, 6)``.
 
         Row ``6a + c`` is test function ``c`` of local node ``a`` as the 6-vector
@@ -76,18 +82,21 @@ class Formulation:
         e, X = np.broadcast_arrays(np.asarray(e), np.asarray(X, dtype=float))
         return self.transfer_at(mesh.points[mesh.cells[e]], mesh.element_length[e], X)
 
-    def transfer_at(self, nodes: np.ndarray, h: np.ndarray,
-                    X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def transfer_at(
+        self, nodes: np.ndarray, h: np.ndarray, X: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`transfer` in elements given by their node positions ``P + (npe, 3)`` and
         lengths ``P``, at reference coordinates ``X`` (shape ``P``): elements of several
         meshes at once (:func:`fvbeam.pointwise.transfer_at` at each point)."""
         nodes = np.asarray(nodes, dtype=float)
         npe, points = self.nodes_per_element, np.shape(X)
-        G, dG = transfer_many(self.rigid_test, influence_regions(npe),
-                              np.ascontiguousarray(nodes.reshape(-1, npe, 3)),
-                              np.ascontiguousarray(np.broadcast_to(h, points),
-                                                   dtype=float).ravel(),
-                              np.ascontiguousarray(X, dtype=float).ravel())
+        G, dG = transfer_many(
+            self.rigid_test,
+            influence_regions(npe),
+            np.ascontiguousarray(nodes.reshape(-1, npe, 3)),
+            np.ascontiguousarray(np.broadcast_to(h, points), dtype=float).ravel(),
+            np.ascontiguousarray(X, dtype=float).ravel(),
+        )
         shape = points + (6 * npe, 6)
         return G.reshape(shape), dG.reshape(shape)
 
@@ -102,9 +111,11 @@ class Formulation:
 
     def check(self, mesh: BeamMesh) -> None:
         if mesh.nodes_per_element != self.nodes_per_element:
-            raise ValueError(f"{mesh.name}: formulation {self.name} needs "
-                             f"{self.nodes_per_element}-node elements, the mesh has "
-                             f"{mesh.nodes_per_element}-node elements")
+            raise ValueError(
+                f"{mesh.name}: formulation {self.name} needs "
+                f"{self.nodes_per_element}-node elements, the mesh has "
+                f"{mesh.nodes_per_element}-node elements"
+            )
 
 
 @dataclass(frozen=True)
@@ -142,8 +153,9 @@ class Galerkin(Formulation):
 
     def __post_init__(self) -> None:
         if self.integration not in ("full", "reduced"):
-            raise ValueError(f"{self.name}: integration must be 'full' or 'reduced', "
-                             f"got {self.integration!r}")
+            raise ValueError(
+                f"{self.name}: integration must be 'full' or 'reduced', got {self.integration!r}"
+            )
 
     def test_element(self, mesh: BeamMesh) -> Element:
         return self.trial_element()

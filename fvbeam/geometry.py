@@ -35,8 +35,9 @@ def inertia3(value, name: str) -> np.ndarray:
     if np.abs(J - J.T).max() > 1e-12 * scale:
         raise ValueError(f"{name} must be symmetric, got {value!r}")
     if np.linalg.eigvalsh(J).min() < -1e-12 * scale:
-        raise ValueError(f"{name} must be positive semi-definite (eigenvalues "
-                         f"{np.linalg.eigvalsh(J)})")
+        raise ValueError(
+            f"{name} must be positive semi-definite (eigenvalues {np.linalg.eigvalsh(J)})"
+        )
     return J
 
 
@@ -44,8 +45,7 @@ def orthonormal3(value, name: str) -> np.ndarray:
     """``value`` as an orthonormal 3x3 matrix (``R^T R = I`` to 1e-12), or ``ValueError``
     naming ``name``."""
     R = np.array(value, dtype=float)
-    if (R.shape != (3, 3) or not np.all(np.isfinite(R))
-            or np.abs(R.T @ R - np.eye(3)).max() > 1e-12):
+    if R.shape != (3, 3) or not np.all(np.isfinite(R)) or np.abs(R.T @ R - np.eye(3)).max() > 1e-12:
         raise ValueError(f"{name} must be an orthonormal 3x3 matrix, got {value!r}")
     return R
 
@@ -72,8 +72,9 @@ def skew_matrices(v: np.ndarray) -> np.ndarray:
     return out
 
 
-def locate_abscissa(xi: np.ndarray | float, breaks: np.ndarray, name: str,
-                    what: str) -> tuple[np.ndarray, np.ndarray]:
+def locate_abscissa(
+    xi: np.ndarray | float, breaks: np.ndarray, name: str, what: str
+) -> tuple[np.ndarray, np.ndarray]:
     """Interval of ``breaks`` (increasing, from 0) holding each abscissa, and the offset in it.
 
     An abscissa within ``1e-12`` of the total length outside ``[0, breaks[-1]]`` is taken

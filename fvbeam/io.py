@@ -6,8 +6,8 @@ from __future__ import annotations
 import os
 import shutil
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 
 def _umask() -> int:
@@ -45,14 +45,18 @@ def check_replaceable(path: str | Path, marker: str = OUTPUT_MARKER) -> None:
     """``ValueError`` unless :func:`replace_directory` may replace ``path``: absent, an empty
     directory, or a directory holding the file ``marker``."""
     path = Path(path)
-    if path.exists() and (not path.is_dir() or (any(path.iterdir())
-                                                and not (path / marker).is_file())):
-        raise ValueError(f"{path} exists and was not written by this program (no {marker} "
-                         "in it); choose another output directory")
+    if path.exists() and (
+        not path.is_dir() or (any(path.iterdir()) and not (path / marker).is_file())
+    ):
+        raise ValueError(
+            f"{path} exists and was not written by this program (no {marker} "
+            "in it); choose another output directory"
+        )
 
 
-def replace_directory(path: str | Path, fill: Callable[[Path], None],
-                      marker: str = OUTPUT_MARKER) -> None:
+def replace_directory(
+    path: str | Path, fill: Callable[[Path], None], marker: str = OUTPUT_MARKER
+) -> None:
     """Call ``fill(tmp)`` on a new temporary directory beside ``path``, then put it in the
     place of ``path``: afterwards ``path`` holds exactly what ``fill`` wrote, never a mix of
     old and new files.
@@ -70,8 +74,9 @@ def replace_directory(path: str | Path, fill: Callable[[Path], None],
     tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", dir=path.parent))
     try:
         fill(tmp)
-        (tmp / marker).write_text("written by fvslider; the whole directory is replaced on "
-                                  "the next run\n")
+        (tmp / marker).write_text(
+            "written by fvslider; the whole directory is replaced on the next run\n"
+        )
         if path.exists():
             old = Path(tempfile.mkdtemp(prefix=f".{path.name}.old.", dir=path.parent))
             os.replace(path, old)

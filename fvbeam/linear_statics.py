@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 import scipy.sparse.linalg as spla
@@ -29,12 +29,16 @@ class LinearStatics:
         try:
             self.lu = spla.splu(Kff)
         except RuntimeError as exc:
-            raise ValueError("the stiffness is singular: the supports leave a rigid-body "
-                             "motion free (clamp or pin more nodes)") from exc
+            raise ValueError(
+                "the stiffness is singular: the supports leave a rigid-body "
+                "motion free (clamp or pin more nodes)"
+            ) from exc
         diag = np.abs(self.lu.U.diagonal())
         if diag.min() <= 1e-13 * diag.max():
-            raise ValueError("the stiffness is singular to working precision: the supports "
-                             "leave a rigid-body motion free (clamp or pin more nodes)")
+            raise ValueError(
+                "the stiffness is singular to working precision: the supports "
+                "leave a rigid-body motion free (clamp or pin more nodes)"
+            )
 
     def solve(self, f: np.ndarray) -> np.ndarray:
         """Displacements for the load vector ``f`` (global dofs; zero at the supports)."""

@@ -50,6 +50,7 @@ class MassSource(Protocol):
 
     def geometry(self, X: np.ndarray) -> tuple[dict[str, np.ndarray], np.ndarray]: ...
 
+
 #: Mass matrix kinds.
 KINDS = ("lumped", "consistent")
 
@@ -61,12 +62,16 @@ def check_kind(beam: MassSource, kind: str) -> None:
     if kind not in KINDS:
         raise ValueError(f"{name}: unknown mass kind {kind!r}; choose one of {', '.join(KINDS)}")
     if kind == "consistent" and isinstance(beam.formulation, FiniteVolume):
-        raise ValueError(f"{name}: finite-volume beams take the lumped mass only (their test "
-                         "functions are not their shape functions)")
+        raise ValueError(
+            f"{name}: finite-volume beams take the lumped mass only (their test "
+            "functions are not their shape functions)"
+        )
     if beam.section.mass_per_length <= 0:
-        raise ValueError(f"{name}: section {beam.section.name!r} has mass_per_length "
-                         f"{beam.section.mass_per_length:g}; give it a positive mass per length "
-                         "to assemble a mass matrix")
+        raise ValueError(
+            f"{name}: section {beam.section.name!r} has mass_per_length "
+            f"{beam.section.mass_per_length:g}; give it a positive mass per length "
+            "to assemble a mass matrix"
+        )
 
 
 def _section_fields(beam: MassSource, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -86,11 +91,14 @@ def lumped(beam: MassSource) -> sp.csr_matrix:
     else:
         phi = shape_functions(X[0], npe)[0]
     J, ds = _section_fields(beam, X)
-    weight = np.einsum("aq,q,eq->ea", phi, W, ds)                    # (nel, npe)
-    rotary = np.einsum("aq,q,eq,eqij->eaij", phi, W, ds, J)           # (nel, npe, 3, 3)
+    weight = np.einsum("aq,q,eq->ea", phi, W, ds)  # (nel, npe)
+    rotary = np.einsum("aq,q,eq,eqij->eaij", phi, W, ds, J)  # (nel, npe, 3, 3)
     blocks = np.zeros((beam.mesh.n_nodes, 6, 6))
-    np.add.at(blocks[:, :3, :3], beam.mesh.cells,
-              beam.section.mass_per_length * weight[..., None, None] * np.eye(3))
+    np.add.at(
+        blocks[:, :3, :3],
+        beam.mesh.cells,
+        beam.section.mass_per_length * weight[..., None, None] * np.eye(3),
+    )
     np.add.at(blocks[:, 3:, 3:], beam.mesh.cells, rotary)
     return sp.block_diag(list(blocks), format="csr")
 
@@ -98,10 +106,14 @@ def lumped(beam: MassSource) -> sp.csr_matrix:
 def consistent(beam: MassSource) -> sp.csr_matrix:
     """Galerkin mass ``int N_a N_b (m I, R J R^T) ds`` (scikit-fem, :func:`forms.inertia`)."""
     X, W = gauss(beam.mesh.nodes_per_element + 1)
-    basis = CellBasis(beam.skfem_mesh, beam.formulation.trial_element(),
-                      quadrature=(X[None, :], W))
+    basis = CellBasis(beam.skfem_mesh, beam.formulation.trial_element(), quadrature=(X[None, :], W))
     J, ds = _section_fields(beam, X[None, :])
     metric = ds / beam.mesh.element_length[:, None]
-    M = asm(inertia, basis, m=np.full(metric.shape, beam.section.mass_per_length),
-            J=np.moveaxis(J, (-2, -1), (0, 1)), metric=metric)
+    M = asm(
+        inertia,
+        basis,
+        m=np.full(metric.shape, beam.section.mass_per_length),
+        J=np.moveaxis(J, (-2, -1), (0, 1)),
+        metric=metric,
+    )
     return sp.csr_matrix(M)

@@ -10,9 +10,9 @@ coordinate (``vertex_s``), see ``../shared/notes`` and ``docs/architecture.md``.
 from __future__ import annotations
 
 import copy
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, Sequence
 
 import meshio
 import numpy as np
@@ -76,12 +76,14 @@ class BeamMesh:
         ids = np.arange(len(points)) if self.point_ids is None else np.asarray(self.point_ids)
         if not np.all(np.isfinite(points)):
             bad = int(np.argwhere(~np.isfinite(points))[0, 0])
-            raise ValueError(f"{self.name}: point {ids[bad]} has a non-finite coordinate "
-                             f"{points[bad]}")
+            raise ValueError(
+                f"{self.name}: point {ids[bad]} has a non-finite coordinate {points[bad]}"
+            )
         cells = np.array(self.cells, dtype=np.int64)
         if cells.ndim != 2 or cells.shape[1] not in (2, 3) or len(cells) == 0:
-            raise ValueError(f"{self.name}: cells must have shape (n_elements, 2 or 3), "
-                             f"got {cells.shape}")
+            raise ValueError(
+                f"{self.name}: cells must have shape (n_elements, 2 or 3), got {cells.shape}"
+            )
         if cells.min() < 0 or cells.max() >= len(points):
             raise ValueError(f"{self.name}: a cell refers to a node outside 0..{len(points) - 1}")
         up = np.array(self.up, dtype=float)
@@ -96,30 +98,43 @@ class BeamMesh:
         scale = max(float(np.ptp(points, axis=0).max()), 1.0)
         short = np.flatnonzero(lengths <= 1e-12 * scale)
         if short.size:
-            raise ValueError(f"{self.name}: element {int(short[0])} has zero length "
-                             f"(points {ids[cells[short[0]]].tolist()})")
+            raise ValueError(
+                f"{self.name}: element {int(short[0])} has zero length "
+                f"(points {ids[cells[short[0]]].tolist()})"
+            )
         if self.nodes_per_element == 3:
             X = np.array([0.0, 0.5, 1.0])
-            speeds = np.linalg.norm(self.tangent_vectors(np.repeat(np.arange(self.n_elements), 3),
-                                                         np.tile(X, self.n_elements)), axis=1)
+            speeds = np.linalg.norm(
+                self.tangent_vectors(
+                    np.repeat(np.arange(self.n_elements), 3), np.tile(X, self.n_elements)
+                ),
+                axis=1,
+            )
             folded = np.flatnonzero(speeds.reshape(-1, 3).min(axis=1) <= 1e-9 * lengths)
             if folded.size:
-                raise ValueError(f"{self.name}: element {int(folded[0])} folds back on itself "
-                                 "(mid node outside its end nodes)")
+                raise ValueError(
+                    f"{self.name}: element {int(folded[0])} folds back on itself "
+                    "(mid node outside its end nodes)"
+                )
         object.__setattr__(self, "vertex_s", np.concatenate([[0.0], np.cumsum(lengths)]))
 
     def _check_chain(self) -> None:
         n_el = len(self.cells)
         expected = np.column_stack([np.arange(n_el), np.arange(1, n_el + 1)])
         if not np.array_equal(self.cells[:, :2], expected):
-            raise ValueError(f"{self.name}: cells must run along the beam, element e joining "
-                             "vertices e and e + 1 (use BeamMesh.from_meshio to order a mesh)")
+            raise ValueError(
+                f"{self.name}: cells must run along the beam, element e joining "
+                "vertices e and e + 1 (use BeamMesh.from_meshio to order a mesh)"
+            )
         if self.cells.shape[1] == 3 and not np.array_equal(
-                self.cells[:, 2], np.arange(n_el + 1, 2 * n_el + 1)):
+            self.cells[:, 2], np.arange(n_el + 1, 2 * n_el + 1)
+        ):
             raise ValueError(f"{self.name}: mid nodes must follow the vertices in element order")
         if len(self.points) != n_el + 1 + (n_el if self.cells.shape[1] == 3 else 0):
-            raise ValueError(f"{self.name}: {len(self.points)} points do not match "
-                             f"{n_el} elements of {self.cells.shape[1]} nodes")
+            raise ValueError(
+                f"{self.name}: {len(self.points)} points do not match "
+                f"{n_el} elements of {self.cells.shape[1]} nodes"
+            )
 
     def translated(self, offset: np.ndarray) -> "BeamMesh":
         """The mesh moved rigidly by ``offset`` (a finite 3-vector), sharing its connectivity,
@@ -174,8 +189,9 @@ class BeamMesh:
 
     def metric(self, e: np.ndarray, X: np.ndarray) -> np.ndarray:
         """Ratio of true arc length to the element's affine coordinate, |dx/dX| / h_e."""
-        return (np.linalg.norm(self.tangent_vectors(e, X), axis=-1)
-                / self.element_length[np.asarray(e)])
+        return (
+            np.linalg.norm(self.tangent_vectors(e, X), axis=-1) / self.element_length[np.asarray(e)]
+        )
 
     def frames(self, e: np.ndarray, X: np.ndarray) -> np.ndarray:
         """Section frames ``R = [t, e2, e3]`` (columns) at the given points, shape (..., 3, 3)."""
@@ -205,16 +221,18 @@ class BeamMesh:
     def to_meshio(self) -> meshio.Mesh:
         """The beam as a meshio mesh with one ``line`` or ``line3`` cell block (points N x 3)."""
         kind = "line" if self.nodes_per_element == 2 else "line3"
-        return meshio.Mesh(self.points.copy(), [(kind, self.cells.copy())],
-                           point_data={"xi": self.node_abscissae()})
+        return meshio.Mesh(
+            self.points.copy(),
+            [(kind, self.cells.copy())],
+            point_data={"xi": self.node_abscissae()},
+        )
 
     def write(self, path: str | Path, file_format: str | None = None) -> None:
         """Write with meshio (any format it knows; ``.msh`` is written as Gmsh 2.2)."""
         path = Path(path)
         if file_format is None and path.suffix == ".msh":
             file_format = "gmsh22"
-        write_atomic(path, lambda tmp: meshio.write(tmp, self.to_meshio(),
-                                                    file_format=file_format))
+        write_atomic(path, lambda tmp: meshio.write(tmp, self.to_meshio(), file_format=file_format))
 
     @classmethod
     def read(cls, path: str | Path, **kwargs) -> "BeamMesh":
@@ -240,8 +258,9 @@ def _read_meshio(path: str | Path) -> meshio.Mesh:
         raise ValueError(f"meshio cannot read {path}: {exc}") from exc
 
 
-def read_beams(mesh: meshio.Mesh | str | Path, up: Sequence[float] = (0.0, 0.0, 1.0),
-               name: str = "beam") -> list[BeamMesh]:
+def read_beams(
+    mesh: meshio.Mesh | str | Path, up: Sequence[float] = (0.0, 0.0, 1.0), name: str = "beam"
+) -> list[BeamMesh]:
     """Split the line cells of a meshio mesh into beams: one per connected chain of each cell
     block (a Gmsh physical group, say, is a block).
 
@@ -259,8 +278,11 @@ def read_beams(mesh: meshio.Mesh | str | Path, up: Sequence[float] = (0.0, 0.0, 
     if len(kinds) > 1:
         raise ValueError(f"the mesh mixes {' and '.join(sorted(kinds))} cells; use one kind")
     points = np.asarray(mesh.points, dtype=float)
-    chains = [(block.data.astype(np.int64), chain) for block in blocks
-              for chain in _chains(block.data[:, :2].astype(np.int64), name)]
+    chains = [
+        (block.data.astype(np.int64), chain)
+        for block in blocks
+        for chain in _chains(block.data[:, :2].astype(np.int64), name)
+    ]
     beams = []
     for k, (cells, chain) in enumerate(chains):
         vertices = [cells[chain[0][0], 0 if chain[0][1] else 1]]
@@ -273,8 +295,11 @@ def read_beams(mesh: meshio.Mesh | str | Path, up: Sequence[float] = (0.0, 0.0, 
         if cells.shape[1] == 3:
             local = np.column_stack([local, np.arange(n + 1, 2 * n + 1)])
         label = name if len(chains) == 1 else f"{name}[{k}]"
-        beams.append(BeamMesh(points[ids], local, up=np.asarray(up, float),
-                              point_ids=np.asarray(ids), name=label))
+        beams.append(
+            BeamMesh(
+                points[ids], local, up=np.asarray(up, float), point_ids=np.asarray(ids), name=label
+            )
+        )
     return beams
 
 
@@ -288,8 +313,10 @@ def _chains(ends: np.ndarray, name: str) -> list[list[tuple[int, bool]]]:
         incident.setdefault(int(b), []).append(c)
     branching = [v for v, cs in incident.items() if len(cs) > 2]
     if branching:
-        raise ValueError(f"{name}: node {branching[0]} joins {len(incident[branching[0]])} "
-                         "cells; a beam is a chain (split branches into separate beams)")
+        raise ValueError(
+            f"{name}: node {branching[0]} joins {len(incident[branching[0]])} "
+            "cells; a beam is a chain (split branches into separate beams)"
+        )
     used = np.zeros(len(ends), bool)
     chains = []
     for first in range(len(ends)):
@@ -307,8 +334,10 @@ def _chains(ends: np.ndarray, name: str) -> list[list[tuple[int, bool]]]:
             used[cell] = True
             vertex = int(ends[cell, 1] if forward else ends[cell, 0])
         if vertex == start:
-            raise ValueError(f"{name}: cells {chain[0][0]}..{chain[-1][0]} form a closed loop; "
-                             "a beam must have two free ends")
+            raise ValueError(
+                f"{name}: cells {chain[0][0]}..{chain[-1][0]} form a closed loop; "
+                "a beam must have two free ends"
+            )
         if not dict(chain)[first]:
             chain = [(c, not f) for c, f in reversed(chain)]
         chains.append(chain)
@@ -328,9 +357,13 @@ def _chain_start(cell: int, ends: np.ndarray, incident: dict[int, list[int]]) ->
             return int(ends[cell, 0])
 
 
-def from_curve(curve: Callable[[np.ndarray], np.ndarray], n_elements: int,
-               nodes_per_element: int = 3, up: Sequence[float] = (0.0, 0.0, 1.0),
-               name: str = "beam") -> BeamMesh:
+def from_curve(
+    curve: Callable[[np.ndarray], np.ndarray],
+    n_elements: int,
+    nodes_per_element: int = 3,
+    up: Sequence[float] = (0.0, 0.0, 1.0),
+    name: str = "beam",
+) -> BeamMesh:
     """Beam along a parametrised curve ``curve(u)`` (u in [0, 1], returns (n, 3)), uniform in u."""
     if int(n_elements) != n_elements or n_elements < 1:
         raise ValueError(f"{name}: n_elements must be a positive integer, got {n_elements}")
@@ -343,13 +376,17 @@ def from_curve(curve: Callable[[np.ndarray], np.ndarray], n_elements: int,
     cells = np.column_stack([np.arange(n), np.arange(1, n + 1)])
     if nodes_per_element == 3:
         cells = np.column_stack([cells, np.arange(n + 1, 2 * n + 1)])
-    return BeamMesh(np.asarray(curve(u), dtype=float), cells, up=np.asarray(up, float),
-                    name=name)
+    return BeamMesh(np.asarray(curve(u), dtype=float), cells, up=np.asarray(up, float), name=name)
 
 
-def straight(start: Sequence[float], end: Sequence[float], n_elements: int,
-             nodes_per_element: int = 3, up: Sequence[float] | None = None,
-             name: str = "beam") -> BeamMesh:
+def straight(
+    start: Sequence[float],
+    end: Sequence[float],
+    n_elements: int,
+    nodes_per_element: int = 3,
+    up: Sequence[float] | None = None,
+    name: str = "beam",
+) -> BeamMesh:
     """Straight beam from ``start`` to ``end`` with equal elements.
 
     ``up`` defaults to the global z axis, or the y axis for a beam along z.
@@ -361,8 +398,15 @@ def straight(start: Sequence[float], end: Sequence[float], n_elements: int,
     return from_curve(lambda u: a + np.outer(u, b - a), n_elements, nodes_per_element, up, name)
 
 
-def arc(center: Sequence[float], radius: float, angle0: float, angle1: float, n_elements: int,
-        nodes_per_element: int = 3, name: str = "beam") -> BeamMesh:
+def arc(
+    center: Sequence[float],
+    radius: float,
+    angle0: float,
+    angle1: float,
+    n_elements: int,
+    nodes_per_element: int = 3,
+    name: str = "beam",
+) -> BeamMesh:
     """Circular arc in the plane z = center[2], from ``angle0`` to ``angle1`` (radians)."""
     c = np.asarray(center, dtype=float)
 

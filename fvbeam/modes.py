@@ -10,8 +10,8 @@ large ones ARPACK in shift-invert mode about 0 (``eigsh`` / ``eigs``) on the fac
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Sequence
 
 import numpy as np
 import scipy.linalg as sla
@@ -41,8 +41,9 @@ class Modes:
         return self.omega / (2 * np.pi)
 
 
-def natural_frequencies(structure: Structure | Beam, supports: Sequence[Support], n: int,
-                        mass: str = "lumped") -> Modes:
+def natural_frequencies(
+    structure: Structure | Beam, supports: Sequence[Support], n: int, mass: str = "lumped"
+) -> Modes:
     """The ``n`` lowest natural frequencies (rad/s) and mode shapes.
 
     Parameters
@@ -60,8 +61,9 @@ def natural_frequencies(structure: Structure | Beam, supports: Sequence[Support]
     structure = statics.structure
     free = statics.free
     if not (isinstance(n, (int, np.integer)) and 1 <= n < len(free)):
-        raise ValueError(f"n must be an integer in 1..{len(free) - 1} (free dofs: "
-                         f"{len(free)}), got {n!r}")
+        raise ValueError(
+            f"n must be an integer in 1..{len(free) - 1} (free dofs: {len(free)}), got {n!r}"
+        )
     M = structure.mass(mass)[free][:, free]
     K = statics.K[free][:, free]
     symmetric = abs(K - K.T).max() <= 1e-12 * abs(K).max()
@@ -76,9 +78,11 @@ def natural_frequencies(structure: Structure | Beam, supports: Sequence[Support]
     order = np.argsort(-mu.real)[:n]
     mu, phi = mu[order], phi[:, order]
     if np.abs(mu.imag).max() > 1e-8 * np.abs(mu.real).max() or mu.real.min() <= 0:
-        raise ValueError("the eigenvalues are not real and positive: the mass matrix lacks "
-                         f"inertia on some free dofs or the stiffness is indefinite (1/omega^2 "
-                         f"= {mu[:3]})")
+        raise ValueError(
+            "the eigenvalues are not real and positive: the mass matrix lacks "
+            f"inertia on some free dofs or the stiffness is indefinite (1/omega^2 "
+            f"= {mu[:3]})"
+        )
     phi = phi.real
     phi /= np.sqrt(np.einsum("ik,ik->k", phi, M @ phi))
     shapes = np.zeros((structure.n_dofs, n))

@@ -54,8 +54,16 @@ def indicator_at(X: float, regions: np.ndarray, chi: np.ndarray) -> None:
 
 
 @numba.njit(cache=True, inline="never")
-def rigid_blocks_at(nodes: np.ndarray, h: float, N: np.ndarray, dN: np.ndarray,
-                    chi: np.ndarray, dchi: np.ndarray, G: np.ndarray, dG: np.ndarray) -> None:
+def rigid_blocks_at(
+    nodes: np.ndarray,
+    h: float,
+    N: np.ndarray,
+    dN: np.ndarray,
+    chi: np.ndarray,
+    dchi: np.ndarray,
+    G: np.ndarray,
+    dG: np.ndarray,
+) -> None:
     """The fv test functions (eq. T4) at a point of an element with node positions ``nodes``
     (npe, 3) and length ``h``, from the shape functions ``N``, ``dN/dX`` there, into ``G``
     and ``dG`` (6 npe, 6) (:func:`fvbeam.elements.rigid_motions_at`): node ``a``'s block
@@ -91,8 +99,7 @@ def rigid_blocks_at(nodes: np.ndarray, h: float, N: np.ndarray, dN: np.ndarray,
 
 
 @numba.njit(cache=True, inline="never")
-def shape_blocks_at(h: float, N: np.ndarray, dN: np.ndarray, G: np.ndarray,
-                    dG: np.ndarray) -> None:
+def shape_blocks_at(h: float, N: np.ndarray, dN: np.ndarray, G: np.ndarray, dG: np.ndarray) -> None:
     """The Galerkin test functions at a point as load-transfer blocks ``N_a I`` (6 npe, 6)
     into ``G`` and their ``xi``-derivatives ``dN_a/dX / h I`` into ``dG``."""
     G[:] = 0.0
@@ -105,9 +112,20 @@ def shape_blocks_at(h: float, N: np.ndarray, dN: np.ndarray, G: np.ndarray,
 
 
 @numba.njit(cache=True, inline="never")
-def transfer_at(fv: bool, regions: np.ndarray, nodes: np.ndarray, h: float, X: float,
-                N: np.ndarray, dN: np.ndarray, d2N: np.ndarray, chi: np.ndarray,
-                dchi: np.ndarray, G: np.ndarray, dG: np.ndarray) -> None:
+def transfer_at(
+    fv: bool,
+    regions: np.ndarray,
+    nodes: np.ndarray,
+    h: float,
+    X: float,
+    N: np.ndarray,
+    dN: np.ndarray,
+    d2N: np.ndarray,
+    chi: np.ndarray,
+    dchi: np.ndarray,
+    G: np.ndarray,
+    dG: np.ndarray,
+) -> None:
     """The test functions at ``X`` as load-transfer matrices ``G`` and ``dG/dxi``
     (6 npe, 6), eq. T6: fv (``fv``, region bounds ``regions``) or Galerkin; ``N``, ``dN``,
     ``d2N``, ``chi``, ``dchi`` (npe,) are scratch."""
@@ -142,8 +160,9 @@ def indicator_many(X: np.ndarray, regions: np.ndarray) -> np.ndarray:
 
 
 @numba.njit(cache=True)
-def rigid_motions_many(nodes: np.ndarray, h: np.ndarray, X: np.ndarray, chi: np.ndarray,
-                       dchi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def rigid_motions_many(
+    nodes: np.ndarray, h: np.ndarray, X: np.ndarray, chi: np.ndarray, dchi: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """:func:`rigid_blocks_at` at the points ``X`` (P,) of elements ``nodes`` (P, npe, 3),
     ``h`` (P,), indicators ``chi``, ``dchi`` (P, npe): (P, 6 npe, 6) each."""
     P, npe = nodes.shape[0], nodes.shape[1]
@@ -156,8 +175,9 @@ def rigid_motions_many(nodes: np.ndarray, h: np.ndarray, X: np.ndarray, chi: np.
 
 
 @numba.njit(cache=True)
-def transfer_many(fv: bool, regions: np.ndarray, nodes: np.ndarray, h: np.ndarray,
-                  X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def transfer_many(
+    fv: bool, regions: np.ndarray, nodes: np.ndarray, h: np.ndarray, X: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """:func:`transfer_at` at the points ``X`` (P,) of elements ``nodes`` (P, npe, 3),
     ``h`` (P,): (P, 6 npe, 6) each."""
     P, npe = nodes.shape[0], nodes.shape[1]

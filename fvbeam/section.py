@@ -47,7 +47,7 @@ class Section:
         eig = np.linalg.eigvalsh(K)
         if eig.min() <= 1e-14 * eig.max() or eig.max() <= 0:
             diag = np.diag(K)
-            bad = [f"{n} = {v:g}" for n, v in zip(COMPONENTS, diag) if not v > 0]
+            bad = [f"{n} = {v:g}" for n, v in zip(COMPONENTS, diag, strict=True) if not v > 0]
             detail = ", ".join(bad) if bad else f"smallest eigenvalue {eig.min():g}"
             raise ValueError(f"{self.name}: stiffness must be positive definite ({detail})")
         m = float(self.mass_per_length)
@@ -59,8 +59,9 @@ class Section:
         object.__setattr__(self, "inertia", J)
 
     @classmethod
-    def diagonal(cls, EA: float, GAy: float, GAz: float, GJ: float, EJy: float, EJz: float,
-                 **kwargs) -> "Section":
+    def diagonal(
+        cls, EA: float, GAy: float, GAz: float, GJ: float, EJy: float, EJz: float, **kwargs
+    ) -> "Section":
         """Uncoupled section from its six stiffnesses (named as in :data:`COMPONENTS`)."""
         values = dict(EA=EA, GAy=GAy, GAz=GAz, GJ=GJ, EJy=EJy, EJz=EJz)
         name = kwargs.get("name", "section")

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 import scipy.sparse as sp
@@ -34,8 +34,9 @@ class Structure:
         :class:`~fvbeam.body.RigidBody` nodes, with unique names.
     """
 
-    def __init__(self, beams: Sequence[Beam], ties: Sequence[tuple] = (),
-                 bodies: Sequence[RigidBody] = ()) -> None:
+    def __init__(
+        self, beams: Sequence[Beam], ties: Sequence[tuple] = (), bodies: Sequence[RigidBody] = ()
+    ) -> None:
         self.beams, self.bodies = list(beams), list(bodies)
         if not self.beams and not self.bodies:
             raise ValueError("a structure needs at least one beam or body")
@@ -65,8 +66,12 @@ class Structure:
         roots = np.array([root(k) for k in range(n_slots)])
         _, self._node_number = np.unique(roots, return_inverse=True)
         self.n_nodes = int(self._node_number.max()) + 1
-        self.dof_maps = [(6 * self._node_number[self._offsets[i]:self._offsets[i + 1], None]
-                          + np.arange(6)).ravel() for i in range(len(self.beams))]
+        self.dof_maps = [
+            (
+                6 * self._node_number[self._offsets[i] : self._offsets[i + 1], None] + np.arange(6)
+            ).ravel()
+            for i in range(len(self.beams))
+        ]
 
     @staticmethod
     def _tie_ends(tie: tuple) -> tuple[NodeRef, NodeRef]:
@@ -74,10 +79,13 @@ class Structure:
         if isinstance(tie, (tuple, list)) and len(tie) == 2:
             return tie[0], tie[1]
         if isinstance(tie, (tuple, list)) and len(tie) == 4:
-            return tuple(x if isinstance(x, str) and n is None else (x, n)
-                         for x, n in (tie[:2], tie[2:]))
-        raise ValueError(f"tie {tie!r} must be (ref_a, ref_b), each (beam, node) or a body "
-                         "name, or (beam_a, node_a, beam_b, node_b)")
+            return tuple(
+                x if isinstance(x, str) and n is None else (x, n) for x, n in (tie[:2], tie[2:])
+            )
+        raise ValueError(
+            f"tie {tie!r} must be (ref_a, ref_b), each (beam, node) or a body "
+            "name, or (beam_a, node_a, beam_b, node_b)"
+        )
 
     def _slot(self, ref: NodeRef) -> int:
         """Index of a node reference before ties are merged (beam nodes, then bodies)."""
@@ -89,19 +97,23 @@ class Structure:
         raise ValueError(f"node reference {ref!r} must be (beam, node) or a body name")
 
     def _check_coincident(self, tie: tuple, a: NodeRef, b: NodeRef) -> None:
-        points = np.vstack([beam.mesh.points for beam in self.beams]
-                           + [body.position for body in self.bodies])
+        points = np.vstack(
+            [beam.mesh.points for beam in self.beams] + [body.position for body in self.bodies]
+        )
         size = np.linalg.norm(points.max(axis=0) - points.min(axis=0))
         gap = np.linalg.norm(self.node_position(a) - self.node_position(b))
         if gap > 1e-9 * size:
-            raise ValueError(f"tie {tie!r}: the nodes are {gap:.6g} apart; a tie merges their "
-                             "dofs, which joins a body rigidly only at a coincident point "
-                             "(place the body there, or use a slider's offset)")
+            raise ValueError(
+                f"tie {tie!r}: the nodes are {gap:.6g} apart; a tie merges their "
+                "dofs, which joins a body rigidly only at a coincident point "
+                "(place the body there, or use a slider's offset)"
+            )
 
     def beam_index(self, i: int) -> int:
         if not (isinstance(i, (int, np.integer)) and 0 <= i < len(self.beams)):
-            raise ValueError(f"beam {i!r} does not exist (the structure has "
-                             f"{len(self.beams)} beams)")
+            raise ValueError(
+                f"beam {i!r} does not exist (the structure has {len(self.beams)} beams)"
+            )
         return int(i)
 
     def body_index(self, name: str) -> int:
@@ -142,8 +154,9 @@ class Structure:
         return 6 * self.n_nodes
 
     @classmethod
-    def from_shared_points(cls, beams: Sequence[Beam],
-                           bodies: Sequence[RigidBody] = ()) -> "Structure":
+    def from_shared_points(
+        cls, beams: Sequence[Beam], bodies: Sequence[RigidBody] = ()
+    ) -> "Structure":
         """Beams read together (:func:`fvbeam.mesh.read_beams`), joined where they share a
         mesh point (equal ``point_ids``), and the rigid ``bodies`` (tied to nothing)."""
         first: dict[int, tuple[int, int]] = {}
@@ -156,8 +169,7 @@ class Structure:
                     first[pid] = (b, node)
         return cls(beams, ties, bodies)
 
-    def nodal_load(self, ref: NodeRef, force=(0.0, 0.0, 0.0),
-                   moment=(0.0, 0.0, 0.0)) -> np.ndarray:
+    def nodal_load(self, ref: NodeRef, force=(0.0, 0.0, 0.0), moment=(0.0, 0.0, 0.0)) -> np.ndarray:
         """Global load vector of a force and couple applied to a node (``(beam, node)`` or a
         body name)."""
         f = np.zeros(self.n_dofs)
@@ -167,14 +179,15 @@ class Structure:
     def residual(self, q: np.ndarray) -> np.ndarray:
         """Internal force vector: the beams' residuals gathered on the global dofs."""
         r = np.zeros(self.n_dofs)
-        for beam, dofs in zip(self.beams, self.dof_maps):
+        for beam, dofs in zip(self.beams, self.dof_maps, strict=True):
             np.add.at(r, dofs, beam.residual(q[dofs]))
         return r
 
     def tangent(self, q: np.ndarray) -> sp.csr_matrix:
         """Global tangent: the beams' tangents scattered on the global dofs."""
-        return self._scatter([beam.tangent(q[dofs])
-                              for beam, dofs in zip(self.beams, self.dof_maps)])
+        return self._scatter(
+            [beam.tangent(q[dofs]) for beam, dofs in zip(self.beams, self.dof_maps, strict=True)]
+        )
 
     def mass(self, kind: str = "lumped") -> sp.csr_matrix:
         """Global mass: the beams' mass matrices (:meth:`Beam.mass`, ``kind`` ``lumped`` or
@@ -190,13 +203,15 @@ class Structure:
     def _scatter(self, matrices: Sequence[sp.spmatrix]) -> sp.csr_matrix:
         """The beams' matrices, one per beam on its own dofs, summed on the global dofs."""
         rows, cols, vals = [np.zeros(0, dtype=int)], [np.zeros(0, dtype=int)], [np.zeros(0)]
-        for A, dofs in zip(matrices, self.dof_maps):
+        for A, dofs in zip(matrices, self.dof_maps, strict=True):
             A = A.tocoo()
             rows.append(dofs[A.row])
             cols.append(dofs[A.col])
             vals.append(A.data)
-        return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                             shape=(self.n_dofs, self.n_dofs))
+        return sp.csr_matrix(
+            (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+            shape=(self.n_dofs, self.n_dofs),
+        )
 
     def gather(self, beam: int, f_local: np.ndarray) -> np.ndarray:
         """A beam's load vector as a global one."""

@@ -30,12 +30,15 @@ class Support:
 
     def __post_init__(self) -> None:
         if isinstance(self.beam, str) and self.node is not None:
-            raise ValueError(f"support of body {self.beam!r}: a body is a single node, so no "
-                             f"node is given (got {self.node!r}); write the kind by keyword, "
-                             f"e.g. Support({self.beam!r}, kind='pin')")
+            raise ValueError(
+                f"support of body {self.beam!r}: a body is a single node, so no "
+                f"node is given (got {self.node!r}); write the kind by keyword, "
+                f"e.g. Support({self.beam!r}, kind='pin')"
+            )
         if not isinstance(self.beam, str) and self.node is None:
-            raise ValueError(f"support of beam {self.beam!r} needs a node "
-                             "(index, 'start' or 'end')")
+            raise ValueError(
+                f"support of beam {self.beam!r} needs a node (index, 'start' or 'end')"
+            )
         self.dofs()
 
     @classmethod
@@ -58,6 +61,8 @@ class Support:
         names = self.kind.split("+")
         unknown = [n for n in names if n not in DOF_NAMES]
         if unknown or not names:
-            raise ValueError(f"support kind must be 'clamp', 'pin' or dof names from "
-                             f"{' '.join(DOF_NAMES)} joined by '+', got {self.kind!r}")
+            raise ValueError(
+                f"support kind must be 'clamp', 'pin' or dof names from "
+                f"{' '.join(DOF_NAMES)} joined by '+', got {self.kind!r}"
+            )
         return np.array(sorted({DOF_NAMES.index(n) for n in names}))

@@ -43,15 +43,20 @@ ELEMENTS, STEPS, RHO_INF, REPEATS = 16, 2000, 0.8, 3
 FORMULATIONS = ("fv3", "galerkin-p2")
 
 
-def moving_load_bench(formulations: tuple[str, ...] = FORMULATIONS, repeats: int = REPEATS,
-                      steps: int = STEPS, progress: bool = True) -> dict[str, Any]:
+def moving_load_bench(
+    formulations: tuple[str, ...] = FORMULATIONS,
+    repeats: int = REPEATS,
+    steps: int = STEPS,
+    progress: bool = True,
+) -> dict[str, Any]:
     """Time per step and errors of each formulation's crossing (module docstring)."""
     from tqdm import tqdm
 
     rows, interrupted = [], False
     try:
-        for formulation in tqdm(formulations, disable=None if progress else True,
-                                desc="moving load"):
+        for formulation in tqdm(
+            formulations, disable=None if progress else True, desc="moving load"
+        ):
             m = ml.model(formulation, ELEMENTS)
             seconds = []
             for _ in range(repeats):
@@ -60,44 +65,72 @@ def moving_load_bench(formulations: tuple[str, ...] = FORMULATIONS, repeats: int
                 seconds.append((time.perf_counter() - start) / steps)
             exact, semi = ml.exact_midspan(t), ml.semi_discrete(m, t)
             per_step = summary(seconds)
-            rows.append({"formulation": formulation, "mass": ml.MASS[formulation],
-                         "n_elements": ELEMENTS, "n_dofs": m.structure.n_dofs,
-                         "steps": steps, "rho_inf": RHO_INF, "repeats": repeats,
-                         "seconds_per_step": per_step,
-                         "steps_per_second": 1.0 / per_step["median"],
-                         "rel_error": ml.relative_error(w, exact),
-                         "rel_error_space": ml.relative_error(semi, exact),
-                         "rel_error_time": ml.relative_error(w, semi, scale=exact)})
+            rows.append(
+                {
+                    "formulation": formulation,
+                    "mass": ml.MASS[formulation],
+                    "n_elements": ELEMENTS,
+                    "n_dofs": m.structure.n_dofs,
+                    "steps": steps,
+                    "rho_inf": RHO_INF,
+                    "repeats": repeats,
+                    "seconds_per_step": per_step,
+                    "steps_per_second": 1.0 / per_step["median"],
+                    "rel_error": ml.relative_error(w, exact),
+                    "rel_error_space": ml.relative_error(semi, exact),
+                    "rel_error_time": ml.relative_error(w, semi, scale=exact),
+                }
+            )
             r = rows[-1]
-            print(f"{formulation:12s} {1e3 * per_step['median']:.3f} ms/step "
-                  f"({r['steps_per_second']:.0f} steps/s), error {r['rel_error']:.2e} "
-                  f"(space {r['rel_error_space']:.2e}, time {r['rel_error_time']:.2e})",
-                  flush=True)
+            print(
+                f"{formulation:12s} {1e3 * per_step['median']:.3f} ms/step "
+                f"({r['steps_per_second']:.0f} steps/s), error {r['rel_error']:.2e} "
+                f"(space {r['rel_error_space']:.2e}, time {r['rel_error_time']:.2e})",
+                flush=True,
+            )
     except KeyboardInterrupt:
         interrupted = True
-    return {"rows": rows, "setup": {"L": ml.L, "EJ": ml.EJ, "GA": ml.GA,
-                                    "mass_per_length": ml.M_PER_LENGTH, "F": ml.F,
-                                    "speed": ml.SPEED, "crossing_time": ml.CROSSING,
-                                    "error": "max_t |w_mid - w_ref| / max_t |w_ref|",
-                                    "timer": "time.perf_counter per crossing / steps; "
-                                             "median and min over repeats"},
-            "interrupted": interrupted}
+    return {
+        "rows": rows,
+        "setup": {
+            "L": ml.L,
+            "EJ": ml.EJ,
+            "GA": ml.GA,
+            "mass_per_length": ml.M_PER_LENGTH,
+            "F": ml.F,
+            "speed": ml.SPEED,
+            "crossing_time": ml.CROSSING,
+            "error": "max_t |w_mid - w_ref| / max_t |w_ref|",
+            "timer": "time.perf_counter per crossing / steps; median and min over repeats",
+        },
+        "interrupted": interrupted,
+    }
 
 
 FIG2_KEY = "fig2_dynamics"
 FIG2_LEVELS = (0.0, 0.01)
 
 
-def fig2_dynamics(variant: str = "damped", levels: tuple[float, ...] = FIG2_LEVELS,
-                  steps_per_period: int = fig2.STEPS_PER_PERIOD) -> dict[str, Any]:
+def fig2_dynamics(
+    variant: str = "damped",
+    levels: tuple[float, ...] = FIG2_LEVELS,
+    steps_per_period: int = fig2.STEPS_PER_PERIOD,
+) -> dict[str, Any]:
     """Time the Figure 2 scene's ``variant`` (a key of :data:`studies.fig2_smearing.VARIANTS`)
     at each smearing level; one row per level.  Ctrl-C returns the rows completed, with
     ``interrupted`` set."""
     spec = fig2.VARIANTS[variant]
-    result: dict[str, Any] = {"scene": "studies/fig2_smearing.py", "variant": variant,
-                              "zeta": spec.zeta, "periods": spec.periods,
-                              "steps_per_period": steps_per_period, "rho_inf": fig2.RHO_INF,
-                              "method": "condensed", "rows": [], "interrupted": False}
+    result: dict[str, Any] = {
+        "scene": "studies/fig2_smearing.py",
+        "variant": variant,
+        "zeta": spec.zeta,
+        "periods": spec.periods,
+        "steps_per_period": steps_per_period,
+        "rho_inf": fig2.RHO_INF,
+        "method": "condensed",
+        "rows": [],
+        "interrupted": False,
+    }
     for level in levels:
         crossing = fig2.Crossing(level, spec.zeta, spec.periods)
         try:
@@ -109,28 +142,37 @@ def fig2_dynamics(variant: str = "damped", levels: tuple[float, ...] = FIG2_LEVE
             break
         steps = len(run["t"]) - 1
         shear, tip = fig2.static_shear_and_tip(float(run["xi"][-1]), level)
-        result["rows"].append({
-            "smearing": level, "seconds": seconds, "steps": steps,
-            "seconds_per_step": seconds / steps, "steps_per_second": steps / seconds,
-            "mean_iterations": float(run["iterations"][1:].mean()),
-            "overshoot": fig2.overshoot(run),
-            "end_shear_error": abs(float(run["shear"][-1]) - shear),
-            "end_tip_error": abs(float(run["tip"][-1]) - tip)})
+        result["rows"].append(
+            {
+                "smearing": level,
+                "seconds": seconds,
+                "steps": steps,
+                "seconds_per_step": seconds / steps,
+                "steps_per_second": steps / seconds,
+                "mean_iterations": float(run["iterations"][1:].mean()),
+                "overshoot": fig2.overshoot(run),
+                "end_shear_error": abs(float(run["shear"][-1]) - shear),
+                "end_tip_error": abs(float(run["tip"][-1]) - tip),
+            }
+        )
         row = result["rows"][-1]
-        print(f"fig2 smearing {100 * level:g} %: {steps} steps in {seconds:.1f} s "
-              f"({1e3 * row['seconds_per_step']:.2f} ms/step, {row['steps_per_second']:.0f} "
-              f"steps/s); end errors V(b) {row['end_shear_error']:.1e}, v(L) "
-              f"{row['end_tip_error']:.1e}", flush=True)
+        print(
+            f"fig2 smearing {100 * level:g} %: {steps} steps in {seconds:.1f} s "
+            f"({1e3 * row['seconds_per_step']:.2f} ms/step, {row['steps_per_second']:.0f} "
+            f"steps/s); end errors V(b) {row['end_shear_error']:.1e}, v(L) "
+            f"{row['end_tip_error']:.1e}",
+            flush=True,
+        )
     return result
 
 
 def main(argv: list[str] | None = None) -> None:
     """Run the benchmarks, merge them into ``--out``."""
-    parser = argparse.ArgumentParser(prog="python -m studies.bench_dynamics",
-                                     description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        prog="python -m studies.bench_dynamics", description=__doc__.splitlines()[0]
+    )
     parser.add_argument("--out", type=Path, default=Path("results/bench.json"))
-    parser.add_argument("--quick", action="store_true",
-                        help="Figure 2: the 10-period crossing")
+    parser.add_argument("--quick", action="store_true", help="Figure 2: the 10-period crossing")
     args = parser.parse_args(argv)
     read_existing(args.out)  # fail before spending the time if the file cannot be merged
     moving = moving_load_bench()

@@ -43,16 +43,17 @@ import argparse
 import cProfile
 import pstats
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
 from sliders.sliding_beams.exact import sliding_beams
+from sliders.sliding_beams.model import KINDS, SlidingBeams, compile_kernels
 from sliders.solve.sweep import sweep
 from studies.bench import environment, write_merged
-from studies.fig4_stiffness import EJ, GA, L, STATIONS
-from sliders.sliding_beams.model import KINDS, SlidingBeams, compile_kernels
+from studies.fig4_stiffness import EJ, GA, STATIONS, L
 
 KEY = "fig4_sweep"
 #: The per-position modes (the default of :func:`bench`); ``main`` runs ``batched`` first.
@@ -70,8 +71,7 @@ def timed(call: Callable[[], Any]) -> tuple[Any, float, float]:
     return result, time.perf_counter() - wall, time.process_time() - cpu
 
 
-def run(kind: str, n: int,
-        mode: str) -> tuple[float, float, float | None, np.ndarray, list[int]]:
+def run(kind: str, n: int, mode: str) -> tuple[float, float, float | None, np.ndarray, list[int]]:
     """One timed sweep: wall-clock and CPU seconds, the untimed setup seconds (batched mode:
     the template; else None), ``k_norm`` per station (NaN where singular) and the Newton
     iterations of the converged positions.  Raises ``KeyboardInterrupt`` if interrupted."""
@@ -106,8 +106,12 @@ def cold(model: SlidingBeams, k: np.ndarray) -> None:
             model._previous = None
 
 
-def bench(elements: tuple[int, ...] = (1, 3, 5), modes: tuple[str, ...] = MODES,
-          progress: bool = True, repeats: int = 1) -> dict[str, Any]:
+def bench(
+    elements: tuple[int, ...] = (1, 3, 5),
+    modes: tuple[str, ...] = MODES,
+    progress: bool = True,
+    repeats: int = 1,
+) -> dict[str, Any]:
     """Time, iterations and worst error of each (mode, kind, elements) sweep.
 
     ``repeats``: passes of the ``batched`` sweeps (each on models built anew, its setup
@@ -119,55 +123,84 @@ def bench(elements: tuple[int, ...] = (1, 3, 5), modes: tuple[str, ...] = MODES,
     """
     from tqdm import tqdm
 
-    exact = {kind: np.array([sliding_beams(s * L, L, EJ, GA, kind)["k_norm"]
-                             for s in STATIONS]) for kind in KINDS}
+    exact = {
+        kind: np.array([sliding_beams(s * L, L, EJ, GA, kind)["k_norm"] for s in STATIONS])
+        for kind in KINDS
+    }
     rows, interrupted = [], False
     _, warmup, _ = timed(compile_kernels)
-    jobs = [(mode, kind, n) for mode in modes
-            for _ in range(repeats if mode == "batched" else 1)
-            for kind in KINDS for n in elements]
+    jobs = [
+        (mode, kind, n)
+        for mode in modes
+        for _ in range(repeats if mode == "batched" else 1)
+        for kind in KINDS
+        for n in elements
+    ]
     try:
         for mode, kind, n in tqdm(jobs, disable=None if progress else True, desc="sweeps"):
             elapsed, cpu, setup, k, iterations = run(kind, n, mode)
-            rows.append({"mode": mode, "slider": kind, "n_elements": n,
-                         "positions": len(STATIONS), "seconds": elapsed,
-                         "cpu_seconds": cpu, "setup_seconds": setup,
-                         "us_per_position": 1e6 * elapsed / len(STATIONS),
-                         "mean_newton_iterations": float(np.mean(iterations)),
-                         "singular_positions": int(np.isnan(k).sum()),
-                         "max_abs_rel_error": float(np.nanmax(np.abs(k / exact[kind] - 1)))})
+            rows.append(
+                {
+                    "mode": mode,
+                    "slider": kind,
+                    "n_elements": n,
+                    "positions": len(STATIONS),
+                    "seconds": elapsed,
+                    "cpu_seconds": cpu,
+                    "setup_seconds": setup,
+                    "us_per_position": 1e6 * elapsed / len(STATIONS),
+                    "mean_newton_iterations": float(np.mean(iterations)),
+                    "singular_positions": int(np.isnan(k).sum()),
+                    "max_abs_rel_error": float(np.nanmax(np.abs(k / exact[kind] - 1))),
+                }
+            )
             row = rows[-1]
-            print(f"{mode:12s} {kind:9s} n={n}: {elapsed:.3f} s, {row['us_per_position']:.0f} "
-                  f"us per position, {row['mean_newton_iterations']:.2f} iterations, max error "
-                  f"{row['max_abs_rel_error']:.4f}", flush=True)
+            print(
+                f"{mode:12s} {kind:9s} n={n}: {elapsed:.3f} s, {row['us_per_position']:.0f} "
+                f"us per position, {row['mean_newton_iterations']:.2f} iterations, max error "
+                f"{row['max_abs_rel_error']:.4f}",
+                flush=True,
+            )
     except KeyboardInterrupt:
         interrupted = True
     passes = _passes([r for r in rows if r["mode"] == "batched"], len(KINDS) * len(elements))
     rows = _fastest(passes) + [r for r in rows if r["mode"] != "batched"]
     total = {mode: sum(r["seconds"] for r in rows if r["mode"] == mode) for mode in modes}
-    return {"rows": rows, "total_seconds": total, "main_sweep": main_sweep(rows, passes),
-            "warmup_seconds": warmup,
-            "target_seconds": 0.1, "solver": "condensed", "interrupted": interrupted}
+    return {
+        "rows": rows,
+        "total_seconds": total,
+        "main_sweep": main_sweep(rows, passes),
+        "warmup_seconds": warmup,
+        "target_seconds": 0.1,
+        "solver": "condensed",
+        "interrupted": interrupted,
+    }
 
 
 def _passes(batched: list[dict[str, Any]], per_pass: int) -> list[list[dict[str, Any]]]:
     """The batched rows cut into complete passes (an interrupted pass is dropped)."""
-    return [batched[i:i + per_pass] for i in range(0, len(batched) - per_pass + 1, per_pass)]
+    return [batched[i : i + per_pass] for i in range(0, len(batched) - per_pass + 1, per_pass)]
 
 
 def _fastest(passes: list[list[dict[str, Any]]]) -> list[dict[str, Any]]:
     """Per sweep, its row of the pass with the least CPU time, with the median and every
     pass's CPU time."""
     out = []
-    for same in zip(*passes):
+    for same in zip(*passes, strict=True):
         cpu = [r["cpu_seconds"] for r in same]
-        out.append(dict(min(same, key=lambda r: r["cpu_seconds"]),
-                        cpu_seconds_median=float(np.median(cpu)), cpu_seconds_passes=cpu))
+        out.append(
+            dict(
+                min(same, key=lambda r: r["cpu_seconds"]),
+                cpu_seconds_median=float(np.median(cpu)),
+                cpu_seconds_passes=cpu,
+            )
+        )
     return out
 
 
-def main_sweep(rows: list[dict[str, Any]],
-               passes: list[list[dict[str, Any]]]) -> dict[str, Any] | None:
+def main_sweep(
+    rows: list[dict[str, Any]], passes: list[list[dict[str, Any]]]
+) -> dict[str, Any] | None:
     """The batched rows summed (module docstring): wall-clock and CPU seconds (each sweep's
     fastest pass), untimed setup, positions, microseconds per position (wall clock) and
     mean Newton iterations; beside them, the CPU time of each whole pass and its smallest
@@ -179,16 +212,21 @@ def main_sweep(rows: list[dict[str, Any]],
     setup = sum(r["setup_seconds"] for r in batched)
     positions = sum(r["positions"] for r in batched)
     whole = [sum(r["cpu_seconds"] for r in p) for p in passes]
-    return {"seconds": seconds, "cpu_seconds": sum(r["cpu_seconds"] for r in batched),
-            "pass_cpu_seconds": whole, "pass_cpu_seconds_min": min(whole),
-            "pass_cpu_seconds_median": float(np.median(whole)),
-            "setup_seconds": setup, "with_setup_seconds": seconds + setup,
-            "positions": positions, "us_per_position": 1e6 * seconds / positions,
-            "mean_newton_iterations": float(np.mean([r["mean_newton_iterations"]
-                                                     for r in batched])),
-            "timed": "per-position batches from the template, projections, joint "
-                     "evaluations, Newton steps; not imports, kernel compilation, beams, "
-                     "template setup"}
+    return {
+        "seconds": seconds,
+        "cpu_seconds": sum(r["cpu_seconds"] for r in batched),
+        "pass_cpu_seconds": whole,
+        "pass_cpu_seconds_min": min(whole),
+        "pass_cpu_seconds_median": float(np.median(whole)),
+        "setup_seconds": setup,
+        "with_setup_seconds": seconds + setup,
+        "positions": positions,
+        "us_per_position": 1e6 * seconds / positions,
+        "mean_newton_iterations": float(np.mean([r["mean_newton_iterations"] for r in batched])),
+        "timed": "per-position batches from the template, projections, joint "
+        "evaluations, Newton steps; not imports, kernel compilation, beams, "
+        "template setup",
+    }
 
 
 def profile(top: int) -> None:
@@ -201,8 +239,13 @@ def profile(top: int) -> None:
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=Path("results/bench.json"))
-    parser.add_argument("--profile", type=int, default=0, metavar="N",
-                        help="print the N most expensive functions instead of benchmarking")
+    parser.add_argument(
+        "--profile",
+        type=int,
+        default=0,
+        metavar="N",
+        help="print the N most expensive functions instead of benchmarking",
+    )
     args = parser.parse_args(argv)
     if args.profile:
         profile(args.profile)
@@ -212,14 +255,18 @@ def main(argv: list[str] | None = None) -> None:
     totals = ", ".join(f"{mode} {t:.3f} s" for mode, t in result["total_seconds"].items())
     main = result["main_sweep"]
     if main is not None:
-        print(f"main sweep (batched): {main['seconds']:.3f} s (CPU {main['cpu_seconds']:.3f} s; "
-              f"whole passes {main['pass_cpu_seconds_min']:.3f} s fastest, "
-              f"{main['pass_cpu_seconds_median']:.3f} s median of {REPEATS}), "
-              f"{main['us_per_position']:.0f} us per position, "
-              f"{main['mean_newton_iterations']:.2f} Newton iterations (target "
-              f"{result['target_seconds']} s; setup apart {main['setup_seconds']:.3f} s)")
-    print(f"whole sweep: {totals}{' (interrupted)' if result['interrupted'] else ''}; "
-          f"written to {args.out}")
+        print(
+            f"main sweep (batched): {main['seconds']:.3f} s (CPU {main['cpu_seconds']:.3f} s; "
+            f"whole passes {main['pass_cpu_seconds_min']:.3f} s fastest, "
+            f"{main['pass_cpu_seconds_median']:.3f} s median of {REPEATS}), "
+            f"{main['us_per_position']:.0f} us per position, "
+            f"{main['mean_newton_iterations']:.2f} Newton iterations (target "
+            f"{result['target_seconds']} s; setup apart {main['setup_seconds']:.3f} s)"
+        )
+    print(
+        f"whole sweep: {totals}{' (interrupted)' if result['interrupted'] else ''}; "
+        f"written to {args.out}"
+    )
 
 
 if __name__ == "__main__":

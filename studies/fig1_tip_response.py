@@ -68,8 +68,11 @@ def read_setup(path: Path = SCENE) -> tuple[float, float, float, float]:
 
 L, EJ, F, STIFFNESS = read_setup()
 FORMULATIONS = ("exact", "fv2", "fv3", "galerkin-p1", "galerkin-p2")
-CLOSED_FORMS = {"exact": closed_forms.cantilever_exact, "fv2": closed_forms.cantilever_fv2,
-                "fv3": closed_forms.cantilever_fv3}
+CLOSED_FORMS = {
+    "exact": closed_forms.cantilever_exact,
+    "fv2": closed_forms.cantilever_fv2,
+    "fv3": closed_forms.cantilever_fv3,
+}
 COLUMNS = ("formulation", "xi_over_L", "v_flexural", "v_shear", "phi")
 STATIONS = np.arange(101) / 100
 SPLIT_TOLERANCE = 1e-12
@@ -93,8 +96,9 @@ def tip_response(formulation: str, GA: float, stations: np.ndarray) -> np.ndarra
     """
     nodes = 2 if formulation in ("fv2", "galerkin-p1") else 3
     section = Section.diagonal(EA=STIFFNESS, GAy=GA, GAz=GA, GJ=STIFFNESS, EJy=EJ, EJz=EJ)
-    beam = Beam(straight((0, 0, 0), (L, 0, 0), n_elements=1, nodes_per_element=nodes),
-                section, formulation)
+    beam = Beam(
+        straight((0, 0, 0), (L, 0, 0), n_elements=1, nodes_per_element=nodes), section, formulation
+    )
     statics = LinearStatics(beam, [Support(0, "start")])
     out = np.empty((len(stations), 2))
     for k, s in enumerate(stations):
@@ -112,20 +116,23 @@ def split(formulation: str, stations: np.ndarray) -> tuple[np.ndarray, np.ndarra
         If a third solve (``GA = 4``) does not match ``v = a + b / GA`` and a
         ``GA``-independent ``phi`` to ``SPLIT_TOLERANCE`` relative.
     """
-    (v1, phi), (v2, _), (v4, phi4) = (tip_response(formulation, GA, stations).T
-                                      for GA in (1.0, 2.0, 4.0))
+    (v1, phi), (v2, _), (v4, phi4) = (
+        tip_response(formulation, GA, stations).T for GA in (1.0, 2.0, 4.0)
+    )
     shear = 2 * (v1 - v2)
     flexural = v1 - shear
     scale = max(np.abs(v1).max(), np.abs(phi).max(), np.finfo(float).tiny)
     error = max(np.abs(flexural + shear / 4 - v4).max(), np.abs(phi4 - phi).max()) / scale
     if error > SPLIT_TOLERANCE:
-        raise RuntimeError(f"{formulation}: v(L) is not a / EJ + b / GA (relative misfit "
-                           f"{error:.2e} at GA = 4)")
+        raise RuntimeError(
+            f"{formulation}: v(L) is not a / EJ + b / GA (relative misfit {error:.2e} at GA = 4)"
+        )
     return flexural, shear, phi
 
 
-def compute(stations: np.ndarray | None = None, *,
-            timings: dict[str, float] | None = None) -> list[dict]:
+def compute(
+    stations: np.ndarray | None = None, *, timings: dict[str, float] | None = None
+) -> list[dict]:
     """Rows of Figure 1: one per formulation and station.
 
     Parameters
@@ -149,13 +156,16 @@ def compute(stations: np.ndarray | None = None, *,
             values = split(name, stations)
         if timings is not None:
             timings[name] = time.perf_counter() - start
-        rows += [dict(zip(COLUMNS, (name, float(s), *map(float, v))))
-                 for s, *v in zip(stations, *values)]
+        rows += [
+            dict(zip(COLUMNS, (name, float(s), *map(float, v)), strict=True))
+            for s, *v in zip(stations, *values, strict=True)
+        ]
     return rows
 
 
 def write_csv(rows: list[dict], path: Path) -> None:
     """Write the rows with header ``COLUMNS``, floats at full precision (``repr``)."""
+
     def write(tmp: Path) -> None:
         with open(tmp, "w", newline="") as f:
             writer = csv.DictWriter(f, fieldnames=COLUMNS)
@@ -174,16 +184,24 @@ def plot(rows: list[dict], path: Path) -> None:
 
     fig = plt.figure(figsize=(10, 8), layout="constrained")
     grid = fig.add_gridspec(2, 2)
-    panels = [(fig.add_subplot(grid[0, 0]), "v_flexural", "flexural part of v(L) [F L^3 / EJ]"),
-              (fig.add_subplot(grid[0, 1]), "v_shear", "shear part of v(L) [F L / GA]"),
-              (fig.add_subplot(grid[1, :]), "phi", "tip rotation phi(L) [F L^2 / EJ]")]
-    styles = {"exact": "k-", "fv2": "C0--", "fv3": "C1-.", "galerkin-p1": "C2:",
-              "galerkin-p2": "C3:"}
+    panels = [
+        (fig.add_subplot(grid[0, 0]), "v_flexural", "flexural part of v(L) [F L^3 / EJ]"),
+        (fig.add_subplot(grid[0, 1]), "v_shear", "shear part of v(L) [F L / GA]"),
+        (fig.add_subplot(grid[1, :]), "phi", "tip rotation phi(L) [F L^2 / EJ]"),
+    ]
+    styles = {
+        "exact": "k-",
+        "fv2": "C0--",
+        "fv3": "C1-.",
+        "galerkin-p1": "C2:",
+        "galerkin-p2": "C3:",
+    }
     for ax, key, label in panels:
         for name in FORMULATIONS:
             mine = [r for r in rows if r["formulation"] == name]
-            ax.plot([r["xi_over_L"] for r in mine], [r[key] for r in mine], styles[name],
-                    label=name)
+            ax.plot(
+                [r["xi_over_L"] for r in mine], [r[key] for r in mine], styles[name], label=name
+            )
         ax.set(xlabel="xi / L", ylabel=label)
         ax.grid(alpha=0.3)
     panels[0][0].legend()
@@ -204,8 +222,9 @@ def closed_form_errors(rows: list[dict]) -> list[tuple[str, float, str]]:
     return out
 
 
-def reproduce(out: Path, plot_png: bool = True,
-              timings: dict[str, float] | None = None) -> list[tuple[str, float, str]]:
+def reproduce(
+    out: Path, plot_png: bool = True, timings: dict[str, float] | None = None
+) -> list[tuple[str, float, str]]:
     """Compute Figure 1, write the CSV (and the PNG) into ``out``, return
     :func:`closed_form_errors`; ``timings`` as in :func:`compute`."""
     rows = compute(timings=timings)
@@ -223,8 +242,11 @@ def main(argv: list[str] | None = None) -> None:
     timings: dict[str, float] = {}
     errors = {name: (error, form) for name, error, form in reproduce(args.out, timings=timings)}
     for name in FORMULATIONS:
-        check = (f"max |row - {errors[name][1]}| = {errors[name][0]:.1e}" if name in errors
-                 else "no closed form")
+        check = (
+            f"max |row - {errors[name][1]}| = {errors[name][0]:.1e}"
+            if name in errors
+            else "no closed form"
+        )
         print(f"{name:12s} {check:46s} {timings[name]:.3f} s")
 
 

@@ -25,9 +25,9 @@ spans 2 natural units), i.e. over ``dL L`` of arc length (``../shared/notes``; i
 value 0.01 is the paper's 1 %).  With this reading every level starts with the whole load on
 the mid node's region and ends with it on the tip node's.
 
-Time integration: generalized-alpha, ``rho_inf = RHO_INF`` (:class:`sliders.solve.dynamics.Dynamics`),
-fixed step ``T_1 / STEPS_PER_PERIOD``.  ``docs/stability.md`` gives the step-halving check and
-the measured numbers.
+Time integration: generalized-alpha, ``rho_inf = RHO_INF``
+(:class:`sliders.solve.dynamics.Dynamics`), fixed step ``T_1 / STEPS_PER_PERIOD``.
+``docs/stability.md`` gives the step-halving check and the measured numbers.
 
 Variants (:data:`VARIANTS`): ``damped`` (the figure), ``undamped`` (``zeta = 0``) and
 ``fast`` (a 10-period crossing, damped).
@@ -55,11 +55,11 @@ import numpy as np
 from fvbeam import Beam, RigidBody, Section, Structure, Support, closed_forms, straight
 from fvbeam.io import write_atomic
 from fvbeam.modes import natural_frequencies
-from sliders.lines.chain import BeamChain
-from sliders.joints.drives import Linear
-from sliders.solve.dynamics import Dynamics
 from sliders.app.history import Recorder
+from sliders.joints.drives import Linear
 from sliders.joints.slider import Slider
+from sliders.lines.chain import BeamChain
+from sliders.solve.dynamics import Dynamics
 
 L, EJ, GA, F = 1.0, 1.0, 1.0, 1.0
 MASS_PER_LENGTH = 1.0
@@ -86,16 +86,26 @@ class Variant:
     stem: str
 
 
-VARIANTS = {"damped": Variant(ZETA, PERIODS, "fig2_smearing"),
-            "undamped": Variant(0.0, PERIODS, "fig2_smearing_undamped"),
-            "fast": Variant(ZETA, 10, "fig2_smearing_10periods")}
+VARIANTS = {
+    "damped": Variant(ZETA, PERIODS, "fig2_smearing"),
+    "undamped": Variant(0.0, PERIODS, "fig2_smearing_undamped"),
+    "fast": Variant(ZETA, 10, "fig2_smearing_10periods"),
+}
 
 
 def section() -> Section:
     """The element's section (module docstring)."""
-    return Section.diagonal(EA=1e3, GAy=GA, GAz=GA, GJ=1.0, EJy=EJ, EJz=EJ,
-                            mass_per_length=MASS_PER_LENGTH,
-                            inertia=np.diag([ROTARY_INERTIA] * 3), name="fig2")
+    return Section.diagonal(
+        EA=1e3,
+        GAy=GA,
+        GAz=GA,
+        GJ=1.0,
+        EJy=EJ,
+        EJz=EJ,
+        mass_per_length=MASS_PER_LENGTH,
+        inertia=np.diag([ROTARY_INERTIA] * 3),
+        name="fig2",
+    )
 
 
 def element() -> Beam:
@@ -105,8 +115,7 @@ def element() -> Beam:
 
 def first_frequency() -> float:
     """``omega_1`` (rad/s) of the clamped element with the lumped mass."""
-    return float(natural_frequencies(Structure([element()]), [Support(0, 0, "clamp")],
-                                     1).omega[0])
+    return float(natural_frequencies(Structure([element()]), [Support(0, 0, "clamp")], 1).omega[0])
 
 
 def speed(periods: float) -> float:
@@ -125,8 +134,10 @@ def static_shear_and_tip(xi: float, smearing: float) -> tuple[float, float]:
     """
     lo, hi = max(xi - smearing * L / 2, 0.0), min(xi + smearing * L / 2, L)
     if lo < EVALUATION_POINT < hi:
-        raise ValueError(f"the kernel [{lo:.4g}, {hi:.4g}] straddles b = "
-                         f"{EVALUATION_POINT:.4g}: no single-region closed form")
+        raise ValueError(
+            f"the kernel [{lo:.4g}, {hi:.4g}] straddles b = "
+            f"{EVALUATION_POINT:.4g}: no single-region closed form"
+        )
     mean = (lo + hi) / 2 if hi > lo else xi
     flexural, shear, _ = closed_forms.cantilever_fv3(mean, L=L, EJ=EJ, GA=GA, F=F)
     return (F if mean > EVALUATION_POINT else 0.0), float(flexural + shear) * EJ / (F * L**3)
@@ -137,26 +148,44 @@ class Crossing:
     and crossing time ``periods`` T_1; ``xi_start`` (default ``XI_START``) starts the same
     motion later, from the static equilibrium there (the tests' shorter windows)."""
 
-    def __init__(self, smearing: float, zeta: float = ZETA, periods: float = PERIODS,
-                 xi_start: float = XI_START) -> None:
+    def __init__(
+        self,
+        smearing: float,
+        zeta: float = ZETA,
+        periods: float = PERIODS,
+        xi_start: float = XI_START,
+    ) -> None:
         if not 0 <= smearing < 1:
-            raise ValueError(f"smearing must be a fraction of the element length in [0, 1), "
-                             f"got {smearing}")
+            raise ValueError(
+                f"smearing must be a fraction of the element length in [0, 1), got {smearing}"
+            )
         self.smearing, self.xi_start, self.omega_1 = smearing, xi_start, first_frequency()
         self.period = 2 * np.pi / self.omega_1
         self.velocity = speed(periods)
         self.t_end = (XI_END - xi_start) / self.velocity
         self.beam = element()
-        self.structure = Structure([self.beam], bodies=[RigidBody("body", (xi_start, 0, 0),
-                                                                  mass=0.0)])
-        slider = Slider("spherical", BeamChain(self.structure, [0]), "body",
-                        drive=Linear(xi_start, self.velocity), smearing=smearing * L / 2,
-                        kernel="box", name="body")
+        self.structure = Structure(
+            [self.beam], bodies=[RigidBody("body", (xi_start, 0, 0), mass=0.0)]
+        )
+        slider = Slider(
+            "spherical",
+            BeamChain(self.structure, [0]),
+            "body",
+            drive=Linear(xi_start, self.velocity),
+            smearing=smearing * L / 2,
+            kernel="box",
+            name="body",
+        )
         supports = [Support(0, 0, "clamp"), Support("body", kind="rx+ry+rz")]
-        self.dynamics = Dynamics(self.structure, supports, [slider],
-                                 self.structure.nodal_load("body", (0, F, 0)),
-                                 damping=2 * zeta / self.omega_1, rho_inf=RHO_INF,
-                                 method="condensed")
+        self.dynamics = Dynamics(
+            self.structure,
+            supports,
+            [slider],
+            self.structure.nodal_load("body", (0, F, 0)),
+            damping=2 * zeta / self.omega_1,
+            rho_inf=RHO_INF,
+            method="condensed",
+        )
         self._tip = self.structure.node_dofs((0, "end"))[1]
 
     def shear(self, q: np.ndarray) -> float:
@@ -169,16 +198,26 @@ class Crossing:
 
     def recorder(self) -> Recorder:
         """An in-memory recorder with the shear and tip probes."""
-        return Recorder(None, probes={"shear": lambda s, d: self.shear(s.q),
-                                      "tip": lambda s, d: self.tip(s.q)})
+        return Recorder(
+            None, probes={"shear": lambda s, d: self.shear(s.q), "tip": lambda s, d: self.tip(s.q)}
+        )
 
-    def run(self, steps_per_period: int = STEPS_PER_PERIOD, recorder: Recorder | None = None,
-            progress: bool = False) -> dict[str, np.ndarray]:
+    def run(
+        self,
+        steps_per_period: int = STEPS_PER_PERIOD,
+        recorder: Recorder | None = None,
+        progress: bool = False,
+    ) -> dict[str, np.ndarray]:
         """Integrate from the static state to ``XI_END``; :func:`history` per step.  A
         ``KeyboardInterrupt`` propagates; ``recorder`` then holds the steps computed."""
         recorder = recorder if recorder is not None else self.recorder()
-        self.dynamics.run(self.dynamics.static_state(), self.t_end,
-                          self.period / steps_per_period, recorder=recorder, progress=progress)
+        self.dynamics.run(
+            self.dynamics.static_state(),
+            self.t_end,
+            self.period / steps_per_period,
+            recorder=recorder,
+            progress=progress,
+        )
         return history(recorder)
 
 
@@ -186,9 +225,16 @@ def history(recorder: Recorder) -> dict[str, np.ndarray]:
     """``t, xi, shear, tip`` and Newton ``iterations`` per step from a :class:`Crossing`
     recorder."""
     table = recorder.table() if recorder.rows else {}
-    return {key: table.get(column, np.empty(0)) for key, column in
-            (("t", "t"), ("xi", "body.xi"), ("shear", "shear"), ("tip", "tip"),
-             ("iterations", "iterations"))}
+    return {
+        key: table.get(column, np.empty(0))
+        for key, column in (
+            ("t", "t"),
+            ("xi", "body.xi"),
+            ("shear", "shear"),
+            ("tip", "tip"),
+            ("iterations", "iterations"),
+        )
+    }
 
 
 def overshoot(run: dict[str, np.ndarray]) -> float:
@@ -196,8 +242,9 @@ def overshoot(run: dict[str, np.ndarray]) -> float:
     return float(run["shear"].max() - 1.0)
 
 
-def compute(variant: Variant, levels=LEVELS, steps_per_period: int = STEPS_PER_PERIOD,
-            progress: bool = True) -> tuple[dict[float, dict[str, np.ndarray]], bool]:
+def compute(
+    variant: Variant, levels=LEVELS, steps_per_period: int = STEPS_PER_PERIOD, progress: bool = True
+) -> tuple[dict[float, dict[str, np.ndarray]], bool]:
     """Every smearing level of ``variant``: ``{level: run}`` and whether Ctrl-C stopped it
     (then the levels computed so far, the interrupted one up to its last step)."""
     from tqdm.auto import tqdm
@@ -218,12 +265,13 @@ def compute(variant: Variant, levels=LEVELS, steps_per_period: int = STEPS_PER_P
 
 def write_csv(runs: dict[float, dict[str, np.ndarray]], path: Path) -> None:
     """One row per level and step, ``COLUMNS``, floats at full precision."""
+
     def write(tmp: Path) -> None:
         with open(tmp, "w", newline="") as handle:
             writer = csv.writer(handle)
             writer.writerow(COLUMNS)
             for level, run in runs.items():
-                for row in zip(run["t"], run["xi"], run["shear"], run["tip"]):
+                for row in zip(run["t"], run["xi"], run["shear"], run["tip"], strict=True):
                     writer.writerow([repr(level), *map(repr, map(float, row))])
 
     write_atomic(path, write)
@@ -249,15 +297,18 @@ def plot(runs: dict[float, dict[str, np.ndarray]], variant: Variant, path: Path)
     right.set_ylabel("tip displacement [F L^3 / EJ]")
     left.legend()
     damping = f"zeta = {100 * variant.zeta:g} %" if variant.zeta else "undamped"
-    fig.suptitle(f"one fv3 element, body crossing b = L (1 + 1/sqrt 3) / 2 in "
-                 f"{variant.periods:g} T_1 ({damping})")
+    fig.suptitle(
+        f"one fv3 element, body crossing b = L (1 + 1/sqrt 3) / 2 in "
+        f"{variant.periods:g} T_1 ({damping})"
+    )
     fig.tight_layout()
     write_atomic(path, lambda tmp: fig.savefig(tmp, dpi=120))
     plt.close(fig)
 
 
-def summary(runs: dict[float, dict[str, np.ndarray]],
-            prefix: str = "") -> list[tuple[str, float, str]]:
+def summary(
+    runs: dict[float, dict[str, np.ndarray]], prefix: str = ""
+) -> list[tuple[str, float, str]]:
     """Per level: the overshoot of the shear at ``b``, and the end values' differences from
     the static closed forms (:func:`static_shear_and_tip`); ``prefix`` starts each case."""
     out = []
@@ -266,16 +317,21 @@ def summary(runs: dict[float, dict[str, np.ndarray]],
             continue
         shear, tip = static_shear_and_tip(float(run["xi"][-1]), level)
         case = f"{prefix}{100 * level:g} %"
-        out += [(f"{case} overshoot of V(b)", overshoot(run), "1 % cuts it tenfold (paper)"),
-                (f"{case} end |V(b) - V_static|", abs(run["shear"][-1] - shear),
-                 "static closed form"),
-                (f"{case} end |v(L) - v_static|", abs(run["tip"][-1] - tip),
-                 "closed_forms.cantilever_fv3")]
+        out += [
+            (f"{case} overshoot of V(b)", overshoot(run), "1 % cuts it tenfold (paper)"),
+            (f"{case} end |V(b) - V_static|", abs(run["shear"][-1] - shear), "static closed form"),
+            (
+                f"{case} end |v(L) - v_static|",
+                abs(run["tip"][-1] - tip),
+                "closed_forms.cantilever_fv3",
+            ),
+        ]
     return out
 
 
-def reproduce(out: Path, plot_png: bool = True, progress: bool = True,
-              variants=tuple(VARIANTS)) -> list[tuple[str, float, str]]:
+def reproduce(
+    out: Path, plot_png: bool = True, progress: bool = True, variants=tuple(VARIANTS)
+) -> list[tuple[str, float, str]]:
     """Run the ``variants`` (keys of :data:`VARIANTS`), write their CSVs (and PNGs) into
     ``out``, return their :func:`summary` rows.  If Ctrl-C stops a run, what was computed is
     written and the ``KeyboardInterrupt`` raised again."""
@@ -296,8 +352,13 @@ def main(argv: list[str] | None = None) -> int:
     """Run the variants asked for, print the summary; exit code 130 on Ctrl-C."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=Path("results"))
-    parser.add_argument("--variants", nargs="+", choices=list(VARIANTS),
-                        default=list(VARIANTS), help="which runs (default: all)")
+    parser.add_argument(
+        "--variants",
+        nargs="+",
+        choices=list(VARIANTS),
+        default=list(VARIANTS),
+        help="which runs (default: all)",
+    )
     args = parser.parse_args(argv)
     start = time.perf_counter()
     try:

@@ -8,8 +8,8 @@ bottom end node slides on C.  Slider B: C's top end node slides on P.  A transve
 ``F`` at P's tip.  ``EJ = 4.1e4 N m^2``, ``GA = 1.1e8 N``, ``L = 0.6 m``; ``EA = 10 GA`` and
 ``GJ = EJ`` play no role in this bending problem.  The tip stiffness ``k = F / v(s + L)`` is
 normalised by ``EJ / L^3`` and compared with the analytic two-beam solution
-(:func:`sliders.sliding_beams.exact.sliding_beams`, ``docs/sliders.md``).  The section, ``L`` and ``F``
-are read from the setup's scene, ``studies/scenes/fig4_sliding_beams.toml``; this script
+(:func:`sliders.sliding_beams.exact.sliding_beams`, ``docs/sliders.md``).  The section, ``L``
+and ``F`` are read from the setup's scene, ``studies/scenes/fig4_sliding_beams.toml``; this script
 varies the slider kind, the formulation, the mesh, the smearing and the stations.
 
 Run as ``python -m studies.fig4_stiffness --out DIR``; writes ``DIR/fig4_stiffness.csv``
@@ -45,8 +45,9 @@ def read_setup(path: Path = SCENE) -> Setup:
 
     scene = load_scene(path)
     tube, beam = scene.section[0], scene.beam[0]
-    section = Section.diagonal(EA=tube.EA, GAy=tube.GAy, GAz=tube.GAz, GJ=tube.GJ,
-                               EJy=tube.EJy, EJz=tube.EJz)
+    section = Section.diagonal(
+        EA=tube.EA, GAy=tube.GAy, GAz=tube.GAz, GJ=tube.GJ, EJy=tube.EJy, EJz=tube.EJz
+    )
     length = float(np.linalg.norm(np.subtract(beam.straight.end, beam.straight.start)))
     return Setup(section, length, float(np.linalg.norm(scene.load[0].force)))
 
@@ -54,17 +55,28 @@ def read_setup(path: Path = SCENE) -> Setup:
 SETUP = read_setup()
 L, EJ, GA = SETUP.length, SETUP.EJ, SETUP.GA
 STATIONS = np.arange(96) / 100
-CASES = ([("fv3", n) for n in (1, 3, 5, 10, 20, 40)] + [("galerkin-p2", n) for n in (1, 3, 5)])
+CASES = [("fv3", n) for n in (1, 3, 5, 10, 20, 40)] + [("galerkin-p2", n) for n in (1, 3, 5)]
 SMEARINGS = (0.0, 0.01)
-COLUMNS = ("slider", "formulation", "n_elements", "smearing", "s_over_L", "k_norm",
-           "k_norm_exact", "rel_error")
+COLUMNS = (
+    "slider",
+    "formulation",
+    "n_elements",
+    "smearing",
+    "s_over_L",
+    "k_norm",
+    "k_norm_exact",
+    "rel_error",
+)
 #: Paper Sec. 6 bounds on |rel_error|: (elements, on [0, 0.95], on [0, 0.8]).
-BOUNDS = {"spherical": ((1, 0.07, 0.07), (3, 0.02, 0.011), (5, 0.02, 0.011)),
-          "classical": ((1, 0.07, 0.07), (3, 0.025, 0.015), (5, 0.025, 0.015))}
+BOUNDS = {
+    "spherical": ((1, 0.07, 0.07), (3, 0.02, 0.011), (5, 0.02, 0.011)),
+    "classical": ((1, 0.07, 0.07), (3, 0.025, 0.015), (5, 0.025, 0.015)),
+}
 
 
-def sweep(kind: str, formulation: str, n: int, smearing: float,
-          stations: np.ndarray = STATIONS) -> tuple[np.ndarray, SlidingBeams]:
+def sweep(
+    kind: str, formulation: str, n: int, smearing: float, stations: np.ndarray = STATIONS
+) -> tuple[np.ndarray, SlidingBeams]:
     """``k_norm`` at every station (all solved at once, :meth:`SlidingBeams.solve`); NaN
     where the configuration is singular."""
     model = SlidingBeams(formulation, n, kind, smearing, setup=SETUP)
@@ -76,25 +88,38 @@ def sweep(kind: str, formulation: str, n: int, smearing: float,
     return out, model
 
 
-def compute(cases=CASES, smearings=SMEARINGS, stations: np.ndarray = STATIONS,
-            progress: bool = True) -> list[dict]:
+def compute(
+    cases=CASES, smearings=SMEARINGS, stations: np.ndarray = STATIONS, progress: bool = True
+) -> list[dict]:
     """Rows of Figures 4 and 5 for every slider kind, formulation, mesh and smearing.
 
     ``progress``: a progress bar on a terminal (never when the output is not a terminal).
     """
     from tqdm import tqdm
 
-    exact = {kind: np.array([sliding_beams(s * L, L, EJ, GA, kind)["k_norm"]
-                             for s in stations]) for kind in KINDS}
+    exact = {
+        kind: np.array([sliding_beams(s * L, L, EJ, GA, kind)["k_norm"] for s in stations])
+        for kind in KINDS
+    }
     jobs = [(k, f, n, sm) for k in KINDS for f, n in cases for sm in smearings]
     rows = []
-    for kind, formulation, n, smearing in tqdm(jobs, disable=None if progress else True,
-                                               desc="fig4"):
+    for kind, formulation, n, smearing in tqdm(
+        jobs, disable=None if progress else True, desc="fig4"
+    ):
         k, _ = sweep(kind, formulation, n, smearing, stations)
-        for s, kn, ke in zip(stations, k, exact[kind]):
-            rows.append(dict(slider=kind, formulation=formulation, n_elements=n,
-                             smearing=smearing, s_over_L=s, k_norm=kn, k_norm_exact=ke,
-                             rel_error=kn / ke - 1))
+        for s, kn, ke in zip(stations, k, exact[kind], strict=True):
+            rows.append(
+                dict(
+                    slider=kind,
+                    formulation=formulation,
+                    n_elements=n,
+                    smearing=smearing,
+                    s_over_L=s,
+                    k_norm=kn,
+                    k_norm_exact=ke,
+                    rel_error=kn / ke - 1,
+                )
+            )
     return rows
 
 
@@ -104,8 +129,9 @@ def write_csv(rows: list[dict], path: Path) -> None:
             writer = csv.DictWriter(handle, COLUMNS)
             writer.writeheader()
             for row in rows:
-                writer.writerow({k: ("" if isinstance(v, float) and np.isnan(v) else v)
-                                 for k, v in row.items()})
+                writer.writerow(
+                    {k: ("" if isinstance(v, float) and np.isnan(v) else v) for k, v in row.items()}
+                )
 
     write_atomic(path, write)
 
@@ -118,29 +144,41 @@ def plot(rows: list[dict], out: Path) -> None:
     import matplotlib.pyplot as plt
 
     def series(kind, formulation, n):
-        pick = [r for r in rows if r["slider"] == kind and r["formulation"] == formulation
-                and r["n_elements"] == n and r["smearing"] == 0.0]
-        return (np.array([r["s_over_L"] for r in pick]),
-                np.array([r["k_norm"] for r in pick]),
-                np.array([r["k_norm_exact"] for r in pick]))
+        pick = [
+            r
+            for r in rows
+            if r["slider"] == kind
+            and r["formulation"] == formulation
+            and r["n_elements"] == n
+            and r["smearing"] == 0.0
+        ]
+        return (
+            np.array([r["s_over_L"] for r in pick]),
+            np.array([r["k_norm"] for r in pick]),
+            np.array([r["k_norm_exact"] for r in pick]),
+        )
 
     for name, error in (("fig4_stiffness.png", False), ("fig5_rel_error.png", True)):
         fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharex=True)
-        for ax, kind in zip(axes, KINDS):
+        for ax, kind in zip(axes, KINDS, strict=True):
             s, _, exact = series(kind, "fv3", 1)
             if not error:
                 ax.plot(s, exact, "k-", lw=2, label="analytic")
             for n, style in ((1, ":"), (3, "--"), (5, "-.")):
                 s, k, exact = series(kind, "fv3", n)
-                ax.plot(s, 100 * (k / exact - 1) if error else k, style,
-                        label=f"fv3, {n} element{'s' if n > 1 else ''}")
+                ax.plot(
+                    s,
+                    100 * (k / exact - 1) if error else k,
+                    style,
+                    label=f"fv3, {n} element{'s' if n > 1 else ''}",
+                )
             ax.set_title(f"{kind} slider")
             ax.set_xlabel("s / L")
             ax.set_ylabel("relative error of k [%]" if error else "k L^3 / EJ")
             ax.grid(alpha=0.3)
             ax.legend()
         fig.tight_layout()
-        write_atomic(out / name, lambda tmp: fig.savefig(tmp, dpi=120))
+        write_atomic(out / name, lambda tmp, fig=fig: fig.savefig(tmp, dpi=120))
         plt.close(fig)
 
 
@@ -151,20 +189,32 @@ def max_errors(rows: list[dict]) -> list[tuple[str, float, str]]:
     out = []
     for kind in KINDS:
         for n, bound_all, bound_08 in BOUNDS[kind]:
-            pick = [r for r in rows if r["slider"] == kind and r["formulation"] == "fv3"
-                    and r["n_elements"] == n and r["smearing"] == 0.0]
+            pick = [
+                r
+                for r in rows
+                if r["slider"] == kind
+                and r["formulation"] == "fv3"
+                and r["n_elements"] == n
+                and r["smearing"] == 0.0
+            ]
             err = np.array([abs(r["rel_error"]) for r in pick])
             s = np.array([r["s_over_L"] for r in pick])
             singular = int(np.isnan(err).sum())
             note = f"; singular at {singular} stations" if singular else ""
             for top, bound in ((0.95, bound_all), (0.8, bound_08)):
-                out.append((f"{kind} fv3 n={n}, s/L in [0, {top}]",
-                            float(np.nanmax(err[s <= top])), f"paper: <= {bound}{note}"))
+                out.append(
+                    (
+                        f"{kind} fv3 n={n}, s/L in [0, {top}]",
+                        float(np.nanmax(err[s <= top])),
+                        f"paper: <= {bound}{note}",
+                    )
+                )
     return out
 
 
-def reproduce(out: Path, plot_png: bool = True,
-              progress: bool = True) -> list[tuple[str, float, str]]:
+def reproduce(
+    out: Path, plot_png: bool = True, progress: bool = True
+) -> list[tuple[str, float, str]]:
     """Compute Figures 4 and 5, write the CSV (and the PNGs, with pyvista renders of the
     deformed setup when pyvista is installed: :func:`studies.render.render_sliding_beams`)
     into ``out``, return :func:`max_errors`."""

@@ -40,8 +40,7 @@ L, EJ, GA, M_PER_LENGTH, F = 1.0, 1.0, 1e5, 1.0, 1.0
 SPEED = 0.5 * np.pi * np.sqrt(EJ / M_PER_LENGTH) / L
 CROSSING = L / SPEED
 #: Mass matrix per formulation: fv lumped (its only kind), Galerkin consistent.
-MASS = {"fv2": "lumped", "fv3": "lumped", "galerkin-p1": "consistent",
-        "galerkin-p2": "consistent"}
+MASS = {"fv2": "lumped", "fv3": "lumped", "galerkin-p1": "consistent", "galerkin-p2": "consistent"}
 #: Degree in the load's abscissa of a point load's vector between break points.
 LOAD_DEGREE = {"fv2": 1, "fv3": 1, "galerkin-p1": 1, "galerkin-p2": 2}
 
@@ -60,8 +59,9 @@ class Model:
     def load(self, t: float) -> np.ndarray:
         """Global load vector of the force at ``xi = c t``."""
         xi = min(max(SPEED * t, 0.0), L)
-        return self.structure.gather(0, self.beam.point_load(
-            xi, force=(0.0, F, 0.0), smearing=self.smearing))
+        return self.structure.gather(
+            0, self.beam.point_load(xi, force=(0.0, F, 0.0), smearing=self.smearing)
+        )
 
     @property
     def midspan(self) -> int:
@@ -69,16 +69,29 @@ class Model:
         return int(self.structure.node_dofs((0, self.n_elements // 2))[1])
 
     def dynamics(self, rho_inf: float) -> Dynamics:
-        return Dynamics(self.structure, self.supports, load=self.load,
-                        mass=MASS[self.formulation], rho_inf=rho_inf)
+        return Dynamics(
+            self.structure,
+            self.supports,
+            load=self.load,
+            mass=MASS[self.formulation],
+            rho_inf=rho_inf,
+        )
 
 
 def model(formulation: str, n_elements: int, smearing: float = 0.0) -> Model:
     """The simply supported beam of ``n_elements`` (even) elements."""
     if n_elements % 2:
         raise ValueError(f"n_elements must be even (mid-span on a node), got {n_elements}")
-    section = Section.diagonal(EA=1e3, GAy=GA, GAz=GA, GJ=1.0, EJy=EJ, EJz=EJ,
-                               mass_per_length=M_PER_LENGTH, name="moving-load")
+    section = Section.diagonal(
+        EA=1e3,
+        GAy=GA,
+        GAz=GA,
+        GJ=1.0,
+        EJy=EJ,
+        EJz=EJ,
+        mass_per_length=M_PER_LENGTH,
+        name="moving-load",
+    )
     npe = 2 if formulation in ("fv2", "galerkin-p1") else 3
     beam = Beam(straight((0, 0, 0), (L, 0, 0), n_elements, npe), section, formulation)
     supports = [Support(0, "start", "ux+uy+uz+rx"), Support(0, "end", "uy+uz")]
@@ -101,12 +114,12 @@ def simulate(m: Model, steps: int, rho_inf: float = 0.8) -> tuple[np.ndarray, np
 
 def exact_midspan(t: np.ndarray, rtol: float = 1e-8) -> np.ndarray:
     """The continuum's mid-span deflection (:func:`moving_load_simply_supported`)."""
-    return moving_load_simply_supported(L / 2, np.minimum(t, CROSSING), L, EJ, GA,
-                                        M_PER_LENGTH, F, SPEED, rtol=rtol)
+    return moving_load_simply_supported(
+        L / 2, np.minimum(t, CROSSING), L, EJ, GA, M_PER_LENGTH, F, SPEED, rtol=rtol
+    )
 
 
-def relative_error(w: np.ndarray, reference: np.ndarray,
-                   scale: np.ndarray | None = None) -> float:
+def relative_error(w: np.ndarray, reference: np.ndarray, scale: np.ndarray | None = None) -> float:
     """``max_t |w - w_ref| / max_t |w_scale|``, by default ``w_scale = w_ref``."""
     scale = reference if scale is None else scale
     return float(np.abs(w - reference).max() / np.abs(scale).max())
@@ -118,12 +131,12 @@ def semi_discrete(m: Model, t: np.ndarray) -> np.ndarray:
     d = m.dynamics(1.0)
     free = d.free
     mass = d.M[free][:, free].toarray()
-    moving = np.flatnonzero(np.diag(mass) > 0)                 # translations with mass
-    still = np.setdiff1d(np.arange(len(free)), moving)         # massless rotations
+    moving = np.flatnonzero(np.diag(mass) > 0)  # translations with mass
+    still = np.setdiff1d(np.arange(len(free)), moving)  # massless rotations
     K = d.K[free][:, free].toarray()
     Kmm, Kms = K[np.ix_(moving, moving)], K[np.ix_(moving, still)]
     Ksm, Kss = K[np.ix_(still, moving)], K[np.ix_(still, still)]
-    condense = Kms @ np.linalg.inv(Kss)                         # f* = f_m - Kms Kss^-1 f_s
+    condense = Kms @ np.linalg.inv(Kss)  # f* = f_m - Kms Kss^-1 f_s
     omega2, V = sla.eig(Kmm - condense @ Ksm, mass[np.ix_(moving, moving)])
     if np.abs(omega2.imag).max() > 1e-9 * np.abs(omega2).max() or omega2.real.min() <= 0:
         raise ValueError("the condensed modes are not real and positive")
@@ -132,7 +145,7 @@ def semi_discrete(m: Model, t: np.ndarray) -> np.ndarray:
     project = modal @ np.hstack([np.eye(len(moving)), -condense])  # f_free -> modal force
     order = np.concatenate([moving, still])
 
-    def force(times: np.ndarray) -> np.ndarray:                  # (n_modes, len(times))
+    def force(times: np.ndarray) -> np.ndarray:  # (n_modes, len(times))
         f = np.array([m.load(s)[free][order] for s in times]).T
         return project @ f
 
@@ -141,7 +154,7 @@ def semi_discrete(m: Model, t: np.ndarray) -> np.ndarray:
     degree = LOAD_DEGREE[m.formulation]
     q, v = np.zeros(len(omega)), np.zeros(len(omega))
     out = np.zeros(len(t))
-    for t0, t1 in zip(breaks[:-1], breaks[1:]):
+    for t0, t1 in zip(breaks[:-1], breaks[1:], strict=True):
         # the piece's modal force as a polynomial in s = t - t0, from interior samples
         s = (t1 - t0) * (np.arange(degree + 1) + 0.5) / (degree + 1)
         g = force(t0 + s) @ np.linalg.inv(np.vander(s, degree + 1, increasing=True)).T
@@ -162,8 +175,9 @@ def _load_breaks(m: Model) -> np.ndarray:
     return np.unique(np.clip(xi, 0, L)) / SPEED
 
 
-def _polynomial_response(omega: np.ndarray, g: np.ndarray, q0: np.ndarray, v0: np.ndarray,
-                         s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _polynomial_response(
+    omega: np.ndarray, g: np.ndarray, q0: np.ndarray, v0: np.ndarray, s: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Exact ``q(s), q'(s)`` of ``q'' + omega^2 q = sum_i g_i s^i`` (degree <= 2) from
     ``q0, v0``: the particular solution ``g / omega^2 - g'' / omega^4`` plus the free
     oscillation that meets the initial values."""
@@ -176,5 +190,7 @@ def _polynomial_response(omega: np.ndarray, g: np.ndarray, q0: np.ndarray, v0: n
     c, sn = np.cos(ws), np.sin(ws)
     qp = (g[:, :1] + g[:, 1:2] * s + g[:, 2:] * s**2) / w2[:, None] - (2 * g[:, 2] / w2**2)[:, None]
     vp = (g[:, 1:2] + 2 * g[:, 2:] * s) / w2[:, None]
-    return (A[:, None] * c + B[:, None] * sn + qp,
-            omega[:, None] * (B[:, None] * c - A[:, None] * sn) + vp)
+    return (
+        A[:, None] * c + B[:, None] * sn + qp,
+        omega[:, None] * (B[:, None] * c - A[:, None] * sn) + vp,
+    )

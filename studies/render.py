@@ -24,10 +24,16 @@ def render_sliding_beams(out: Path, magnification: float | None = None) -> list[
         statics, load = SlidingBeams("fv3", 5, kind).problem(0.3)
         solution = statics.solve(load)
         target = Path(out) / f"render_{kind}.png"
-        scale = render(target, statics.structure, solution.q, statics.sliders,
-                       solution.unknowns, magnification,
-                       f"sliding beams, {kind} sliders, s/L = 0.3, fv3 x 5 elements",
-                       radius=DEMO_RADII * structure_size(statics.structure))
+        scale = render(
+            target,
+            statics.structure,
+            solution.q,
+            statics.sliders,
+            solution.unknowns,
+            magnification,
+            f"sliding beams, {kind} sliders, s/L = 0.3, fv3 x 5 elements",
+            radius=DEMO_RADII * structure_size(statics.structure),
+        )
         lines.append(f"{target} (displacements x {scale:.3g})")
     return lines
 
@@ -36,9 +42,13 @@ def main(argv: list[str] | None = None) -> None:
     """Render the sliding-beams setup at ``s/L = 0.3``, both slider kinds."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=Path("results"))
-    parser.add_argument("--magnification", type=float, default=None,
-                        help="displacement scale (default: largest displacement drawn as "
-                             f"{AUTO_FRACTION:g} of the structure's size)")
+    parser.add_argument(
+        "--magnification",
+        type=float,
+        default=None,
+        help="displacement scale (default: largest displacement drawn as "
+        f"{AUTO_FRACTION:g} of the structure's size)",
+    )
     args = parser.parse_args(argv)
     for line in render_sliding_beams(args.out, args.magnification):
         print(line)

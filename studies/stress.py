@@ -48,9 +48,9 @@ from __future__ import annotations
 import argparse
 import csv
 import time
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
-from typing import Callable, Iterable, Sequence
 
 import numpy as np
 
@@ -58,11 +58,11 @@ from fvbeam import Beam, RigidBody, Section, Structure, Support, straight
 from fvbeam.elements import evaluation_points
 from fvbeam.io import replace_directory, write_atomic
 from fvbeam.modes import natural_frequencies
-from sliders.lines.chain import BeamChain
-from sliders.joints.drives import Tabulated
-from sliders.solve.dynamics import Dynamics, DynamicsError
 from sliders.app.history import Recorder
+from sliders.joints.drives import Tabulated
 from sliders.joints.slider import Slider
+from sliders.lines.chain import BeamChain
+from sliders.solve.dynamics import Dynamics, DynamicsError
 
 BEAMS, ELEMENTS, LENGTH, EJ = 5, 2, 1.0, 1.0
 ELEMENT = LENGTH / ELEMENTS
@@ -101,25 +101,45 @@ AXES = {
 RHO_INF = (0.8, 1.0)
 
 
-def cases(dense: bool = False, base: Case = Case(),
-          rho_inf: Sequence[float] = RHO_INF) -> list[tuple[str, Case]]:
+def cases(
+    dense: bool = False, base: Case = Case(), rho_inf: Sequence[float] = RHO_INF
+) -> list[tuple[str, Case]]:
     """The sweep: each axis of :data:`AXES` varied alone about ``base``, at each
     ``rho_inf``."""
-    return [(axis, replace(base, **{axis: float(v)}, rho_inf=rho))
-            for rho in rho_inf for axis, values in AXES.items() for v in values[dense]]
+    return [
+        (axis, replace(base, **{axis: float(v)}, rho_inf=rho))
+        for rho in rho_inf
+        for axis, values in AXES.items()
+        for v in values[dense]
+    ]
 
 
 def section(slenderness: float) -> Section:
     """The chain's section with ``EJ / (GA L^2) = slenderness``."""
-    GA = EJ / (slenderness * LENGTH ** 2)
-    return Section.diagonal(EA=1e4, GAy=GA, GAz=GA, GJ=1.0, EJy=EJ, EJz=EJ,
-                            mass_per_length=1.0, inertia=np.diag([1e-4] * 3), name="chain")
+    GA = EJ / (slenderness * LENGTH**2)
+    return Section.diagonal(
+        EA=1e4,
+        GAy=GA,
+        GAz=GA,
+        GJ=1.0,
+        EJy=EJ,
+        EJz=EJ,
+        mass_per_length=1.0,
+        inertia=np.diag([1e-4] * 3),
+        name="chain",
+    )
 
 
 def chain_beams(slenderness: float) -> tuple[list[Beam], list[tuple]]:
     """The five beams along x and the ties joining them end to start."""
-    beams = [Beam(straight((k * LENGTH, 0, 0), ((k + 1) * LENGTH, 0, 0), ELEMENTS, 3),
-                  section(slenderness), "fv3") for k in range(BEAMS)]
+    beams = [
+        Beam(
+            straight((k * LENGTH, 0, 0), ((k + 1) * LENGTH, 0, 0), ELEMENTS, 3),
+            section(slenderness),
+            "fv3",
+        )
+        for k in range(BEAMS)
+    ]
     return beams, [(k, "end", k + 1, "start") for k in range(BEAMS - 1)]
 
 
@@ -137,7 +157,7 @@ def chain_points(chain: BeamChain) -> tuple[np.ndarray, np.ndarray]:
     """Abscissae along ``chain`` of the evaluation points of its beams' elements (paper
     Sec. 5: ``s = -+1/sqrt(3)`` on each fv3 element) and of its beam junctions."""
     points = []
-    for offset, beam in zip(chain.offsets, chain.beams):
+    for offset, beam in zip(chain.offsets[:-1], chain.beams, strict=True):
         mesh = beam.mesh
         X = evaluation_points(mesh.nodes_per_element)
         e = np.repeat(np.arange(mesh.n_elements), len(X))
@@ -164,22 +184,30 @@ class Model:
     t_end: float
 
 
-def build(case: Case, waypoints: Sequence[float], leg_time: float, h: float, *,
-          max_iterations: int = 25) -> Model:
+def build(
+    case: Case, waypoints: Sequence[float], leg_time: float, h: float, *, max_iterations: int = 25
+) -> Model:
     """The chain and the driven body of ``case``: ``xi`` runs through ``waypoints`` at
     constant speed, ``leg_time`` per leg (a drive table; the first waypoint is held before)."""
     beams, ties = chain_beams(case.slenderness)
-    structure = Structure(beams, ties, bodies=[RigidBody("body", (waypoints[0], 0, 0),
-                                                         mass=0.0)])
+    structure = Structure(beams, ties, bodies=[RigidBody("body", (waypoints[0], 0, 0), mass=0.0)])
     chain = BeamChain(structure, list(range(BEAMS)), name="rail")
     times = leg_time * np.arange(len(waypoints))
     drive = Tabulated(times, np.asarray(waypoints, dtype=float), order=1)
-    slider = Slider("spherical", chain, "body", drive=drive, smearing=case.smearing * ELEMENT,
-                    name="carriage")
+    slider = Slider(
+        "spherical", chain, "body", drive=drive, smearing=case.smearing * ELEMENT, name="carriage"
+    )
     supports = CLAMPS + [Support("body", kind="rx+ry+rz")]
-    dynamics = Dynamics(structure, supports, [slider], structure.nodal_load("body", FORCE),
-                        rho_inf=case.rho_inf, method="condensed", tol=TOL,
-                        max_iterations=max_iterations)
+    dynamics = Dynamics(
+        structure,
+        supports,
+        [slider],
+        structure.nodal_load("body", FORCE),
+        rho_inf=case.rho_inf,
+        method="condensed",
+        tol=TOL,
+        max_iterations=max_iterations,
+    )
     return Model(dynamics, slider, chain, drive, h, float(times[-1]))
 
 
@@ -250,8 +278,9 @@ class Outcome:
     error: str = ""
 
 
-def run(model: Model, directory: Path | None = None, progress: bool = False,
-        interruptible: bool = False) -> tuple[Outcome, dict[str, np.ndarray]]:
+def run(
+    model: Model, directory: Path | None = None, progress: bool = False, interruptible: bool = False
+) -> tuple[Outcome, dict[str, np.ndarray]]:
     """Integrate ``model`` from its static state with a recorder (CSV files in ``directory``
     if given; a progress bar over time with ``progress``); returns what :func:`measure`
     finds and the recorded table.  A :class:`DynamicsError` is kept in
@@ -260,11 +289,16 @@ def run(model: Model, directory: Path | None = None, progress: bool = False,
     d = model.dynamics
     structure = d.structure
     body = structure.node_dofs("body")[:3]
-    recorder = Recorder(directory, probes={
-        "skew_work": StepSum(skew_work), "roundoff_scale": StepSum(roundoff_scale),
-        "reach": lambda s, dyn: float(np.abs(s.q).max()),
-        "body_uy": lambda s, dyn: float(s.q[body[1]]),
-        "drive": lambda s, dyn: model.drive(s.t)[0]})
+    recorder = Recorder(
+        directory,
+        probes={
+            "skew_work": StepSum(skew_work),
+            "roundoff_scale": StepSum(roundoff_scale),
+            "reach": lambda s, dyn: float(np.abs(s.q).max()),
+            "body_uy": lambda s, dyn: float(s.q[body[1]]),
+            "drive": lambda s, dyn: model.drive(s.t)[0],
+        },
+    )
     start = time.perf_counter()
     error = ""
     try:
@@ -316,8 +350,12 @@ def roundoff_scale(old, new, dynamics: Dynamics) -> float:
     numerical algorithms*, 2002, Sec. 3.1: ``|fl(x . y) - x . y| <= gamma_n |x| . |y|``, and
     the constraint forces are ``M qdd + K q - f``)."""
     K, M = abs(dynamics.K), abs(dynamics.M)
-    force = (K @ (np.abs(old.q) + np.abs(new.q)) + M @ (np.abs(old.qdd) + np.abs(new.qdd))
-             + np.abs(dynamics.load(old.t)) + np.abs(dynamics.load(new.t)))
+    force = (
+        K @ (np.abs(old.q) + np.abs(new.q))
+        + M @ (np.abs(old.qdd) + np.abs(new.qdd))
+        + np.abs(dynamics.load(old.t))
+        + np.abs(dynamics.load(new.t))
+    )
     return force @ np.abs(new.q - old.q)
 
 
@@ -328,8 +366,7 @@ def identity_bound(dynamics: Dynamics, scale: float) -> float:
     return 8 * dynamics.structure.n_dofs * np.finfo(float).eps * scale
 
 
-def measure(model: Model, table: dict[str, np.ndarray], seconds: float,
-            error: str = "") -> Outcome:
+def measure(model: Model, table: dict[str, np.ndarray], seconds: float, error: str = "") -> Outcome:
     """The figures of a recorded run (module docstring): ``energy_error`` and ``skew_work``
     at the end, ``identity`` the largest ``|energy_error + skew_work|`` (:func:`skew_work`),
     ``work`` the total absolute work of the loads and of the joint (the sum of the
@@ -339,24 +376,34 @@ def measure(model: Model, table: dict[str, np.ndarray], seconds: float,
         return Outcome(0, 0, *[np.nan] * 9, False, 0, 0, seconds, error)
     points, junctions = chain_points(model.chain)
     xi = table[f"{name}.xi"]
-    work = (np.abs(np.diff(table["external_work"])).sum()
-            + np.abs(np.diff(table["constraint_work"])).sum())
+    work = (
+        np.abs(np.diff(table["external_work"])).sum()
+        + np.abs(np.diff(table["constraint_work"])).sum()
+    )
     return Outcome(
-        steps=len(xi) - 1, max_iterations=int(table["iterations"][1:].max(initial=0)),
+        steps=len(xi) - 1,
+        max_iterations=int(table["iterations"][1:].max(initial=0)),
         residual=float(table[f"{name}.residual"].max()),
         residual_bound=residual_bound(float(table["reach"].max())),
         drift=float(np.abs(xi - table["drive"]).max()),
-        energy_error=float(table["energy_error"][-1]), skew_work=float(table["skew_work"][-1]),
+        energy_error=float(table["energy_error"][-1]),
+        skew_work=float(table["skew_work"][-1]),
         identity=float(np.abs(table["energy_error"] + table["skew_work"]).max()),
         identity_bound=identity_bound(model.dynamics, float(table["roundoff_scale"][-1])),
-        work=float(work), finite=bool(all(np.all(np.isfinite(v)) for v in table.values())),
-        evaluation_crossings=crossings(xi, points), junction_crossings=crossings(xi, junctions),
-        seconds=seconds, error=error)
+        work=float(work),
+        finite=bool(all(np.all(np.isfinite(v)) for v in table.values())),
+        evaluation_crossings=crossings(xi, points),
+        junction_crossings=crossings(xi, junctions),
+        seconds=seconds,
+        error=error,
+    )
 
 
-def sweep(runs: Iterable[tuple[str, Case]], progress: bool = True,
-          on_result: Callable[[str, Case, Outcome], None] | None = None
-          ) -> tuple[list[tuple[str, Case, Outcome]], bool]:
+def sweep(
+    runs: Iterable[tuple[str, Case]],
+    progress: bool = True,
+    on_result: Callable[[str, Case, Outcome], None] | None = None,
+) -> tuple[list[tuple[str, Case, Outcome]], bool]:
     """Run the sweep's cases in order (a tqdm bar over the runs); Ctrl-C stops it and
     returns the runs done with ``interrupted = True``."""
     from tqdm.auto import tqdm
@@ -379,6 +426,7 @@ COLUMNS = ["axis", *asdict(Case()), *Outcome.__dataclass_fields__]
 
 def write_sweep(rows: list[tuple[str, Case, Outcome]], path: Path) -> None:
     """The sweep's runs as CSV, one row each (:data:`COLUMNS`)."""
+
     def write(tmp: Path) -> None:
         with open(tmp, "w", newline="") as stream:
             writer = csv.writer(stream)
@@ -389,9 +437,12 @@ def write_sweep(rows: list[tuple[str, Case, Outcome]], path: Path) -> None:
     write_atomic(path, write)
 
 
-AXIS_LABELS = {"speed": "speed c / c_cr", "step": "step h / h_ref (h_ref: quarter element)",
-               "smearing": "smearing half-width / element length",
-               "slenderness": "slenderness EJ / (GA L^2)"}
+AXIS_LABELS = {
+    "speed": "speed c / c_cr",
+    "step": "step h / h_ref (h_ref: quarter element)",
+    "smearing": "smearing half-width / element length",
+    "slenderness": "slenderness EJ / (GA L^2)",
+}
 
 
 def plot_sweep(rows: list[tuple[str, Case, Outcome]], path: Path) -> None:
@@ -406,28 +457,55 @@ def plot_sweep(rows: list[tuple[str, Case, Outcome]], path: Path) -> None:
 
     fig, axes = plt.subplots(3, 4, figsize=(15, 9), sharey="row")
     for col, axis in enumerate(AXES):
-        for rho, marker in zip(RHO_INF, "os"):
-            mine = [(getattr(c, axis), o) for a, c, o in rows
-                    if a == axis and c.rho_inf == rho and o.steps]
+        for rho, marker in zip(RHO_INF, "os", strict=True):
+            mine = [
+                (getattr(c, axis), o)
+                for a, c, o in rows
+                if a == axis and c.rho_inf == rho and o.steps
+            ]
             x = np.array([v for v, _ in mine])
-            got = {key: np.array([getattr(o, key) for _, o in mine])
-                   for key in ("max_iterations", "residual", "residual_bound", "energy_error",
-                               "skew_work", "identity", "work")}
+            got = {
+                key: np.array([getattr(o, key) for _, o in mine])
+                for key in (
+                    "max_iterations",
+                    "residual",
+                    "residual_bound",
+                    "energy_error",
+                    "skew_work",
+                    "identity",
+                    "work",
+                )
+            }
             label = f"rho_inf = {rho:g}"
             axes[0, col].plot(x, got["max_iterations"], marker + "-", label=label)
-            axes[1, col].semilogy(x, np.maximum(got["residual"], 1e-18), marker + "-",
-                                  label=f"largest residual, {label}")
+            axes[1, col].semilogy(
+                x,
+                np.maximum(got["residual"], 1e-18),
+                marker + "-",
+                label=f"largest residual, {label}",
+            )
             energy = axes[2, col]
             if rho == 1.0:
-                energy.semilogy(x, np.maximum(got["identity"], 1e-18) / got["work"],
-                                marker + "-", label="|energy error + skew work|, " + label)
+                energy.semilogy(
+                    x,
+                    np.maximum(got["identity"], 1e-18) / got["work"],
+                    marker + "-",
+                    label="|energy error + skew work|, " + label,
+                )
                 continue
-            axes[1, col].semilogy(x, got["residual_bound"], "k--",
-                                  label="bound (convergence rule)")
-            energy.semilogy(x, np.abs(got["energy_error"] + got["skew_work"]) / got["work"],
-                            marker + "-", label="|scheme dissipation|, " + label)
-            energy.semilogy(x, np.abs(got["skew_work"]) / got["work"], "^:",
-                            label="|skew stiffness work|, " + label)
+            axes[1, col].semilogy(x, got["residual_bound"], "k--", label="bound (convergence rule)")
+            energy.semilogy(
+                x,
+                np.abs(got["energy_error"] + got["skew_work"]) / got["work"],
+                marker + "-",
+                label="|scheme dissipation|, " + label,
+            )
+            energy.semilogy(
+                x,
+                np.abs(got["skew_work"]) / got["work"],
+                "^:",
+                label="|skew stiffness work|, " + label,
+            )
         axes[2, col].set_xlabel(AXIS_LABELS[axis])
         for ax in axes[:, col]:
             if axis != "smearing":
@@ -438,9 +516,12 @@ def plot_sweep(rows: list[tuple[str, Case, Outcome]], path: Path) -> None:
     axes[2, 0].set_ylabel("energy / work")
     for row in range(3):
         axes[row, 0].legend(fontsize=7)
-    fig.suptitle("Stress sweeps: driven body on a clamped five-beam fv3 chain "
-                 "(one parameter varied about c = c_cr / 4, h = h_ref, smearing 0.2 h_e, "
-                 "r = 1e-2)", fontsize=10)
+    fig.suptitle(
+        "Stress sweeps: driven body on a clamped five-beam fv3 chain "
+        "(one parameter varied about c = c_cr / 4, h = h_ref, smearing 0.2 h_e, "
+        "r = 1e-2)",
+        fontsize=10,
+    )
     fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)
@@ -466,8 +547,12 @@ def plot_shuttle(table: dict[str, np.ndarray], name: str, path: Path) -> None:
     axes[2].set_ylabel("body u_y")
     axes[3].plot(t, table["energy_error"], lw=0.6, label="energy error")
     axes[3].plot(t, -table["skew_work"], lw=0.6, label="- skew stiffness work")
-    axes[3].plot(t, table["energy_error"] + table["skew_work"], lw=0.6,
-                 label="scheme dissipation (energy error + skew work)")
+    axes[3].plot(
+        t,
+        table["energy_error"] + table["skew_work"],
+        lw=0.6,
+        label="scheme dissipation (energy error + skew work)",
+    )
     axes[3].set_ylabel("energy")
     axes[3].set_xlabel("t")
     axes[3].legend(fontsize=8)
@@ -479,8 +564,13 @@ def plot_shuttle(table: dict[str, np.ndarray], name: str, path: Path) -> None:
     plt.close(fig)
 
 
-def reproduce(out: Path, dense: bool = True, passes: int = 100, steps_per_pass: int = 96,
-              progress: bool = True) -> tuple[list, Outcome, bool]:
+def reproduce(
+    out: Path,
+    dense: bool = True,
+    passes: int = 100,
+    steps_per_pass: int = 96,
+    progress: bool = True,
+) -> tuple[list, Outcome, bool]:
     """Run the shuttle and the sweep into ``out`` (replaced whole,
     :func:`fvbeam.io.replace_directory`); returns the sweep rows, the shuttle's outcome and
     whether Ctrl-C cut the sweep short."""
@@ -491,8 +581,9 @@ def reproduce(out: Path, dense: bool = True, passes: int = 100, steps_per_pass: 
         shuttle, table = run(model, tmp / "shuttle", progress, interruptible=True)
         if table:
             plot_shuttle(table, model.slider.name, tmp / "shuttle.png")
-        rows, interrupted = ([], True) if shuttle.error == INTERRUPTED else sweep(
-            cases(dense), progress)
+        rows, interrupted = (
+            ([], True) if shuttle.error == INTERRUPTED else sweep(cases(dense), progress)
+        )
         write_sweep(rows, tmp / "sweeps.csv")
         if rows:
             plot_sweep(rows, tmp / "sweeps.png")
@@ -505,19 +596,22 @@ def reproduce(out: Path, dense: bool = True, passes: int = 100, steps_per_pass: 
 def main(argv: Sequence[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, required=True, help="output directory")
-    parser.add_argument("--quick", action="store_true",
-                        help="the CI variant: coarse axes, a 50-pass shuttle")
+    parser.add_argument(
+        "--quick", action="store_true", help="the CI variant: coarse axes, a 50-pass shuttle"
+    )
     args = parser.parse_args(argv)
     passes, steps = (50, 24) if args.quick else (100, 96)
     rows, shuttle, interrupted = reproduce(args.out, not args.quick, passes, steps)
     print(f"shuttle: {shuttle}")
     for axis, case, outcome in rows:
-        print(f"rho_inf {case.rho_inf:g} {axis:12s} {getattr(case, axis):9.3g}  iterations "
-              f"{outcome.max_iterations}  residual {outcome.residual:.2e} (bound "
-              f"{outcome.residual_bound:.1e})  energy error / work "
-              f"{outcome.energy_error / outcome.work:+.2e}, skew work / work "
-              f"{outcome.skew_work / outcome.work:+.2e}, identity / work "
-              f"{outcome.identity / outcome.work:.1e}  {outcome.error}")
+        print(
+            f"rho_inf {case.rho_inf:g} {axis:12s} {getattr(case, axis):9.3g}  iterations "
+            f"{outcome.max_iterations}  residual {outcome.residual:.2e} (bound "
+            f"{outcome.residual_bound:.1e})  energy error / work "
+            f"{outcome.energy_error / outcome.work:+.2e}, skew work / work "
+            f"{outcome.skew_work / outcome.work:+.2e}, identity / work "
+            f"{outcome.identity / outcome.work:.1e}  {outcome.error}"
+        )
     if interrupted:
         print("interrupted: the runs above were kept")
 

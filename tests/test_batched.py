@@ -11,14 +11,14 @@ import dataclasses
 
 import numpy as np
 import pytest
+from test_condensed import agreement_bound, state, tip_on_an_arc
+from test_spline_slider import line_with_body
 
 from fvbeam import Support
 from sliders.joints.slider import SliderBatch
+from sliders.sliding_beams.model import SlidingBeams
 from sliders.solve.statics import SliderStatics, solve_many, solve_translated
 from sliders.solve.sweep import sweep_batched
-from sliders.sliding_beams.model import SlidingBeams
-from test_condensed import agreement_bound, state, tip_on_an_arc
-from test_spline_slider import line_with_body
 
 STATIONS = np.array([0.0, 0.13, 0.4, 0.77, 0.95])
 
@@ -51,10 +51,12 @@ def test_sliding_beams_sweep_equals_per_point_solves(kind, name, smearing):
         model = SlidingBeams(name, n, kind, smearing)
         built = [model.problem(s) for s in STATIONS]
         points = iter(built)
-        batched = sweep_batched(STATIONS, lambda s: next(points))
+        batched = sweep_batched(STATIONS, lambda s, points=points: next(points))
         assert batched.values == list(STATIONS)
-        converged = [same_outcome(statics, f, p.solution or p.error)
-                     for (statics, f), p in zip(built, batched.points)]
+        converged = [
+            same_outcome(statics, f, p.solution or p.error)
+            for (statics, f), p in zip(built, batched.points, strict=True)
+        ]
         assert sum(converged) >= 3
 
 
@@ -69,9 +71,12 @@ def test_translated_template_equals_the_built_members(kind, name, smearing):
     read node positions relative to far-off absolute ones)."""
     model = SlidingBeams(name, 3, kind, smearing)
     built = [model.problem(s) for s in STATIONS]
-    for (statics, f), a, b in zip(built, solve_many([m[0] for m in built],
-                                                    [m[1] for m in built]),
-                                  model.solve(STATIONS)):
+    for (statics, f), a, b in zip(
+        built,
+        solve_many([m[0] for m in built], [m[1] for m in built]),
+        model.solve(STATIONS),
+        strict=True,
+    ):
         if isinstance(a, str):
             assert b == a
             continue
@@ -80,7 +85,7 @@ def test_translated_template_equals_the_built_members(kind, name, smearing):
             continue
         assert b.step_iterations == a.step_iterations and b.residuals == a.residuals
         assert np.array_equal(b.q, a.q)
-        assert all(np.array_equal(x, y) for x, y in zip(b.unknowns, a.unknowns))
+        assert all(np.array_equal(x, y) for x, y in zip(b.unknowns, a.unknowns, strict=True))
 
 
 @pytest.mark.parametrize("kind", ["spherical", "classical"])
@@ -98,12 +103,15 @@ def test_translated_beam_on_a_rigid_line(kind):
     built = []
     for shift in shifts[:, 0]:
         moved = Structure([structure.beams[0].translated(shift)])
-        built.append(SliderStatics(moved, supports, [dataclasses.replace(slider)],
-                                   reuse=template, method="condensed"))
+        built.append(
+            SliderStatics(
+                moved, supports, [dataclasses.replace(slider)], reuse=template, method="condensed"
+            )
+        )
     expected = solve_many(built, [f] * 3)
-    for a, b in zip(expected, solve_translated(template, shifts, [f] * 3)):
+    for a, b in zip(expected, solve_translated(template, shifts, [f] * 3), strict=True):
         assert b.step_iterations == a.step_iterations and np.array_equal(b.q, a.q)
-        assert all(np.array_equal(x, y) for x, y in zip(b.unknowns, a.unknowns))
+        assert all(np.array_equal(x, y) for x, y in zip(b.unknowns, a.unknowns, strict=True))
 
 
 def test_translated_shifts_and_loads_are_checked():
@@ -122,12 +130,15 @@ def test_failures_carry_the_per_point_message():
     stations = [0.5, 0.9, 0.6, 0.95]
     built = [model.problem(s) for s in stations]
     outcomes = solve_many([b[0] for b in built], [b[1] for b in built])
-    converged = [same_outcome(statics, f, outcome)
-                 for (statics, f), outcome in zip(built, outcomes)]
+    converged = [
+        same_outcome(statics, f, outcome)
+        for (statics, f), outcome in zip(built, outcomes, strict=True)
+    ]
     assert converged == [True, False, True, False]
     assert all("singular configuration" in outcomes[i] for i in (1, 3))
     assert [o if isinstance(o, str) else o.iterations for o in model.solve(stations)] == [
-        o if isinstance(o, str) else o.iterations for o in outcomes]
+        o if isinstance(o, str) else o.iterations for o in outcomes
+    ]
 
 
 @pytest.mark.parametrize("method", ["bordered", "condensed"])
@@ -137,7 +148,7 @@ def test_spline_slider_on_a_chain_under_several_torques(method):
     structure, supports, slider, f = line_with_body("fv3", 4, 0.37, 100.0)
     statics = SliderStatics(structure, supports, [slider], method=method)
     loads = [c * f for c in (1.0, -0.5, 3.0)]
-    for g, b in zip(loads, solve_many([statics] * 3, loads)):
+    for g, b in zip(loads, solve_many([statics] * 3, loads), strict=True):
         agree(statics, statics.solve(g), b, g)
 
 
@@ -147,7 +158,7 @@ def test_rigid_line_under_several_loads(kind):
     structure, slider, f = tip_on_an_arc(kind)
     statics = SliderStatics(structure, [Support(0, "start")], [slider], method="condensed")
     loads = [c * f for c in (1.0, 0.5, 2.0)]
-    for g, b in zip(loads, solve_many([statics] * 3, loads)):
+    for g, b in zip(loads, solve_many([statics] * 3, loads), strict=True):
         agree(statics, statics.solve(g), b, g)
 
 
@@ -185,10 +196,12 @@ def test_joined_batch_evaluates_each_slider_as_its_own(kind):
     batches = [SliderBatch([s], [statics.structure]) for s in statics.sliders]
     rng = np.random.default_rng(0)
     q = 1e-2 * rng.standard_normal((1, statics.structure.n_dofs))
-    ys = [np.concatenate([[0.2 * b.length], rng.standard_normal(b.n_unknowns - 1)])[None]
-          for b in batches]
+    ys = [
+        np.concatenate([[0.2 * b.length], rng.standard_normal(b.n_unknowns - 1)])[None]
+        for b in batches
+    ]
     dofs, r, J = SliderBatch.joined(batches).evaluate(np.tile(q, (2, 1)), np.concatenate(ys))
-    for k, (batch, y) in enumerate(zip(batches, ys)):
+    for k, (batch, y) in enumerate(zip(batches, ys, strict=True)):
         own_dofs, own_r, own_J = batch.evaluate(q, y)
         assert np.array_equal(dofs[k], own_dofs[0]) and np.array_equal(r[k], own_r[0])
         assert np.array_equal(J.subset(np.array([k])).dense(), own_J.dense())

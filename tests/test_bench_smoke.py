@@ -68,7 +68,7 @@ def test_batched_sweep_benchmark_reports_the_main_sweep():
     batched = [r for r in result["rows"] if r["mode"] == "batched"]
     per_point = [r for r in result["rows"] if r["mode"] == "continuation"]
     assert len(batched) == 2
-    for a, b in zip(batched, per_point):
+    for a, b in zip(batched, per_point, strict=True):
         assert a["seconds"] > 0 and a["setup_seconds"] > 0
         assert a["singular_positions"] == b["singular_positions"] == 0
         assert abs(a["max_abs_rel_error"] - b["max_abs_rel_error"]) <= 2e-4

@@ -15,8 +15,10 @@ SECTION = Section.diagonal(EA=10.0, GAy=2.0, GAz=3.0, GJ=1.0, EJy=1.5, EJz=0.8)
 
 def chain_of_three(npe=3):
     corners = np.array([[0, 0, 0], [0.4, 0.1, 0], [1.0, 0.3, 0.2], [1.5, 0.3, 0.6]], float)
-    beams = [Beam(straight(a, b, n, npe), SECTION, f"fv{npe}")
-             for a, b, n in zip(corners[:-1], corners[1:], (2, 3, 1))]
+    beams = [
+        Beam(straight(a, b, n, npe), SECTION, f"fv{npe}")
+        for a, b, n in zip(corners[:-1], corners[1:], (2, 3, 1), strict=True)
+    ]
     structure = Structure(beams, ties=[(0, "end", 1, "start"), (1, "end", 2, "start")])
     return BeamChain(structure, [0, 1, 2]), corners
 
@@ -27,7 +29,7 @@ def test_undeformed_chain_is_the_polyline_in_arc_length(npe):
     lengths = np.linalg.norm(np.diff(corners, axis=0), axis=1)
     assert chain.length == pytest.approx(lengths.sum(), rel=1e-14)
     q = np.zeros(chain.structure.n_dofs)
-    for k, (a, b) in enumerate(zip(corners[:-1], corners[1:])):
+    for k, (a, b) in enumerate(zip(corners[:-1], corners[1:], strict=True)):
         for s in (0.1, 0.5, 0.9):
             xi = lengths[:k].sum() + s * lengths[k]
             x, l, l_xi = chain.geometry(xi, q)
@@ -46,10 +48,12 @@ def test_deformed_chain_is_continuous_at_junctions_and_derivatives_match():
     h = 1e-6
     for xi in (0.2, 0.61, 1.3):
         x, l, l_xi = chain.geometry(xi, q)
-        np.testing.assert_allclose(l, (chain.geometry(xi + h, q)[0]
-                                       - chain.geometry(xi - h, q)[0]) / (2 * h), atol=1e-8)
-        np.testing.assert_allclose(l_xi, (chain.geometry(xi + h, q)[1]
-                                          - chain.geometry(xi - h, q)[1]) / (2 * h), atol=1e-6)
+        np.testing.assert_allclose(
+            l, (chain.geometry(xi + h, q)[0] - chain.geometry(xi - h, q)[0]) / (2 * h), atol=1e-8
+        )
+        np.testing.assert_allclose(
+            l_xi, (chain.geometry(xi + h, q)[1] - chain.geometry(xi - h, q)[1]) / (2 * h), atol=1e-6
+        )
 
 
 def test_bad_chains_name_the_item():
@@ -80,11 +84,18 @@ def test_transfer_derivative_and_continuity_across_junctions(npe, smearing, kern
     chain, _ = chain_of_three(npe)
     W = np.array([0.3, -1.0, 0.5, 0.2, 0.1, -0.4])
     h = 1e-6
-    for xi in (0.01, chain.offsets[1] - 0.011, chain.offsets[1] + 0.007, 0.77,
-               chain.length - 0.013):
+    for xi in (
+        0.01,
+        chain.offsets[1] - 0.011,
+        chain.offsets[1] + 0.007,
+        0.77,
+        chain.length - 0.013,
+    ):
         _, df = chain_load(chain, xi, smearing, kernel, W)
-        fd = (chain_load(chain, xi + h, smearing, kernel, W)[0]
-              - chain_load(chain, xi - h, smearing, kernel, W)[0]) / (2 * h)
+        fd = (
+            chain_load(chain, xi + h, smearing, kernel, W)[0]
+            - chain_load(chain, xi - h, smearing, kernel, W)[0]
+        ) / (2 * h)
         np.testing.assert_allclose(df, fd, atol=1e-8)
     for junction in chain.offsets[1:-1]:
         below = chain_load(chain, junction - 1e-9, smearing, kernel, W)

@@ -6,9 +6,9 @@ import sys
 from pathlib import Path
 
 import pytest
+from test_scenes import ROOT, SCENES
 
 from sliders.app.cli import main
-from test_scenes import ROOT, SCENES
 
 HEAVY = ("matplotlib", "pyvista")
 
@@ -16,14 +16,22 @@ HEAVY = ("matplotlib", "pyvista")
 def fvslider(*args: str, importtime: bool = False) -> subprocess.CompletedProcess:
     """``python -m sliders.app.cli ARGS`` in a fresh interpreter, from the repository root."""
     flags = ["-X", "importtime"] if importtime else []
-    return subprocess.run([sys.executable, *flags, "-m", "sliders.app.cli", *args], cwd=ROOT,
-                          capture_output=True, text=True, timeout=120)
+    return subprocess.run(
+        [sys.executable, *flags, "-m", "sliders.app.cli", *args],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
 
 
 def imported(stderr: str) -> set[str]:
     """Top-level packages in a ``-X importtime`` report."""
-    return {line.split("|")[-1].strip().split(".")[0] for line in stderr.splitlines()
-            if line.startswith("import time:") and "|" in line}
+    return {
+        line.split("|")[-1].strip().split(".")[0]
+        for line in stderr.splitlines()
+        if line.startswith("import time:") and "|" in line
+    }
 
 
 @pytest.mark.parametrize("args", [["--help"], ["check", "studies/scenes/fig4_sliding_beams.toml"]])
@@ -73,8 +81,9 @@ def test_run_with_failed_points_exits_1_and_keeps_them(tmp_path, capsys):
     """end_stops.toml without its stops: pushed outwards (factors 0.5, 1) the tip would leave
     the rail, which is an error naming it (tests/test_end_stops.py); pulled, it converges."""
     scene = tmp_path / "no_stops.toml"
-    scene.write_text((SCENES / "end_stops.toml").read_text().replace("end_stops = true",
-                                                                     "end_stops = false"))
+    scene.write_text(
+        (SCENES / "end_stops.toml").read_text().replace("end_stops = true", "end_stops = false")
+    )
     out = tmp_path / "out"
     assert main(["run", str(scene), "--out", str(out)]) == 1
     assert "rail" in capsys.readouterr().err
@@ -90,8 +99,9 @@ def test_run_refuses_a_foreign_output_directory(tmp_path, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt"]
 
 
-def test_interrupted_run_exits_130_after_writing_the_completed_samples(tmp_path, monkeypatch,
-                                                                       capsys):
+def test_interrupted_run_exits_130_after_writing_the_completed_samples(
+    tmp_path, monkeypatch, capsys
+):
     from sliders.app.model import Model
 
     build, calls = Model.problem, []
@@ -122,8 +132,7 @@ def test_reproduce_fig1(tmp_path, capsys):
     assert main(["reproduce", "fig1", "--out", str(tmp_path)]) == 0
     assert (tmp_path / "fig1_tip_response.csv").is_file()
     lines = capsys.readouterr().out.splitlines()
-    rows = {line.split()[1]: float(line.split()[2]) for line in lines
-            if line.startswith("fig1 ")}
+    rows = {line.split()[1]: float(line.split()[2]) for line in lines if line.startswith("fig1 ")}
     assert set(rows) == {"exact", "fv2", "fv3"} and max(rows.values()) <= 1e-10
 
 
@@ -138,8 +147,9 @@ def test_compile_solves_each_slider_kind(capsys, monkeypatch):
     import sliders.sliding_beams.model as fig4
 
     solved = []
-    monkeypatch.setattr(fig4.SlidingBeams, "solve",
-                        lambda self, stations: solved.append((self.kind, len(stations))))
+    monkeypatch.setattr(
+        fig4.SlidingBeams, "solve", lambda self, stations: solved.append((self.kind, len(stations)))
+    )
     assert main(["compile"]) == 0
     assert sorted(solved) == [("classical", 2), ("spherical", 2)]
     assert "compiled in" in capsys.readouterr().out

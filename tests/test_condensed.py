@@ -15,13 +15,13 @@ residual; it still sits 4-5 orders below the solution.
 
 import numpy as np
 import pytest
+from test_sliders import SECTION, L, sliding_beams_model
 
 from fvbeam import Beam, RigidBody, Structure, Support, straight
-from sliders.solve.condensed import node_positions, rigid_modes
 from sliders.joints.slider import Slider
 from sliders.lines.rigid import CircularArc
+from sliders.solve.condensed import node_positions, rigid_modes
 from sliders.solve.statics import SliderStatics
-from test_sliders import L, SECTION, sliding_beams_model
 
 EPS = np.finfo(float).eps
 
@@ -33,8 +33,9 @@ def agreement_bound(statics, a, b, f):
     n_row = int(np.diff(statics.K.indptr).max())
     rounding = n_row * EPS * max((K @ abs(a.q)).max(), (K @ abs(b.q)).max())
     scale = np.abs(f).max()
-    return (np.abs(np.linalg.inv(J)).sum(axis=1)
-            * ((a.residuals[-1] + b.residuals[-1]) * scale + 2 * rounding))
+    return np.abs(np.linalg.inv(J)).sum(axis=1) * (
+        (a.residuals[-1] + b.residuals[-1]) * scale + 2 * rounding
+    )
 
 
 def state(statics, solution):
@@ -62,10 +63,14 @@ def tip_on_an_arc(kind):
     beam = Beam(straight((0, 0, 0), (1, 0, 0), 4, 3), SECTION, "fv3")
     structure = Structure([beam])
     frame = np.column_stack([[-1.0, 0, 0], [0, 1.0, 0], [0, 0, -1.0]])
-    slider = Slider(kind, CircularArc((1, -2, 0), 2.0, np.pi / 2 - 0.3, np.pi / 2 + 0.3),
-                    (0, "end"), frame=frame, name="tip")
-    return structure, slider, structure.gather(0, beam.nodal_load("end", force=(3.0, 1.0e3,
-                                                                                  2.0e2)))
+    slider = Slider(
+        kind,
+        CircularArc((1, -2, 0), 2.0, np.pi / 2 - 0.3, np.pi / 2 + 0.3),
+        (0, "end"),
+        frame=frame,
+        name="tip",
+    )
+    return structure, slider, structure.gather(0, beam.nodal_load("end", force=(3.0, 1.0e3, 2.0e2)))
 
 
 @pytest.mark.parametrize("kind", ["spherical", "classical"])
@@ -105,8 +110,9 @@ def test_rigid_modes_span_both_null_spaces(name):
 def test_singular_configuration_gives_the_same_diagnostic():
     """The singular classical pair of the slope form (tests/test_sliders.py): the small system
     is singular and the condensed back end names the same free motion as the bordered one."""
-    structure, supports, sliders, P = sliding_beams_model(0.9 * L, 1, "classical",
-                                                          orientation="slope")
+    structure, supports, sliders, P = sliding_beams_model(
+        0.9 * L, 1, "classical", orientation="slope"
+    )
     f = structure.gather(1, P.nodal_load("end", (0, 1.0, 0)))
     messages = []
     for method in ("bordered", "condensed"):
@@ -155,8 +161,11 @@ def test_node_positions_hold_the_rigid_bodies():
     """Beam nodes at their mesh points, a body tied to a beam node at that (coincident)
     point, a lone body at its own position: exact copies."""
     beam = Beam(straight((0, 0, 0), (1, 0, 0), 2, 3), SECTION, "fv3")
-    structure = Structure([beam], ties=[((0, "end"), "tip")],
-                          bodies=[RigidBody("tip", (1.0, 0, 0)), RigidBody("hub", (3, 4, 5))])
+    structure = Structure(
+        [beam],
+        ties=[((0, "end"), "tip")],
+        bodies=[RigidBody("tip", (1.0, 0, 0)), RigidBody("hub", (3, 4, 5))],
+    )
     x = node_positions(structure)
     np.testing.assert_array_equal(x[structure.node_dofs((0, "start"))[0] // 6], [0, 0, 0])
     np.testing.assert_array_equal(x[structure.node_dofs("tip")[0] // 6], [1, 0, 0])

@@ -30,22 +30,32 @@ from scipy.special import ellipj, ellipk
 
 from fvbeam import Beam, RigidBody, Section, Structure, Support, straight
 from fvbeam.modes import natural_frequencies
-from sliders.joints.drives import DofDrive, Linear, Ramp, Tabulated
-from sliders.solve.dynamics import Adaptive, Dynamics, DynamicsError
 from sliders.app.history import Recorder
-from sliders.solve.integrator import GeneralizedAlpha, State
+from sliders.joints.drives import DofDrive, Linear, Ramp, Tabulated
 from sliders.joints.slider import Slider
 from sliders.lines.rigid import CircularArc
+from sliders.solve.dynamics import Adaptive, Dynamics, DynamicsError
+from sliders.solve.integrator import GeneralizedAlpha, State
 
 EPS = np.finfo(float).eps
 SCHEME = 1e-11
-SECTION = Section.diagonal(EA=1e3, GAy=100, GAz=100, GJ=1.0, EJy=1.0, EJz=1.0,
-                           mass_per_length=1.0, inertia=np.diag([1e-3] * 3), name="s")
+SECTION = Section.diagonal(
+    EA=1e3,
+    GAy=100,
+    GAz=100,
+    GJ=1.0,
+    EJy=1.0,
+    EJz=1.0,
+    mass_per_length=1.0,
+    inertia=np.diag([1e-3] * 3),
+    name="s",
+)
 
 
 def cantilever(name: str = "fv3", n: int = 2) -> tuple[Structure, list[Support]]:
-    return Structure([Beam(straight((0, 0, 0), (1, 0, 0), n, 3), SECTION, name)]), \
-        [Support(0, 0, "clamp")]
+    return Structure([Beam(straight((0, 0, 0), (1, 0, 0), n, 3), SECTION, name)]), [
+        Support(0, 0, "clamp")
+    ]
 
 
 def amplification(scheme: GeneralizedAlpha, omega: float, h: float) -> np.ndarray:
@@ -54,10 +64,12 @@ def amplification(scheme: GeneralizedAlpha, omega: float, h: float) -> np.ndarra
     b, g, am, af = scheme.beta, scheme.gamma, scheme.alpha_m, scheme.alpha_f
     w2 = omega * omega
     # unknowns (q1, v1, a1, qdd1); rows: the three updates and the equation of motion
-    A = np.array([[1, 0, -b * h * h, 0], [0, 1, -g * h, 0], [0, 0, 1 - am, -(1 - af)],
-                  [w2, 0, 0, 1]])
-    B = np.array([[1, h, h * h * (0.5 - b), 0], [0, 1, h * (1 - g), 0], [0, 0, -am, af],
-                  [0, 0, 0, 0]])
+    A = np.array(
+        [[1, 0, -b * h * h, 0], [0, 1, -g * h, 0], [0, 0, 1 - am, -(1 - af)], [w2, 0, 0, 1]]
+    )
+    B = np.array(
+        [[1, h, h * h * (0.5 - b), 0], [0, 1, h * (1 - g), 0], [0, 0, -am, af], [0, 0, 0, 0]]
+    )
     return np.linalg.solve(A, B)
 
 
@@ -70,7 +82,7 @@ def test_scheme_constants_match_chung_hulbert():
     wh = 1e8
     for rho in (0.0, 0.5, 0.8, 1.0):
         step = amplification(GeneralizedAlpha(rho), 1.0, wh)
-        assert np.abs(np.linalg.eigvals(step)).max() == pytest.approx(rho, abs=wh ** -0.5)
+        assert np.abs(np.linalg.eigvals(step)).max() == pytest.approx(rho, abs=wh**-0.5)
     with pytest.raises(ValueError, match="rho_inf"):
         GeneralizedAlpha(1.5)
 
@@ -91,8 +103,9 @@ def test_modes_follow_the_scheme_and_rho_08_keeps_the_first_mode(name, mass):
         x = np.array([amplitude[j], 0.0, -w * w * amplitude[j], -w * w * amplitude[j]])
         x = np.linalg.matrix_power(amplification(d.scheme, w, h), steps) @ x
         phi = shapes[:, j]
-        backward = (np.linalg.norm((d.K @ phi - w * w * (d.M @ phi))[d.free])
-                    / np.linalg.norm((d.K @ phi)[d.free]))
+        backward = np.linalg.norm((d.K @ phi - w * w * (d.M @ phi))[d.free]) / np.linalg.norm(
+            (d.K @ phi)[d.free]
+        )
         # a relative error e in omega^2 shifts the phase by steps * omega h * e / 2
         phase = steps * w * h * backward
         assert measured[j] == pytest.approx(x[0], abs=(SCHEME + 10 * phase) * amplitude[j])
@@ -126,10 +139,12 @@ BOTTOM = 2.0 * R
 
 
 def bead() -> tuple[Structure, Slider, list[Support]]:
-    structure = Structure([], bodies=[RigidBody("bead", (0, -R, 0), mass=MASS,
-                                                inertia=np.eye(3))])
-    return structure, Slider("spherical", WIRE, "bead", name="bead_on_wire"), \
-        [Support("bead", kind="rx+ry+rz")]
+    structure = Structure([], bodies=[RigidBody("bead", (0, -R, 0), mass=MASS, inertia=np.eye(3))])
+    return (
+        structure,
+        Slider("spherical", WIRE, "bead", name="bead_on_wire"),
+        [Support("bead", kind="rx+ry+rz")],
+    )
 
 
 def pendulum(t: float) -> tuple[float, float]:
@@ -144,9 +159,8 @@ def bead_start(n_dofs: int) -> State:
     """At the bottom with speed V0 along x: centripetal acceleration V0^2/R, and the wire
     pulls with m (g + V0^2/R) (the body's residual carries ``+ lambda``)."""
     q, v, qdd = np.zeros(n_dofs), np.zeros(n_dofs), np.zeros(n_dofs)
-    v[0], qdd[1] = V0, V0 ** 2 / R
-    return State(0.0, q, v, qdd.copy(), qdd, [np.array([BOTTOM, 0, -MASS * (G + V0 ** 2 / R),
-                                                        0])])
+    v[0], qdd[1] = V0, V0**2 / R
+    return State(0.0, q, v, qdd.copy(), qdd, [np.array([BOTTOM, 0, -MASS * (G + V0**2 / R), 0])])
 
 
 @pytest.mark.parametrize("rho", [1.0, 0.8, 0.5])
@@ -158,8 +172,7 @@ def test_bead_on_a_wire_converges_at_order_2_in_time(rho):
         d = Dynamics(structure, supports, [slider], gravity=(0, -G, 0), rho_inf=rho)
         s = d.run(bead_start(structure.n_dofs), 0.7 * period, period / n, progress=False)
         xi, normal = pendulum(s.t)
-        errors.append((abs(s.unknowns[0][0] - xi), abs(np.linalg.norm(s.unknowns[0][1:])
-                                                        - normal)))
+        errors.append((abs(s.unknowns[0][0] - xi), abs(np.linalg.norm(s.unknowns[0][1:]) - normal)))
     e = np.array(errors)
     order = np.log2(e[-2] / e[-1])
     assert np.all(np.abs(order - 2) < 0.35), order
@@ -199,24 +212,27 @@ def test_adaptive_steps_are_powers_of_two_and_meet_the_error_bound():
     control = Adaptive(rtol=1e-5, atol=1e-8, h_min=1e-6, h_max=0.4)
     states = []
     rec = Recorder(probes={"capture": lambda s, dyn: states.append(s) or 0.0})
-    d.run(bead_start(structure.n_dofs), 3.0, 0.1, adaptive=control, recorder=rec,
-          progress=False)
+    d.run(bead_start(structure.n_dofs), 3.0, 0.1, adaptive=control, recorder=rec, progress=False)
     h = np.array([s.h for s in states[1:]])
     k = np.log2(h[:-1] / 0.1)
     np.testing.assert_allclose(k, np.round(k), atol=1e-12)
     assert len(set(np.round(k))) > 1
-    for old, new in zip(states[:-1], states[1:]):
+    for old, new in zip(states[:-1], states[1:], strict=True):
         bound = control.atol + control.rtol * np.abs(new.q).max()
         assert np.abs(d.scheme.local_error(old, new)[d.free]).max() <= bound
     with pytest.raises(DynamicsError, match="below its minimum"):
-        d.run(bead_start(structure.n_dofs), 3.0, 0.1, progress=False,
-              adaptive=Adaptive(rtol=1e-12, atol=0.0, h_min=0.05))
+        d.run(
+            bead_start(structure.n_dofs),
+            3.0,
+            0.1,
+            progress=False,
+            adaptive=Adaptive(rtol=1e-12, atol=0.0, h_min=0.05),
+        )
 
 
 def test_leaving_the_wire_stops_with_the_state_and_whole_rows_on_disk(tmp_path):
     structure, _, supports = bead()
-    slider = Slider("spherical", WIRE, "bead", name="bead_on_wire",
-                    drive=Linear(BOTTOM, 1.0))
+    slider = Slider("spherical", WIRE, "bead", name="bead_on_wire", drive=Linear(BOTTOM, 1.0))
     d = Dynamics(structure, supports, [slider], gravity=(0, -G, 0))
     with pytest.raises(DynamicsError, match="wire") as failure:
         d.run(d.static_state(), 5.0, 0.1, recorder=Recorder(tmp_path), progress=False)
@@ -234,7 +250,7 @@ def test_dof_drive_holds_the_tip_with_the_timoshenko_reaction():
     state = d.static_state(t=2.0)
     tip = structure.node_dofs((0, "end"))[1]
     assert state.q[tip] == delta
-    stiffness = 1 / (L ** 3 / 3 + L / 100)  # EJ = 1, GA = 100 (SECTION)
+    stiffness = 1 / (L**3 / 3 + L / 100)  # EJ = 1, GA = 100 (SECTION)
     assert d.constraint_forces(state)[tip] == pytest.approx(stiffness * delta, rel=1e-10)
     moving = d.run(state, 2.5, 0.05, progress=False)
     assert moving.q[tip] == delta
@@ -242,20 +258,28 @@ def test_dof_drive_holds_the_tip_with_the_timoshenko_reaction():
         Dynamics(structure, supports, drives=[DofDrive((0, "start"), "uy", ramp)])
 
 
-@pytest.mark.parametrize("motion", [Linear(0.2, 0.3, 1.0), Ramp(0.0, 2.0, 1.0, 3.0),
-                                    Ramp(1.0, 0.0, 0.0, 2.0, "linear"),
-                                    Tabulated([0, 1, 2, 4], [0, 1, 0.5, 2], order=3),
-                                    Tabulated([0, 1, 2], [0, 1, 0.5])])
+@pytest.mark.parametrize(
+    "motion",
+    [
+        Linear(0.2, 0.3, 1.0),
+        Ramp(0.0, 2.0, 1.0, 3.0),
+        Ramp(1.0, 0.0, 0.0, 2.0, "linear"),
+        Tabulated([0, 1, 2, 4], [0, 1, 0.5, 2], order=3),
+        Tabulated([0, 1, 2], [0, 1, 0.5]),
+    ],
+)
 def test_motions_rates_are_their_derivatives(motion):
     """Central differences of step ``d``: error ``d^2 |f'''| / 6``; the bound uses
     ``|f'''| <= 1e2`` (the largest third derivative of these motions is pi^3 / 4 < 8)."""
     d = 1e-5
     for t in (0.5, 1.5, 2.5):
         value, rate, accel = motion(t)
-        assert rate == pytest.approx((motion(t + d)[0] - motion(t - d)[0]) / (2 * d),
-                                     abs=1e2 * d * d + 1e-8)
-        assert accel == pytest.approx((motion(t + d)[1] - motion(t - d)[1]) / (2 * d),
-                                      abs=1e2 * d * d + 1e-8)
+        assert rate == pytest.approx(
+            (motion(t + d)[0] - motion(t - d)[0]) / (2 * d), abs=1e2 * d * d + 1e-8
+        )
+        assert accel == pytest.approx(
+            (motion(t + d)[1] - motion(t - d)[1]) / (2 * d), abs=1e2 * d * d + 1e-8
+        )
 
 
 def test_motion_errors_name_the_problem():
@@ -282,8 +306,7 @@ def test_a_body_centre_off_its_node_couples_and_weighs():
     structure = Structure([], bodies=[body])
     g = np.array([0.0, 0.0, -9.81])
     d = Dynamics(structure, [], gravity=g)
-    np.testing.assert_allclose(d.f_gravity, np.concatenate([m * g, np.cross(c, m * g)]),
-                               rtol=1e-14)
+    np.testing.assert_allclose(d.f_gravity, np.concatenate([m * g, np.cross(c, m * g)]), rtol=1e-14)
 
 
 def test_a_loaded_cantilever_at_rest_stays_and_its_clamp_reacts(tmp_path):
@@ -299,5 +322,4 @@ def test_a_loaded_cantilever_at_rest_stays_and_its_clamp_reacts(tmp_path):
     for row in recorder.reactions:
         np.testing.assert_allclose(row, expected, atol=1e-12 * F)
     header = (tmp_path / "reactions.csv").read_text().splitlines()[0].split(",")
-    assert header == ["t"] + [f"beam 0 node 0 {c}" for c in ("ux", "uy", "uz", "rx", "ry",
-                                                             "rz")]
+    assert header == ["t"] + [f"beam 0 node 0 {c}" for c in ("ux", "uy", "uz", "rx", "ry", "rz")]

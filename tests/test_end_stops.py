@@ -18,8 +18,13 @@ def cantilever_on_rail(F, end_stops):
     along x from (-1, 0, 0) to the origin; a force F along x at the tip."""
     beam = Beam(straight((0, -L, 0), (0, 0, 0), 4, 3), SECTION, "fv3")
     structure = Structure([beam])
-    slider = Slider("spherical", StraightLine((-1, 0, 0), (0, 0, 0)), (0, "end"),
-                    end_stops=end_stops, name="tip")
+    slider = Slider(
+        "spherical",
+        StraightLine((-1, 0, 0), (0, 0, 0)),
+        (0, "end"),
+        end_stops=end_stops,
+        name="tip",
+    )
     slider.line.name = "rail"
     f = structure.gather(0, beam.nodal_load("end", force=(F, 0, 0)))
     return structure, SliderStatics(structure, [Support(0, "start")], [slider]), f, beam

@@ -33,8 +33,10 @@ def lines(out):
 def table(lines):
     """``{formulation: (xi_over_L, v_flexural, v_shear, phi)}`` as float arrays."""
     rows = lines[1:]
-    return {name: np.array([[float(x) for x in r[1:]] for r in rows if r[0] == name]).T
-            for name in {r[0] for r in rows}}
+    return {
+        name: np.array([[float(x) for x in r[1:]] for r in rows if r[0] == name]).T
+        for name in {r[0] for r in rows}
+    }
 
 
 def test_layout(lines, table):
@@ -72,8 +74,9 @@ def test_tip_load(table):
 def test_galerkin_p2_tip(table):
     # a P2 Timoshenko element with 2-point (reduced) integration is exact for a tip force
     # (linear moment, constant shear); 1e-10: round-off only.
-    np.testing.assert_allclose(table["galerkin-p2"][1:, -1], table["exact"][1:, -1],
-                               rtol=1e-10, atol=1e-10)
+    np.testing.assert_allclose(
+        table["galerkin-p2"][1:, -1], table["exact"][1:, -1], rtol=1e-10, atol=1e-10
+    )
 
 
 def test_png(out):

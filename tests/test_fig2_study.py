@@ -44,14 +44,19 @@ from studies import fig2_smearing as fig2
 B = fig2.EVALUATION_POINT
 
 
-def window(level: float, periods: float = fig2.PERIODS, after: float | None = None,
-           steps_per_period: int = fig2.STEPS_PER_PERIOD) -> dict[str, np.ndarray]:
+def window(
+    level: float,
+    periods: float = fig2.PERIODS,
+    after: float | None = None,
+    steps_per_period: int = fig2.STEPS_PER_PERIOD,
+) -> dict[str, np.ndarray]:
     """The crossing at ``level`` from the static state 0.005 L before the kernel reaches
     ``b``, until ``after`` periods past the kernel's far end (default: to ``XI_END``)."""
     crossing = fig2.Crossing(level, periods=periods, xi_start=B - level / 2 - 0.005)
     if after is not None:
-        crossing.t_end = (B + level / 2 - crossing.xi_start) / crossing.velocity \
-            + after * crossing.period
+        crossing.t_end = (
+            B + level / 2 - crossing.xi_start
+        ) / crossing.velocity + after * crossing.period
     return crossing.run(steps_per_period)
 
 
@@ -71,13 +76,12 @@ def test_static_ends(level):
 
 def test_one_percent_cuts_the_overshoot_tenfold():
     sharp, smeared = (fig2.overshoot(window(level, after=1.5)) for level in (0.0, 0.01))
-    assert sharp > 0.1          # the jump does overshoot (measured 0.50)
+    assert sharp > 0.1  # the jump does overshoot (measured 0.50)
     assert sharp / smeared >= 10
 
 
 def test_one_percent_cannot_help_a_fast_crossing():
-    sharp, smeared = (fig2.overshoot(window(level, periods=10, after=1.5))
-                      for level in (0.0, 0.01))
+    sharp, smeared = (fig2.overshoot(window(level, periods=10, after=1.5)) for level in (0.0, 0.01))
     assert sharp / smeared < 10
 
 
@@ -91,8 +95,9 @@ def test_end_on_the_static_values(level):
     peak = int(np.argmax(deviation))
     decay = np.exp(-fig2.ZETA * crossing.omega_1 * (run["t"][-1] - run["t"][after][peak]))
     assert abs(run["shear"][-1] - shear_end) <= 2 * deviation[peak] * decay
-    tip_deviation = np.abs(run["tip"][after] - [fig2.static_shear_and_tip(x, level)[1]
-                                                for x in run["xi"][after]])
+    tip_deviation = np.abs(
+        run["tip"][after] - [fig2.static_shear_and_tip(x, level)[1] for x in run["xi"][after]]
+    )
     peak = int(np.argmax(tip_deviation))
     decay = np.exp(-fig2.ZETA * crossing.omega_1 * (run["t"][-1] - run["t"][after][peak]))
     assert abs(run["tip"][-1] - tip_end) <= 2 * tip_deviation[peak] * decay
@@ -107,8 +112,13 @@ def test_ctrl_c_writes_the_levels_computed(monkeypatch, tmp_path):
     def run(self, steps_per_period, recorder, progress):
         if self.smearing == 0.05:
             raise KeyboardInterrupt
-        return {"t": np.zeros(2), "xi": np.full(2, 0.6), "shear": np.zeros(2),
-                "tip": np.ones(2), "iterations": np.ones(2)}
+        return {
+            "t": np.zeros(2),
+            "xi": np.full(2, 0.6),
+            "shear": np.zeros(2),
+            "tip": np.ones(2),
+            "iterations": np.ones(2),
+        }
 
     monkeypatch.setattr(fig2.Crossing, "run", run)
     with pytest.raises(KeyboardInterrupt):

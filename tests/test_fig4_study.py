@@ -13,8 +13,9 @@ STATIONS = np.array([0.0, 0.3, 0.6, 0.9])
 
 @pytest.fixture(scope="module")
 def rows():
-    return study.compute(cases=[("fv3", 3)], smearings=(0.0, 0.01), stations=STATIONS,
-                         progress=False)
+    return study.compute(
+        cases=[("fv3", 3)], smearings=(0.0, 0.01), stations=STATIONS, progress=False
+    )
 
 
 def test_csv_and_figures(rows, tmp_path):
@@ -33,8 +34,9 @@ def test_exact_column_and_spherical_accuracy(rows):
     """k_norm_exact is the analytic two-beam solution; at these stations every contact is on
     a node or mid-region, where fv3 with 3 elements is within the paper's 2 % (Sec. 6)."""
     for row in rows:
-        exact = sliding_beams(row["s_over_L"] * study.L, study.L, study.EJ, study.GA,
-                              row["slider"])["k_norm"]
+        exact = sliding_beams(
+            row["s_over_L"] * study.L, study.L, study.EJ, study.GA, row["slider"]
+        )["k_norm"]
         assert row["k_norm_exact"] == exact
         if row["slider"] == "spherical":
             assert abs(row["rel_error"]) <= 0.02
@@ -47,7 +49,14 @@ def test_smearing_away_from_evaluation_points_changes_nothing(rows):
     (1e-9).  (At s = 0 both contacts sit at beam ends, where the cut kernel moves the load
     inward by half the smearing.)"""
     for kind in study.KINDS:
-        k = {sm: np.array([r["k_norm"] for r in rows if r["slider"] == kind
-                           and r["smearing"] == sm and r["s_over_L"] > 0])
-             for sm in (0.0, 0.01)}
+        k = {
+            sm: np.array(
+                [
+                    r["k_norm"]
+                    for r in rows
+                    if r["slider"] == kind and r["smearing"] == sm and r["s_over_L"] > 0
+                ]
+            )
+            for sm in (0.0, 0.01)
+        }
         np.testing.assert_allclose(k[0.01], k[0.0], rtol=1e-9)

@@ -32,13 +32,19 @@ def close(actual, expected, rtol=ROUNDOFF, scale=1.0):
     np.testing.assert_allclose(actual, expected, rtol=rtol, atol=rtol * scale)
 
 
-@pytest.mark.parametrize("name,closed_form", [("fv2", closed_forms.cantilever_fv2),
-                                               ("fv3", closed_forms.cantilever_fv3)])
+@pytest.mark.parametrize(
+    "name,closed_form", [("fv2", closed_forms.cantilever_fv2), ("fv3", closed_forms.cantilever_fv3)]
+)
 @settings(max_examples=60, deadline=None)
-@given(fraction=st.floats(0.0, 1.0), L=st.floats(0.2, 5.0), EJ=st.floats(0.5, 20.0),
-       GA=st.floats(0.5, 20.0))
-def test_one_element_matches_paper_sections_5_2_5_3_and_eq_T9(name, closed_form, fraction, L,
-                                                               EJ, GA):
+@given(
+    fraction=st.floats(0.0, 1.0),
+    L=st.floats(0.2, 5.0),
+    EJ=st.floats(0.5, 20.0),
+    GA=st.floats(0.5, 20.0),
+)
+def test_one_element_matches_paper_sections_5_2_5_3_and_eq_T9(
+    name, closed_form, fraction, L, EJ, GA
+):
     beam, statics = cantilever(name, 1, L, EJ, GA)
     _, u = tip(beam, statics, fraction * L, L)
     flex, shear, phi = closed_form(fraction * L, L, EJ, GA)

@@ -7,7 +7,7 @@ import pytest
 from scipy.linalg import block_diag
 from scipy.spatial.transform import Rotation
 
-from fvbeam import Beam, LinearStatics, Section, Structure, Support, closed_forms, arc, straight
+from fvbeam import Beam, LinearStatics, Section, Structure, Support, arc, closed_forms, straight
 
 EPS = np.finfo(float).eps
 NODES = {"fv2": 2, "fv3": 3, "galerkin-p1": 2, "galerkin-p2": 3}
@@ -51,9 +51,10 @@ def test_cantilever_is_frame_invariant(form):
     assert np.all(np.abs(d_ref[-1]) > 1e-3 * np.abs(d_ref).max())
     # roundoff: cond(K) x (~1e2 operations per entry to rotate the geometry and loads) x eps
     tol = _roundoff_tol(statics, q_rot, 1e2)
-    assert tol < 1e-10 * np.abs(d_ref).max()   # and the bound itself is a roundoff level
-    np.testing.assert_allclose(rot.displacements(q_rot, STATIONS),
-                               d_ref @ block_diag(Q, Q).T, rtol=0, atol=tol)
+    assert tol < 1e-10 * np.abs(d_ref).max()  # and the bound itself is a roundoff level
+    np.testing.assert_allclose(
+        rot.displacements(q_rot, STATIONS), d_ref @ block_diag(Q, Q).T, rtol=0, atol=tol
+    )
     # internal forces in the section frame do not see the rotation
     f_ref, f_rot = ref.internal_forces(q_ref), rot.internal_forces(q_rot)
     # same stations: arc length of the rotated chord, roundoff ~ 1e2 eps x L
@@ -64,10 +65,12 @@ def test_cantilever_is_frame_invariant(form):
     np.testing.assert_allclose(f_rot.force, f_ref.force, rtol=0, atol=rel * scale)
     np.testing.assert_allclose(f_rot.moment, f_ref.moment, rtol=0, atol=rel * scale)
     # global-axis internal forces rotate with the beam
-    np.testing.assert_allclose(f_rot.force_global, f_ref.force_global @ Q.T, rtol=0,
-                               atol=rel * scale)
-    np.testing.assert_allclose(f_rot.moment_global, f_ref.moment_global @ Q.T, rtol=0,
-                               atol=rel * scale)
+    np.testing.assert_allclose(
+        f_rot.force_global, f_ref.force_global @ Q.T, rtol=0, atol=rel * scale
+    )
+    np.testing.assert_allclose(
+        f_rot.moment_global, f_ref.moment_global @ Q.T, rtol=0, atol=rel * scale
+    )
 
 
 # ---------------------------------------------------------------------------------------
@@ -78,8 +81,9 @@ R, P = 1.7, 0.9
 # and shear along e3 = z (GAz).  EA, GAy, EJz differ from them by large factors, so a swapped
 # mapping (EJz for EJy, GAy for GAz) would change the answer by a factor ~3 (checked below).
 ARC_STIFFNESS = dict(EA=50.0, GAy=20.0, GAz=3.0, GJ=1.5, EJy=1.2, EJz=9.0)
-EXACT = closed_forms.quarter_circle_tip(R, P, ARC_STIFFNESS["GJ"], ARC_STIFFNESS["EJy"],
-                                    ARC_STIFFNESS["GAz"])
+EXACT = closed_forms.quarter_circle_tip(
+    R, P, ARC_STIFFNESS["GJ"], ARC_STIFFNESS["EJy"], ARC_STIFFNESS["GAz"]
+)
 NS = (2, 4, 8, 16)
 
 
@@ -92,8 +96,9 @@ def _quarter_circle(form: str, n: int):
 
 
 def test_quarter_circle_oracle_discriminates_the_axes():
-    wrong = closed_forms.quarter_circle_tip(R, P, ARC_STIFFNESS["GJ"], ARC_STIFFNESS["EJz"],
-                                        ARC_STIFFNESS["GAy"])
+    wrong = closed_forms.quarter_circle_tip(
+        R, P, ARC_STIFFNESS["GJ"], ARC_STIFFNESS["EJz"], ARC_STIFFNESS["GAy"]
+    )
     assert abs(wrong - EXACT) > 0.5 * EXACT
 
 
@@ -127,11 +132,11 @@ def test_two_tied_beams_equal_one_beam():
     a = Beam(straight((0, 0, 0), L / 2 * d, 3, 3, up=up), SECTION, "fv3")
     b = Beam(straight(L / 2 * d, L * d, 3, 3, up=up), SECTION, "fv3")
     structure = Structure([a, b], ties=[(0, "end", 1, "start")])
-    assert structure.n_nodes == one.mesh.n_nodes   # the tie merged the two end nodes
+    assert structure.n_nodes == one.mesh.n_nodes  # the tie merged the two end nodes
     s_one = LinearStatics(one, [Support(0, "start")])
     s_two = LinearStatics(structure, [Support(0, "start")])
     stations = np.linspace(0.0, L, 9)
-    for xi in (L, 0.3 * L):                          # load on the second / on the first beam
+    for xi in (L, 0.3 * L):  # load on the second / on the first beam
         q1 = s_one.solve(one.point_load(xi, F, M))
         if xi > L / 2:
             f = structure.gather(1, b.point_load(xi - L / 2, F, M))
@@ -141,8 +146,11 @@ def test_two_tied_beams_equal_one_beam():
         # roundoff of two solves of the same equations, differently numbered
         tol = 2 * _roundoff_tol(s_one, q1, 1e2)
         u1 = one.displacements(q1, stations)
-        u2 = np.vstack([a.displacements(structure.local(0, q2), stations[stations <= L / 2]),
-                        b.displacements(structure.local(1, q2),
-                                        stations[stations > L / 2] - L / 2)])
+        u2 = np.vstack(
+            [
+                a.displacements(structure.local(0, q2), stations[stations <= L / 2]),
+                b.displacements(structure.local(1, q2), stations[stations > L / 2] - L / 2),
+            ]
+        )
         assert np.abs(u1).max() > 0.1
         np.testing.assert_allclose(u2, u1, rtol=0, atol=tol)

@@ -52,8 +52,10 @@ def imports(name: str, path: Path, known: dict[str, Path]) -> set[str]:
                 base = ".".join(anchor + ([base] if base else []))
             # ``from package import module`` depends on the module; ``from module import
             # name`` on the module that holds the name.
-            targets = [f"{base}.{alias.name}" if f"{base}.{alias.name}" in known else base
-                       for alias in node.names]
+            targets = [
+                f"{base}.{alias.name}" if f"{base}.{alias.name}" in known else base
+                for alias in node.names
+            ]
         for target in targets:
             hit = resolve(target, known)
             if hit is not None and hit != name:
@@ -77,9 +79,13 @@ def test_the_graph_sees_the_modules():
 @pytest.mark.parametrize("package", PACKAGES)
 def test_layers_point_one_way(package):
     """``fvbeam`` imports nothing of ours, ``sliders`` only ``fvbeam``: never ``studies``."""
-    wrong = sorted(f"{name} -> {target}" for name, targets in graph().items()
-                   if name.split(".")[0] == package for target in targets
-                   if target.split(".")[0] not in ALLOWED[package] | {package})
+    wrong = sorted(
+        f"{name} -> {target}"
+        for name, targets in graph().items()
+        if name.split(".")[0] == package
+        for target in targets
+        if target.split(".")[0] not in ALLOWED[package] | {package}
+    )
     assert not wrong, "imports against the layers:\n" + "\n".join(wrong)
 
 

@@ -56,12 +56,13 @@ def test_smeared_shares_across_an_evaluation_point(npe, kernel):
     its integral 1/2 + d/eps - d|d|/(2 eps^2), d = xi - p."""
     n, eps = 3, 0.02
     beam = Beam(straight((0, 0, 0), (1, 0, 0), n, npe), SECTION, f"fv{npe}")
-    p = (1 + evaluation_points(npe)[-1]) / n          # last evaluation point of element 1
-    downstream = 2                                    # vertex 2 closes element 1
+    p = (1 + evaluation_points(npe)[-1]) / n  # last evaluation point of element 1
+    downstream = 2  # vertex 2 closes element 1
     for d in np.linspace(-eps, eps, 9):
         f = beam.point_load(p + d, (0, 1, 0), smearing=eps, kernel=kernel).reshape(-1, 6)
-        expected = (0.5 + d / (2 * eps) if kernel == "box"
-                    else 0.5 + d / eps - d * abs(d) / (2 * eps**2))
+        expected = (
+            0.5 + d / (2 * eps) if kernel == "box" else 0.5 + d / eps - d * abs(d) / (2 * eps**2)
+        )
         assert f[downstream, 1] == pytest.approx(expected, abs=EXACT)
 
 
@@ -75,8 +76,10 @@ def test_smearing_makes_the_load_continuous_in_xi(npe):
     jump0 = np.abs(beam.point_load(p + delta, (0, 1, 0)) - beam.point_load(p - delta, (0, 1, 0)))
     assert jump0.reshape(-1, 6)[:, 1].max() == pytest.approx(1.0, abs=EXACT)
     eps = 0.01
-    jump = np.abs(beam.point_load(p + delta, (0, 1, 0), smearing=eps)
-                  - beam.point_load(p - delta, (0, 1, 0), smearing=eps))
+    jump = np.abs(
+        beam.point_load(p + delta, (0, 1, 0), smearing=eps)
+        - beam.point_load(p - delta, (0, 1, 0), smearing=eps)
+    )
     lever = 1.0  # moments carry the force times a lever arm shorter than the beam
     assert jump.max() <= 2 * delta / (2 * eps) * (1 + lever) + EXACT
 
@@ -140,7 +143,6 @@ def test_nodal_load_at_a_vertex_equals_the_point_load_there(name, npe):
     beam = oblique_beam(name, npe)
     vertex = 2
     xi = beam.mesh.vertex_s[vertex]
-    np.testing.assert_allclose(beam.nodal_load(vertex, F, M), beam.point_load(xi, F, M),
-                               atol=EXACT)
+    np.testing.assert_allclose(beam.nodal_load(vertex, F, M), beam.point_load(xi, F, M), atol=EXACT)
     with pytest.raises(ValueError, match="node 99"):
         beam.nodal_load(99, F)

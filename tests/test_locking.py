@@ -22,14 +22,14 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from fvbeam import Beam, LinearStatics, Section, Support, closed_forms, arc, straight
+from fvbeam import Beam, LinearStatics, Section, Support, arc, closed_forms, straight
 
 EPS = np.finfo(float).eps
-L, EJ, GA, F = 1.0, 1.0, 1.0e6, 1.0                  # GA L^2 / EJ = 1e6: a thin beam
+L, EJ, GA, F = 1.0, 1.0, 1.0e6, 1.0  # GA L^2 / EJ = 1e6: a thin beam
 SECTION = Section.diagonal(EA=10 * GA, GAy=GA, GAz=GA, GJ=1.0, EJy=EJ, EJz=EJ)
 V_FLEX, V_SHEAR, PHI = closed_forms.cantilever_exact(L, L, EJ, GA, F)
 V_EXACT = V_FLEX + V_SHEAR
-RTOL_FORMULA = 1e1 * EPS       # roundoff of evaluating a closed form: ~10 operations
+RTOL_FORMULA = 1e1 * EPS  # roundoff of evaluating a closed form: ~10 operations
 
 
 def _tip(form: str, integration: str, n: int):
@@ -44,8 +44,9 @@ def _tip(form: str, integration: str, n: int):
     A = statics.K[statics.free][:, statics.free].toarray()
     x, b = q[statics.free], f[statics.free]
     bound = np.zeros_like(q)
-    bound[statics.free] = (3 * len(x) * EPS
-                           * np.abs(np.linalg.inv(A)) @ (np.abs(A) @ np.abs(x) + np.abs(b)))
+    bound[statics.free] = (
+        3 * len(x) * EPS * np.abs(np.linalg.inv(A)) @ (np.abs(A) @ np.abs(x) + np.abs(b))
+    )
     # xi = L is the last vertex: the tip values are exactly its nodal dofs
     tip = beam.node_dofs(beam.mesh.n_elements)
     np.testing.assert_array_equal(beam.displacements(q, L)[0], q[tip])
@@ -60,8 +61,7 @@ def _p1_tip(n: int, EJ_eff: float) -> float:
 def test_full_p1_locks(n):
     tip, tol, _ = _tip("galerkin-p1", "full", n)
     EJ_star = EJ + GA * (L / n) ** 2 / 12
-    np.testing.assert_allclose(tip[1], _p1_tip(n, EJ_star), rtol=RTOL_FORMULA,
-                               atol=tol[1])
+    np.testing.assert_allclose(tip[1], _p1_tip(n, EJ_star), rtol=RTOL_FORMULA, atol=tol[1])
     ratio = tip[1] / V_EXACT
     # locking: ratio ~ 12 n^2 EJ / (GA L^2) <= 12 * 256 / 1e6 = 3.1e-3 for n <= 16;
     # at least ten times too stiff
@@ -70,8 +70,9 @@ def test_full_p1_locks(n):
 
 def test_reduced_p1_one_element_closed_form():
     tip, tol, _ = _tip("galerkin-p1", "reduced", 1)
-    np.testing.assert_allclose(tip[1], F * L**3 / (4 * EJ) + F * L / GA,
-                               rtol=RTOL_FORMULA, atol=tol[1])
+    np.testing.assert_allclose(
+        tip[1], F * L**3 / (4 * EJ) + F * L / GA, rtol=RTOL_FORMULA, atol=tol[1]
+    )
 
 
 def test_reduced_p1_converges_quadratically():
@@ -94,12 +95,16 @@ GENERAL = Section.diagonal(7, 2, 3, 1.5, 1.2, 0.8)
 Q5 = Rotation.random(random_state=5).as_matrix()
 
 
-@pytest.mark.parametrize("mesh, section", [
-    (straight((0, 0, 0), (L, 0, 0), 1, 2), SECTION),
-    (straight((0, 0, 0), (L, 0, 0), 4, 2), SECTION),
-    (straight((0, 0, 0), Q5 @ [2.0, 0, 0], 4, 2, up=Q5 @ [0, 0, 1.0]), GENERAL),
-    (arc((0.3, 0.1, 0.2), 1.3, 0.2, 2.5, 5, 2), GENERAL),
-], ids=["thin-1", "thin-4", "rotated-4", "arc-5"])
+@pytest.mark.parametrize(
+    "mesh, section",
+    [
+        (straight((0, 0, 0), (L, 0, 0), 1, 2), SECTION),
+        (straight((0, 0, 0), (L, 0, 0), 4, 2), SECTION),
+        (straight((0, 0, 0), Q5 @ [2.0, 0, 0], 4, 2, up=Q5 @ [0, 0, 1.0]), GENERAL),
+        (arc((0.3, 0.1, 0.2), 1.3, 0.2, 2.5, 5, 2), GENERAL),
+    ],
+    ids=["thin-1", "thin-4", "rotated-4", "arc-5"],
+)
 def test_fv2_stiffness_equals_one_point_p1(mesh, section):
     K_fv = Beam(mesh, section, "fv2").stiffness.toarray()
     K_p1 = Beam(mesh, section, "galerkin-p1", "reduced").stiffness.toarray()
@@ -112,6 +117,8 @@ def test_three_node_reduced_does_not_lock(form):
     tip, tol, _ = _tip(form, "reduced", 4)
     # both are exact for a tip load on a straight beam (fv3: closed_forms.cantilever_fv3 at
     # xi = L; P2 with 2-point Gauss: the shear is constant and the moment linear)
-    assert closed_forms.cantilever_fv3(L, L, EJ, GA, F)[0] == pytest.approx(V_FLEX, rel=RTOL_FORMULA)
+    assert closed_forms.cantilever_fv3(L, L, EJ, GA, F)[0] == pytest.approx(
+        V_FLEX, rel=RTOL_FORMULA
+    )
     np.testing.assert_allclose(tip[1], V_EXACT, rtol=RTOL_FORMULA, atol=tol[1])
     np.testing.assert_allclose(tip[5], PHI, rtol=RTOL_FORMULA, atol=tol[5])

@@ -17,6 +17,7 @@ ORIGIN = np.array([0.3, -1.2, 0.7])
 
 def _rotated_arc(n_elements: int, nodes_per_element: int) -> BeamMesh:
     """Arc of radius 1.4 over 2 rad in the plane spanned by Q e_x, Q e_y."""
+
     def curve(u):
         a = 0.4 + 2.0 * u
         local = 1.4 * np.column_stack([np.cos(a), np.sin(a), np.zeros_like(a)])
@@ -49,8 +50,9 @@ def _write(mesh: BeamMesh, path, how: str) -> None:
 # meshio round trips
 # ---------------------------------------------------------------------------------------
 @pytest.mark.parametrize("kind", sorted(MESHES))
-@pytest.mark.parametrize("suffix, how", [("vtu", "write"), ("msh", "write"),
-                                         ("msh", "gmsh22-ascii")])
+@pytest.mark.parametrize(
+    "suffix, how", [("vtu", "write"), ("msh", "write"), ("msh", "gmsh22-ascii")]
+)
 def test_round_trip_is_exact(tmp_path, kind, suffix, how):
     mesh = MESHES[kind]()
     path = tmp_path / f"beam.{suffix}"
@@ -87,14 +89,15 @@ def _shuffled_line(nodes_per_element: int, first_reversed: bool, seed: int = 3):
     rng = np.random.default_rng(seed)
     n = 6
     s_vertex = np.linspace(0.0, 3.0, n + 1)
-    s_all = np.concatenate([s_vertex, (s_vertex[:-1] + s_vertex[1:]) / 2]
-                           if nodes_per_element == 3 else [s_vertex])
+    s_all = np.concatenate(
+        [s_vertex, (s_vertex[:-1] + s_vertex[1:]) / 2] if nodes_per_element == 3 else [s_vertex]
+    )
     local = np.column_stack([np.arange(n), np.arange(1, n + 1)])
     if nodes_per_element == 3:
         local = np.column_stack([local, np.arange(n + 1, 2 * n + 1)])
-    n_file = len(s_all) + 2                            # two unused points in the file
-    file_id = rng.permutation(n_file)[:len(s_all)]     # file id of every local node
-    points = rng.normal(size=(n_file, 3)) * 10         # unused points anywhere
+    n_file = len(s_all) + 2  # two unused points in the file
+    file_id = rng.permutation(n_file)[: len(s_all)]  # file id of every local node
+    points = rng.normal(size=(n_file, 3)) * 10  # unused points anywhere
     s_file = np.full(n_file, np.nan)
     points[file_id] = ORIGIN + np.outer(s_all, DIRECTION)
     s_file[file_id] = s_all
@@ -106,8 +109,11 @@ def _shuffled_line(nodes_per_element: int, first_reversed: bool, seed: int = 3):
     assert np.any(order != np.arange(n)) and flip[1:].any() and not flip[1:].all()
     cells[flip, :2] = cells[flip, 1::-1]
     sign = -1.0 if first_reversed else 1.0
-    return meshio.Mesh(points, [("line" if nodes_per_element == 2 else "line3", cells)]), \
-        s_file, sign
+    return (
+        meshio.Mesh(points, [("line" if nodes_per_element == 2 else "line3", cells)]),
+        s_file,
+        sign,
+    )
 
 
 @pytest.mark.parametrize("nodes_per_element", [2, 3])
@@ -121,19 +127,18 @@ def test_read_beams_orders_a_shuffled_chain(nodes_per_element, first_reversed):
     # the beam's nodes are the file's points, identified by point_ids
     np.testing.assert_array_equal(beam.points, m.points[ids])
     # vertices run monotonically, in the direction of the first cell of the file
-    s = sign * s_file[ids[:n + 1]]
+    s = sign * s_file[ids[: n + 1]]
     assert np.all(np.diff(s) > 0)
     first = m.cells[0].data[0]
-    vertices = list(ids[:n + 1])
+    vertices = list(ids[: n + 1])
     assert vertices.index(first[1]) == vertices.index(first[0]) + 1
     # mid nodes sit between the ends of their element
     if nodes_per_element == 3:
-        s_mid = sign * s_file[ids[n + 1:]]
+        s_mid = sign * s_file[ids[n + 1 :]]
         assert np.all((s[:-1] < s_mid) & (s_mid < s[1:]))
     # arc length from the first vertex: |s - s0| (roundoff: one subtraction, 8-point
     # Gauss sum of a constant speed, ~1e2 eps on lengths of order 3)
-    np.testing.assert_allclose(beam.vertex_s, s - s[0], rtol=0,
-                               atol=1e2 * np.finfo(float).eps * 3)
+    np.testing.assert_allclose(beam.vertex_s, s - s[0], rtol=0, atol=1e2 * np.finfo(float).eps * 3)
 
 
 def test_read_beams_two_disjoint_chains(tmp_path):
@@ -145,7 +150,7 @@ def test_read_beams_two_disjoint_chains(tmp_path):
     meshio.write(path, meshio.Mesh(points, [("line3", cells)]))
     beams = read_beams(path)
     assert len(beams) == 2
-    for beam, ref, offset in zip(beams, (a, b), (0, a.n_nodes)):
+    for beam, ref, offset in zip(beams, (a, b), (0, a.n_nodes), strict=True):
         assert beam.n_elements == ref.n_elements
         np.testing.assert_array_equal(beam.point_ids, np.arange(ref.n_nodes) + offset)
         np.testing.assert_array_equal(beam.points, ref.points)
@@ -157,18 +162,22 @@ def test_read_beams_two_disjoint_chains(tmp_path):
 JUNCTION_POINTS = np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0], [1, 1, 0], [1, 2, 0]], float)
 
 
-@pytest.mark.parametrize("blocks", [
-    # T junction at point 1, every branch in its own cell block (as the branching error
-    # message advises)
-    [np.array([[0, 1]]), np.array([[1, 2]]), np.array([[1, 3], [3, 4]])],
-    # corner: two blocks meeting end to end at point 1
-    [np.array([[0, 1]]), np.array([[4, 3], [3, 1]])],
-], ids=["tee", "corner"])
+@pytest.mark.parametrize(
+    "blocks",
+    [
+        # T junction at point 1, every branch in its own cell block (as the branching error
+        # message advises)
+        [np.array([[0, 1]]), np.array([[1, 2]]), np.array([[1, 3], [3, 4]])],
+        # corner: two blocks meeting end to end at point 1
+        [np.array([[0, 1]]), np.array([[4, 3], [3, 1]])],
+    ],
+    ids=["tee", "corner"],
+)
 def test_read_beams_chains_sharing_a_point_keep_its_id(blocks):
     m = meshio.Mesh(JUNCTION_POINTS, [("line", b) for b in blocks])
     beams = read_beams(m)
     assert len(beams) == len(blocks)
-    for beam, block in zip(beams, blocks):
+    for beam, block in zip(beams, blocks, strict=True):
         assert beam.n_elements == len(block)
         assert set(beam.point_ids.tolist()) == set(block.ravel().tolist())
         # the shared point 1 is an end vertex of every beam, with its coordinates
@@ -196,8 +205,9 @@ def test_arc_length_of_chords_is_exact():
 def test_arc_length_of_quadratic_elements_converges_at_order_4():
     exact = R_ARC * (A1 - A0)
     ns = np.array([2, 4, 8, 16, 32])
-    err = np.array([abs(arc((0.3, 0.1, 0.2), R_ARC, A0, A1, n, 3).length - exact) / exact
-                    for n in ns])
+    err = np.array(
+        [abs(arc((0.3, 0.1, 0.2), R_ARC, A0, A1, n, 3).length - exact) / exact for n in ns]
+    )
     order = np.log2(err[:-1] / err[1:])
     # quadratic interpolation of a circle: length error O(h^4); smallest error 3e-8 is far
     # above roundoff, so the observed order must approach 4
@@ -234,10 +244,10 @@ def test_zero_length_element_coincident_nodes():
 
 def test_zero_length_element_from_file_names_file_points():
     # the message must name the file's point ids (0 and 5), not the beam-local numbers (2, 3)
-    perm = np.array([3, 7, 0, 5, 2, 6])            # file id of chain vertex k
+    perm = np.array([3, 7, 0, 5, 2, 6])  # file id of chain vertex k
     pts = np.full((8, 3), 9.0)
     pts[perm] = np.outer(1.5 * np.arange(6) + 0.25, [1.0, 0.0, 0.0])
-    pts[5] = pts[0]                                 # chain vertices 2 and 3 coincide
+    pts[5] = pts[0]  # chain vertices 2 and 3 coincide
     cells = np.column_stack([perm[:-1], perm[1:]])[[3, 1, 0, 4, 2]][:, ::-1]
     with pytest.raises(ValueError, match=r"(?s)(?=.*\b0\b)(?=.*\b5\b)"):
         read_beams(meshio.Mesh(pts, [("line", cells)]))
@@ -270,10 +280,10 @@ def test_nan_coordinate():
 
 def test_nan_coordinate_from_file_names_file_point():
     # the message must name the file's point id (0), not the beam-local number (2)
-    perm = np.array([3, 7, 0, 5, 2, 6])             # file id of chain vertex k
-    pts = np.full((8, 3), 9.0)                      # points 1 and 4 are unused
+    perm = np.array([3, 7, 0, 5, 2, 6])  # file id of chain vertex k
+    pts = np.full((8, 3), 9.0)  # points 1 and 4 are unused
     pts[perm] = np.outer(1.5 * np.arange(6) + 0.25, [1.0, 0.0, 0.0])
-    pts[0, 0] = np.nan                              # chain vertex 2 is file point 0
+    pts[0, 0] = np.nan  # chain vertex 2 is file point 0
     cells = np.column_stack([perm[:-1], perm[1:]])[[3, 1, 0, 4, 2]]
     with pytest.raises(ValueError, match=r"point 0\b|node 0\b"):
         read_beams(meshio.Mesh(pts, [("line", cells)]))
@@ -334,8 +344,10 @@ def test_translated_mesh_moves_points_and_keeps_lengths():
 
 
 def test_translated_beam_shares_the_stiffness():
-    beam = Beam(straight((0, 0, 0), (1, 0, 0), 3, 3),
-                Section.diagonal(EA=1, GAy=1, GAz=1, GJ=1, EJy=1, EJz=1))
+    beam = Beam(
+        straight((0, 0, 0), (1, 0, 0), 3, 3),
+        Section.diagonal(EA=1, GAy=1, GAz=1, GJ=1, EJy=1, EJz=1),
+    )
     moved = beam.translated((0.5, 0, 0))
     assert moved.stiffness is beam.stiffness
     np.testing.assert_allclose(moved.mesh.points[:, 0], beam.mesh.points[:, 0] + 0.5)

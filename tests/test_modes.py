@@ -34,19 +34,40 @@ EB_BETA_L = np.array([1.87510407, 4.69409113, 7.85475744])
 #: each side; galerkin-p1 row sums), fv3 regions (1 - 1/sqrt(3))/2, 1/sqrt(3), (1 - 1/sqrt(3))/2:
 #: 1/6 - 1/(4 sqrt(3)), Simpson (galerkin-p2 row sums): 0.
 LUMPED_C = {"fv2": 2.0, "fv3": 2.0 - np.sqrt(3.0), "galerkin-p1": 2.0, "galerkin-p2": 0.0}
-CASES = [("fv2", "lumped"), ("fv3", "lumped"), ("galerkin-p1", "lumped"),
-         ("galerkin-p2", "lumped"), ("galerkin-p1", "consistent"),
-         ("galerkin-p2", "consistent")]
+CASES = [
+    ("fv2", "lumped"),
+    ("fv3", "lumped"),
+    ("galerkin-p1", "lumped"),
+    ("galerkin-p2", "lumped"),
+    ("galerkin-p1", "consistent"),
+    ("galerkin-p2", "consistent"),
+]
 
 
 def npe(name: str) -> int:
     return 2 if name in ("fv2", "galerkin-p1") else 3
 
 
-def beam(name: str, n: int, m: float = 1.0, inertia=INERTIA, end=(1.0, 0.0, 0.0),
-         GA_: float = 1.0, EJ_: float = 1.0) -> Beam:
-    section = Section.diagonal(EA=1e3, GAy=GA_, GAz=GA_, GJ=1.0, EJy=EJ_, EJz=EJ_,
-                               mass_per_length=m, inertia=inertia, name="steel")
+def beam(
+    name: str,
+    n: int,
+    m: float = 1.0,
+    inertia=INERTIA,
+    end=(1.0, 0.0, 0.0),
+    GA_: float = 1.0,
+    EJ_: float = 1.0,
+) -> Beam:
+    section = Section.diagonal(
+        EA=1e3,
+        GAy=GA_,
+        GAz=GA_,
+        GJ=1.0,
+        EJy=EJ_,
+        EJz=EJ_,
+        mass_per_length=m,
+        inertia=inertia,
+        name="steel",
+    )
     return Beam(straight((0, 0, 0), end, n, npe(name)), section, name)
 
 
@@ -64,7 +85,7 @@ def test_free_beam_mass_and_rigid_rotation_inertia_match_closed_forms(name, kind
         np.testing.assert_allclose(q @ M @ q, m * L, rtol=ROUNDOFF)
         np.testing.assert_allclose((M @ q).reshape(-1, 6)[:, 3:], 0.0, atol=ROUNDOFF)
     rotation = np.zeros((b.mesh.n_nodes, 6))
-    rotation[:, 1], rotation[:, 5] = x, 1.0       # theta_z = 1 about the centre: u_y = x
+    rotation[:, 1], rotation[:, 5] = x, 1.0  # theta_z = 1 about the centre: u_y = x
     q = rotation.ravel()
     c = LUMPED_C[name] if kind == "lumped" else 0.0
     expected = m * L**3 / 12 * (1 + c / n**2) + INERTIA[2, 2] * L
@@ -73,7 +94,7 @@ def test_free_beam_mass_and_rigid_rotation_inertia_match_closed_forms(name, kind
 
 @pytest.mark.parametrize("name,kind", CASES)
 def test_section_inertia_is_rotated_to_global_axes(name, kind):
-    b = beam(name, 3, end=(0.0, 2.0, 0.0))       # t = y, e3 = z, e2 = e3 x t = -x
+    b = beam(name, 3, end=(0.0, 2.0, 0.0))  # t = y, e3 = z, e2 = e3 x t = -x
     R = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
     blocks = b.mass(kind).toarray().reshape(b.mesh.n_nodes, 6, b.mesh.n_nodes, 6)
     total = blocks[:, 3:, :, 3:].sum(axis=(0, 2))
@@ -126,8 +147,9 @@ def planar_cantilever(name: str, n: int) -> tuple[Beam, list[Support]]:
     """Clamped at 0; every other node held in ux, uz, rx, ry: bending in the x-y plane only
     (u_y, theta_z), whose rotary inertia is the section's J_33 = RHO_J."""
     b = beam(name, n, inertia=np.diag([2 * RHO_J, RHO_J, RHO_J]), GA_=GA, EJ_=EJ)
-    supports = [Support(0, "start")] + [Support(0, k, "ux+uz+rx+ry")
-                                        for k in range(1, b.mesh.n_nodes)]
+    supports = [Support(0, "start")] + [
+        Support(0, k, "ux+uz+rx+ry") for k in range(1, b.mesh.n_nodes)
+    ]
     return b, supports
 
 
@@ -137,11 +159,11 @@ def relative_errors(name: str, kind: str, n: int) -> np.ndarray:
     return np.abs(natural_frequencies(b, supports, 3, kind).omega / exact - 1)
 
 
-@pytest.mark.parametrize("name,kind,order", [("fv3", "lumped", 2),
-                                             ("galerkin-p2", "lumped", 4),
-                                             ("galerkin-p2", "consistent", 4)])
-def test_cantilever_frequencies_converge_to_timoshenko_at_the_expected_order(name, kind,
-                                                                             order):
+@pytest.mark.parametrize(
+    "name,kind,order",
+    [("fv3", "lumped", 2), ("galerkin-p2", "lumped", 4), ("galerkin-p2", "consistent", 4)],
+)
+def test_cantilever_frequencies_converge_to_timoshenko_at_the_expected_order(name, kind, order):
     e8, e16, e32 = (relative_errors(name, kind, n) for n in (8, 16, 32))
     for coarse, fine in ((e8, e16), (e16, e32)):
         observed = np.log2(coarse / fine)
@@ -150,8 +172,7 @@ def test_cantilever_frequencies_converge_to_timoshenko_at_the_expected_order(nam
 
 
 @pytest.mark.parametrize("name,kind", [("fv3", "lumped"), ("galerkin-p2", "consistent")])
-def test_sparse_shift_invert_matches_dense_and_shapes_have_unit_modal_mass(name, kind,
-                                                                          monkeypatch):
+def test_sparse_shift_invert_matches_dense_and_shapes_have_unit_modal_mass(name, kind, monkeypatch):
     b, supports = planar_cantilever(name, 6)
     dense = natural_frequencies(b, supports, 4, kind)
     monkeypatch.setattr(fvbeam.modes, "DENSE_LIMIT", 0)
@@ -159,8 +180,9 @@ def test_sparse_shift_invert_matches_dense_and_shapes_have_unit_modal_mass(name,
     np.testing.assert_allclose(sparse.omega, dense.omega, rtol=1e-10)
     M = b.mass(kind)
     for modes in (dense, sparse):
-        np.testing.assert_allclose(np.einsum("ik,ik->k", modes.shapes, M @ modes.shapes), 1.0,
-                                   rtol=1e-10)
+        np.testing.assert_allclose(
+            np.einsum("ik,ik->k", modes.shapes, M @ modes.shapes), 1.0, rtol=1e-10
+        )
         np.testing.assert_allclose(modes.hertz, modes.omega / (2 * np.pi), rtol=ROUNDOFF)
 
 

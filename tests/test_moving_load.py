@@ -47,8 +47,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fvbeam.closed_forms import (moving_load_simply_supported, moving_load_truncation,
-                             simply_supported_point_load)
+from fvbeam.closed_forms import (
+    moving_load_simply_supported,
+    moving_load_truncation,
+    simply_supported_point_load,
+)
 from studies import moving_load as ml
 
 ORDER_TOLERANCE = 0.5
@@ -71,8 +74,12 @@ def test_euler_bernoulli_limit_is_frybas_series():
     omega = np.pi * c / L
     omega_j = j**2 * np.pi**2 / L**2 * np.sqrt(EJ / m)
     v0 = 2 * F * L**3 / (np.pi**4 * EJ)
-    fryba = v0 * np.sum((np.sin(j * omega * t) - alpha / j * np.sin(omega_j * t))
-                        * np.sin(j * np.pi * x / L) / (j**2 * (j**2 - alpha**2)), axis=0)
+    fryba = v0 * np.sum(
+        (np.sin(j * omega * t) - alpha / j * np.sin(omega_j * t))
+        * np.sin(j * np.pi * x / L)
+        / (j**2 * (j**2 - alpha**2)),
+        axis=0,
+    )
     r = alpha / (N + 1)
     tail = 2 * F * L**3 / (3 * np.pi**4 * EJ * N**3 * (1 - r))
     w = moving_load_simply_supported(x, t, L, EJ, np.inf, m, F, c, n_modes=N)
@@ -90,12 +97,13 @@ def test_quasi_static_limit(a):
     static = simply_supported_point_load(x, a, L, EJ, GA, F)
     kappa_1 = 1 / (L**4 / (np.pi**4 * EJ) + L**2 / (np.pi**2 * GA))
     r1 = np.pi / L * c * np.sqrt(m / kappa_1)
-    rtol = 1e-8    # the default truncation, relative to the static mid-span deflection
-    bound = (r1 / (1 - r1) * F * (L**3 / (45 * EJ) + L / (3 * GA))
-             + rtol * F * (L**3 / (48 * EJ) + L / (4 * GA)))
+    rtol = 1e-8  # the default truncation, relative to the static mid-span deflection
+    bound = r1 / (1 - r1) * F * (L**3 / (45 * EJ) + L / (3 * GA)) + rtol * F * (
+        L**3 / (48 * EJ) + L / (4 * GA)
+    )
     assert np.abs(w - static).max() <= bound
     shear = F * np.minimum(x, a) * (L - np.maximum(x, a)) / (GA * L)
-    assert shear.max() > 1e3 * bound      # the shear part is resolved
+    assert shear.max() > 1e3 * bound  # the shear part is resolved
 
 
 @pytest.mark.parametrize("N", [3, 30, 300])
@@ -107,8 +115,7 @@ def test_truncation_bound(N):
     reference = moving_load_simply_supported(x, t, L, EJ, GA, m, F, c, n_modes=N_ref)
     w = moving_load_simply_supported(x, t, L, EJ, GA, m, F, c, n_modes=N)
     bound = moving_load_truncation(N, L, EJ, GA, m, F, c)
-    assert np.abs(w - reference).max() <= bound + moving_load_truncation(N_ref, L, EJ, GA, m,
-                                                                         F, c)
+    assert np.abs(w - reference).max() <= bound + moving_load_truncation(N_ref, L, EJ, GA, m, F, c)
     assert moving_load_truncation(N_ref, L, EJ, GA, m, F, c) < 0.1 * bound
 
 
@@ -118,8 +125,9 @@ def test_static_symmetry():
     w = simply_supported_point_load(x, a, L, EJ, GA, F)
     scale = np.abs(w).max()
     assert np.abs(w - simply_supported_point_load(a, x, L, EJ, GA, F)).max() <= 1e-14 * scale
-    assert np.abs(w - simply_supported_point_load(L - x, L - a, L, EJ, GA, F)).max() \
-        <= 1e-14 * scale
+    assert (
+        np.abs(w - simply_supported_point_load(L - x, L - a, L, EJ, GA, F)).max() <= 1e-14 * scale
+    )
 
 
 def test_bad_input_is_named():
@@ -134,8 +142,10 @@ def test_bad_input_is_named():
 def test_mesh_convergence(formulation, order):
     t = np.linspace(0, ml.CROSSING, 401)
     exact = ml.exact_midspan(t)
-    errors = [ml.relative_error(ml.semi_discrete(ml.model(formulation, n), t), exact)
-              for n in (16, 32, 64)]
+    errors = [
+        ml.relative_error(ml.semi_discrete(ml.model(formulation, n), t), exact)
+        for n in (16, 32, 64)
+    ]
     assert np.all(np.abs(observed_orders(errors) - order) <= ORDER_TOLERANCE), errors
 
 
@@ -155,8 +165,7 @@ def test_benchmark_row_reports_time_and_error_split():
     closed form is at most its spatial plus its time part (triangle inequality)."""
     from studies.bench_dynamics import moving_load_bench
 
-    result = moving_load_bench(formulations=("galerkin-p2",), repeats=1, steps=100,
-                               progress=False)
+    result = moving_load_bench(formulations=("galerkin-p2",), repeats=1, steps=100, progress=False)
     (row,) = result["rows"]
     assert not result["interrupted"] and row["steps"] == 100
     assert 0 < row["seconds_per_step"]["min"] <= row["seconds_per_step"]["median"]

@@ -17,14 +17,20 @@ import meshio
 import numpy as np
 import pytest
 
-from fvbeam.io import OUTPUT_MARKER
-
 from fvbeam import Beam, RigidBody, Section, Structure, straight
-from sliders.lines.chain import BeamChain
+from fvbeam.io import OUTPUT_MARKER
+from sliders.app.vtu import (
+    PARTS,
+    RADIUS_FRACTION,
+    Frame,
+    to_meshio,
+    write_pvd,
+    write_series,
+    write_vtu,
+)
 from sliders.joints.slider import Slider
+from sliders.lines.chain import BeamChain
 from sliders.lines.rigid import StraightLine
-from sliders.app.vtu import (PARTS, RADIUS_FRACTION, Frame, to_meshio, write_pvd,
-                            write_series, write_vtu)
 from sliders.sliding_beams.model import SlidingBeams
 
 EPS = np.finfo(float).eps
@@ -49,12 +55,13 @@ def mixed():
     hub = RigidBody("hub", (0.3, -0.4, 0.2))
     structure = Structure([a, b], [(0, "end", 1, "start")], [hub])
     rail = StraightLine((0, -0.4, 0.2), (1.0, -0.4, 0.2), name="rail")
-    sliders = [Slider("spherical", rail, "hub", name="S"),
-               Slider("classical", BeamChain(structure, [1], "B"), (0, 2), name="C")]
+    sliders = [
+        Slider("spherical", rail, "hub", name="S"),
+        Slider("classical", BeamChain(structure, [1], "B"), (0, 2), name="C"),
+    ]
     rng = np.random.default_rng(7)
     q = rng.normal(size=structure.n_dofs)
-    unknowns = [np.array([0.35, *rng.normal(size=3)]),
-                np.array([0.8, *rng.normal(size=5)])]
+    unknowns = [np.array([0.35, *rng.normal(size=3)]), np.array([0.8, *rng.normal(size=5)])]
     return structure, q, sliders, unknowns
 
 
@@ -77,7 +84,7 @@ def assert_beams(mesh: meshio.Mesh, structure: Structure, q: np.ndarray, *kinds:
     """Every beam's cells, nodal motion and evaluation points against the arrays they come
     from (straight beams: an evaluation point lies at ``start + xi t``)."""
     _, _, data = flat(mesh)
-    for b, (beam, kind) in enumerate(zip(structure.beams, kinds)):
+    for b, (beam, kind) in enumerate(zip(structure.beams, kinds, strict=True)):
         q_beam = structure.local(b, q)
         where, cells, types, _ = pick(mesh, "beam", b)
         assert set(types) == {kind}
@@ -114,8 +121,8 @@ def test_sliding_beams_fields_read_back(sliding, tmp_path):
     assert np.bincount(data["part"]).tolist() == [10, 20, 2]
     size = S_OVER_L * L + L
     assert np.allclose(mesh.point_data["radius"], RADIUS_FRACTION * size, rtol=4 * EPS, atol=0)
-    assert_beams(mesh, structure, q, "line3")
-    for i, (slider, y) in enumerate(zip(statics.sliders, solution.unknowns)):
+    assert_beams(mesh, structure, q, "line3", "line3")
+    for i, (slider, y) in enumerate(zip(statics.sliders, solution.unknowns, strict=True)):
         where, cells, kinds, _ = pick(mesh, "slider", i)
         assert kinds.tolist() == ["vertex"] and data["element"][where].tolist() == [-1]
         assert data["xi"][where][0] == y[0]
@@ -128,8 +135,9 @@ def test_sliding_beams_fields_read_back(sliding, tmp_path):
         x, _, _ = slider.line.geometry(y[0], q)
         warped = mesh.points[point] + mesh.point_data["displacement"][point]
         assert np.abs(warped - x).max() <= POSITION * size
-        assert np.array_equal(mesh.point_data["rotation"][point],
-                              q[slider.body_dofs(structure)[3:]])
+        assert np.array_equal(
+            mesh.point_data["rotation"][point], q[slider.body_dofs(structure)[3:]]
+        )
 
 
 def test_mixed_structure_body_and_rigid_line(tmp_path):
@@ -191,11 +199,17 @@ def test_bad_input_names_the_item(sliding, tmp_path):
         to_meshio(structure, solution.q[:-1], sliders, ys)
     with pytest.raises(ValueError, match=r"unknowns: 1 arrays for 2 sliders"):
         to_meshio(structure, solution.q, sliders, ys[:1])
-    with pytest.raises(ValueError, match=r"unknowns\[1\] \(slider 'B'\): expected 6 finite "
-                                         r"values \(xi, lambda_x"):
+    with pytest.raises(
+        ValueError,
+        match=r"unknowns\[1\] \(slider 'B'\): expected 6 finite "
+        r"values \(xi, lambda_x",
+    ):
         to_meshio(structure, solution.q, sliders, [ys[0], ys[1][:4]])
-    with pytest.raises(ValueError, match=r"radius must be one positive number or one per "
-                                         r"beam \(2\)"):
+    with pytest.raises(
+        ValueError,
+        match=r"radius must be one positive number or one per "
+        r"beam \(2\)",
+    ):
         to_meshio(structure, solution.q, sliders, ys, radius=[0.1, -0.1])
     with pytest.raises(ValueError, match=r"must end in \.vtu"):
         write_vtu(tmp_path / "x.vtk", structure, solution.q, sliders, ys)
@@ -203,8 +217,11 @@ def test_bad_input_names_the_item(sliding, tmp_path):
         to_meshio(structure, solution.q, sliders, ["xi", ys[1]])
     structure, q, sliders, unknowns = mixed()
     itself = Slider("classical", sliders[1].line, (1, 1), name="itself")
-    with pytest.raises(ValueError, match=r"slider 'itself': its body is a node of its own "
-                                         r"line 'B'"):
+    with pytest.raises(
+        ValueError,
+        match=r"slider 'itself': its body is a node of its own "
+        r"line 'B'",
+    ):
         to_meshio(structure, q, [itself], [unknowns[1]])
 
 
@@ -282,5 +299,6 @@ def test_series_is_replaced_as_a_whole(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["run"]
     write_series(run, frames([5.0, 6.0], structure, -q, sliders, unknowns))
     assert sorted(p.name for p in run.iterdir()) == sorted(
-        [OUTPUT_MARKER, "run.pvd", "step_000000.vtu", "step_000001.vtu"])
+        [OUTPUT_MARKER, "run.pvd", "step_000000.vtu", "step_000001.vtu"]
+    )
     assert [p.name for p in tmp_path.iterdir()] == ["run"]

@@ -26,9 +26,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from sliders.app.render import AUTO_FRACTION, SPHERE_FACTOR, render
 from sliders.app.vtu import RADIUS_FRACTION
 from studies.fig4_stiffness import L, SlidingBeams
-from sliders.app.render import AUTO_FRACTION, SPHERE_FACTOR, render
 
 S_OVER_L = 0.3
 WINDOW = (1200, 600)
@@ -66,11 +66,19 @@ def hsv(path: Path) -> tuple[np.ndarray, np.ndarray]:
 @pytest.fixture(scope="module")
 def rendered(tmp_path_factory):
     out = tmp_path_factory.mktemp("render")
-    env = {k: v for k, v in os.environ.items()
-           if k not in ("DISPLAY", "WAYLAND_DISPLAY", "VTK_DEFAULT_OPENGL_WINDOW")}
-    child = subprocess.run([sys.executable, "-c", CHILD.format(s=S_OVER_L, window=WINDOW),
-                            str(out)], cwd=ROOT, env=env, capture_output=True, text=True,
-                           timeout=120)
+    env = {
+        k: v
+        for k, v in os.environ.items()
+        if k not in ("DISPLAY", "WAYLAND_DISPLAY", "VTK_DEFAULT_OPENGL_WINDOW")
+    }
+    child = subprocess.run(
+        [sys.executable, "-c", CHILD.format(s=S_OVER_L, window=WINDOW), str(out)],
+        cwd=ROOT,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert child.returncode == 0, child.stderr
     return out, json.loads(child.stdout.splitlines()[-1]), child.stderr
 
@@ -120,10 +128,13 @@ def test_render_bad_input(tmp_path):
 
 
 def test_packages_import_without_pyvista():
-    code = ("import sys, fvbeam, sliders.app.vtu, studies.render; "
-            "print(sorted(m for m in ('pyvista', 'vtk', 'vtkmodules', 'matplotlib') "
-            "if m in sys.modules))")
-    child = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
-                           text=True, timeout=60)
+    code = (
+        "import sys, fvbeam, sliders.app.vtu, studies.render; "
+        "print(sorted(m for m in ('pyvista', 'vtk', 'vtkmodules', 'matplotlib') "
+        "if m in sys.modules))"
+    )
+    child = subprocess.run(
+        [sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=60
+    )
     assert child.returncode == 0, child.stderr
     assert child.stdout.strip() == "[]"

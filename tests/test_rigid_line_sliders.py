@@ -44,8 +44,9 @@ def spring_model(line, X0, direction=(0.3, -1.0, 0.4)):
     ``direction`` (any: the compliance is isotropic) clamped at its other end."""
     d = np.asarray(direction, float) / np.linalg.norm(direction)
     beam = Beam(straight(X0 + LS * d, X0, 2), SPRING, "fv3")
-    structure = Structure([beam], ties=[((0, "end"), "carriage")],
-                          bodies=[RigidBody("carriage", X0, mass=1.0)])
+    structure = Structure(
+        [beam], ties=[((0, "end"), "carriage")], bodies=[RigidBody("carriage", X0, mass=1.0)]
+    )
     slider = Slider("spherical", line, "carriage", name="carriage slider")
     return structure, SliderStatics(structure, [Support(0, "start")], [slider])
 
@@ -74,8 +75,9 @@ def test_the_spring_is_isotropic():
     structure, _ = spring_model(ARC, np.array([0.3, 0.2, 0.1]), (1.0, 2.0, 3.0))
     statics = LinearStatics(structure, [Support(0, "start")])
     u = structure.node_dofs("carriage")[:3]
-    C = np.column_stack([statics.solve(structure.nodal_load("carriage", force=e))[u]
-                         for e in np.eye(3)])
+    C = np.column_stack(
+        [statics.solve(structure.nodal_load("carriage", force=e))[u] for e in np.eye(3)]
+    )
     np.testing.assert_allclose(C, COMPLIANCE * np.eye(3), atol=ROUNDOFF * COMPLIANCE)
 
 
@@ -164,15 +166,17 @@ def test_bead_settles_where_the_load_is_normal_to_the_line(line):
     X0 = p.x + 0.1 * p.R[:, 1]
     structure, statics = bead_model(line, X0)
     y0 = np.concatenate([[line.project(X0)], F])
-    solution = statics.solve(structure.nodal_load("bead", force=F),
-                             start=(np.zeros(structure.n_dofs), [y0]))
+    solution = statics.solve(
+        structure.nodal_load("bead", force=F), start=(np.zeros(structure.n_dofs), [y0])
+    )
     xi, lam = solution.unknowns[0][0], solution.unknowns[0][1:]
     assert xi == pytest.approx(xi_star, abs=ROUNDOFF * line.length)
     np.testing.assert_allclose(lam, F, atol=ROUNDOFF * np.abs(F).max())
     point = line.at(xi)
     assert abs(point.l @ lam) <= ROUNDOFF * np.abs(F).max()
-    np.testing.assert_allclose(X0 + solution.q[structure.node_dofs("bead")[:3]], point.x,
-                               atol=ROUNDOFF * line.length)
+    np.testing.assert_allclose(
+        X0 + solution.q[structure.node_dofs("bead")[:3]], point.x, atol=ROUNDOFF * line.length
+    )
 
 
 def test_slider_on_an_unknown_body_names_the_bodies():

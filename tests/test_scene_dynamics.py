@@ -10,12 +10,12 @@ import csv
 
 import numpy as np
 import pytest
+from test_scenes import SCENES, data, problems
 
 from sliders.app.cli import main
 from sliders.app.model import Model
 from sliders.app.run_dynamic import run_dynamic
 from sliders.app.scene import parse_scene
-from test_scenes import SCENES, data, problems
 
 TOL = 1e-8
 
@@ -34,16 +34,34 @@ def pushed(t_end: float = 1.0, **study) -> dict:
 
 def test_drive_problems_are_named():
     scene = data("fig1_cantilever")
-    scene["drive"] = [{"kind": "dof", "node": "cantilever.end", "dof": "uy",
-                       "motion": {"kind": "linear", "start": 0.0, "velocity": 1.0}}]
+    scene["drive"] = [
+        {
+            "kind": "dof",
+            "node": "cantilever.end",
+            "dof": "uy",
+            "motion": {"kind": "linear", "start": 0.0, "velocity": 1.0},
+        }
+    ]
     (problem,) = problems(scene)
     assert problem.path == "drive" and "study.kind = 'dynamic'" in problem.message
     scene = pushed()
     scene["drive"][0]["slider"] = "psuh"
-    scene["drive"].append({"kind": "dof", "node": "cantilever.start", "dof": "uy",
-                           "motion": {"kind": "ramp", "start": 0, "end": 1, "t0": 2, "t1": 1}})
-    scene["drive"].append({"kind": "dof", "node": "cart", "dof": "uz", "motion": {
-        "kind": "tabulated", "times": [0, 1, 1], "values": [0, 1]}})
+    scene["drive"].append(
+        {
+            "kind": "dof",
+            "node": "cantilever.start",
+            "dof": "uy",
+            "motion": {"kind": "ramp", "start": 0, "end": 1, "t0": 2, "t1": 1},
+        }
+    )
+    scene["drive"].append(
+        {
+            "kind": "dof",
+            "node": "cart",
+            "dof": "uz",
+            "motion": {"kind": "tabulated", "times": [0, 1, 1], "values": [0, 1]},
+        }
+    )
     found = {p.path: p.message for p in problems(scene)}
     assert "did you mean 'push'" in found["drive[0].slider"]
     assert "held by a support" in found["drive[1].dof"]
@@ -82,13 +100,16 @@ def test_pushed_body_follows_its_drive_and_restarts(tmp_path):
     reactions = read_csv(tmp_path / "first" / "reactions.csv")
     assert len(reactions["t"]) == len(history["t"]) and "body 'cart' rz" in reactions
     scene = pushed(t_end=2.0, restart=str(tmp_path / "first" / "state.npz"))
-    resumed = run_dynamic(Model(parse_scene(scene, SCENES, "r"), "r"), tmp_path / "second",
-                          progress=False)
-    whole = run_dynamic(Model(parse_scene(pushed(t_end=2.0), SCENES, "w"), "w"),
-                        tmp_path / "whole", progress=False)
+    resumed = run_dynamic(
+        Model(parse_scene(scene, SCENES, "r"), "r"), tmp_path / "second", progress=False
+    )
+    whole = run_dynamic(
+        Model(parse_scene(pushed(t_end=2.0), SCENES, "w"), "w"), tmp_path / "whole", progress=False
+    )
     # the restart's steps end at 1 + k h, the whole run's at (20 + k) h: equal to roundoff
-    np.testing.assert_allclose(resumed.state.q, whole.state.q, rtol=0,
-                               atol=1e-12 * np.abs(whole.state.q).max())
+    np.testing.assert_allclose(
+        resumed.state.q, whole.state.q, rtol=0, atol=1e-12 * np.abs(whole.state.q).max()
+    )
     assert read_csv(tmp_path / "second" / "history.csv")["t"][0] == pytest.approx(1.0)
 
 

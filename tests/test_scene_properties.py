@@ -15,18 +15,35 @@ Each mutation breaks one place, the ``target`` path (``slider[1].smearing`` styl
 
 import math
 
-from hypothesis import HealthCheck, given, settings, strategies as st
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from test_scenes import FILES, SCENES, data
 
+from sliders.app.errors import SceneError
 from sliders.app.model import Model
 from sliders.app.scene import parse_scene
-from sliders.app.errors import SceneError
-from test_scenes import FILES, SCENES, data
 
 BASES = [p.stem for p in FILES]
 #: Keys whose values must be > 0 (or >= 0: smearing, at; >= 1: counts).
-POSITIVE = {"EA", "GAy", "GAz", "GJ", "EJy", "EJz", "mass", "mass_per_length", "radius",
-            "turns", "tol", "smearing", "at", "elements", "num", "max_iterations",
-            "load_steps"}
+POSITIVE = {
+    "EA",
+    "GAy",
+    "GAz",
+    "GJ",
+    "EJy",
+    "EJz",
+    "mass",
+    "mass_per_length",
+    "radius",
+    "turns",
+    "tol",
+    "smearing",
+    "at",
+    "elements",
+    "num",
+    "max_iterations",
+    "load_steps",
+}
 #: Keys that refer to something by name.
 REFERENCES = {"section", "line", "body", "node", "nodes", "beam", "of", "move"}
 WRONG = [7, 2.5, True, "text", [1.0, "a"], {"x": 1.0}]
@@ -34,8 +51,13 @@ WRONG = [7, 2.5, True, "text", [1.0, "a"], {"x": 1.0}]
 
 def places(value, path=""):
     """Every (path, container, key) in a TOML document, depth first."""
-    items = (value.items() if isinstance(value, dict) else enumerate(value)
-             if isinstance(value, list) else [])
+    items = (
+        value.items()
+        if isinstance(value, dict)
+        else enumerate(value)
+        if isinstance(value, list)
+        else []
+    )
     for key, child in items:
         where = f"{path}[{key}]" if isinstance(key, int) else (f"{path}.{key}" if path else key)
         yield where, value, key
@@ -50,8 +72,9 @@ def key_of(path: str) -> str:
 def wrong_types(value):
     """Replacements of another type than ``value``'s (ints and floats count as numbers)."""
     number = isinstance(value, (int, float)) and not isinstance(value, bool)
-    return [w for w in WRONG
-            if type(w) is not type(value) and not (number and type(w) in (int, float))]
+    return [
+        w for w in WRONG if type(w) is not type(value) and not (number and type(w) in (int, float))
+    ]
 
 
 @st.composite
@@ -61,8 +84,11 @@ def mutations(draw):
     scene = data(draw(st.sampled_from(BASES)))
     spots = list(places(scene))
     tables = [("", scene, None)] + [s for s in spots if isinstance(s[1][s[2]], dict)]
-    kind = draw(st.sampled_from(["unknown key", "wrong type", "non-finite", "non-positive",
-                                 "undefined name", "deleted"]))
+    kind = draw(
+        st.sampled_from(
+            ["unknown key", "wrong type", "non-finite", "non-positive", "undefined name", "deleted"]
+        )
+    )
     if kind == "unknown key":
         path, container, key = draw(st.sampled_from(tables))
         table = container[key] if key is not None else container
@@ -79,17 +105,24 @@ def mutations(draw):
         container[key] = draw(st.sampled_from([math.nan, math.inf, -math.inf]))
         return scene, kind, path, False
     if kind == "non-positive":
-        positive = [s for s in spots if key_of(s[0]) in POSITIVE
-                    and isinstance(s[1][s[2]], (int, float))]
+        positive = [
+            s for s in spots if key_of(s[0]) in POSITIVE and isinstance(s[1][s[2]], (int, float))
+        ]
         if not positive:
             return scene, "none", "", False
         path, container, key = draw(st.sampled_from(positive))
-        container[key] = draw(st.sampled_from([-1, -0.5] if key in ("smearing", "at")
-                                              else [0, -1, 0.0, -2.5]))
+        container[key] = draw(
+            st.sampled_from([-1, -0.5] if key in ("smearing", "at") else [0, -1, 0.0, -2.5])
+        )
         return scene, kind, path, False
     if kind == "undefined name":
-        names = [s for s in spots if key_of(s[0]) in REFERENCES and isinstance(s[1][s[2]], str)
-                 and not s[0].startswith("line[")]
+        names = [
+            s
+            for s in spots
+            if key_of(s[0]) in REFERENCES
+            and isinstance(s[1][s[2]], str)
+            and not s[0].startswith("line[")
+        ]
         path, container, key = draw(st.sampled_from(names))
         container[key] = "nowhere"
         return scene, kind, path, False
@@ -100,8 +133,12 @@ def mutations(draw):
 
 
 def inside(path: str, target: str) -> bool:
-    return (not target or path == target or path.startswith(target + ".")
-            or path.startswith(target + "["))
+    return (
+        not target
+        or path == target
+        or path.startswith(target + ".")
+        or path.startswith(target + "[")
+    )
 
 
 @settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])

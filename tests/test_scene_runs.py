@@ -6,17 +6,17 @@ import tomllib
 
 import numpy as np
 import pytest
+from test_condensed import agreement_bound, state
+from test_scenes import SCENES, data
 
 from fvbeam import closed_forms
 from fvbeam.io import replace_directory
-from sliders.sliding_beams.exact import sliding_beams
 from sliders.app.model import Model
 from sliders.app.run import run
 from sliders.app.scene import load_scene, parse_scene
 from sliders.app.tables import COLUMNS, MARKER, write_results
+from sliders.sliding_beams.exact import sliding_beams
 from studies.fig4_stiffness import EJ, GA, L, SlidingBeams
-from test_condensed import agreement_bound, state
-from test_scenes import SCENES, data
 
 EPS = np.finfo(float).eps
 #: Largest |relative error| of k with 5 fv3 elements over s/L = 0, 0.01, ..., 0.95, measured
@@ -46,8 +46,10 @@ def test_sliding_beams_scene_is_the_fig4_model(kind):
         statics, f = study.problem(sample.value / L)
         reference = statics.solve(f)
         mine = sample.solution
-        assert np.all(np.abs(state(statics, mine) - state(statics, reference))
-                      <= agreement_bound(statics, mine, reference, f))
+        assert np.all(
+            np.abs(state(statics, mine) - state(statics, reference))
+            <= agreement_bound(statics, mine, reference, f)
+        )
         structure = sample.statics.structure
         tip = structure.beams[1].displacements(structure.local(1, mine.q), L)[0, 1]
         exact = sliding_beams(sample.value, L, EJ, GA, kind)["k_norm"]
@@ -62,7 +64,7 @@ def test_fig1_scene_is_the_paper_closed_form():
     results = run(Model(load_scene(SCENES / "fig1_cantilever.toml")), progress=False)
     values = np.array([s.value for s in results.samples])
     v_flex, v_shear, phi = closed_forms.cantilever_fv3(values, L=1.0, EJ=1.0, GA=1.0, F=1.0)
-    for sample, v, rz in zip(results.samples, v_flex + v_shear, phi):
+    for sample, v, rz in zip(results.samples, v_flex + v_shear, phi, strict=True):
         statics, sol = sample.statics, sample.solution
         bound = agreement_bound(statics, sol, sol, sample.load)
         tip = statics.structure.node_dofs((0, "end"))[[1, 5]]
@@ -88,7 +90,7 @@ def test_end_stops_scene(tmp_path):
             assert xi == 1.0 and lam[0] == pytest.approx(force, rel=1e-12)
     write_results(results, tmp_path / "out")
     for row in read_csv(tmp_path / "out" / "reactions.csv")[1:]:
-        row = dict(zip(COLUMNS["reactions"], row))
+        row = dict(zip(COLUMNS["reactions"], row, strict=True))
         force = float(row["value"]) * F
         held = -force if force < 0 else 0.0
         assert float(row["fx"]) == pytest.approx(held, rel=1e-9, abs=1e-9 * F)
@@ -125,16 +127,20 @@ def test_arch_from_a_mesh_file_is_the_generated_arch():
     free rows (each below ``rho max|f|``) and the rounding of ``K`` and of ``K q`` on every
     row (``n_row eps (|K| |q|)_i`` each, tests/test_condensed.py; twice, for the entries of
     ``K`` and the product)."""
-    generated, read = (run(Model(load_scene(SCENES / f"{n}.toml")), progress=False).samples[0]
-                       for n in ("arch", "arch_mesh"))
+    generated, read = (
+        run(Model(load_scene(SCENES / f"{n}.toml")), progress=False).samples[0]
+        for n in ("arch", "arch_mesh")
+    )
     np.testing.assert_array_equal(generated.solution.q, read.solution.q)
     statics, q, f = generated.statics, generated.solution.q, generated.load
     residual = statics.K @ q - f
     rows = np.arange(1, statics.structure.n_dofs, 6)
     free = np.intersect1d(rows, statics.free)
     n_row = int(np.diff(statics.K.indptr).max())
-    bound = (len(free) * generated.solution.residuals[-1] * np.abs(f).max()
-             + 2 * n_row * EPS * (abs(statics.K) @ abs(q))[rows].sum())
+    bound = (
+        len(free) * generated.solution.residuals[-1] * np.abs(f).max()
+        + 2 * n_row * EPS * (abs(statics.K) @ abs(q))[rows].sum()
+    )
     supports = np.setdiff1d(rows, statics.free)
     assert abs(residual[supports].sum() + f[rows].sum()) <= bound
 
@@ -147,8 +153,9 @@ def test_carriage_sweep_places_the_sliding_point_on_the_chain():
     assert not results.failures
     for sample in results.samples:
         body = sample.statics.structure.bodies[0]
-        np.testing.assert_allclose(body.position, [sample.value, 0.0, 0.05], rtol=0,
-                                   atol=4 * EPS * 1.8)
+        np.testing.assert_allclose(
+            body.position, [sample.value, 0.0, 0.05], rtol=0, atol=4 * EPS * 1.8
+        )
 
 
 def read_csv(path):
@@ -167,8 +174,13 @@ def test_tables_columns_and_rows(tmp_path):
     rows = {name: read_csv(tmp_path / "out" / f"{name}.csv") for name in COLUMNS}
     for name, table in rows.items():
         assert tuple(table[0]) == COLUMNS[name]
-    counts = {"samples": n, "nodes": n * 2 * 11, "sliders": n * 2,
-              "internal_forces": n * 2 * 10, "reactions": n * 2}
+    counts = {
+        "samples": n,
+        "nodes": n * 2 * 11,
+        "sliders": n * 2,
+        "internal_forces": n * 2 * 10,
+        "reactions": n * 2,
+    }
     assert {name: len(table) - 1 for name, table in rows.items()} == counts
     assert tomllib.loads((tmp_path / "out" / "scene.toml").read_text())["title"]
 
@@ -178,7 +190,8 @@ def test_a_rerun_replaces_the_whole_directory(tmp_path):
     write_results(run(Model(load_scene(SCENES / "fig1_cantilever.toml")), progress=False), out)
     write_results(run(Model(load_scene(SCENES / "end_stops.toml")), progress=False), out)
     assert sorted(p.name for p in out.iterdir()) == sorted(
-        [MARKER, "scene.toml", "samples.csv", "sliders.csv", "reactions.csv"])
+        [MARKER, "scene.toml", "samples.csv", "sliders.csv", "reactions.csv"]
+    )
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
 
 
@@ -223,8 +236,9 @@ def test_states_and_render_of_the_carriage_sweep(tmp_path):
     value, and each VTU holds the slider's abscissa and reaction exactly as the solution
     (binary float64, copied); ``png = "last"``: one render, of the last sample, not blank
     (a blank render has zero spread)."""
-    import meshio
     import xml.etree.ElementTree as ET
+
+    import meshio
     from PIL import Image
 
     results = run(Model(load_scene(SCENES / "carriage_on_chain.toml")), progress=False)
@@ -233,15 +247,14 @@ def test_states_and_render_of_the_carriage_sweep(tmp_path):
     datasets = ET.parse(out / "states" / "states.pvd").getroot().iter("DataSet")
     listed = [(float(d.get("timestep")), d.get("file")) for d in datasets]
     assert [t for t, _ in listed] == [s.value for s in results.samples]
-    for (_, name), sample in zip(listed, results.samples):
+    for (_, name), sample in zip(listed, results.samples, strict=True):
         mesh = meshio.read(out / "states" / name)
         part = np.concatenate(mesh.cell_data["part"])  # readers merge blocks of one type
         slider = np.flatnonzero(part == 2)
         assert len(slider) == 1
         y = sample.solution.unknowns[0]
         assert np.concatenate(mesh.cell_data["xi"])[slider[0]] == y[0]
-        np.testing.assert_array_equal(
-            np.concatenate(mesh.cell_data["reaction"])[slider[0]], y[1:4])
+        np.testing.assert_array_equal(np.concatenate(mesh.cell_data["reaction"])[slider[0]], y[1:4])
     renders = sorted(p.name for p in out.glob("render_*.png"))
     assert renders == [f"render_{results.samples[-1].index:06d}.png"]
     assert np.asarray(Image.open(out / renders[0])).std() > 0

@@ -8,9 +8,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from sliders.app.errors import SceneError
 from sliders.app.model import COINCIDENT, ON_LINE, Model
 from sliders.app.scene import dump_scene, load_scene, parse_scene
-from sliders.app.errors import SceneError
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ROOT / "studies" / "scenes"
@@ -152,7 +152,7 @@ def test_sweep_that_moves_a_body_off_its_line():
     scene["study"]["range"] = {"start": 0.0, "stop": 0.9, "num": 10}
     found = problems(scene)
     assert [p.path for p in found] == ["study.range", "study.range"]
-    for problem, name in zip(found, "AB"):
+    for problem, name in zip(found, "AB", strict=True):
         assert problem.value == pytest.approx(0.7)
         assert f"slider '{name}'" in problem.message
         assert "(and 2 more values)" in problem.message

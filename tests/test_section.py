@@ -38,7 +38,7 @@ def _coupled() -> np.ndarray:
 
 def test_full_coupled_matrix_is_accepted():
     C = _coupled()
-    assert np.linalg.eigvalsh(C).min() > 0          # the oracle: C is SPD
+    assert np.linalg.eigvalsh(C).min() > 0  # the oracle: C is SPD
     s = Section(C, mass_per_length=2.5)
     np.testing.assert_array_equal(s.stiffness, C)
     assert s.mass_per_length == 2.5
@@ -46,7 +46,7 @@ def test_full_coupled_matrix_is_accepted():
 
 def test_non_symmetric_matrix_is_rejected():
     C = _coupled()
-    C[0, 3] *= 1.01                                 # 1 % asymmetry, far above 1e-12
+    C[0, 3] *= 1.01  # 1 % asymmetry, far above 1e-12
     with pytest.raises(ValueError, match=r"stiffness must be symmetric"):
         Section(C)
 
@@ -92,11 +92,12 @@ def test_global_stiffness_is_the_rotated_matrix():
     frames = Rotation.random(5, random_state=11).as_matrix()
     Cg = s.global_stiffness(frames)
     assert Cg.shape == (5, 6, 6)
-    for R, C in zip(frames, Cg):
+    for R, C in zip(frames, Cg, strict=True):
         R6 = block_diag(R, R)
         # roundoff: two 6x6 products, 6 terms each, relative to max |C|
-        np.testing.assert_allclose(C, R6 @ s.stiffness @ R6.T, rtol=0,
-                                   atol=50 * EPS * np.abs(s.stiffness).max())
+        np.testing.assert_allclose(
+            C, R6 @ s.stiffness @ R6.T, rtol=0, atol=50 * EPS * np.abs(s.stiffness).max()
+        )
 
 
 def test_global_stiffness_of_a_beam_along_y_permutes_the_components():

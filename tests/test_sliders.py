@@ -5,14 +5,16 @@ derivatives (order 1) = 1e-14, roundoff ~eps x |r| / h ~ 1e-8 for residuals of o
 the Jacobians must agree to 1e-6 (two orders of margin).
 """
 
+from itertools import pairwise
+
 import numpy as np
 import pytest
 
 from fvbeam import Beam, Section, Structure, Support, straight
-from sliders.sliding_beams.exact import sliding_beams
-from sliders.lines.chain import BeamChain
 from sliders.joints.slider import Slider
+from sliders.lines.chain import BeamChain
 from sliders.lines.rigid import CircularArc
+from sliders.sliding_beams.exact import sliding_beams
 from sliders.solve.statics import SliderStatics
 
 EJ, GA, L = 4.1e4, 1.1e8, 0.6
@@ -20,8 +22,7 @@ SECTION = Section.diagonal(EA=10 * GA, GAy=GA, GAz=GA, GJ=EJ, EJy=EJ, EJz=EJ)
 FD = 1e-6
 
 
-def sliding_beams_model(s, n, kind, name="fv3", smearing=0.0, kernel="box",
-                        orientation="section"):
+def sliding_beams_model(s, n, kind, name="fv3", smearing=0.0, kernel="box", orientation="section"):
     """Paper Sec. 6 (Figure 3): cylinder C on [0, L] clamped at 0, piston P on [s, s + L]
     with its axial translation and spin held at its bottom; A: P's bottom slides on C,
     B: C's top slides on P."""
@@ -29,10 +30,15 @@ def sliding_beams_model(s, n, kind, name="fv3", smearing=0.0, kernel="box",
     C = Beam(straight((0, 0, 0), (L, 0, 0), n, npe), SECTION, name)
     P = Beam(straight((s, 0, 0), (s + L, 0, 0), n, npe), SECTION, name)
     structure = Structure([C, P])
-    options = dict(smearing=smearing, kernel=kernel,
-                   orientation=orientation if kind == "classical" else "section")
-    sliders = [Slider(kind, BeamChain(structure, [0], "C"), (1, "start"), name="A", **options),
-               Slider(kind, BeamChain(structure, [1], "P"), (0, "end"), name="B", **options)]
+    options = dict(
+        smearing=smearing,
+        kernel=kernel,
+        orientation=orientation if kind == "classical" else "section",
+    )
+    sliders = [
+        Slider(kind, BeamChain(structure, [0], "C"), (1, "start"), name="A", **options),
+        Slider(kind, BeamChain(structure, [1], "P"), (0, "end"), name="B", **options),
+    ]
     supports = [Support(0, "start"), Support(1, "start", "ux+rx")]
     return structure, supports, sliders, P
 
@@ -70,17 +76,20 @@ def check_jacobian(slider, structure, seed, shift=0.0):
     np.testing.assert_allclose(J, J_fd, atol=FD * max(1.0, np.abs(J).max() * 1e-2))
 
 
-@pytest.mark.parametrize("kind,orientation", [("spherical", "section"),
-                                              ("classical", "section"), ("classical", "slope")])
+@pytest.mark.parametrize(
+    "kind,orientation", [("spherical", "section"), ("classical", "section"), ("classical", "slope")]
+)
 @pytest.mark.parametrize("name", ["fv2", "fv3", "galerkin-p1", "galerkin-p2"])
 @pytest.mark.parametrize("smearing,kernel", [(0.0, "box"), (0.02, "box"), (0.02, "hat")])
 @pytest.mark.parametrize("where", [0.013, 0.0])
-def test_joint_jacobian_matches_finite_differences(kind, orientation, name, smearing, kernel,
-                                                   where):
+def test_joint_jacobian_matches_finite_differences(
+    kind, orientation, name, smearing, kernel, where
+):
     """xi inside an element (0.013 off the projection) or at the projected point, on fv,
     Galerkin, with and without smearing, both orientation forms."""
-    structure, _, sliders, _ = sliding_beams_model(0.3, 3, kind, name, smearing, kernel,
-                                                   orientation)
+    structure, _, sliders, _ = sliding_beams_model(
+        0.3, 3, kind, name, smearing, kernel, orientation
+    )
     for seed, slider in enumerate(sliders):
         check_jacobian(slider, structure, seed, where)
 
@@ -107,12 +116,14 @@ def test_rigid_line_jacobian_and_reaction_normal_to_the_line(kind):
     y = solution.unknowns[0]
     xi, lam, mu = y[0], y[1:4], y[4:]
     point = arc.at(xi)
-    theta = solution.q[structure.dof_maps[0][6 * beam.node_index("end") + 3:][:3]]
-    axes = frame[:, 1:1 + len(mu)] + np.cross(theta, frame[:, 1:1 + len(mu)].T).T
-    tangential = sum(m * a @ point.l_xi for m, a in zip(mu, axes.T))
+    theta = solution.q[structure.dof_maps[0][6 * beam.node_index("end") + 3 :][:3]]
+    axes = frame[:, 1 : 1 + len(mu)] + np.cross(theta, frame[:, 1 : 1 + len(mu)].T).T
+    tangential = sum(m * a @ point.l_xi for m, a in zip(mu, axes.T, strict=True))
     assert abs(point.l @ lam - tangential) <= 1e-9 * np.abs(lam).max()
-    tip = beam.mesh.points[beam.node_index("end")] + solution.q[structure.dof_maps[0][
-        6 * beam.node_index("end"):][:3]]
+    tip = (
+        beam.mesh.points[beam.node_index("end")]
+        + solution.q[structure.dof_maps[0][6 * beam.node_index("end") :][:3]]
+    )
     np.testing.assert_allclose(tip, point.x, atol=1e-12)
 
 
@@ -127,7 +138,7 @@ def test_newton_converges_quadratically(kind):
     residuals = SliderStatics(structure, supports, sliders).solve(f).residuals
     above_floor = [r for r in residuals if r > 1e-10]
     assert len(above_floor) <= 3
-    for a, b in zip(above_floor[1:], above_floor[2:]):
+    for a, b in pairwise(above_floor[1:]):
         assert b <= 10 * a**2
 
 
@@ -142,8 +153,9 @@ def test_newton_converges_on_a_node():
 
 
 def tip_stiffness(s, n, kind, name="fv3", orientation="section"):
-    structure, supports, sliders, P = sliding_beams_model(s * L, n, kind, name,
-                                                          orientation=orientation)
+    structure, supports, sliders, P = sliding_beams_model(
+        s * L, n, kind, name, orientation=orientation
+    )
     f = structure.gather(1, P.nodal_load("end", (0, 1.0, 0)))
     q = SliderStatics(structure, supports, sliders).solve(f).q
     return 1.0 / P.displacements(structure.local(1, q), L)[0, 1] * L**3 / EJ
@@ -165,18 +177,23 @@ def test_slope_classical_sliding_beams_converge_under_refinement():
     (|p - 2| < 0.5).  Elsewhere the slope limit is defined up to the slope jump R / GA under a
     point force: the discrete limit lies between the one-sided answers, so at 80 elements the
     error must be within half their spread (computed here), and below the 5-element error."""
+
     def exact(s, side="mean"):
-        return sliding_beams(s * L, L, EJ, GA, "classical", orientation="slope",
-                             slope_side=side)["k_norm"]
+        return sliding_beams(s * L, L, EJ, GA, "classical", orientation="slope", slope_side=side)[
+            "k_norm"
+        ]
 
     ns = np.array([5, 10, 20, 40, 80])
-    errors = [abs(tip_stiffness(0.0, n, "classical", orientation="slope") / exact(0.0) - 1)
-              for n in ns]
+    errors = [
+        abs(tip_stiffness(0.0, n, "classical", orientation="slope") / exact(0.0) - 1) for n in ns
+    ]
     assert abs(-np.polyfit(np.log(ns), np.log(errors), 1)[0] - 2) < 0.5
     for s in (0.3, 0.6):
         spread = abs(exact(s, "left") - exact(s, "right")) / (2 * exact(s))
-        coarse, fine = (abs(tip_stiffness(s, n, "classical", orientation="slope") / exact(s) - 1)
-                        for n in (5, 80))
+        coarse, fine = (
+            abs(tip_stiffness(s, n, "classical", orientation="slope") / exact(s) - 1)
+            for n in (5, 80)
+        )
         assert fine <= max(spread, 1e-6)
         assert fine < coarse
 
@@ -223,8 +240,9 @@ def test_singular_pair_of_classical_sliders_is_diagnosed():
     (0.21 h): both reactions are lumped on the same two nodes with opposite lever arms, and a
     force pair balanced by a couple loads nothing: the bordered system is singular.  The
     section form shares the couples linearly between nodes and is regular there."""
-    structure, supports, sliders, P = sliding_beams_model(0.9 * L, 1, "classical",
-                                                          orientation="slope")
+    structure, supports, sliders, P = sliding_beams_model(
+        0.9 * L, 1, "classical", orientation="slope"
+    )
     f = structure.gather(1, P.nodal_load("end", (0, 1.0, 0)))
     with pytest.raises(ValueError, match="singular configuration.*(lambda|mu)"):
         SliderStatics(structure, supports, sliders).solve(f)

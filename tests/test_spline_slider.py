@@ -5,13 +5,13 @@ Finite differences as in ``tests/test_sliders.py``: central, step 1e-7, agreemen
 
 import numpy as np
 import pytest
+from test_sliders import SECTION, check_jacobian
 
 from fvbeam import Beam, Section, Structure, Support, straight
-from sliders.lines.chain import BeamChain
 from sliders.joints.slider import Slider
+from sliders.lines.chain import BeamChain
 from sliders.lines.rigid import Helix, StraightLine
 from sliders.solve.statics import SliderStatics
-from test_sliders import SECTION, check_jacobian
 
 GJ = 2.0e4
 TWIST_SECTION = Section.diagonal(EA=1e9, GAy=1e8, GAz=1e8, GJ=GJ, EJy=4e4, EJz=4e4)

@@ -9,13 +9,13 @@ they agree to a few units of roundoff of the largest entry, ``16 eps max|value|`
 
 import numpy as np
 import pytest
+from test_chain import SECTION, chain_of_three
 
 from fvbeam import Beam, Structure, straight
 from fvbeam.mesh import arc
+from sliders.lines.batched import ChainStack
 from sliders.lines.chain import BeamChain
 from sliders.lines.rigid import frame_and_curvature
-from sliders.lines.batched import ChainStack
-from test_chain import SECTION, chain_of_three
 
 EPS = np.finfo(float).eps
 
@@ -47,36 +47,41 @@ def test_stacked_queries_equal_single_queries(npe, smearing):
     interp, rotation = stack.interpolation(xi), stack.rotation(xi)
     dofs, G, dG = stack.transfer(xi, smearing)
     geometry, tangent = interp.geometry(q), interp.tangent(q)
-    points = np.array([c.geometry(x, qq)[0] for c, x, qq in zip(chains, xi, q)]) + 1e-3
+    points = np.array([c.geometry(x, qq)[0] for c, x, qq in zip(chains, xi, q, strict=True)]) + 1e-3
     projected = stack.project(points, q)
-    for b, (chain, x) in enumerate(zip(chains, xi)):
+    for b, (chain, x) in enumerate(zip(chains, xi, strict=True)):
         one = chain.interpolation(x)
         for name in one.__dataclass_fields__:
             close(getattr(interp, name)[b], getattr(one, name))
-        for mine, theirs in zip(geometry, one.geometry(q[b])):
+        for mine, theirs in zip(geometry, one.geometry(q[b]), strict=True):
             close(mine[b], theirs)
-        for mine, theirs in zip(tangent, one.tangent(q[b])):
+        for mine, theirs in zip(tangent, one.tangent(q[b]), strict=True):
             close(mine[b], theirs)
         single = chain.rotation(x)
         for name in single.__dataclass_fields__:
             close(getattr(rotation, name)[b], getattr(single, name))
         d, g, dg = chain.transfer(x, smearing)
-        assert np.array_equal(dofs[b, :len(d)], d)
-        close(G[b, :len(d)], g)
-        close(dG[b, :len(d)], dg)
-        assert not np.any(G[b, len(d):]) and not np.any(dG[b, len(d):])
-        assert projected[b] == pytest.approx(chain.project(points[b], q[b]),
-                                             abs=1e-12 * chain.length)
+        assert np.array_equal(dofs[b, : len(d)], d)
+        close(G[b, : len(d)], g)
+        close(dG[b, : len(d)], dg)
+        assert not np.any(G[b, len(d) :]) and not np.any(dG[b, len(d) :])
+        assert projected[b] == pytest.approx(
+            chain.project(points[b], q[b]), abs=1e-12 * chain.length
+        )
 
 
 def test_members_must_share_the_topology():
-    a, = moved_chains(3, [(0, 0, 0)])
+    (a,) = moved_chains(3, [(0, 0, 0)])
     other = Structure([Beam(straight((0, 0, 0), (1, 0, 0), 2, 3), SECTION, "fv3")])
     with pytest.raises(ValueError, match="member 1 of the batch differs"):
         ChainStack([a, BeamChain(other, [0])])
-    mixed = Structure([Beam(straight((0, 0, 0), (1, 0, 0), 2, 3), SECTION, "fv3"),
-                       Beam(straight((1, 0, 0), (2, 0, 0), 2, 2), SECTION, "fv2")],
-                      ties=[(0, "end", 1, "start")])
+    mixed = Structure(
+        [
+            Beam(straight((0, 0, 0), (1, 0, 0), 2, 3), SECTION, "fv3"),
+            Beam(straight((1, 0, 0), (2, 0, 0), 2, 2), SECTION, "fv2"),
+        ],
+        ties=[(0, "end", 1, "start")],
+    )
     with pytest.raises(ValueError, match="same number of nodes per element"):
         ChainStack([BeamChain(mixed, [0, 1])])
 
@@ -87,11 +92,13 @@ def test_subset_answers_as_a_stack_of_its_members():
     pick = np.array([3, 1])
     xi = np.array([0.2, chains[0].offsets[1]])
     part, direct = ChainStack(chains).subset(pick), ChainStack([chains[b] for b in pick])
-    for mine, theirs in ((part.interpolation(xi), direct.interpolation(xi)),
-                         (part.rotation(xi), direct.rotation(xi))):
+    for mine, theirs in (
+        (part.interpolation(xi), direct.interpolation(xi)),
+        (part.rotation(xi), direct.rotation(xi)),
+    ):
         for name in mine.__dataclass_fields__:
             np.testing.assert_array_equal(getattr(mine, name), getattr(theirs, name))
-    for mine, theirs in zip(part.transfer(xi), direct.transfer(xi)):
+    for mine, theirs in zip(part.transfer(xi), direct.transfer(xi), strict=True):
         np.testing.assert_array_equal(mine, theirs)
 
 
@@ -117,7 +124,9 @@ def test_stored_frames_of_straight_elements_equal_the_frames_at_xi(npe):
     close(rotation.compliance, R0 @ np.stack(stack.compliance)[beam] @ np.swapaxes(R0, 1, 2))
     shifts = np.array([[(0.3, -0.2, 0.1)] * 3, [(5.0, 1.0, -2.0)] * 3])
     moved = ChainStack(chains[:1]).translated(shifts)
-    for mine, theirs in zip(moved.element_frames(), ChainStack(chains[1:]).element_frames()):
+    for mine, theirs in zip(
+        moved.element_frames(), ChainStack(chains[1:]).element_frames(), strict=True
+    ):
         close(mine, theirs)
 
 

@@ -40,8 +40,8 @@ import csv
 import numpy as np
 import pytest
 
-from sliders.solve.dynamics import Adaptive, Dynamics, DynamicsError
 from sliders.app.history import Recorder
+from sliders.solve.dynamics import Adaptive, Dynamics, DynamicsError
 from studies import stress
 
 pytestmark = pytest.mark.stress
@@ -50,8 +50,9 @@ CI_CASES = stress.cases(dense=False)
 LONG_CASES = [c for c in stress.cases(dense=True) if c not in CI_CASES]
 
 
-def check_run(outcome: stress.Outcome, table: dict, case: stress.Case,
-              name: str = "carriage") -> None:
+def check_run(
+    outcome: stress.Outcome, table: dict, case: stress.Case, name: str = "carriage"
+) -> None:
     """The per-step assertions of the module docstring on a recorded run."""
     assert outcome.error == ""
     assert outcome.finite
@@ -81,8 +82,7 @@ def test_crossings_count_each_pass_over_a_point():
 
 
 @pytest.mark.parametrize("passes, steps", [(50, 24), (100, 96)], ids=["ci", "long"])
-def test_shuttle_crosses_evaluation_points_and_junctions_without_drift(passes, steps,
-                                                                        long_run):
+def test_shuttle_crosses_evaluation_points_and_junctions_without_drift(passes, steps, long_run):
     if steps > 24 and not long_run:
         pytest.skip("long variant: run with pytest --long")
     case = stress.Case()
@@ -93,9 +93,11 @@ def test_shuttle_crosses_evaluation_points_and_junctions_without_drift(passes, s
     assert outcome.steps == passes * steps
 
 
-@pytest.mark.parametrize("axis, case", CI_CASES + LONG_CASES,
-                         ids=[f"{a}={getattr(c, a):.3g}-rho{c.rho_inf:g}"
-                              for a, c in CI_CASES + LONG_CASES])
+@pytest.mark.parametrize(
+    "axis, case",
+    CI_CASES + LONG_CASES,
+    ids=[f"{a}={getattr(c, a):.3g}-rho{c.rho_inf:g}" for a, c in CI_CASES + LONG_CASES],
+)
 def test_sweep_is_robust(axis, case, long_run):
     if (axis, case) in LONG_CASES and not long_run:
         pytest.skip("long variant: run with pytest --long")
@@ -104,15 +106,20 @@ def test_sweep_is_robust(axis, case, long_run):
     assert outcome.evaluation_crossings >= 1
 
 
-def failed_run(model: stress.Model, tmp_path, adaptive: Adaptive | None = None,
-               dynamics: Dynamics | None = None) -> tuple[DynamicsError, Recorder]:
+def failed_run(
+    model: stress.Model,
+    tmp_path,
+    adaptive: Adaptive | None = None,
+    dynamics: Dynamics | None = None,
+) -> tuple[DynamicsError, Recorder]:
     """Run ``model`` (with ``dynamics`` in place of its own, if given) from its static state
     until the expected failure; its error and the recorder (CSV in ``tmp_path``)."""
     recorder = Recorder(tmp_path)
     start = model.dynamics.static_state()
     with pytest.raises(DynamicsError) as info:
-        (dynamics or model.dynamics).run(start, model.t_end, model.h, adaptive=adaptive,
-                                         recorder=recorder, progress=False)
+        (dynamics or model.dynamics).run(
+            start, model.t_end, model.h, adaptive=adaptive, recorder=recorder, progress=False
+        )
     return info.value, recorder
 
 
@@ -163,8 +170,9 @@ def test_singular_configuration_names_the_free_motion(tmp_path):
     d = model.dynamics
     # the same model without the support of the massless body's rotations, from the
     # supported model's static state
-    loose = Dynamics(d.structure, stress.CLAMPS, d.sliders, d.load(0.0), rho_inf=0.8,
-                     method="condensed")
+    loose = Dynamics(
+        d.structure, stress.CLAMPS, d.sliders, d.load(0.0), rho_inf=0.8, method="condensed"
+    )
     err, recorder = failed_run(model, tmp_path, dynamics=loose)
     assert str(err).startswith("t = 0.1: singular configuration")
     assert "body 'body' r" in str(err)
@@ -180,9 +188,9 @@ def free_bead(steps: int) -> tuple[dict, float]:
     the abscissa held, the rail being frictionless and straight, so ``lambda_x = 0``) with
     the bead's acceleration ``F_x / m``.  Returns the recorded table and ``T``."""
     from fvbeam import RigidBody, Structure, Support
-    from sliders.lines.chain import BeamChain
     from sliders.joints.drives import Linear
     from sliders.joints.slider import Slider
+    from sliders.lines.chain import BeamChain
 
     m, Fx, Fy = 1.0, 1.0, 0.01
     beams, ties = stress.chain_beams(1e-2)
@@ -192,15 +200,22 @@ def free_bead(steps: int) -> tuple[dict, float]:
     weight = structure.nodal_load("bead", (0, Fy, 0))
 
     def bead(drive=None) -> Slider:
-        return Slider("spherical", chain, "bead", smearing=0.05 * stress.ELEMENT,
-                      drive=drive, name="bead")
+        return Slider(
+            "spherical", chain, "bead", smearing=0.05 * stress.ELEMENT, drive=drive, name="bead"
+        )
 
     start = Dynamics(structure, supports, [bead(Linear(0.3, 0.0))], weight).static_state()
     ux = structure.node_dofs("bead")[0]
     start.a[ux] = start.qdd[ux] = Fx / m
     T = np.sqrt(2 * 4.4 * m / Fx)
-    d = Dynamics(structure, supports, [bead()], weight + structure.nodal_load("bead", (Fx, 0, 0)),
-                 method="condensed", tol=stress.TOL)
+    d = Dynamics(
+        structure,
+        supports,
+        [bead()],
+        weight + structure.nodal_load("bead", (Fx, 0, 0)),
+        method="condensed",
+        tol=stress.TOL,
+    )
     recorder = Recorder()
     d.run(start, T, T / steps, recorder=recorder, progress=False)
     return recorder.table(), T
@@ -219,5 +234,6 @@ def test_a_free_bead_slides_across_junctions_with_newton_quadratic():
     points, junctions = stress.reference_points()
     assert stress.crossings(xi, points) >= 18 and stress.crossings(xi, junctions) == 4
     assert table["iterations"][1:].max() <= 3
-    assert np.all(table["bead.residual"] <= stress.residual_bound(
-        np.maximum.accumulate(np.abs(xi - 0.3))))
+    assert np.all(
+        table["bead.residual"] <= stress.residual_bound(np.maximum.accumulate(np.abs(xi - 0.3)))
+    )

@@ -5,8 +5,7 @@ import meshio
 import numpy as np
 import pytest
 
-from fvbeam import (Beam, LinearStatics, RigidBody, Section, Structure, Support, read_beams,
-                    straight)
+from fvbeam import Beam, LinearStatics, RigidBody, Section, Structure, Support, read_beams, straight
 
 ROUNDOFF = 1e-10  # condition number ~1e4 here; see tests/test_fv_closed_forms.py
 EJ, GA, GJ = 2.0, 5.0, 1.5
@@ -48,7 +47,7 @@ def test_l_frame_out_of_plane_tip_load():
     q1 = one.solve(kinked.point_load(length, force=(0, 0, P)))
     assert kinked.displacements(q1, length)[0, 2] == pytest.approx(expected, rel=ROUNDOFF)
     reactions = statics.reactions(q, structure.gather(1, beams[1].point_load(tip, (0, 0, P))))
-    np.testing.assert_allclose(reactions[2], -P, rtol=ROUNDOFF)   # force balance
+    np.testing.assert_allclose(reactions[2], -P, rtol=ROUNDOFF)  # force balance
 
 
 def test_unconnected_beams_are_independent_and_singular_without_support():
@@ -73,8 +72,9 @@ def test_residual_is_the_tangent_times_the_displacements():
     structure = Structure.from_shared_points(beams)
     q = np.random.default_rng(1).standard_normal(structure.n_dofs)
     K = structure.tangent(q)
-    np.testing.assert_allclose(structure.residual(q), K @ q,
-                               atol=ROUNDOFF * np.abs(K).max() * np.abs(q).sum())
+    np.testing.assert_allclose(
+        structure.residual(q), K @ q, atol=ROUNDOFF * np.abs(K).max() * np.abs(q).sum()
+    )
 
 
 def test_bodies_are_numbered_after_the_beam_nodes_and_add_no_stiffness():
@@ -85,8 +85,9 @@ def test_bodies_are_numbered_after_the_beam_nodes_and_add_no_stiffness():
     assert structure.n_nodes == 9 + 2
     np.testing.assert_array_equal(structure.node_dofs((0, "start")), structure.dof_maps[0][:6])
     end = 6 * beams[1].node_index("end")
-    np.testing.assert_array_equal(structure.node_dofs((1, "end")),
-                                  structure.dof_maps[1][end:end + 6])
+    np.testing.assert_array_equal(
+        structure.node_dofs((1, "end")), structure.dof_maps[1][end : end + 6]
+    )
     np.testing.assert_array_equal(structure.node_dofs("hub"), 6 * 9 + np.arange(6))
     np.testing.assert_array_equal(structure.node_dofs("free"), 6 * 10 + np.arange(6))
     np.testing.assert_array_equal(structure.node_position("free"), [3.0, 0.0, 0.0])
@@ -94,7 +95,7 @@ def test_bodies_are_numbered_after_the_beam_nodes_and_add_no_stiffness():
     assert structure.dof_name(6 * 10 + 4) == "body 'free' ry"
     assert structure.dof_name(structure.node_dofs((1, "end"))[1]) == "beam 1 node 2 uy"
     K = structure.tangent(np.zeros(structure.n_dofs)).tocsr()
-    assert K[6 * 9:].count_nonzero() == 0 and K[:, 6 * 9:].count_nonzero() == 0
+    assert K[6 * 9 :].count_nonzero() == 0 and K[:, 6 * 9 :].count_nonzero() == 0
 
 
 def test_members_tied_to_a_hub_body_are_the_shared_point_frame():
@@ -105,8 +106,9 @@ def test_members_tied_to_a_hub_body_are_the_shared_point_frame():
     a, b, P = 1.0, 0.7, 3.0
     beams = [Beam(mesh, SECTION, "fv3") for mesh in read_beams(l_frame(a, b))]
     hub = RigidBody("hub", (a, 0.0, 0.0), mass=2.0, inertia=np.diag([1.0, 2.0, 2.5]))
-    structure = Structure(beams, ties=[((0, "end"), "hub"), (1, "start", "hub", None)],
-                          bodies=[hub])
+    structure = Structure(
+        beams, ties=[((0, "end"), "hub"), (1, "start", "hub", None)], bodies=[hub]
+    )
     assert structure.n_nodes == sum(beam.mesh.n_nodes for beam in beams) - 1
     np.testing.assert_array_equal(structure.node_dofs("hub"), structure.node_dofs((0, "end")))
     np.testing.assert_array_equal(structure.node_dofs("hub"), structure.node_dofs((1, "start")))
@@ -115,10 +117,12 @@ def test_members_tied_to_a_hub_body_are_the_shared_point_frame():
     q = statics.solve(structure.gather(1, beams[1].point_load(tip, force=(0, 0, P))))
     expected = P * ((a**3 + b**3) / (3 * EJ) + (a + b) / GA + a * b**2 / GJ)
     assert beams[1].displacements(structure.local(1, q), tip)[0, 2] == pytest.approx(
-        expected, rel=ROUNDOFF)
+        expected, rel=ROUNDOFF
+    )
     q = statics.solve(structure.nodal_load("hub", force=(0, 0, P)))
-    assert q[structure.node_dofs("hub")[2]] == pytest.approx(P * (a**3 / (3 * EJ) + a / GA),
-                                                             rel=ROUNDOFF)
+    assert q[structure.node_dofs("hub")[2]] == pytest.approx(
+        P * (a**3 / (3 * EJ) + a / GA), rel=ROUNDOFF
+    )
 
 
 def cantilever_with_bodies(a=1.0):

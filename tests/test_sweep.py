@@ -5,10 +5,10 @@ Solutions are compared with the first-order agreement bound of tests/test_conden
 
 import numpy as np
 import pytest
-
-from sliders.solve.sweep import sweep
-from sliders.sliding_beams.model import SlidingBeams
 from test_condensed import agreement_bound, state
+
+from sliders.sliding_beams.model import SlidingBeams
+from sliders.solve.sweep import sweep
 
 STATIONS = np.arange(0, 93, 4) / 100
 
@@ -17,8 +17,7 @@ STATIONS = np.arange(0, 93, 4) / 100
 def test_continuation_needs_no_more_iterations_than_cold_starts(kind):
     """Sliding-beams sweep (fv3, 3 elements): from the secant prediction every point takes at
     most the iterations of a cold start, and the same solution."""
-    cold = sweep(STATIONS, SlidingBeams("fv3", 3, kind).problem, continuation=False,
-                 progress=False)
+    cold = sweep(STATIONS, SlidingBeams("fv3", 3, kind).problem, continuation=False, progress=False)
     model = SlidingBeams("fv3", 3, kind)
     built = []
 
@@ -29,7 +28,7 @@ def test_continuation_needs_no_more_iterations_than_cold_starts(kind):
     warm = sweep(STATIONS, build, progress=False)
     assert not cold.failures and not warm.failures
     assert all(p.warm for p in warm.points[1:])
-    for (statics, f), a, b in zip(built, cold.solutions, warm.solutions):
+    for (statics, f), a, b in zip(built, cold.solutions, warm.solutions, strict=True):
         assert b.iterations <= a.iterations
         difference = np.abs(state(statics, a) - state(statics, b))
         assert np.all(difference <= agreement_bound(statics, a, b, f))
@@ -40,16 +39,21 @@ def test_failed_points_are_recorded_and_the_sweep_goes_on():
     """Classical sliders of the slope form on one fv3 element go singular for short overlaps
     (docs/sliders.md): those points carry the diagnostic, the others converge."""
     stations = np.array([0.5, 0.6, 0.9, 0.95, 0.7])
-    result = sweep(stations, SlidingBeams("fv3", 1, "classical", orientation="slope").problem,
-                   progress=False)
+    result = sweep(
+        stations, SlidingBeams("fv3", 1, "classical", orientation="slope").problem, progress=False
+    )
     assert result.values == list(stations) and not result.interrupted
     failed = dict(result.failures)
     assert set(failed) == {0.9, 0.95}
     assert all("singular configuration" in message for message in failed.values())
     assert result.points[-1].solution is not None
 
-    stopped = sweep(stations, SlidingBeams("fv3", 1, "classical", orientation="slope").problem,
-                    stop_on_failure=True, progress=False)
+    stopped = sweep(
+        stations,
+        SlidingBeams("fv3", 1, "classical", orientation="slope").problem,
+        stop_on_failure=True,
+        progress=False,
+    )
     assert stopped.stopped and stopped.values == [0.5, 0.6, 0.9]
 
 
@@ -72,7 +76,7 @@ def test_load_sweep_on_one_structure():
     statics, f = SlidingBeams("fv3", 3, "classical").problem(0.4)
     loads = [c * f for c in (1.0, 2.0, 3.0)]
     result = sweep(loads, lambda g: (statics, g), progress=False)
-    for g, b in zip(loads, result.solutions):
+    for g, b in zip(loads, result.solutions, strict=True):
         a = statics.solve(g)
         difference = np.abs(state(statics, a) - state(statics, b))
         assert np.all(difference <= agreement_bound(statics, a, b, g))

@@ -38,23 +38,25 @@ than the larger of its neighbours (mean value theorem).
 
 import numpy as np
 import pytest
-
-from fvbeam import Beam, RigidBody, Section, Structure, Support, straight
-from sliders.lines.chain import BeamChain
-from sliders.joints.slider import Slider
-from sliders.solve.statics import SliderStatics
 from test_sliders import check_jacobian
 
-EJ, GA, H = 4.1e4, 1.0e5, 0.6          # shear-soft enough for the fv jumps to show
+from fvbeam import Beam, RigidBody, Section, Structure, Support, straight
+from sliders.joints.slider import Slider
+from sliders.lines.chain import BeamChain
+from sliders.solve.statics import SliderStatics
+
+EJ, GA, H = 4.1e4, 1.0e5, 0.6  # shear-soft enough for the fv jumps to show
 CHAIN_SECTION = Section.diagonal(EA=10 * GA, GAy=GA, GAz=GA, GJ=EJ, EJy=EJ, EJz=EJ)
 SPRING_SECTION = Section.diagonal(EA=1e6, GAy=1e6, GAz=1e6, GJ=100.0, EJy=100.0, EJz=100.0)
-CHAIN = [Beam(straight((k * H, 0, 0), ((k + 1) * H, 0, 0), 1), CHAIN_SECTION, "fv3")
-         for k in range(3)]
+CHAIN = [
+    Beam(straight((k * H, 0, 0), ((k + 1) * H, 0, 0), 1), CHAIN_SECTION, "fv3") for k in range(3)
+]
 SPRING = Beam(straight((0, 0, 0.2), (0, 0, 0), 2), SPRING_SECTION, "fv3")
 FORCE = (0.0, 100.0, 0.0)
 #: fv3 evaluation points, (1 -+ 1/sqrt(3)) / 2 of each element, and the beam junctions.
-EVALUATION_POINTS = (np.arange(3)[:, None] * H
-                     + H * (1 + np.array([-1, 1]) / np.sqrt(3)) / 2).ravel()
+EVALUATION_POINTS = (
+    np.arange(3)[:, None] * H + H * (1 + np.array([-1, 1]) / np.sqrt(3)) / 2
+).ravel()
 JUNCTIONS = np.array([H, 2 * H])
 ROUNDOFF = 1e-10
 GROUPS = {"slip": slice(0, 1), "lambda": slice(1, 4), "tip": slice(4, 7)}
@@ -69,14 +71,21 @@ class SlidingBody:
 
     def model(self, s: float):
         spring = SPRING.translated((s, 0.0, 0.0))
-        structure = Structure(CHAIN + [spring],
-                              ties=[(0, "end", 1, "start"), (1, "end", 2, "start"),
-                                    ((3, "end"), "body")],
-                              bodies=[RigidBody("body", (s, 0.0, 0.0))])
-        slider = Slider("spherical", BeamChain(structure, [0, 1, 2], name="rail"), "body",
-                        smearing=self.smearing, name="carriage")
-        self.statics = SliderStatics(structure, [Support(0, "start"), Support(3, "start")],
-                                     [slider], reuse=self.statics)
+        structure = Structure(
+            CHAIN + [spring],
+            ties=[(0, "end", 1, "start"), (1, "end", 2, "start"), ((3, "end"), "body")],
+            bodies=[RigidBody("body", (s, 0.0, 0.0))],
+        )
+        slider = Slider(
+            "spherical",
+            BeamChain(structure, [0, 1, 2], name="rail"),
+            "body",
+            smearing=self.smearing,
+            name="carriage",
+        )
+        self.statics = SliderStatics(
+            structure, [Support(0, "start"), Support(3, "start")], [slider], reuse=self.statics
+        )
         return structure
 
     def response(self, s: float) -> np.ndarray:
@@ -123,7 +132,7 @@ def test_smeared_response_is_continuous(feature, fraction):
     reaction = np.linalg.norm(R0[:, GROUPS["lambda"]], axis=1)
     rho = reaction.max() / reaction.min()
     changes = group_max(np.diff(R, axis=0)[None])
-    size = group_max(np.vstack([R0, R])) | {"slip": 3 * H}   # slip = xi - s, xi up to 3 H
+    size = group_max(np.vstack([R0, R])) | {"slip": 3 * H}  # slip = xi - s, xi up to 3 H
     for g in GROUPS:
         allowed = rho * (smooth[g] + h * jump[g] / (2 * eps)) + ROUNDOFF * size[g]
         assert changes[g] <= allowed, g

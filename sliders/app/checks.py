@@ -8,11 +8,11 @@ refer to something it can move.  Nothing is built here: the geometry is checked 
 
 from __future__ import annotations
 
-from typing import Iterable
+from collections.abc import Iterable
 
 from fvbeam.support import DOF_NAMES
-from sliders.app.schema import Abscissa, DynamicStudy, PointLoad, Scene, SweepStudy, Translation
 from sliders.app.errors import Problem, Problems, suggest
+from sliders.app.schema import Abscissa, DynamicStudy, PointLoad, Scene, SweepStudy, Translation
 
 
 def part_of(ref: str) -> str:
@@ -69,14 +69,19 @@ class _Names:
         """Check a node reference; record a problem and return False if it is wrong."""
         name, _, end = ref.partition(".")
         if end and name not in self.beams:
-            hint = (f"'{name}' is a body: refer to it as '{name}'" if name in self.bodies
-                    else f"no beam named '{name}'{suggest(name, self.beams)}")
+            hint = (
+                f"'{name}' is a body: refer to it as '{name}'"
+                if name in self.bodies
+                else f"no beam named '{name}'{suggest(name, self.beams)}"
+            )
             problems.add(path, hint, ref)
             return False
         if not end and name not in self.bodies:
-            hint = (f"'{name}' is a beam: name one of its ends, '{name}.start' or "
-                    f"'{name}.end'" if name in self.beams
-                    else f"no body named '{name}'{suggest(name, self.bodies)}")
+            hint = (
+                f"'{name}' is a beam: name one of its ends, '{name}.start' or '{name}.end'"
+                if name in self.beams
+                else f"no body named '{name}'{suggest(name, self.bodies)}"
+            )
             problems.add(path, hint, ref)
             return False
         return True
@@ -97,15 +102,14 @@ def reference_problems(scene: Scene) -> list[Problem]:
     _check_beams(scene, names, problems)
     ties_ok = True
     for i, tie in enumerate(scene.tie):
-        ok = all([names.node(f"tie[{i}].nodes[{k}]", n, problems)
-                  for k, n in enumerate(tie.nodes)])
+        ok = all([names.node(f"tie[{i}].nodes[{k}]", n, problems) for k, n in enumerate(tie.nodes)])
         if ok and tie.nodes[0] == tie.nodes[1]:
             problems.add(f"tie[{i}].nodes", "ties a node to itself", list(tie.nodes))
         ties_ok = ties_ok and ok
     for i, support in enumerate(scene.support):
         names.node(f"support[{i}].node", support.node, problems)
         _check_support_kind(f"support[{i}].kind", support.kind, problems)
-    for i, slider in enumerate(scene.slider):
+    for i in range(len(scene.slider)):
         _check_slider(scene, i, names, problems, ties_ok)
     for i, load in enumerate(scene.load):
         if load.kind == "nodal":
@@ -115,8 +119,9 @@ def reference_problems(scene: Scene) -> list[Problem]:
     _check_study(scene, names, problems)
     repeated = sorted({t for t in scene.output.csv if scene.output.csv.count(t) > 1})
     if repeated:
-        problems.add("output.csv", f"lists {', '.join(repeated)} more than once",
-                     list(scene.output.csv))
+        problems.add(
+            "output.csv", f"lists {', '.join(repeated)} more than once", list(scene.output.csv)
+        )
     return list(problems)
 
 
@@ -124,14 +129,22 @@ def _check_beams(scene: Scene, names: _Names, problems: Problems) -> None:
     for i, beam in enumerate(scene.beam):
         given = [k for k in ("straight", "arc", "mesh") if getattr(beam, k) is not None]
         if len(given) != 1:
-            problems.add(f"beam[{i}]", "give exactly one of straight, arc, mesh "
-                         f"(found {', '.join(given) or 'none'})")
+            problems.add(
+                f"beam[{i}]",
+                f"give exactly one of straight, arc, mesh (found {', '.join(given) or 'none'})",
+            )
         if beam.section not in names.sections:
-            problems.add(f"beam[{i}].section", f"no section named '{beam.section}'"
-                         f"{suggest(beam.section, names.sections)}", beam.section)
+            problems.add(
+                f"beam[{i}].section",
+                f"no section named '{beam.section}'{suggest(beam.section, names.sections)}",
+                beam.section,
+            )
         if beam.arc is not None and beam.up is not None:
-            problems.add(f"beam[{i}].up", "an arc lies in a plane normal to z, which is its "
-                         "up: leave up out", list(beam.up))
+            problems.add(
+                f"beam[{i}].up",
+                "an arc lies in a plane normal to z, which is its up: leave up out",
+                list(beam.up),
+            )
 
 
 def _check_support_kind(path: str, kind: str, problems: Problems) -> None:
@@ -140,62 +153,89 @@ def _check_support_kind(path: str, kind: str, problems: Problems) -> None:
     for part in kind.split("+"):
         if part not in DOF_NAMES:
             choices = ("clamp", "pin") + DOF_NAMES
-            problems.add(path, f"must be 'clamp', 'pin' or dof names from "
-                         f"{' '.join(DOF_NAMES)} joined by '+'{suggest(part, choices)}", kind)
+            problems.add(
+                path,
+                f"must be 'clamp', 'pin' or dof names from "
+                f"{' '.join(DOF_NAMES)} joined by '+'{suggest(part, choices)}",
+                kind,
+            )
             return
 
 
-def _check_slider(scene: Scene, i: int, names: _Names, problems: Problems,
-                  ties_ok: bool) -> None:
+def _check_slider(scene: Scene, i: int, names: _Names, problems: Problems, ties_ok: bool) -> None:
     """A slider's line, body and orientation (its chain's joints only when every tie is
     valid: a broken tie is reported once, where it is)."""
     slider, path = scene.slider[i], f"slider[{i}]"
     chain = _check_line(scene, path, slider.line, names, problems, ties_ok)
     if names.node(f"{path}.body", slider.body, problems) and part_of(slider.body) in chain:
-        problems.add(f"{path}.body", f"is a node of its own line's beam '{part_of(slider.body)}'",
-                     slider.body)
+        problems.add(
+            f"{path}.body",
+            f"is a node of its own line's beam '{part_of(slider.body)}'",
+            slider.body,
+        )
     if slider.orientation == "slope" and slider.kind != "classical":
-        problems.add(f"{path}.orientation", "'slope' is the classical slider's (paper eq. 4); "
-                     f"a {slider.kind} slider needs 'section'", slider.orientation)
+        problems.add(
+            f"{path}.orientation",
+            "'slope' is the classical slider's (paper eq. 4); "
+            f"a {slider.kind} slider needs 'section'",
+            slider.orientation,
+        )
 
 
-def _check_line(scene: Scene, path: str, line: tuple[str, ...], names: _Names,
-                problems: Problems, ties_ok: bool) -> list[str]:
+def _check_line(
+    scene: Scene, path: str, line: tuple[str, ...], names: _Names, problems: Problems, ties_ok: bool
+) -> list[str]:
     """Check a slider's line; return the beams of its chain (empty for a rigid line)."""
     if len(line) == 1 and line[0] in names.lines:
         return []
     for k, name in enumerate(line):
         if name in names.lines:
-            problems.add(f"{path}.line[{k}]", f"'{name}' is a rigid line: a chain holds beams "
-                         "only (a rigid line is a line of its own)", name)
+            problems.add(
+                f"{path}.line[{k}]",
+                f"'{name}' is a rigid line: a chain holds beams "
+                "only (a rigid line is a line of its own)",
+                name,
+            )
         elif name not in names.beams:
             choices = list(names.beams) + (list(names.lines) if len(line) == 1 else [])
-            problems.add(f"{path}.line[{k}]", f"no {'line or ' if len(line) == 1 else ''}"
-                         f"beam named '{name}'{suggest(name, choices)}", name)
+            problems.add(
+                f"{path}.line[{k}]",
+                f"no {'line or ' if len(line) == 1 else ''}"
+                f"beam named '{name}'{suggest(name, choices)}",
+                name,
+            )
     repeated = sorted({b for b in line if line.count(b) > 1})
     if repeated:
-        problems.add(f"{path}.line", f"lists beam {', '.join(repeated)} more than once",
-                     list(line))
+        problems.add(f"{path}.line", f"lists beam {', '.join(repeated)} more than once", list(line))
     elif ties_ok and all(name in names.beams for name in line):
         ties = {frozenset(t.nodes) for t in scene.tie}
-        for a, b in zip(line[:-1], line[1:]):
+        for a, b in zip(line[:-1], line[1:], strict=True):
             if frozenset((f"{a}.end", f"{b}.start")) not in ties:
-                problems.add(f"{path}.line", f"beams '{a}' and '{b}' are not joined: a chain "
-                             f"needs a [[tie]] with nodes = ['{a}.end', '{b}.start']",
-                             list(line))
+                problems.add(
+                    f"{path}.line",
+                    f"beams '{a}' and '{b}' are not joined: a chain "
+                    f"needs a [[tie]] with nodes = ['{a}.end', '{b}.start']",
+                    list(line),
+                )
     return [name for name in line if name in names.beams]
 
 
 def _check_study(scene: Scene, names: _Names, problems: Problems) -> None:
     study = scene.study
     if scene.drive and not isinstance(study, DynamicStudy):
-        problems.add("drive", f"drives prescribe motions in time: they need study.kind = "
-                     f"'dynamic', not '{study.kind}'")
+        problems.add(
+            "drive",
+            f"drives prescribe motions in time: they need study.kind = "
+            f"'dynamic', not '{study.kind}'",
+        )
     if isinstance(study, DynamicStudy):
         _check_dynamic(scene, study, names, problems)
     if study.method == "condensed" and not scene.slider:
-        problems.add("study.method", "'condensed' eliminates slider unknowns and needs at "
-                     "least one slider; use 'bordered'", study.method)
+        problems.add(
+            "study.method",
+            "'condensed' eliminates slider unknowns and needs at least one slider; use 'bordered'",
+            study.method,
+        )
     if not isinstance(study, SweepStudy):
         return
     if (study.values is None) == (study.range is None):
@@ -206,75 +246,91 @@ def _check_study(scene: Scene, names: _Names, problems: Problems) -> None:
         _check_abscissa(scene, study.parameter.of, names, problems)
 
 
-def _check_dynamic(scene: Scene, study: DynamicStudy, names: _Names,
-                   problems: Problems) -> None:
+def _check_dynamic(scene: Scene, study: DynamicStudy, names: _Names, problems: Problems) -> None:
     """The drives' references (a slider or dof driven once), their tables, the steps, and
     the mass of every beam's section."""
     for i, section in enumerate(scene.section):
-        if section.mass_per_length is None and any(b.section == section.name
-                                                   for b in scene.beam):
-            problems.add(f"section[{i}].mass_per_length", "a dynamic study needs the mass of "
-                         "every beam's section")
+        if section.mass_per_length is None and any(b.section == section.name for b in scene.beam):
+            problems.add(
+                f"section[{i}].mass_per_length",
+                "a dynamic study needs the mass of every beam's section",
+            )
     driven: dict[str, int] = {}
     for i, drive in enumerate(scene.drive):
         path = f"drive[{i}]"
         if drive.kind == "abscissa":
             key = drive.slider
             if drive.slider not in names.sliders:
-                problems.add(f"{path}.slider", f"no slider named '{drive.slider}'"
-                             f"{suggest(drive.slider, names.sliders)}", drive.slider)
+                problems.add(
+                    f"{path}.slider",
+                    f"no slider named '{drive.slider}'{suggest(drive.slider, names.sliders)}",
+                    drive.slider,
+                )
         else:
             key = f"{drive.node}.{drive.dof}"
             names.node(f"{path}.node", drive.node, problems)
             if any(s.node == drive.node and _holds(s.kind, drive.dof) for s in scene.support):
-                problems.add(f"{path}.dof", f"{drive.node} {drive.dof} is held by a support",
-                             drive.dof)
+                problems.add(
+                    f"{path}.dof", f"{drive.node} {drive.dof} is held by a support", drive.dof
+                )
         if key in driven:
             problems.add(path, f"drives what drive[{driven[key]}] already drives ({key})")
         driven.setdefault(key, i)
         motion = drive.motion
         if motion.kind == "tabulated":
             if len(motion.times) != len(motion.values):
-                problems.add(f"{path}.motion.values", f"has {len(motion.values)} values for "
-                             f"{len(motion.times)} times", list(motion.values))
-            if any(b <= a for a, b in zip(motion.times[:-1], motion.times[1:])):
-                problems.add(f"{path}.motion.times", "must increase strictly",
-                             list(motion.times))
+                problems.add(
+                    f"{path}.motion.values",
+                    f"has {len(motion.values)} values for {len(motion.times)} times",
+                    list(motion.values),
+                )
+            if any(b <= a for a, b in zip(motion.times[:-1], motion.times[1:], strict=True)):
+                problems.add(f"{path}.motion.times", "must increase strictly", list(motion.times))
             if motion.order == 3 and len(motion.times) < 4:
-                problems.add(f"{path}.motion.order", "a cubic table needs at least 4 points",
-                             motion.order)
+                problems.add(
+                    f"{path}.motion.order", "a cubic table needs at least 4 points", motion.order
+                )
         elif motion.kind == "ramp" and not motion.t1 > motion.t0:
             problems.add(f"{path}.motion.t1", f"must be after t0 = {motion.t0}", motion.t1)
     if study.step > study.t_end:
         problems.add("study.step", f"is longer than t_end = {study.t_end}", study.step)
     adaptive = study.adaptive
     if adaptive is not None and adaptive.h_max is not None and adaptive.h_max <= adaptive.h_min:
-        problems.add("study.adaptive.h_max", f"must exceed h_min = {adaptive.h_min}",
-                     adaptive.h_max)
+        problems.add(
+            "study.adaptive.h_max", f"must exceed h_min = {adaptive.h_min}", adaptive.h_max
+        )
 
 
 def _holds(kind: str, dof: str) -> bool:
     """Whether a support of ``kind`` holds ``dof``."""
-    return (kind == "clamp" or (kind == "pin" and dof.startswith("u"))
-            or dof in kind.split("+"))
+    return kind == "clamp" or (kind == "pin" and dof.startswith("u")) or dof in kind.split("+")
 
 
-def _check_translation(scene: Scene, parameter: Translation, names: _Names,
-                       problems: Problems) -> None:
+def _check_translation(
+    scene: Scene, parameter: Translation, names: _Names, problems: Problems
+) -> None:
     path = "study.parameter"
     moved = set(parameter.move)
     for k, name in enumerate(parameter.move):
         if name not in names.beams and name not in names.bodies:
-            problems.add(f"{path}.move[{k}]", f"no beam or body named '{name}'"
-                         f"{suggest(name, list(names.beams) + list(names.bodies))}", name)
+            problems.add(
+                f"{path}.move[{k}]",
+                f"no beam or body named '{name}'"
+                f"{suggest(name, list(names.beams) + list(names.bodies))}",
+                name,
+            )
     if not any(parameter.direction):
         problems.add(f"{path}.direction", "must not be zero", list(parameter.direction))
     for k, tie in enumerate(scene.tie):
         a, b = (part_of(n) for n in tie.nodes)
         if (a in moved) != (b in moved):
-            problems.add(f"{path}.move", f"moves '{a if a in moved else b}' but not "
-                         f"'{b if a in moved else a}', tied to it by tie[{k}]: move both or "
-                         "neither", list(parameter.move))
+            problems.add(
+                f"{path}.move",
+                f"moves '{a if a in moved else b}' but not "
+                f"'{b if a in moved else a}', tied to it by tie[{k}]: move both or "
+                "neither",
+                list(parameter.move),
+            )
 
 
 def _check_abscissa(scene: Scene, of: str, names: _Names, problems: Problems) -> None:
@@ -283,14 +339,23 @@ def _check_abscissa(scene: Scene, of: str, names: _Names, problems: Problems) ->
         slider = scene.slider[names.sliders[of]]
         carried = tied_parts(scene, part_of(slider.body)) & set(slider.line)
         if carried:
-            problems.add(path, f"moving the body of slider '{of}' would move its own line (beam "
-                         f"{', '.join(sorted(carried))} is tied to the body)", of)
+            problems.add(
+                path,
+                f"moving the body of slider '{of}' would move its own line (beam "
+                f"{', '.join(sorted(carried))} is tied to the body)",
+                of,
+            )
         return
     if of in names.loads and isinstance(scene.load[names.loads[of]], PointLoad):
         return
     if of in names.loads:
-        problems.add(path, f"load '{of}' is not a point load: only a point load has an "
-                     "abscissa", of)
+        problems.add(
+            path, f"load '{of}' is not a point load: only a point load has an abscissa", of
+        )
         return
-    problems.add(path, f"no slider or named point load '{of}'"
-                 f"{suggest(of, list(names.sliders) + list(names.loads))}", of)
+    problems.add(
+        path,
+        f"no slider or named point load '{of}'"
+        f"{suggest(of, list(names.sliders) + list(names.loads))}",
+        of,
+    )

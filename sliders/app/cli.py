@@ -57,10 +57,14 @@ def _check(args: argparse.Namespace) -> int:
     if study == "sweep":
         study += f" over {scene.study.parameter.kind}, {len(scene.study.sweep_values())} values"
     if study == "dynamic":
-        study += (f" to t = {scene.study.t_end:g} s, step {scene.study.step:g} s, "
-                  f"{len(scene.drive)} drives")
-    print(f"{args.scene}: valid ({len(scene.beam)} beams, {len(scene.body)} bodies, "
-          f"{len(scene.slider)} sliders; {study})")
+        study += (
+            f" to t = {scene.study.t_end:g} s, step {scene.study.step:g} s, "
+            f"{len(scene.drive)} drives"
+        )
+    print(
+        f"{args.scene}: valid ({len(scene.beam)} beams, {len(scene.body)} bodies, "
+        f"{len(scene.slider)} sliders; {study})"
+    )
     return 0
 
 
@@ -88,8 +92,7 @@ def _run(args: argparse.Namespace) -> int:
         value = "" if sample.value is None else f" (value {sample.value:g})"
         print(f"  sample {sample.index}{value} failed: {sample.error}", file=sys.stderr)
     if len(results.failures) > 5:
-        print(f"  ... {len(results.failures) - 5} more failures in samples.csv",
-              file=sys.stderr)
+        print(f"  ... {len(results.failures) - 5} more failures in samples.csv", file=sys.stderr)
     if results.interrupted:
         print("interrupted: the completed samples are written", file=sys.stderr)
         return 130
@@ -142,8 +145,10 @@ def _reproduce(args: argparse.Namespace) -> int:
     keys = list(dict.fromkeys(args.figures or [k for k in registered if k not in LONG]))
     plot = importlib.util.find_spec("matplotlib") is not None
     if not plot:
-        print("matplotlib is not installed: CSV only (pip install 'fvslider[plot]' for the "
-              "PNGs)", file=sys.stderr)
+        print(
+            "matplotlib is not installed: CSV only (pip install 'fvslider[plot]' for the PNGs)",
+            file=sys.stderr,
+        )
     table = []
     for key in keys:
         module = importlib.import_module(registered[key])
@@ -180,33 +185,51 @@ def _figure(name: str) -> str:
 
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog="fvslider", description="Finite-volume beams and deformable slider joints: "
-        "run scenes (TOML) and the paper's studies.", epilog=EXAMPLES,
-        formatter_class=argparse.RawDescriptionHelpFormatter)
+        prog="fvslider",
+        description="Finite-volume beams and deformable slider joints: "
+        "run scenes (TOML) and the paper's studies.",
+        epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     commands = parser.add_subparsers(title="commands", required=True, metavar="COMMAND")
-    run = commands.add_parser("run", help="validate a scene, solve its study, write its CSV "
-                              "tables", epilog=EXAMPLES,
-                              formatter_class=argparse.RawDescriptionHelpFormatter)
+    run = commands.add_parser(
+        "run",
+        help="validate a scene, solve its study, write its CSV tables",
+        epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     run.add_argument("scene", type=Path, metavar="SCENE.toml")
-    run.add_argument("--out", type=Path, help="output directory, replaced whole "
-                     "(default results/SCENE)")
+    run.add_argument(
+        "--out", type=Path, help="output directory, replaced whole (default results/SCENE)"
+    )
     run.set_defaults(command=_run)
     check = commands.add_parser("check", help="validate a scene without solving it")
     check.add_argument("scene", type=Path, metavar="SCENE.toml")
     check.set_defaults(command=_check)
     studies = commands.add_parser("studies", help="list the paper's figure studies")
     studies.set_defaults(command=_studies)
-    reproduce = commands.add_parser("reproduce", help="run the paper's figure studies and "
-                                    "print their errors against the closed forms")
-    reproduce.add_argument("figures", nargs="*", metavar="FIG", type=_figure,
-                           help=f"figures to run, from {', '.join(list(registered_studies()) + list(ALIASES))}"
-                           f" (default: all but {', '.join(LONG)})")
-    reproduce.add_argument("--out", type=Path, default=Path("results"),
-                           help="output directory (default results/)")
+    reproduce = commands.add_parser(
+        "reproduce",
+        help="run the paper's figure studies and print their errors against the closed forms",
+    )
+    reproduce.add_argument(
+        "figures",
+        nargs="*",
+        metavar="FIG",
+        type=_figure,
+        help=f"figures to run, from {', '.join(list(registered_studies()) + list(ALIASES))}"
+        f" (default: all but {', '.join(LONG)})",
+    )
+    reproduce.add_argument(
+        "--out", type=Path, default=Path("results"), help="output directory (default results/)"
+    )
     reproduce.set_defaults(command=_reproduce)
-    compile_ = commands.add_parser("compile", help="compile the numba kernels into their "
-                                   "cache (make does it after installing; else the first "
-                                   "solve does it, about half a minute)")
+    compile_ = commands.add_parser(
+        "compile",
+        help="compile the numba kernels into their "
+        "cache (make does it after installing; else the first "
+        "solve does it, about half a minute)",
+    )
     compile_.set_defaults(command=_compile)
     return parser
 

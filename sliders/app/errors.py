@@ -13,8 +13,9 @@ from __future__ import annotations
 import difflib
 import types
 import typing
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
-from typing import Any, Callable, Iterable, Sequence
+from typing import Any
 
 from pydantic import BaseModel, ValidationError
 
@@ -41,7 +42,7 @@ def suggest(word: Any, choices: Iterable[str]) -> str:
 def show(value: Any, limit: int = 60) -> str:
     """A value as the message shows it: ``repr``, shortened to ``limit`` characters."""
     text = repr(value)
-    return text if len(text) <= limit else text[:limit - 3] + "..."
+    return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
 @dataclass(frozen=True)
@@ -96,10 +97,18 @@ class Problems(list):
 
 
 # -- pydantic's errors in scene terms ---------------------------------------------------------
-_TYPES = {"float_type": "a number", "int_type": "an integer", "int_from_float": "an integer",
-          "string_type": "a string", "bool_type": "true or false", "tuple_type": "a list",
-          "list_type": "a list", "model_type": "a table", "model_attributes_type": "a table",
-          "dict_type": "a table"}
+_TYPES = {
+    "float_type": "a number",
+    "int_type": "an integer",
+    "int_from_float": "an integer",
+    "string_type": "a string",
+    "bool_type": "true or false",
+    "tuple_type": "a list",
+    "list_type": "a list",
+    "model_type": "a table",
+    "model_attributes_type": "a table",
+    "dict_type": "a table",
+}
 
 
 def _unwrap(annotation: Any) -> Any:
@@ -189,25 +198,32 @@ def _message(error: dict, place: _Place) -> tuple[str, str]:
     if kind == "extra_forbidden":
         allowed = list(place.table.model_fields) if place.table is not None else []
         key = str(error["loc"][-1])
-        return place.path, (f"unknown key{suggest(key, allowed)}; allowed here: "
-                            f"{', '.join(allowed)}")
+        return place.path, (
+            f"unknown key{suggest(key, allowed)}; allowed here: {', '.join(allowed)}"
+        )
     if kind == "missing":
         return place.path, "missing: this key is required" + (
-            f" ({described})" if described else "")
+            f" ({described})" if described else ""
+        )
     if kind in ("union_tag_invalid", "union_tag_not_found"):
         tags = ", ".join(repr(t) for t in place.tags)
         if kind == "union_tag_not_found":
             return f"{place.path}.kind", f"missing: this key is required (one of {tags})"
-        return f"{place.path}.kind", (f"must be one of {tags}"
-                                      f"{suggest(ctx.get('tag'), place.tags)}")
+        return f"{place.path}.kind", (f"must be one of {tags}{suggest(ctx.get('tag'), place.tags)}")
     if kind == "literal_error":
         choices = _choices(place.annotation)
-        return place.path, (f"must be one of {', '.join(repr(c) for c in choices)}"
-                            f"{suggest(value, choices)}")
+        return place.path, (
+            f"must be one of {', '.join(repr(c) for c in choices)}{suggest(value, choices)}"
+        )
     if kind in ("too_short", "too_long"):
         low, high = ctx.get("min_length"), ctx.get("max_length")
-        size = (f"exactly {high}" if low == high and low is not None
-                else f"at least {low}" if kind == "too_short" else f"at most {high}")
+        size = (
+            f"exactly {high}"
+            if low == high and low is not None
+            else f"at least {low}"
+            if kind == "too_short"
+            else f"at most {high}"
+        )
         what = f" ({described})" if described else ""
         return place.path, f"must have {size} entries{what}, got {ctx.get('actual_length')}"
     if kind == "finite_number":
@@ -233,7 +249,8 @@ def schema_problems(exc: ValidationError, root: type[BaseModel]) -> list[Problem
     for error in errors:
         loc = error["loc"]
         if error["type"] in ("too_short", "too_long") and any(
-                len(e["loc"]) > len(loc) and e["loc"][:len(loc)] == loc for e in errors):
+            len(e["loc"]) > len(loc) and e["loc"][: len(loc)] == loc for e in errors
+        ):
             continue
         place = _walk(root, error["loc"])
         path, message = _message(error, place)

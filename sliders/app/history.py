@@ -29,20 +29,19 @@ from __future__ import annotations
 
 import csv
 import os
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable, TextIO
+from typing import TextIO
 
 import numpy as np
 
 from sliders.solve.dynamics import Dynamics
 from sliders.solve.integrator import State
 
-
 #: A probe: an extra ``history.csv`` column computed from the state and the dynamics.
 Probe = Callable[[State, "Dynamics"], float]
 
-ENERGIES = ("kinetic", "strain", "external_work", "constraint_work", "dissipated",
-            "energy_error")
+ENERGIES = ("kinetic", "strain", "external_work", "constraint_work", "dissipated", "energy_error")
 FORCE_NAMES = ("N", "Vy", "Vz", "T", "My", "Mz")
 
 
@@ -63,9 +62,15 @@ class Recorder:
         last recorded state is always :attr:`last`.
     """
 
-    def __init__(self, directory: str | Path | None = None, displacements: bool = False,
-                 internal_forces: bool = False, probes: dict[str, Probe] | None = None,
-                 every: int = 0, reactions: bool = False) -> None:
+    def __init__(
+        self,
+        directory: str | Path | None = None,
+        displacements: bool = False,
+        internal_forces: bool = False,
+        probes: dict[str, Probe] | None = None,
+        every: int = 0,
+        reactions: bool = False,
+    ) -> None:
         self.directory = None if directory is None else Path(directory)
         self.keep_displacements, self.keep_forces = displacements, internal_forces
         self.keep_reactions = reactions
@@ -103,14 +108,17 @@ class Recorder:
             self._open("history", self.columns)
             structure = dynamics.structure
             if self.keep_displacements:
-                self._open("displacements", ["t"] + [structure.dof_name(d)
-                                                     for d in range(structure.n_dofs)])
+                self._open(
+                    "displacements",
+                    ["t"] + [structure.dof_name(d) for d in range(structure.n_dofs)],
+                )
             if self.keep_forces:
                 header = ["t"]
                 for b, beam in enumerate(structure.beams):
                     points = len(beam.internal_forces(np.zeros(beam.n_dofs)).xi)
-                    header += [f"beam {b} point {i} {c}" for i in range(points)
-                               for c in FORCE_NAMES]
+                    header += [
+                        f"beam {b} point {i} {c}" for i in range(points) for c in FORCE_NAMES
+                    ]
                 self._open("internal_forces", header)
             if self.keep_reactions:
                 self._open("reactions", ["t"] + [structure.dof_name(d) for d in self._held])
@@ -137,8 +145,9 @@ class Recorder:
     def _write(self, name: str, row: list[float]) -> None:
         if name in self._files:
             stream, writer = self._files[name]
-            writer.writerow([str(x) if isinstance(x, (int, np.integer)) else repr(float(x))
-                             for x in row])
+            writer.writerow(
+                [str(x) if isinstance(x, (int, np.integer)) else repr(float(x)) for x in row]
+            )
             stream.flush()
 
     def _append(self, dynamics: "Dynamics", state: State, old: State | None) -> None:
@@ -147,8 +156,11 @@ class Recorder:
         power = state.v @ (dynamics.C @ state.v)
         if old is not None:
             dq = state.q - old.q
-            self._work += [(self._f + f) @ dq / 2, (self._reaction + reaction) @ dq / 2,
-                           state.h * (self._power + power) / 2]
+            self._work += [
+                (self._f + f) @ dq / 2,
+                (self._reaction + reaction) @ dq / 2,
+                state.h * (self._power + power) / 2,
+            ]
         self._f, self._reaction, self._power = f, reaction, power
         kinetic = state.v @ (dynamics.M @ state.v) / 2
         strain = state.q @ (dynamics.K @ state.q) / 2
@@ -156,10 +168,20 @@ class Recorder:
         balance = kinetic + strain + dissipated - external - constraint
         if self._reference is None:
             self._reference = balance
-        row = [len(self.rows), state.t, state.h, state.iterations, kinetic, strain, external,
-               constraint, dissipated, balance - self._reference]
+        row = [
+            len(self.rows),
+            state.t,
+            state.h,
+            state.iterations,
+            kinetic,
+            strain,
+            external,
+            constraint,
+            dissipated,
+            balance - self._reference,
+        ]
         residuals = dynamics.joint_residuals(state)
-        for y, residual in zip(state.unknowns, residuals):
+        for y, residual in zip(state.unknowns, residuals, strict=True):
             row += list(y) + [residual]
         row += [probe(state, dynamics) for probe in self.probes.values()]
         if self.every and len(self.rows) % self.every == 0:
@@ -171,9 +193,15 @@ class Recorder:
             self.displacements.append(state.q.copy())
             self._write("displacements", [state.t, *state.q])
         if self.keep_forces:
-            forces = np.concatenate([np.column_stack([i.force, i.moment]).ravel() for i in (
-                beam.internal_forces(dynamics.structure.local(b, state.q))
-                for b, beam in enumerate(dynamics.structure.beams))])
+            forces = np.concatenate(
+                [
+                    np.column_stack([i.force, i.moment]).ravel()
+                    for i in (
+                        beam.internal_forces(dynamics.structure.local(b, state.q))
+                        for b, beam in enumerate(dynamics.structure.beams)
+                    )
+                ]
+            )
             self.internal_forces.append(forces)
             self._write("internal_forces", [state.t, *forces])
         if self.keep_reactions:

@@ -20,16 +20,30 @@ import numpy as np
 
 from fvbeam import Beam, BeamMesh, RigidBody, Section, Structure, Support, arc, straight
 from fvbeam.support import NodeRef
-from sliders.lines.chain import BeamChain
-from sliders.joints.drives import DofDrive, Linear, Motion, Ramp, Tabulated
-from sliders.solve.dynamics import Dynamics
-from sliders.joints.slider import Slider
-from sliders.lines.rigid import (CircularArc, CubicSpline, Helix, RigidLine, StraightLine,
-                           project_one)
-from sliders.app.schema import (Abscissa, BeamSpec, LoadFactor, PointLoad, Scene, SliderSpec,
-                                SweepStudy, Translation)
 from sliders.app.checks import part_of, tied_parts
 from sliders.app.errors import Problems
+from sliders.app.schema import (
+    Abscissa,
+    BeamSpec,
+    LoadFactor,
+    PointLoad,
+    Scene,
+    SliderSpec,
+    SweepStudy,
+    Translation,
+)
+from sliders.joints.drives import DofDrive, Linear, Motion, Ramp, Tabulated
+from sliders.joints.slider import Slider
+from sliders.lines.chain import BeamChain
+from sliders.lines.rigid import (
+    CircularArc,
+    CubicSpline,
+    Helix,
+    RigidLine,
+    StraightLine,
+    project_one,
+)
+from sliders.solve.dynamics import Dynamics
 from sliders.solve.statics import SliderStatics
 
 #: Body-on-line tolerance, relative to the line's size (module docstring).
@@ -41,9 +55,17 @@ TWO_NODE = ("fv2", "galerkin-p1")
 
 
 def _section(spec) -> Section:
-    return Section.diagonal(spec.EA, spec.GAy, spec.GAz, spec.GJ, spec.EJy, spec.EJz,
-                            mass_per_length=spec.mass_per_length or 0.0,
-                            inertia=np.array(spec.inertia or np.zeros((3, 3))), name=spec.name)
+    return Section.diagonal(
+        spec.EA,
+        spec.GAy,
+        spec.GAz,
+        spec.GJ,
+        spec.EJy,
+        spec.EJz,
+        mass_per_length=spec.mass_per_length or 0.0,
+        inertia=np.array(spec.inertia or np.zeros((3, 3))),
+        name=spec.name,
+    )
 
 
 def _mesh(spec: BeamSpec, formulation: str) -> BeamMesh:
@@ -59,8 +81,14 @@ def _mesh(spec: BeamSpec, formulation: str) -> BeamMesh:
 
 def _body(spec) -> RigidBody:
     frame = None if spec.frame is None else np.array(spec.frame).T
-    return RigidBody(spec.name, np.array(spec.position), spec.mass or 0.0,
-                     np.array(spec.inertia or np.zeros((3, 3))), frame, np.array(spec.centre))
+    return RigidBody(
+        spec.name,
+        np.array(spec.position),
+        spec.mass or 0.0,
+        np.array(spec.inertia or np.zeros((3, 3))),
+        frame,
+        np.array(spec.centre),
+    )
 
 
 def _motion(spec) -> Motion:
@@ -100,8 +128,11 @@ class _Probe:
         """Distance from ``point`` to the line, the tolerance, and the abscissa of the closest
         point; from the abscissa ``start`` of a nearby point when given (a continuation along
         a sweep), else from the line's own search."""
-        xi = (self.project(point) if start is None
-              else project_one(self.curve, np.array([start, self.length]), point))
+        xi = (
+            self.project(point)
+            if start is None
+            else project_one(self.curve, np.array([start, self.length]), point)
+        )
         gap = float(np.linalg.norm(point - self.curve(xi)[0]))
         return gap, ON_LINE * max(self.size, float(np.linalg.norm(point))), xi
 
@@ -125,20 +156,31 @@ class Model:
     def __init__(self, scene: Scene, source: str = "scene") -> None:
         self.scene = scene
         problems = Problems()
-        sections = {s.name: problems.attempt(f"section[{i}]", lambda s=s: _section(s))
-                    for i, s in enumerate(scene.section)}
+        sections = {
+            s.name: problems.attempt(f"section[{i}]", lambda s=s: _section(s))
+            for i, s in enumerate(scene.section)
+        }
         self.beams: list[Beam] = []
         for i, spec in enumerate(scene.beam):
             form = spec.formulation or scene.formulation
             where = f"beam[{i}].mesh" if spec.mesh is not None else f"beam[{i}]"
-            mesh = problems.attempt(where, lambda: _mesh(spec, form))
+            mesh = problems.attempt(where, lambda spec=spec, form=form: _mesh(spec, form))
             if mesh is not None and sections[spec.section] is not None:
-                self.beams.append(problems.attempt(where, lambda: Beam(
-                    mesh, sections[spec.section], form, scene.integration)))
-        self.bodies = [problems.attempt(f"body[{i}]", lambda s=s: _body(s))
-                       for i, s in enumerate(scene.body)]
-        self.lines = {s.name: problems.attempt(f"line[{i}]", lambda s=s: _rigid_line(s))
-                      for i, s in enumerate(scene.line)}
+                self.beams.append(
+                    problems.attempt(
+                        where,
+                        lambda mesh=mesh, spec=spec, form=form: Beam(
+                            mesh, sections[spec.section], form, scene.integration
+                        ),
+                    )
+                )
+        self.bodies = [
+            problems.attempt(f"body[{i}]", lambda s=s: _body(s)) for i, s in enumerate(scene.body)
+        ]
+        self.lines = {
+            s.name: problems.attempt(f"line[{i}]", lambda s=s: _rigid_line(s))
+            for i, s in enumerate(scene.line)
+        }
         problems.raise_if_any(source)
         self.index = {spec.name: i for i, spec in enumerate(scene.beam)}
         self._check_ties(problems)
@@ -146,12 +188,14 @@ class Model:
         problems.raise_if_any(source)
         self.ties = [tuple(self.ref(n) for n in tie.nodes) for tie in scene.tie]
         self.supports = [Support.at(self.ref(s.node), s.kind) for s in scene.support]
-        self.slider_drives = {d.slider: _motion(d.motion) for d in scene.drive
-                              if d.kind == "abscissa"}
+        self.slider_drives = {
+            d.slider: _motion(d.motion) for d in scene.drive if d.kind == "abscissa"
+        }
         self.structure = Structure(self.beams, self.ties, self.bodies)
-        self.sliders = [problems.attempt(f"slider[{i}]",
-                                         lambda s=s: self._slider(s, self.structure))
-                        for i, s in enumerate(scene.slider)]
+        self.sliders = [
+            problems.attempt(f"slider[{i}]", lambda s=s: self._slider(s, self.structure))
+            for i, s in enumerate(scene.slider)
+        ]
         problems.raise_if_any(source)
         self._check_on_lines(problems)
         problems.raise_if_any(source)
@@ -177,14 +221,23 @@ class Model:
             line = self.lines[spec.line[0]]
         else:
             line = BeamChain(structure, [self.index[b] for b in spec.line], "+".join(spec.line))
-        return Slider(spec.kind, line, self.ref(spec.body), np.array(spec.offset),
-                      np.array(spec.frame).T, spec.smearing, spec.kernel, spec.orientation,
-                      spec.end_stops, self.slider_drives.get(spec.name), spec.name)
+        return Slider(
+            spec.kind,
+            line,
+            self.ref(spec.body),
+            np.array(spec.offset),
+            np.array(spec.frame).T,
+            spec.smearing,
+            spec.kernel,
+            spec.orientation,
+            spec.end_stops,
+            self.slider_drives.get(spec.name),
+            spec.name,
+        )
 
     # -- geometric checks -------------------------------------------------------------------
     def _size(self) -> float:
-        points = np.vstack([b.mesh.points for b in self.beams]
-                           + [b.position for b in self.bodies])
+        points = np.vstack([b.mesh.points for b in self.beams] + [b.position for b in self.bodies])
         return float(np.linalg.norm(points.max(axis=0) - points.min(axis=0)))
 
     def _check_ties(self, problems: Problems) -> None:
@@ -192,31 +245,42 @@ class Model:
         for i, tie in enumerate(self.scene.tie):
             gap = float(np.linalg.norm(self.position(tie.nodes[0]) - self.position(tie.nodes[1])))
             if gap > tol:
-                problems.add(f"tie[{i}].nodes", f"the nodes are {gap:.6g} m apart; a tie joins "
-                             f"coincident nodes (to {COINCIDENT:g} of the scene's size, "
-                             f"{tol:.3g} m)", list(tie.nodes))
+                problems.add(
+                    f"tie[{i}].nodes",
+                    f"the nodes are {gap:.6g} m apart; a tie joins "
+                    f"coincident nodes (to {COINCIDENT:g} of the scene's size, "
+                    f"{tol:.3g} m)",
+                    list(tie.nodes),
+                )
 
     def _check_point_loads(self, problems: Problems) -> None:
         for i, load in enumerate(self.scene.load):
             if isinstance(load, PointLoad):
                 length = self.beams[self.index[load.beam]].mesh.length
                 if load.at > length * (1 + 1e-12):
-                    problems.add(f"load[{i}].at", f"beyond the end of beam '{load.beam}' "
-                                 f"(length {length:.6g} m)", load.at)
+                    problems.add(
+                        f"load[{i}].at",
+                        f"beyond the end of beam '{load.beam}' (length {length:.6g} m)",
+                        load.at,
+                    )
 
     def _check_on_lines(self, problems: Problems) -> None:
         """Every slider's body on its line, in the scene and at every sweep value."""
         zero = np.zeros(self.structure.n_dofs)
         for i, slider in enumerate(self.sliders):
-            xi = problems.attempt(f"slider[{i}]",
-                                  lambda: slider.initial_unknowns(self.structure, zero)[0])
+            xi = problems.attempt(
+                f"slider[{i}]",
+                lambda slider=slider: slider.initial_unknowns(self.structure, zero)[0],
+            )
             if xi is not None:
-                gap, tol, _ = _Probe(slider.line, zero).gap(slider.reference_point(
-                    self.structure))
+                gap, tol, _ = _Probe(slider.line, zero).gap(slider.reference_point(self.structure))
                 if gap > tol:
-                    problems.add(f"slider[{i}].body", f"its sliding point is {gap:.3g} m from "
-                                 f"line '{slider.line.name}' (allowed {tol:.3g} m)",
-                                 self.scene.slider[i].body)
+                    problems.add(
+                        f"slider[{i}].body",
+                        f"its sliding point is {gap:.3g} m from "
+                        f"line '{slider.line.name}' (allowed {tol:.3g} m)",
+                        self.scene.slider[i].body,
+                    )
         study = self.scene.study
         if not problems and isinstance(study, SweepStudy):
             self._check_sweep(study, problems)
@@ -229,8 +293,12 @@ class Model:
             length = self._abscissa_length(parameter.of)
             outside = [v for v in values if not -1e-12 * length <= v <= length * (1 + 1e-12)]
             if outside:
-                problems.add(where, f"the abscissa of '{parameter.of}' must lie in "
-                             f"[0, {length:.6g}] m (the length of its line)", outside[0])
+                problems.add(
+                    where,
+                    f"the abscissa of '{parameter.of}' must lie in "
+                    f"[0, {length:.6g}] m (the length of its line)",
+                    outside[0],
+                )
                 return
         moved = self.moved_parts()
         for i, slider in enumerate(self.sliders):
@@ -246,9 +314,13 @@ class Model:
             if bad:
                 v, g, t = bad[0]
                 more = f" (and {len(bad) - 1} more values)" if len(bad) > 1 else ""
-                problems.add(where, f"at {v:g}{more}: the sliding point of slider "
-                             f"'{slider.name}' is {g:.3g} m from line '{slider.line.name}' "
-                             f"(allowed {t:.3g} m)", float(v))
+                problems.add(
+                    where,
+                    f"at {v:g}{more}: the sliding point of slider "
+                    f"'{slider.name}' is {g:.3g} m from line '{slider.line.name}' "
+                    f"(allowed {t:.3g} m)",
+                    float(v),
+                )
 
     def _slider_names(self) -> list[str]:
         return [s.name for s in self.scene.slider]
@@ -284,8 +356,11 @@ class Model:
             return value * direction / np.linalg.norm(direction)
         slider = self.sliders[self._slider_names().index(parameter.of)]
         zero = np.zeros(self.structure.n_dofs)
-        target = (slider.line.geometry(value, zero)[0] if isinstance(slider.line, BeamChain)
-                  else slider.line.at(value).x)
+        target = (
+            slider.line.geometry(value, zero)[0]
+            if isinstance(slider.line, BeamChain)
+            else slider.line.at(value).x
+        )
         return target - slider.reference_point(self.structure)
 
     def problem(self, value: float | None = None) -> tuple[SliderStatics, np.ndarray]:
@@ -295,26 +370,43 @@ class Model:
         method = self.scene.study.method
         if moved or self._previous is None:
             shift = self.offset(value) if moved else np.zeros(3)
-            beams = [b.translated(shift) if s.name in moved else b
-                     for s, b in zip(self.scene.beam, self.beams)]
-            bodies = [dataclasses.replace(b, position=b.position + shift) if b.name in moved
-                      else b for b in self.bodies]
+            beams = [
+                b.translated(shift) if s.name in moved else b
+                for s, b in zip(self.scene.beam, self.beams, strict=True)
+            ]
+            bodies = [
+                dataclasses.replace(b, position=b.position + shift) if b.name in moved else b
+                for b in self.bodies
+            ]
             structure = Structure(beams, self.ties, bodies)
             sliders = [self._slider(s, structure) for s in self.scene.slider]
-            self._previous = SliderStatics(structure, self.supports, sliders,
-                                           reuse=self._previous, method=method)
+            self._previous = SliderStatics(
+                structure, self.supports, sliders, reuse=self._previous, method=method
+            )
         return self._previous, self.load_vector(self._previous.structure, value)
 
     def dynamics(self) -> Dynamics:
         """The time integration of a dynamic study's scene."""
         study = self.scene.study
-        drives = [DofDrive(self.ref(d.node), d.dof, _motion(d.motion))
-                  for d in self.scene.drive if d.kind == "dof"]
-        return Dynamics(self.structure, self.supports, self.sliders,
-                        self.load_vector(self.structure, None), mass=study.mass,
-                        damping=study.damping, gravity=study.gravity, drives=drives,
-                        rho_inf=study.rho_inf, method=study.method, tol=study.tol,
-                        max_iterations=study.max_iterations)
+        drives = [
+            DofDrive(self.ref(d.node), d.dof, _motion(d.motion))
+            for d in self.scene.drive
+            if d.kind == "dof"
+        ]
+        return Dynamics(
+            self.structure,
+            self.supports,
+            self.sliders,
+            self.load_vector(self.structure, None),
+            mass=study.mass,
+            damping=study.damping,
+            gravity=study.gravity,
+            drives=drives,
+            rho_inf=study.rho_inf,
+            method=study.method,
+            tol=study.tol,
+            max_iterations=study.max_iterations,
+        )
 
     def load_vector(self, structure: Structure, value: float | None) -> np.ndarray:
         """The scene's loads on ``structure`` at the study point ``value``."""
@@ -330,10 +422,15 @@ class Model:
             if spec.kind == "distributed":
                 f += structure.gather(i, beam.distributed_load(spec.force, spec.moment))
                 continue
-            moves = (isinstance(parameter, Abscissa) and parameter.of == spec.name
-                     and value is not None)
-            f += structure.gather(i, beam.point_load(value if moves else spec.at, spec.force,
-                                                     spec.moment, spec.smearing, spec.kernel))
+            moves = (
+                isinstance(parameter, Abscissa) and parameter.of == spec.name and value is not None
+            )
+            f += structure.gather(
+                i,
+                beam.point_load(
+                    value if moves else spec.at, spec.force, spec.moment, spec.smearing, spec.kernel
+                ),
+            )
         if isinstance(parameter, LoadFactor) and value is not None:
             f *= value
         return f

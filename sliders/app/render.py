@@ -16,15 +16,15 @@ from __future__ import annotations
 
 import ctypes.util
 import os
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
 import numpy as np
 
 from fvbeam.io import write_atomic
 from fvbeam.structure import Structure
-from sliders.joints.slider import Slider
 from sliders.app.vtu import check_solution, contact_point, structure_size, tube_radii
+from sliders.joints.slider import Slider
 
 #: Samples per element along the tube (a 3-node element is a parabola; 8 chords keep
 #: its sag below 1/256 of the element's bow, invisible at tube scale).
@@ -50,15 +50,15 @@ def headless_defaults() -> None:
         os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
 
-def magnification_for(structure: Structure, q: np.ndarray,
-                      magnification: float | None) -> float:
+def magnification_for(structure: Structure, q: np.ndarray, magnification: float | None) -> float:
     """``magnification``, checked, or by default the factor drawing the largest nodal
     displacement as ``AUTO_FRACTION`` of the structure's size (1 when nothing moves)."""
     if magnification is None:
         largest = float(np.abs(q.reshape(-1, 6)[:, :3]).max()) if q.size else 0.0
         return AUTO_FRACTION * structure_size(structure) / largest if largest > 0 else 1.0
-    if not (isinstance(magnification, (int, float)) and np.isfinite(magnification)
-            and magnification > 0):
+    if not (
+        isinstance(magnification, (int, float)) and np.isfinite(magnification) and magnification > 0
+    ):
         raise ValueError(f"magnification must be a positive number, got {magnification!r}")
     return float(magnification)
 
@@ -68,15 +68,20 @@ def beam_samples(structure: Structure, q: np.ndarray) -> list[tuple[np.ndarray, 
     (n,) at the ends of ``SAMPLES_PER_ELEMENT`` chords per element, each point once."""
     out = []
     X = np.arange(SAMPLES_PER_ELEMENT) / SAMPLES_PER_ELEMENT
-    for beam, dofs in zip(structure.beams, structure.dof_maps):
+    for beam, dofs in zip(structure.beams, structure.dof_maps, strict=True):
         mesh, q_beam = beam.mesh, q[dofs]
         e = np.append(np.repeat(np.arange(mesh.n_elements), len(X)), mesh.n_elements - 1)
         Xe = np.append(np.tile(X, mesh.n_elements), 1.0)
         xi = mesh.abscissae(e, Xe)
         forces = beam.internal_forces(q_beam)
         bending = np.linalg.norm(forces.moment[:, 1:], axis=1)
-        out.append((mesh.positions(e, Xe), beam.displacements(q_beam, xi)[:, :3],
-                    np.interp(xi, forces.xi, bending)))
+        out.append(
+            (
+                mesh.positions(e, Xe),
+                beam.displacements(q_beam, xi)[:, :3],
+                np.interp(xi, forces.xi, bending),
+            )
+        )
     return out
 
 
@@ -85,11 +90,19 @@ def polyline(pv, points: np.ndarray):
     return pv.PolyData(points, lines=np.concatenate([[len(points)], np.arange(len(points))]))
 
 
-def render(path: str | Path, structure: Structure, q: np.ndarray,
-           sliders: Sequence[Slider] = (), unknowns: Sequence[np.ndarray] = (),
-           magnification: float | None = None, title: str = "",
-           radius: float | Sequence[float] | None = None, view: str = "xy",
-           window_size: tuple[int, int] = (1200, 600), scalar_bar: bool = True) -> float:
+def render(
+    path: str | Path,
+    structure: Structure,
+    q: np.ndarray,
+    sliders: Sequence[Slider] = (),
+    unknowns: Sequence[np.ndarray] = (),
+    magnification: float | None = None,
+    title: str = "",
+    radius: float | Sequence[float] | None = None,
+    view: str = "xy",
+    window_size: tuple[int, int] = (1200, 600),
+    scalar_bar: bool = True,
+) -> float:
     """Render the deformed configuration to the PNG file ``path`` (atomically).
 
     Parameters
@@ -131,32 +144,58 @@ def render(path: str | Path, structure: Structure, q: np.ndarray,
         samples = beam_samples(structure, q)
         if samples:
             clim = [0.0, max(max(float(b.max()) for _, _, b in samples), 1e-300)]
-            for (X, u, bending), r in zip(samples, radii):
+            for (X, u, bending), r in zip(samples, radii, strict=True):
                 ghost = polyline(pv, X).tube(radius=r, n_sides=24)
                 plotter.add_mesh(ghost, color="grey", opacity=0.25)
                 line = polyline(pv, X + scale * u)
                 line.point_data[BAR_TITLE] = bending
-                plotter.add_mesh(line.tube(radius=r, n_sides=24), cmap="viridis", clim=clim,
-                                 scalars=BAR_TITLE, show_scalar_bar=scalar_bar,
-                                 scalar_bar_args={"color": "black"})
+                plotter.add_mesh(
+                    line.tube(radius=r, n_sides=24),
+                    cmap="viridis",
+                    clim=clim,
+                    scalars=BAR_TITLE,
+                    show_scalar_bar=scalar_bar,
+                    scalar_bar_args={"color": "black"},
+                )
         if sliders:
-            points = np.array([x + scale * u for x, u in
-                               (contact_point(s, q, y) for s, y in zip(sliders, ys))])
-            plotter.add_mesh(pv.PolyData(points).glyph(
-                geom=pv.Sphere(radius=SPHERE_FACTOR * marker), scale=False, orient=False),
-                color="red")
+            points = np.array(
+                [
+                    x + scale * u
+                    for x, u in (contact_point(s, q, y) for s, y in zip(sliders, ys, strict=True))
+                ]
+            )
+            plotter.add_mesh(
+                pv.PolyData(points).glyph(
+                    geom=pv.Sphere(radius=SPHERE_FACTOR * marker), scale=False, orient=False
+                ),
+                color="red",
+            )
         if structure.bodies:
-            points = np.array([body.position + scale * q[structure.node_dofs(body.name)[:3]]
-                               for body in structure.bodies])
+            points = np.array(
+                [
+                    body.position + scale * q[structure.node_dofs(body.name)[:3]]
+                    for body in structure.bodies
+                ]
+            )
             edge = CUBE_FACTOR * marker
-            plotter.add_mesh(pv.PolyData(points).glyph(
-                geom=pv.Cube(x_length=edge, y_length=edge, z_length=edge), scale=False,
-                orient=False), color="#333333")
+            plotter.add_mesh(
+                pv.PolyData(points).glyph(
+                    geom=pv.Cube(x_length=edge, y_length=edge, z_length=edge),
+                    scale=False,
+                    orient=False,
+                ),
+                color="#333333",
+            )
         plotter.add_text(title, position="upper_edge", font_size=14, color="black")
-        plotter.add_text(f"displacements x {scale:.3g}", position="lower_left", font_size=10,
-                         color="black")
-        {"xy": plotter.view_xy, "xz": plotter.view_xz, "yz": plotter.view_yz,
-         "iso": plotter.view_isometric}[view]()
+        plotter.add_text(
+            f"displacements x {scale:.3g}", position="lower_left", font_size=10, color="black"
+        )
+        {
+            "xy": plotter.view_xy,
+            "xz": plotter.view_xz,
+            "yz": plotter.view_yz,
+            "iso": plotter.view_isometric,
+        }[view]()
         write_atomic(path, lambda tmp: plotter.screenshot(str(tmp)))
     finally:
         plotter.close()

@@ -68,8 +68,7 @@ def run(model: Model, progress: bool = True) -> Results:
         Every sample, converged or not (a static study that fails has one failed sample).
     """
     study = model.scene.study
-    options = dict(tol=study.tol, max_iterations=study.max_iterations,
-                   load_steps=study.load_steps)
+    options = dict(tol=study.tol, max_iterations=study.max_iterations, load_steps=study.load_steps)
     start = time.perf_counter()
     if not isinstance(study, SweepStudy):
         statics, f = model.problem()
@@ -86,10 +85,17 @@ def run(model: Model, progress: bool = True) -> Results:
         return built[-1]
 
     values = study.sweep_values()
-    result = sweep(values, build, continuation=study.continuation,
-                   stop_on_failure=study.stop_on_failure, progress=progress,
-                   desc=model.scene.title or study.parameter.kind, **options)
-    samples = [Sample(k, float(p.value), *built[k], p.solution, p.error)
-               for k, p in enumerate(result.points)]
-    return Results(model, samples, len(values), result.interrupted,
-                   time.perf_counter() - start)
+    result = sweep(
+        values,
+        build,
+        continuation=study.continuation,
+        stop_on_failure=study.stop_on_failure,
+        progress=progress,
+        desc=model.scene.title or study.parameter.kind,
+        **options,
+    )
+    samples = [
+        Sample(k, float(p.value), *built[k], p.solution, p.error)
+        for k, p in enumerate(result.points)
+    ]
+    return Results(model, samples, len(values), result.interrupted, time.perf_counter() - start)

@@ -21,12 +21,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from fvbeam.io import OUTPUT_MARKER, replace_directory
-from sliders.solve.dynamics import Adaptive, DynamicsError
 from sliders.app.history import Recorder
-from sliders.solve.integrator import State
 from sliders.app.model import Model
-from sliders.app.vtu import Frame, write_series
 from sliders.app.scene import dump_scene
+from sliders.app.vtu import Frame, write_series
+from sliders.solve.dynamics import Adaptive, DynamicsError
+from sliders.solve.integrator import State
 
 
 @dataclass
@@ -52,28 +52,35 @@ def run_dynamic(model: Model, out: str | Path, progress: bool = True) -> Dynamic
     start = None
     if study.restart is not None:
         start = State.load(study.restart)
-        if start.q.shape != (model.structure.n_dofs,) or len(start.unknowns) != len(
-                model.sliders):
-            raise ValueError(f"{study.restart}: a state of another model ({len(start.q)} "
-                             f"dofs, {len(start.unknowns)} sliders)")
+        if start.q.shape != (model.structure.n_dofs,) or len(start.unknowns) != len(model.sliders):
+            raise ValueError(
+                f"{study.restart}: a state of another model ({len(start.q)} "
+                f"dofs, {len(start.unknowns)} sliders)"
+            )
     keep = study.every if (output.vtu or output.png == "all") else 0
     outcome = DynamicRun(Recorder())
     adaptive = None
     if study.adaptive is not None:
         spec = study.adaptive
-        adaptive = Adaptive(spec.rtol, spec.atol, spec.h_min,
-                            spec.h_max if spec.h_max is not None else float("inf"))
+        adaptive = Adaptive(
+            spec.rtol, spec.atol, spec.h_min, spec.h_max if spec.h_max is not None else float("inf")
+        )
 
     def fill(directory: Path) -> None:
         (directory / "scene.toml").write_text(dump_scene(scene))
-        outcome.recorder = Recorder(directory, "nodes" in output.csv,
-                                    "internal_forces" in output.csv, every=keep,
-                                    reactions="reactions" in output.csv)
+        outcome.recorder = Recorder(
+            directory,
+            "nodes" in output.csv,
+            "internal_forces" in output.csv,
+            every=keep,
+            reactions="reactions" in output.csv,
+        )
         clock = time.perf_counter()
         try:
             first = start if start is not None else dynamics.static_state()
-            outcome.state = dynamics.run(first, study.t_end, study.step, adaptive,
-                                         outcome.recorder, progress)
+            outcome.state = dynamics.run(
+                first, study.t_end, study.step, adaptive, outcome.recorder, progress
+            )
         except DynamicsError as exc:
             outcome.error, outcome.state = str(exc), outcome.recorder.last
         except KeyboardInterrupt:
@@ -102,5 +109,11 @@ def _frame(model: Model, state: State) -> Frame:
 def _render(model: Model, state: State, path: Path) -> None:
     from sliders.app.render import render
 
-    render(path, model.structure, state.q, model.sliders, state.unknowns,
-           title=f"{model.scene.title or 'scene'}: t = {state.t:.4g} s")
+    render(
+        path,
+        model.structure,
+        state.q,
+        model.sliders,
+        state.unknowns,
+        title=f"{model.scene.title or 'scene'}: t = {state.t:.4g} s",
+    )

@@ -4,8 +4,8 @@ A scene is read with :mod:`tomllib` and validated into frozen pydantic models be
 is built or solved, in three phases, each reporting all its problems at once in one
 :class:`~sliders.app.errors.SceneError`:
 
-1. the schema (:mod:`sliders.app.schema`): keys, types, finite numbers, positive stiffnesses and masses,
-   allowed kinds, with a did-you-mean for unknown keys and kinds;
+1. the schema (:mod:`sliders.app.schema`): keys, types, finite numbers, positive
+   stiffnesses and masses, allowed kinds, with a did-you-mean for unknown keys and kinds;
 2. references and consistency (:mod:`sliders.app.checks`): every name refers to something
    that exists, chains are tied end to start, the study's parameter makes sense;
 3. geometry (:class:`sliders.app.model.Model`): mesh files, the library's own checks, every
@@ -21,9 +21,9 @@ from __future__ import annotations
 import tomllib
 from pathlib import Path
 
-from sliders.app.checks import reference_problems
 from pydantic import ValidationError
 
+from sliders.app.checks import reference_problems
 from sliders.app.errors import Problem, SceneError, schema_problems
 from sliders.app.schema import Scene
 
@@ -64,8 +64,9 @@ def load_scene(path: str | Path) -> Scene:
     try:
         data = tomllib.loads(path.read_text())
     except OSError as exc:
-        raise SceneError(str(path), [Problem("", f"cannot read the file: {exc.strerror}")]) \
-            from None
+        raise SceneError(
+            str(path), [Problem("", f"cannot read the file: {exc.strerror}")]
+        ) from None
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise SceneError(str(path), [Problem("", f"not valid TOML: {exc}")]) from None
     return parse_scene(data, path.parent, str(path))

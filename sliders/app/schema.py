@@ -7,11 +7,18 @@ positive stiffnesses and masses, allowed kinds, with a did-you-mean for unknown 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, Literal, Union
+from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import (AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, Strict,
-                      ValidationInfo)
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    Strict,
+    ValidationInfo,
+)
 
 from fvbeam.geometry import inertia3, orthonormal3
 
@@ -21,29 +28,46 @@ FORMULATIONS = ("fv2", "fv3", "galerkin-p1", "galerkin-p2")
 TABLES = ("samples", "nodes", "sliders", "internal_forces", "reactions")
 
 Number = Annotated[float, Strict(), Field(allow_inf_nan=False, description="a finite number")]
-Positive = Annotated[float, Strict(), Field(allow_inf_nan=False, gt=0,
-                                            description="a finite number > 0")]
-NonNegative = Annotated[float, Strict(), Field(allow_inf_nan=False, ge=0,
-                                               description="a finite number >= 0")]
+Positive = Annotated[
+    float, Strict(), Field(allow_inf_nan=False, gt=0, description="a finite number > 0")
+]
+NonNegative = Annotated[
+    float, Strict(), Field(allow_inf_nan=False, ge=0, description="a finite number >= 0")
+]
 Count = Annotated[int, Strict(), Field(ge=1, description="an integer >= 1")]
 Flag = Annotated[bool, Strict(), Field(description="true or false")]
 Text = Annotated[str, Strict(), Field(description="a string")]
-Name = Annotated[str, Strict(), Field(pattern=NAME_PATTERN, description=(
-    "a name: a letter or _, then letters, digits, _ or -"))]
-NodeRef = Annotated[str, Strict(), Field(
-    pattern=NAME_PATTERN[:-1] + r"(\.(start|end))?$",
-    description="a node: a body's name, or a beam's end as 'beam.start' or 'beam.end'")]
-Vec3 = Annotated[tuple[Number, ...], Field(min_length=3, max_length=3,
-                                           description="3 numbers [x, y, z]")]
-Rows3 = Annotated[tuple[Vec3, ...], Field(min_length=3, max_length=3,
-                                          description="3 rows of 3 numbers")]
+Name = Annotated[
+    str,
+    Strict(),
+    Field(
+        pattern=NAME_PATTERN, description=("a name: a letter or _, then letters, digits, _ or -")
+    ),
+]
+NodeRef = Annotated[
+    str,
+    Strict(),
+    Field(
+        pattern=NAME_PATTERN[:-1] + r"(\.(start|end))?$",
+        description="a node: a body's name, or a beam's end as 'beam.start' or 'beam.end'",
+    ),
+]
+Vec3 = Annotated[
+    tuple[Number, ...], Field(min_length=3, max_length=3, description="3 numbers [x, y, z]")
+]
+Rows3 = Annotated[
+    tuple[Vec3, ...], Field(min_length=3, max_length=3, description="3 rows of 3 numbers")
+]
 
 
 def _diagonal(value: Any) -> Any:
     """Three entries that are not all rows stand for a diagonal matrix (a wrong entry is then
     reported at ``[i][i]``)."""
-    if isinstance(value, list) and len(value) == 3 and not all(
-            isinstance(v, (list, tuple)) for v in value):
+    if (
+        isinstance(value, list)
+        and len(value) == 3
+        and not all(isinstance(v, (list, tuple)) for v in value)
+    ):
         return [[value[0], 0.0, 0.0], [0.0, value[1], 0.0], [0.0, 0.0, value[2]]]
     return value
 
@@ -58,11 +82,19 @@ def _frame(value: tuple) -> tuple:
     return value
 
 
-Inertia = Annotated[Rows3, BeforeValidator(_diagonal), AfterValidator(_inertia),
-                    Field(description="3 numbers (diagonal) or 3 rows of 3 numbers, "
-                                      "symmetric positive semi-definite")]
-Frame = Annotated[Rows3, AfterValidator(_frame),
-                  Field(description="the axes [e1, e2, e3], each 3 numbers, orthonormal")]
+Inertia = Annotated[
+    Rows3,
+    BeforeValidator(_diagonal),
+    AfterValidator(_inertia),
+    Field(
+        description="3 numbers (diagonal) or 3 rows of 3 numbers, symmetric positive semi-definite"
+    ),
+]
+Frame = Annotated[
+    Rows3,
+    AfterValidator(_frame),
+    Field(description="the axes [e1, e2, e3], each 3 numbers, orthonormal"),
+]
 
 
 def _one_name(value: Any) -> Any:
@@ -70,9 +102,15 @@ def _one_name(value: Any) -> Any:
     return [value] if isinstance(value, str) else value
 
 
-LineRef = Annotated[tuple[Name, ...], BeforeValidator(_one_name), Field(
-    min_length=1, description="a rigid line's name, or a beam's name or a list of beam "
-                              "names (a chain, joined end to start)")]
+LineRef = Annotated[
+    tuple[Name, ...],
+    BeforeValidator(_one_name),
+    Field(
+        min_length=1,
+        description="a rigid line's name, or a beam's name or a list of beam "
+        "names (a chain, joined end to start)",
+    ),
+]
 
 
 def _resolve(path: str, info: ValidationInfo) -> str:
@@ -81,10 +119,18 @@ def _resolve(path: str, info: ValidationInfo) -> str:
     return str((Path(base) / path).resolve()) if base is not None else path
 
 
-MeshPath = Annotated[str, Strict(), AfterValidator(_resolve),
-                     Field(description="a mesh file's path (relative to the scene file)")]
-FilePath = Annotated[str, Strict(), AfterValidator(_resolve),
-                     Field(description="a file's path (relative to the scene file)")]
+MeshPath = Annotated[
+    str,
+    Strict(),
+    AfterValidator(_resolve),
+    Field(description="a mesh file's path (relative to the scene file)"),
+]
+FilePath = Annotated[
+    str,
+    Strict(),
+    AfterValidator(_resolve),
+    Field(description="a file's path (relative to the scene file)"),
+]
 
 
 class Table(BaseModel):
@@ -153,8 +199,9 @@ class BodySpec(Table):
 class TieSpec(Table):
     """``[[tie]]``: two coincident nodes made one."""
 
-    nodes: Annotated[tuple[NodeRef, ...], Field(min_length=2, max_length=2,
-                                                 description="two nodes")]
+    nodes: Annotated[
+        tuple[NodeRef, ...], Field(min_length=2, max_length=2, description="two nodes")
+    ]
 
 
 class SupportSpec(Table):
@@ -197,8 +244,9 @@ class SplineLineSpec(Table):
     up: Vec3 = (0.0, 0.0, 1.0)
 
 
-LineSpec = Annotated[Union[StraightLineSpec, ArcLineSpec, HelixLineSpec, SplineLineSpec],
-                     Field(discriminator="kind")]
+LineSpec = Annotated[
+    StraightLineSpec | ArcLineSpec | HelixLineSpec | SplineLineSpec, Field(discriminator="kind")
+]
 
 
 class SliderSpec(Table):
@@ -250,7 +298,7 @@ class DistributedLoad(Wrench):
     beam: Name
 
 
-LoadSpec = Annotated[Union[NodalLoad, PointLoad, DistributedLoad], Field(discriminator="kind")]
+LoadSpec = Annotated[NodalLoad | PointLoad | DistributedLoad, Field(discriminator="kind")]
 
 
 # -- drives -------------------------------------------------------------------------------------
@@ -283,8 +331,7 @@ class TabulatedMotion(Table):
     order: Literal[1, 3] = 1
 
 
-MotionSpec = Annotated[Union[LinearMotion, RampMotion, TabulatedMotion],
-                       Field(discriminator="kind")]
+MotionSpec = Annotated[LinearMotion | RampMotion | TabulatedMotion, Field(discriminator="kind")]
 
 
 class AbscissaDrive(Table):
@@ -304,7 +351,7 @@ class DofDriveSpec(Table):
     motion: MotionSpec
 
 
-DriveSpec = Annotated[Union[AbscissaDrive, DofDriveSpec], Field(discriminator="kind")]
+DriveSpec = Annotated[AbscissaDrive | DofDriveSpec, Field(discriminator="kind")]
 
 
 # -- study ---------------------------------------------------------------------------------------
@@ -347,7 +394,7 @@ class Abscissa(Table):
     of: Name
 
 
-Parameter = Annotated[Union[LoadFactor, Translation, Abscissa], Field(discriminator="kind")]
+Parameter = Annotated[LoadFactor | Translation | Abscissa, Field(discriminator="kind")]
 
 
 class Range(Table):
@@ -391,8 +438,9 @@ class DynamicStudy(Newton):
     kind: Literal["dynamic"]
     t_end: Positive
     step: Positive
-    rho_inf: Annotated[float, Strict(), Field(ge=0, le=1, allow_inf_nan=False,
-                                              description="a number in [0, 1]")] = 0.8
+    rho_inf: Annotated[
+        float, Strict(), Field(ge=0, le=1, allow_inf_nan=False, description="a number in [0, 1]")
+    ] = 0.8
     mass: Literal["lumped", "consistent"] = "lumped"
     damping: NonNegative = 0.0
     gravity: Vec3 | None = None
@@ -401,7 +449,7 @@ class DynamicStudy(Newton):
     every: Count = 1
 
 
-Study = Annotated[Union[StaticStudy, SweepStudy, DynamicStudy], Field(discriminator="kind")]
+Study = Annotated[StaticStudy | SweepStudy | DynamicStudy, Field(discriminator="kind")]
 
 
 class Output(Table):

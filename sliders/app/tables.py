@@ -27,22 +27,35 @@ from __future__ import annotations
 
 import csv
 import importlib.util
+from collections.abc import Iterator, Sequence
 from pathlib import Path
-from typing import Iterator, Sequence
 
 import numpy as np
 
-from fvbeam.io import OUTPUT_MARKER as MARKER, replace_directory
-from sliders.app.vtu import Frame, contact_point, write_series
+from fvbeam.io import OUTPUT_MARKER as MARKER
+from fvbeam.io import replace_directory
 from sliders.app.run import Results, Sample
 from sliders.app.scene import dump_scene
+from sliders.app.vtu import Frame, contact_point, write_series
 
 COLUMNS = {
     "samples": ("sample", "value", "converged", "iterations", "error"),
-    "nodes": ("sample", "value", "part", "xi", "x", "y", "z", "ux", "uy", "uz", "rx", "ry",
-              "rz"),
-    "sliders": ("sample", "value", "slider", "xi", "x", "y", "z", "lambda_x", "lambda_y",
-                "lambda_z", "mu_2", "mu_3", "mu_1"),
+    "nodes": ("sample", "value", "part", "xi", "x", "y", "z", "ux", "uy", "uz", "rx", "ry", "rz"),
+    "sliders": (
+        "sample",
+        "value",
+        "slider",
+        "xi",
+        "x",
+        "y",
+        "z",
+        "lambda_x",
+        "lambda_y",
+        "lambda_z",
+        "mu_2",
+        "mu_3",
+        "mu_1",
+    ),
     "internal_forces": ("sample", "value", "beam", "xi", "N", "V2", "V3", "T", "M2", "M3"),
     "reactions": ("sample", "value", "node", "fx", "fy", "fz", "mx", "my", "mz"),
 }
@@ -55,8 +68,11 @@ def _head(sample: Sample) -> list:
 def _samples_rows(results: Results) -> Iterator[list]:
     for s in results.samples:
         converged = s.solution is not None
-        yield _head(s) + [str(converged).lower(),
-                          s.solution.iterations if converged else None, s.error]
+        yield _head(s) + [
+            str(converged).lower(),
+            s.solution.iterations if converged else None,
+            s.error,
+        ]
 
 
 def _nodes_rows(results: Results) -> Iterator[list]:
@@ -69,14 +85,13 @@ def _nodes_rows(results: Results) -> Iterator[list]:
             for k in np.argsort(xi, kind="stable"):
                 yield _head(s) + [spec.name, xi[k], *mesh.points[k], *u[k]]
         for body in structure.bodies:
-            yield _head(s) + [body.name, None, *body.position,
-                              *q[structure.node_dofs(body.name)]]
+            yield _head(s) + [body.name, None, *body.position, *q[structure.node_dofs(body.name)]]
 
 
 def _sliders_rows(results: Results) -> Iterator[list]:
     for s in _converged(results):
         q = s.solution.q
-        for slider, y in zip(s.statics.sliders, s.solution.unknowns):
+        for slider, y in zip(s.statics.sliders, s.solution.unknowns, strict=True):
             x = np.sum(contact_point(slider, q, y), axis=0)
             mu = list(y[4:]) + [None] * (7 - len(y))
             yield _head(s) + [slider.name, float(y[0]), *x, *y[1:4], *mu]
@@ -87,7 +102,7 @@ def _internal_forces_rows(results: Results) -> Iterator[list]:
         structure = s.statics.structure
         for i, spec in enumerate(results.scene.beam):
             forces = structure.beams[i].internal_forces(structure.local(i, s.solution.q))
-            for xi, f, m in zip(forces.xi, forces.force, forces.moment):
+            for xi, f, m in zip(forces.xi, forces.force, forces.moment, strict=True):
                 yield _head(s) + [spec.name, xi, *f, *m]
 
 
@@ -95,13 +110,13 @@ def _reactions_rows(results: Results) -> Iterator[list]:
     for s in _converged(results):
         structure, q = s.statics.structure, s.solution.q
         residual = s.statics.K @ q - s.load
-        for slider, y in zip(s.statics.sliders, s.solution.unknowns):
+        for slider, y in zip(s.statics.sliders, s.solution.unknowns, strict=True):
             dofs, r_q, _, _ = slider.assemble(structure, q, y)
             np.add.at(residual, dofs, r_q)
-        for spec, support in zip(results.scene.support, results.model.supports):
+        for spec, support in zip(results.scene.support, results.model.supports, strict=True):
             held = support.dofs()
             values: list = [None] * 6
-            for c, dof in zip(held, structure.node_dofs(support.ref)[held]):
+            for c, dof in zip(held, structure.node_dofs(support.ref)[held], strict=True):
                 values[c] = residual[dof]
             yield _head(s) + [spec.node, *values]
 
@@ -110,8 +125,13 @@ def _converged(results: Results) -> Iterator[Sample]:
     return (s for s in results.samples if s.solution is not None)
 
 
-ROWS = {"samples": _samples_rows, "nodes": _nodes_rows, "sliders": _sliders_rows,
-        "internal_forces": _internal_forces_rows, "reactions": _reactions_rows}
+ROWS = {
+    "samples": _samples_rows,
+    "nodes": _nodes_rows,
+    "sliders": _sliders_rows,
+    "internal_forces": _internal_forces_rows,
+    "reactions": _reactions_rows,
+}
 
 
 def _cell(value) -> str:
@@ -157,8 +177,13 @@ def _frame(sample: Sample, converged: list[Sample]) -> Frame:
     values = [s.value for s in converged]
     distinct = None not in values and len(set(values)) == len(values)
     statics, solution = sample.statics, sample.solution
-    return Frame(float(sample.value) if distinct else float(sample.index), statics.structure,
-                 solution.q, statics.sliders, solution.unknowns)
+    return Frame(
+        float(sample.value) if distinct else float(sample.index),
+        statics.structure,
+        solution.q,
+        statics.sliders,
+        solution.unknowns,
+    )
 
 
 def _render(sample: Sample, path: Path, title: str) -> None:
@@ -166,5 +191,11 @@ def _render(sample: Sample, path: Path, title: str) -> None:
 
     value = "" if sample.value is None else f", value {sample.value:g}"
     statics, solution = sample.statics, sample.solution
-    render(path, statics.structure, solution.q, statics.sliders, solution.unknowns,
-           title=f"{title or 'scene'}: sample {sample.index}{value}")
+    render(
+        path,
+        statics.structure,
+        solution.q,
+        statics.sliders,
+        solution.unknowns,
+        title=f"{title or 'scene'}: sample {sample.index}{value}",
+    )

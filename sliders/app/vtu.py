@@ -41,37 +41,47 @@ from __future__ import annotations
 
 import os
 import xml.etree.ElementTree as ET
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Iterable, Sequence
 
 import meshio
 import numpy as np
 
 from fvbeam.io import replace_directory, write_atomic
 from fvbeam.structure import Structure
-from sliders.lines.chain import BeamChain
 from sliders.joints.slider import Slider
+from sliders.lines.chain import BeamChain
 
 #: Default tube radius as a fraction of the diagonal of the structure's bounding box.
 RADIUS_FRACTION = 0.01
 #: Values of the ``part`` cell field.
 PARTS = {"beam": 0, "evaluation point": 1, "slider": 2, "body": 3}
-FLOAT_CELL_FIELDS = {"xi": 1, "force": 3, "moment": 3, "force_global": 3, "moment_global": 3,
-                     "reaction": 3, "couple": 3}
+FLOAT_CELL_FIELDS = {
+    "xi": 1,
+    "force": 3,
+    "moment": 3,
+    "force_global": 3,
+    "moment_global": 3,
+    "reaction": 3,
+    "couple": 3,
+}
 INT_CELL_FIELDS = ("part", "id", "element")
 
 
 def structure_size(structure: Structure) -> float:
     """Diagonal of the bounding box of the beams' nodes and the bodies, reference
     configuration."""
-    points = np.vstack([beam.mesh.points for beam in structure.beams]
-                       + [body.position[None, :] for body in structure.bodies])
+    points = np.vstack(
+        [beam.mesh.points for beam in structure.beams]
+        + [body.position[None, :] for body in structure.bodies]
+    )
     return float(np.linalg.norm(np.ptp(points, axis=0)))
 
 
-def tube_radii(structure: Structure,
-               radius: float | Sequence[float] | None) -> tuple[np.ndarray, float]:
+def tube_radii(
+    structure: Structure, radius: float | Sequence[float] | None
+) -> tuple[np.ndarray, float]:
     """One tube radius per beam, and the radius of the vertex markers (the largest).
 
     ``radius``: one value for all, one per beam, or ``None`` for ``RADIUS_FRACTION`` times
@@ -81,8 +91,9 @@ def tube_radii(structure: Structure,
     if radius is None:
         size = structure_size(structure)
         if size == 0:
-            raise ValueError("radius: the structure has no extent, so there is no default "
-                             "radius; give one")
+            raise ValueError(
+                "radius: the structure has no extent, so there is no default radius; give one"
+            )
         radius = RADIUS_FRACTION * size
     try:
         values = np.array(radius, dtype=float, ndmin=1)
@@ -91,31 +102,37 @@ def tube_radii(structure: Structure,
     if values.size == 1:
         values = np.full(max(n, 1), values[0])
     if values.shape != (max(n, 1),) or not np.all(np.isfinite(values)) or np.any(values <= 0):
-        raise ValueError(f"radius must be one positive number or one per beam ({n}), "
-                         f"got {radius!r}")
+        raise ValueError(
+            f"radius must be one positive number or one per beam ({n}), got {radius!r}"
+        )
     return values[:n], float(values.max())
 
 
-def check_solution(structure: Structure, q: np.ndarray, sliders: Sequence[Slider],
-                   unknowns: Sequence[np.ndarray]) -> tuple[np.ndarray, list[np.ndarray]]:
+def check_solution(
+    structure: Structure, q: np.ndarray, sliders: Sequence[Slider], unknowns: Sequence[np.ndarray]
+) -> tuple[np.ndarray, list[np.ndarray]]:
     """``q`` and the sliders' unknowns as float arrays; ``ValueError`` naming the item whose
     size or values do not fit."""
     q = np.asarray(q, dtype=float)
     if q.shape != (structure.n_dofs,) or not np.all(np.isfinite(q)):
-        raise ValueError(f"q must be {structure.n_dofs} finite values (the structure's dofs), "
-                         f"got shape {q.shape}")
+        raise ValueError(
+            f"q must be {structure.n_dofs} finite values (the structure's dofs), "
+            f"got shape {q.shape}"
+        )
     if len(unknowns) != len(sliders):
         raise ValueError(f"unknowns: {len(unknowns)} arrays for {len(sliders)} sliders")
     ys = []
-    for i, (slider, given) in enumerate(zip(sliders, unknowns)):
+    for i, (slider, given) in enumerate(zip(sliders, unknowns, strict=True)):
         try:
             y = np.asarray(given, dtype=float)
         except (TypeError, ValueError):
             y = np.full(0, np.nan)
         if y.shape != (slider.n_unknowns,) or not np.all(np.isfinite(y)):
-            raise ValueError(f"unknowns[{i}] (slider {slider.name!r}): expected "
-                             f"{slider.n_unknowns} finite values "
-                             f"({', '.join(slider.unknown_names)}), got {given!r}")
+            raise ValueError(
+                f"unknowns[{i}] (slider {slider.name!r}): expected "
+                f"{slider.n_unknowns} finite values "
+                f"({', '.join(slider.unknown_names)}), got {given!r}"
+            )
         ys.append(y)
     return q, ys
 
@@ -130,8 +147,7 @@ def contact_point(slider: Slider, q: np.ndarray, y: np.ndarray) -> tuple[np.ndar
     return slider.line.at(xi).x, np.zeros(3)
 
 
-def slider_couple(slider: Slider, structure: Structure, q: np.ndarray,
-                  y: np.ndarray) -> np.ndarray:
+def slider_couple(slider: Slider, structure: Structure, q: np.ndarray, y: np.ndarray) -> np.ndarray:
     """The couple ``m`` of the slider's orientation constraints, as it enters the body's
     residual (zero for a spherical slider).
 
@@ -142,13 +158,18 @@ def slider_couple(slider: Slider, structure: Structure, q: np.ndarray,
     if slider.kind == "spherical":
         return np.zeros(3)
     body = slider.body_dofs(structure)
-    if isinstance(slider.line, BeamChain) and np.isin(
-            body, np.concatenate([structure.dof_maps[b] for b in slider.line.indices])).any():
-        raise ValueError(f"slider {slider.name!r}: its body is a node of its own line "
-                         f"{slider.line.name!r}")
+    if (
+        isinstance(slider.line, BeamChain)
+        and np.isin(
+            body, np.concatenate([structure.dof_maps[b] for b in slider.line.indices])
+        ).any()
+    ):
+        raise ValueError(
+            f"slider {slider.name!r}: its body is a node of its own line {slider.line.name!r}"
+        )
     dofs, _, _, J = slider.assemble(structure, q, y)
     turn = np.searchsorted(dofs, body[3:])
-    return J[turn, len(dofs) + 4:] @ y[4:]
+    return J[turn, len(dofs) + 4 :] @ y[4:]
 
 
 class _Blocks:
@@ -157,12 +178,20 @@ class _Blocks:
     def __init__(self) -> None:
         self.points, self.displacement, self.rotation, self.radius = [], [], [], []
         self.cells: list[tuple[str, np.ndarray]] = []
-        self.data: dict[str, list[np.ndarray]] = {name: [] for name in
-                                                  (*INT_CELL_FIELDS, *FLOAT_CELL_FIELDS)}
+        self.data: dict[str, list[np.ndarray]] = {
+            name: [] for name in (*INT_CELL_FIELDS, *FLOAT_CELL_FIELDS)
+        }
         self.n_points = 0
 
-    def add(self, kind: str, connectivity: np.ndarray, points: np.ndarray, motion: np.ndarray,
-            radius: np.ndarray, **cell_data: np.ndarray) -> None:
+    def add(
+        self,
+        kind: str,
+        connectivity: np.ndarray,
+        points: np.ndarray,
+        motion: np.ndarray,
+        radius: np.ndarray,
+        **cell_data: np.ndarray,
+    ) -> None:
         """One cell block; ``connectivity`` indexes ``points``; ``motion`` (n, 6);
         ``cell_data`` any subset of the cell fields (the rest are filled)."""
         n_cells = len(connectivity)
@@ -173,24 +202,33 @@ class _Blocks:
         self.radius.append(np.broadcast_to(radius, (len(points),)))
         self.n_points += len(points)
         for name in INT_CELL_FIELDS:
-            self.data[name].append(np.broadcast_to(cell_data.get(name, -1), (n_cells,))
-                                   .astype(np.int64))
+            self.data[name].append(
+                np.broadcast_to(cell_data.get(name, -1), (n_cells,)).astype(np.int64)
+            )
         for name, width in FLOAT_CELL_FIELDS.items():
             shape = (n_cells,) if width == 1 else (n_cells, width)
-            self.data[name].append(np.broadcast_to(cell_data.get(name, np.nan), shape)
-                                   .astype(float))
+            self.data[name].append(
+                np.broadcast_to(cell_data.get(name, np.nan), shape).astype(float)
+            )
 
     def mesh(self) -> meshio.Mesh:
-        point_data = {"displacement": np.vstack(self.displacement),
-                      "rotation": np.vstack(self.rotation),
-                      "radius": np.concatenate(self.radius)}
-        return meshio.Mesh(np.vstack(self.points), self.cells, point_data=point_data,
-                           cell_data=self.data)
+        point_data = {
+            "displacement": np.vstack(self.displacement),
+            "rotation": np.vstack(self.rotation),
+            "radius": np.concatenate(self.radius),
+        }
+        return meshio.Mesh(
+            np.vstack(self.points), self.cells, point_data=point_data, cell_data=self.data
+        )
 
 
-def to_meshio(structure: Structure, q: np.ndarray, sliders: Sequence[Slider] = (),
-              unknowns: Sequence[np.ndarray] = (),
-              radius: float | Sequence[float] | None = None) -> meshio.Mesh:
+def to_meshio(
+    structure: Structure,
+    q: np.ndarray,
+    sliders: Sequence[Slider] = (),
+    unknowns: Sequence[np.ndarray] = (),
+    radius: float | Sequence[float] | None = None,
+) -> meshio.Mesh:
     """The solved structure as a meshio mesh (layout and fields: module docstring).
 
     Parameters
@@ -209,38 +247,81 @@ def to_meshio(structure: Structure, q: np.ndarray, sliders: Sequence[Slider] = (
     q, ys = check_solution(structure, q, sliders, unknowns)
     radii, marker = tube_radii(structure, radius)
     blocks = _Blocks()
-    for b, (beam, dofs, r) in enumerate(zip(structure.beams, structure.dof_maps, radii)):
+    for b, (beam, dofs, r) in enumerate(
+        zip(structure.beams, structure.dof_maps, radii, strict=True)
+    ):
         mesh, q_beam = beam.mesh, q[dofs]
         kind = "line" if mesh.nodes_per_element == 2 else "line3"
-        blocks.add(kind, mesh.cells, mesh.points, q_beam.reshape(-1, 6), r,
-                   part=PARTS["beam"], id=b, element=np.arange(mesh.n_elements))
+        blocks.add(
+            kind,
+            mesh.cells,
+            mesh.points,
+            q_beam.reshape(-1, 6),
+            r,
+            part=PARTS["beam"],
+            id=b,
+            element=np.arange(mesh.n_elements),
+        )
         forces = beam.internal_forces(q_beam)
         e, X = mesh.locate(forces.xi)
-        blocks.add("vertex", np.arange(len(e))[:, None], mesh.positions(e, X),
-                   beam.displacements(q_beam, forces.xi), r, part=PARTS["evaluation point"],
-                   id=b, element=e, xi=forces.xi, force=forces.force, moment=forces.moment,
-                   force_global=forces.force_global, moment_global=forces.moment_global)
+        blocks.add(
+            "vertex",
+            np.arange(len(e))[:, None],
+            mesh.positions(e, X),
+            beam.displacements(q_beam, forces.xi),
+            r,
+            part=PARTS["evaluation point"],
+            id=b,
+            element=e,
+            xi=forces.xi,
+            force=forces.force,
+            moment=forces.moment,
+            force_global=forces.force_global,
+            moment_global=forces.moment_global,
+        )
     if sliders:
-        contact = [contact_point(s, q, y) for s, y in zip(sliders, ys)]
-        motion = np.array([np.concatenate([u, q[s.body_dofs(structure)[3:]]])
-                           for s, (_, u) in zip(sliders, contact)])
-        blocks.add("vertex", np.arange(len(sliders))[:, None],
-                   np.array([x for x, _ in contact]), motion, marker,
-                   part=PARTS["slider"], id=np.arange(len(sliders)),
-                   xi=np.array([y[0] for y in ys]), reaction=np.array([y[1:4] for y in ys]),
-                   couple=np.array([slider_couple(s, structure, q, y)
-                                    for s, y in zip(sliders, ys)]))
+        contact = [contact_point(s, q, y) for s, y in zip(sliders, ys, strict=True)]
+        motion = np.array(
+            [
+                np.concatenate([u, q[s.body_dofs(structure)[3:]]])
+                for s, (_, u) in zip(sliders, contact, strict=True)
+            ]
+        )
+        blocks.add(
+            "vertex",
+            np.arange(len(sliders))[:, None],
+            np.array([x for x, _ in contact]),
+            motion,
+            marker,
+            part=PARTS["slider"],
+            id=np.arange(len(sliders)),
+            xi=np.array([y[0] for y in ys]),
+            reaction=np.array([y[1:4] for y in ys]),
+            couple=np.array(
+                [slider_couple(s, structure, q, y) for s, y in zip(sliders, ys, strict=True)]
+            ),
+        )
     if structure.bodies:
-        blocks.add("vertex", np.arange(len(structure.bodies))[:, None],
-                   np.array([body.position for body in structure.bodies]),
-                   np.array([q[structure.node_dofs(body.name)] for body in structure.bodies]),
-                   marker, part=PARTS["body"], id=np.arange(len(structure.bodies)))
+        blocks.add(
+            "vertex",
+            np.arange(len(structure.bodies))[:, None],
+            np.array([body.position for body in structure.bodies]),
+            np.array([q[structure.node_dofs(body.name)] for body in structure.bodies]),
+            marker,
+            part=PARTS["body"],
+            id=np.arange(len(structure.bodies)),
+        )
     return blocks.mesh()
 
 
-def write_vtu(path: str | Path, structure: Structure, q: np.ndarray,
-              sliders: Sequence[Slider] = (), unknowns: Sequence[np.ndarray] = (),
-              radius: float | Sequence[float] | None = None) -> None:
+def write_vtu(
+    path: str | Path,
+    structure: Structure,
+    q: np.ndarray,
+    sliders: Sequence[Slider] = (),
+    unknowns: Sequence[np.ndarray] = (),
+    radius: float | Sequence[float] | None = None,
+) -> None:
     """Write the solved structure to the VTU file ``path`` atomically
     (:func:`fvbeam.io.write_atomic`); arguments as :func:`to_meshio`."""
     path = Path(path)
@@ -280,8 +361,9 @@ def write_pvd(path: str | Path, steps: Sequence[tuple[float, str | Path]]) -> No
         if not Path(file).is_file():
             raise ValueError(f"steps[{i}]: file {str(file)!r} does not exist")
         relative = Path(os.path.relpath(Path(file).resolve(), path.parent.resolve()))
-        ET.SubElement(collection, "DataSet", timestep=repr(time), group="", part="0",
-                      file=relative.as_posix())
+        ET.SubElement(
+            collection, "DataSet", timestep=repr(time), group="", part="0", file=relative.as_posix()
+        )
     tree = ET.ElementTree(root)
     ET.indent(tree)
     write_atomic(path, lambda tmp: tree.write(tmp, encoding="utf-8", xml_declaration=True))
@@ -299,8 +381,9 @@ class Frame:
     unknowns: Sequence[np.ndarray] = ()
 
 
-def write_series(directory: str | Path, frames: Iterable[Frame],
-                 radius: float | Sequence[float] | None = None) -> Path:
+def write_series(
+    directory: str | Path, frames: Iterable[Frame], radius: float | Sequence[float] | None = None
+) -> Path:
     """Write a whole series: ``directory/NAME.pvd`` (``NAME`` the directory's name) and one
     ``directory/step_NNNNNN.vtu`` per frame, in frame order.
 

@@ -18,8 +18,8 @@ finite-difference tests.
 from __future__ import annotations
 
 import copy
+from collections.abc import Sequence
 from functools import lru_cache
-from typing import Sequence
 
 import numpy as np
 
@@ -34,9 +34,13 @@ class SlotJacobian:
     error (``KeyError`` naming it).
     """
 
-    def __init__(self, members: int, structure: Sequence[tuple[str, int]],
-                 unknowns: Sequence[tuple[str, int]],
-                 pattern: Sequence[tuple[str, str]]) -> None:
+    def __init__(
+        self,
+        members: int,
+        structure: Sequence[tuple[str, int]],
+        unknowns: Sequence[tuple[str, int]],
+        pattern: Sequence[tuple[str, str]],
+    ) -> None:
         self.members = members
         self.structure = [name for name, _ in structure]
         self.unknowns = [name for name, _ in unknowns]
@@ -54,8 +58,10 @@ class SlotJacobian:
         """The (B, rows, cols) view of each block of the pattern, by ``(rows, cols)``."""
         if self._blocks is None:
             values = self.values
-            self._blocks = {key: values[:, o:o + nr * nc].reshape(len(values), nr, nc)
-                            for key, (_, nr, _, nc, o) in zip(self.pattern, self.table)}
+            self._blocks = {
+                key: values[:, o : o + nr * nc].reshape(len(values), nr, nc)
+                for key, (_, nr, _, nc, o) in zip(self.pattern, self.table, strict=True)
+            }
         return self._blocks
 
     def index(self, groups: Sequence[str]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -103,8 +109,9 @@ class SlotJacobian:
 
 
 @lru_cache(maxsize=64)
-def _layout(groups: tuple[tuple[str, int], ...], pattern: tuple[tuple[str, str], ...]
-            ) -> tuple[dict, dict, int, list, np.ndarray]:
+def _layout(
+    groups: tuple[tuple[str, int], ...], pattern: tuple[tuple[str, str], ...]
+) -> tuple[dict, dict, int, list, np.ndarray]:
     """Sizes and slots of the ``groups``, their number, the pattern without repeats and its
     table (:class:`SlotJacobian`), once per layout."""
     size, at, start = {}, {}, 0
@@ -120,21 +127,28 @@ def _layout(groups: tuple[tuple[str, int], ...], pattern: tuple[tuple[str, str],
 
 
 @lru_cache(maxsize=64)
-def _index(groups: tuple[tuple[str, int], ...], pattern: tuple[tuple[str, str], ...],
-           names: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _index(
+    groups: tuple[tuple[str, int], ...],
+    pattern: tuple[tuple[str, str], ...],
+    names: tuple[str, ...],
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:meth:`SlotJacobian.index` of the groups ``names``, read from :func:`_layout`, once
     per layout."""
     size, at, _, blocks, table = _layout(groups, pattern)
     where = np.full((len(names), len(names)), -1, dtype=np.int64)
-    for (r, c), row in zip(blocks, table):
+    for (r, c), row in zip(blocks, table, strict=True):
         where[names.index(r), names.index(c)] = row[4]
-    return (np.array([at[g].start for g in names], dtype=np.int64),
-            np.array([size[g] for g in names], dtype=np.int64), where)
+    return (
+        np.array([at[g].start for g in names], dtype=np.int64),
+        np.array([size[g] for g in names], dtype=np.int64),
+        where,
+    )
 
 
 @lru_cache(maxsize=64)
-def _coupling(groups: tuple[tuple[str, int], ...], pattern: tuple[tuple[str, str], ...],
-              n_structure: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _coupling(
+    groups: tuple[tuple[str, int], ...], pattern: tuple[tuple[str, str], ...], n_structure: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:meth:`SlotJacobian.coupling`, once per layout."""
     _, at, _, _, _ = _layout(groups, pattern)
     names = [name for name, _ in groups[:n_structure]]
@@ -142,8 +156,9 @@ def _coupling(groups: tuple[tuple[str, int], ...], pattern: tuple[tuple[str, str
     rows = {r for r, _ in pattern}
 
     def slots(chosen: list[str]) -> np.ndarray:
-        return np.concatenate([np.arange(at[g].start, at[g].stop) for g in chosen]
-                              + [np.zeros(0, dtype=np.int64)]).astype(np.int64)
+        return np.concatenate(
+            [np.arange(at[g].start, at[g].stop) for g in chosen] + [np.zeros(0, dtype=np.int64)]
+        ).astype(np.int64)
 
     c = slots([g for g in names if g in read])
     index = np.full(sum(n for _, n in groups[:n_structure]), -1, dtype=np.int64)

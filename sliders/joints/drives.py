@@ -79,8 +79,7 @@ class Ramp:
         if not self.t1 > self.t0:
             raise ValueError(f"ramp drive: t1 must be after t0, got t0={self.t0}, t1={self.t1}")
         if self.shape not in ("linear", "cosine"):
-            raise ValueError(f"ramp drive: shape must be 'linear' or 'cosine', got "
-                             f"{self.shape!r}")
+            raise ValueError(f"ramp drive: shape must be 'linear' or 'cosine', got {self.shape!r}")
 
     def __call__(self, t: float) -> tuple[float, float, float]:
         span, rise = self.t1 - self.t0, self.end - self.start
@@ -90,8 +89,11 @@ class Ramp:
         if self.shape == "linear":
             return self.start + rise * s, rise / span, 0.0
         w = np.pi / span
-        return (self.start + rise * (1 - np.cos(np.pi * s)) / 2,
-                rise * w * np.sin(np.pi * s) / 2, rise * w * w * np.cos(np.pi * s) / 2)
+        return (
+            self.start + rise * (1 - np.cos(np.pi * s)) / 2,
+            rise * w * np.sin(np.pi * s) / 2,
+            rise * w * w * np.cos(np.pi * s) / 2,
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -107,8 +109,10 @@ class Tabulated:
         times = np.asarray(self.times, dtype=float)
         values = np.asarray(self.values, dtype=float)
         if times.ndim != 1 or times.shape != values.shape or len(times) < 2:
-            raise ValueError("tabulated drive: times and values must be 1-D of one length >= 2, "
-                             f"got shapes {times.shape} and {values.shape}")
+            raise ValueError(
+                "tabulated drive: times and values must be 1-D of one length >= 2, "
+                f"got shapes {times.shape} and {values.shape}"
+            )
         if not (np.all(np.isfinite(times)) and np.all(np.isfinite(values))):
             raise ValueError("tabulated drive: times and values must be finite")
         if np.any(np.diff(times) <= 0):
@@ -145,7 +149,9 @@ class DofDrive:
 
     def __post_init__(self) -> None:
         if self.dof not in DOF_NAMES:
-            raise ValueError(f"drive of {self.node!r}: dof must be one of "
-                             f"{' '.join(DOF_NAMES)}, got {self.dof!r}")
+            raise ValueError(
+                f"drive of {self.node!r}: dof must be one of "
+                f"{' '.join(DOF_NAMES)}, got {self.dof!r}"
+            )
         if not callable(self.motion):
             raise ValueError(f"drive of {self.node!r}.{self.dof}: motion must be callable")

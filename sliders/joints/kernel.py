@@ -63,10 +63,44 @@ def _axial(A, out):
 
 
 @numba.njit(cache=True)
-def joint_equations(kind, slope, jacobian, offset, frame, body, reference, q, y, x, l, l_xi,
-                    l_xixi, N, dN, d2N, G, dG, tangent, tangent_xi, T, rotation_dofs, w, w_xi,
-                    kink, kink_xi, compliance, R0, k0, k0_xi, scale, start, size, where, r,
-                    values):
+def joint_equations(
+    kind,
+    slope,
+    jacobian,
+    offset,
+    frame,
+    body,
+    reference,
+    q,
+    y,
+    x,
+    l,
+    l_xi,
+    l_xixi,
+    N,
+    dN,
+    d2N,
+    G,
+    dG,
+    tangent,
+    tangent_xi,
+    T,
+    rotation_dofs,
+    w,
+    w_xi,
+    kink,
+    kink_xi,
+    compliance,
+    R0,
+    k0,
+    k0_xi,
+    scale,
+    start,
+    size,
+    where,
+    r,
+    values,
+):
     """Residuals ``r`` (B, t + m) and Jacobian blocks ``values`` (B, size) of ``B`` joints.
 
     Parameters
@@ -155,26 +189,86 @@ def joint_equations(kind, slope, jacobian, offset, frame, body, reference, q, y,
                     s += dG[b, k, c] * lam[c]
                     _add(values, b, where, size, LOAD, LAM, k, c, -G[b, k, c])
                 _add(values, b, where, size, LOAD, XI, k, 0, -s)
-            _add(values, b, where, size, XI, XI, 0, 0,
-                 -(tangent_xi[b, 0] * lam[0] + tangent_xi[b, 1] * lam[1]
-                   + tangent_xi[b, 2] * lam[2]))
+            _add(
+                values,
+                b,
+                where,
+                size,
+                XI,
+                XI,
+                0,
+                0,
+                -(
+                    tangent_xi[b, 0] * lam[0]
+                    + tangent_xi[b, 1] * lam[1]
+                    + tangent_xi[b, 2] * lam[2]
+                ),
+            )
             for a in range(n_tangent):
                 for c in range(3):
                     col = 3 * a + c
                     if col < size[INTERP]:
                         _add(values, b, where, size, XI, INTERP, 0, col, -T[b, a] * lam[c])
                     else:
-                        _add(values, b, where, size, XI, BESIDE, 0, col - size[INTERP],
-                             -T[b, a] * lam[c])
+                        _add(
+                            values,
+                            b,
+                            where,
+                            size,
+                            XI,
+                            BESIDE,
+                            0,
+                            col - size[INTERP],
+                            -T[b, a] * lam[c],
+                        )
             for a in range(npe):
                 for c in range(3):
                     _add(values, b, where, size, LAM, INTERP, c, 3 * a + c, -N[b, a])
     if kind != 0 and slope:
-        _slope(jacobian, axes, body, q, y, l, l_xi, l_xixi, dN, d2N, G, dG, start, size,
-               where, r, values)
+        _slope(
+            jacobian,
+            axes,
+            body,
+            q,
+            y,
+            l,
+            l_xi,
+            l_xixi,
+            dN,
+            d2N,
+            G,
+            dG,
+            start,
+            size,
+            where,
+            r,
+            values,
+        )
     elif kind != 0:
-        _section(kind, jacobian, frame, axes, body, q, y, rotation_dofs, w, w_xi, kink,
-                 kink_xi, compliance, R0, k0, k0_xi, scale, start, size, where, r, values)
+        _section(
+            kind,
+            jacobian,
+            frame,
+            axes,
+            body,
+            q,
+            y,
+            rotation_dofs,
+            w,
+            w_xi,
+            kink,
+            kink_xi,
+            compliance,
+            R0,
+            k0,
+            k0_xi,
+            scale,
+            start,
+            size,
+            where,
+            r,
+            values,
+        )
 
 
 @numba.njit(cache=True)
@@ -193,8 +287,30 @@ def _matmul(A, B, out):
 
 
 @numba.njit(cache=True)
-def _section(kind, jacobian, frame, axes, body, q, y, rotation_dofs, w, w_xi, kink, kink_xi,
-             compliance, R0, k0, k0_xi, scale, start, size, where, r, values):
+def _section(
+    kind,
+    jacobian,
+    frame,
+    axes,
+    body,
+    q,
+    y,
+    rotation_dofs,
+    w,
+    w_xi,
+    kink,
+    kink_xi,
+    compliance,
+    R0,
+    k0,
+    k0_xi,
+    scale,
+    start,
+    size,
+    where,
+    r,
+    values,
+):
     """Orientation constraints on the line's section frame, linear in the rotations.
 
     ``g_j = g0_j(xi) + n_j(xi) . (theta_b - theta_L)``: classical (``j = 2, 3``)
@@ -217,8 +333,14 @@ def _section(kind, jacobian, frame, axes, body, q, y, rotation_dofs, w, w_xi, ki
     # rows j of n_i: axes_j x t_i (classical), then t_i (spline); g_i likewise
     n0, n1, n2 = np.empty((n_mu, 3)), np.empty((n_mu, 3)), np.empty((n_mu, 3))
     g0, g1, g2, along = np.empty(n_mu), np.empty(n_mu), np.empty(n_mu), np.empty(n_mu)
-    R0T, F, K, dF, ddF, P = (np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3)),
-                             np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3)))
+    R0T, F, K, dF, ddF, P = (
+        np.empty((3, 3)),
+        np.empty((3, 3)),
+        np.empty((3, 3)),
+        np.empty((3, 3)),
+        np.empty((3, 3)),
+        np.empty((3, 3)),
+    )
     C = np.empty((3, 3))
     for b in range(len(y)):
         for j in range(n_mu):
@@ -297,14 +419,41 @@ def _section(kind, jacobian, frame, axes, body, q, y, rotation_dofs, w, w_xi, ki
             _add(values, b, where, size, TURN, XI, c, 0, m_xi[c])
             _add(values, b, where, size, XI, TURN, 0, c, m_xi[c])
             for a in range(n_w):
-                _add(values, b, where, size, ROTATION, XI, 3 * a + c, 0,
-                     -(w_xi[b, a] * m[c] + w[b, a] * m_xi[c]))
-                _add(values, b, where, size, XI, ROTATION, 0, 3 * a + c,
-                     -(w[b, a] * m_xi[c] + w_xi[b, a] * m[c]))
+                _add(
+                    values,
+                    b,
+                    where,
+                    size,
+                    ROTATION,
+                    XI,
+                    3 * a + c,
+                    0,
+                    -(w_xi[b, a] * m[c] + w[b, a] * m_xi[c]),
+                )
+                _add(
+                    values,
+                    b,
+                    where,
+                    size,
+                    XI,
+                    ROTATION,
+                    0,
+                    3 * a + c,
+                    -(w[b, a] * m_xi[c] + w_xi[b, a] * m[c]),
+                )
         for j in range(n_mu):
             _add(values, b, where, size, XI, MU, 0, j, along[j])
-            _add(values, b, where, size, MU, XI, j, 0,
-                 along[j] - _dot(n1[j], shift) - _dot(n0[j], rate))
+            _add(
+                values,
+                b,
+                where,
+                size,
+                MU,
+                XI,
+                j,
+                0,
+                along[j] - _dot(n1[j], shift) - _dot(n0[j], rate),
+            )
             _matvec(C, n0[j], Cn)
             for i in range(n_mu):
                 _add(values, b, where, size, MU, MU, i, j, -kink[b] * _dot(n0[i], Cn))
@@ -312,15 +461,14 @@ def _section(kind, jacobian, frame, axes, body, q, y, rotation_dofs, w, w_xi, ki
                 _add(values, b, where, size, TURN, MU, c, j, n0[j, c])
                 _add(values, b, where, size, MU, TURN, j, c, n0[j, c])
                 for a in range(n_w):
-                    _add(values, b, where, size, ROTATION, MU, 3 * a + c, j,
-                         -w[b, a] * n0[j, c])
-                    _add(values, b, where, size, MU, ROTATION, j, 3 * a + c,
-                         -w[b, a] * n0[j, c])
+                    _add(values, b, where, size, ROTATION, MU, 3 * a + c, j, -w[b, a] * n0[j, c])
+                    _add(values, b, where, size, MU, ROTATION, j, 3 * a + c, -w[b, a] * n0[j, c])
 
 
 @numba.njit(cache=True)
-def _slope(jacobian, axes, body, q, y, l, l_xi, l_xixi, dN, d2N, G, dG, start, size, where, r,
-           values):
+def _slope(
+    jacobian, axes, body, q, y, l, l_xi, l_xixi, dN, d2N, G, dG, start, size, where, r, values
+):
     """The classical slider on the line's gradient, ``e_bj . l = 0`` (paper eq. 4): the
     couple ``m = sum mu_j e_bj x l`` on the body, carried to the line's rotation dofs by the
     test functions (the rotational columns of ``G``)."""
@@ -375,20 +523,45 @@ def _slope(jacobian, axes, body, q, y, l, l_xi, l_xixi, dN, d2N, G, dG, start, s
                     _add(values, b, where, size, TURN, TURN, i, c, dm_dtheta[i, c])
                 for a in range(npe):
                     for c in range(3):
-                        _add(values, b, where, size, TURN, INTERP, i, 3 * a + c,
-                             mu_j * E[i, c] * dN[b, a])
+                        _add(
+                            values,
+                            b,
+                            where,
+                            size,
+                            TURN,
+                            INTERP,
+                            i,
+                            3 * a + c,
+                            mu_j * E[i, c] * dN[b, a],
+                        )
             for k in range(n_load):
                 g = G[b, k, 3:]
                 _add(values, b, where, size, LOAD, XI, k, 0, -_dot(g, dm_dxi))
                 _add(values, b, where, size, LOAD, MU, k, j, -_dot(g, dm_dmu))
                 for c in range(3):
-                    _add(values, b, where, size, LOAD, TURN, k, c,
-                         -(g[0] * dm_dtheta[0, c] + g[1] * dm_dtheta[1, c]
-                           + g[2] * dm_dtheta[2, c]))
+                    _add(
+                        values,
+                        b,
+                        where,
+                        size,
+                        LOAD,
+                        TURN,
+                        k,
+                        c,
+                        -(g[0] * dm_dtheta[0, c] + g[1] * dm_dtheta[1, c] + g[2] * dm_dtheta[2, c]),
+                    )
                     for a in range(npe):
-                        _add(values, b, where, size, LOAD, INTERP, k, 3 * a + c,
-                             -mu_j * dN[b, a] * (g[0] * E[0, c] + g[1] * E[1, c]
-                                                 + g[2] * E[2, c]))
+                        _add(
+                            values,
+                            b,
+                            where,
+                            size,
+                            LOAD,
+                            INTERP,
+                            k,
+                            3 * a + c,
+                            -mu_j * dN[b, a] * (g[0] * E[0, c] + g[1] * E[1, c] + g[2] * E[2, c]),
+                        )
             _cross(e0, l_xi[b], v)
             for c in range(3):
                 _add(values, b, where, size, XI, TURN, 0, c, mu_j * v[c])
@@ -400,7 +573,5 @@ def _slope(jacobian, axes, body, q, y, l, l_xi, l_xixi, dN, d2N, G, dG, start, s
             _add(values, b, where, size, MU, XI, j, 0, _dot(e, l_xi[b]))
             for a in range(npe):
                 for c in range(3):
-                    _add(values, b, where, size, XI, INTERP, 0, 3 * a + c,
-                         mu_j * d2N[b, a] * e[c])
-                    _add(values, b, where, size, MU, INTERP, j, 3 * a + c,
-                         dN[b, a] * e[c])
+                    _add(values, b, where, size, XI, INTERP, 0, 3 * a + c, mu_j * d2N[b, a] * e[c])
+                    _add(values, b, where, size, MU, INTERP, j, 3 * a + c, dN[b, a] * e[c])

@@ -44,20 +44,20 @@ case ``B = 1``.
 from __future__ import annotations
 
 import copy
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Sequence
 
 import numpy as np
 
 from fvbeam.geometry import orthonormal3, vector3
 from fvbeam.structure import Structure
-from sliders.lines.chain import BeamChain
+from sliders.joints.blocks import SlotJacobian
 from sliders.joints.drives import Motion
 from sliders.joints.kernel import GROUPS, joint_equations
 from sliders.joints.kernel import KINDS as KERNEL_KINDS
-from sliders.lines.rigid import RigidLine
-from sliders.joints.blocks import SlotJacobian
 from sliders.lines.batched import ChainStack, LineRotation, gather
+from sliders.lines.chain import BeamChain
+from sliders.lines.rigid import RigidLine
 
 KINDS = ("spherical", "classical", "spline")
 ORIENTATIONS = ("section", "slope")
@@ -113,17 +113,23 @@ class Slider:
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
-            raise ValueError(f"{self.name}: kind must be one of {', '.join(KINDS)}, "
-                             f"got {self.kind!r}")
+            raise ValueError(
+                f"{self.name}: kind must be one of {', '.join(KINDS)}, got {self.kind!r}"
+            )
         if self.orientation not in ORIENTATIONS:
-            raise ValueError(f"{self.name}: orientation must be one of "
-                             f"{', '.join(ORIENTATIONS)}, got {self.orientation!r}")
+            raise ValueError(
+                f"{self.name}: orientation must be one of "
+                f"{', '.join(ORIENTATIONS)}, got {self.orientation!r}"
+            )
         if self.drive is not None and not callable(self.drive):
-            raise ValueError(f"{self.name}: drive must be a motion (sliders.joints.drives), got "
-                             f"{self.drive!r}")
+            raise ValueError(
+                f"{self.name}: drive must be a motion (sliders.joints.drives), got {self.drive!r}"
+            )
         if self.orientation == "slope" and self.kind != "classical":
-            raise ValueError(f"{self.name}: orientation 'slope' is the classical slider's "
-                             f"(paper eq. 4); a {self.kind} slider needs 'section'")
+            raise ValueError(
+                f"{self.name}: orientation 'slope' is the classical slider's "
+                f"(paper eq. 4); a {self.kind} slider needs 'section'"
+            )
         self.offset = vector3(self.offset, f"{self.name}: offset")
         self.frame = orthonormal3(self.frame, f"{self.name}: frame")
         self._batch: SliderBatch | None = None
@@ -137,7 +143,7 @@ class Slider:
     @property
     def unknown_names(self) -> tuple[str, ...]:
         """Names of the joint's unknowns, in order (for messages and outputs)."""
-        return UNKNOWNS[:self.n_unknowns]
+        return UNKNOWNS[: self.n_unknowns]
 
     def body_dofs(self, structure: Structure) -> np.ndarray:
         """The six global dofs of the body node."""
@@ -150,13 +156,14 @@ class Slider:
     def _check_frame(self, xi: float) -> None:
         """The spline slider's constraint is linearised about the line's frame: the slider
         frame must match it at the starting ``xi`` (within 0.1 rad)."""
-        R0 = (self.line.rotation(xi).R0 if isinstance(self.line, BeamChain)
-              else self.line.at(xi).R)
+        R0 = self.line.rotation(xi).R0 if isinstance(self.line, BeamChain) else self.line.at(xi).R
         angle = np.arccos(np.clip((np.trace(self.frame @ R0.T) - 1) / 2, -1.0, 1.0))
         if angle > 0.1:
-            raise ValueError(f"{self.name}: a spline slider's frame must match the line's frame "
-                             f"at xi = {xi:.6g} (columns {np.round(R0, 6).tolist()}); it is "
-                             f"turned {angle:.3g} rad from it")
+            raise ValueError(
+                f"{self.name}: a spline slider's frame must match the line's frame "
+                f"at xi = {xi:.6g} (columns {np.round(R0, 6).tolist()}); it is "
+                f"turned {angle:.3g} rad from it"
+            )
 
     def batch(self, structure: Structure) -> SliderBatch:
         """This slider alone as a batch (kept for the last ``structure``)."""
@@ -168,8 +175,9 @@ class Slider:
         """``xi`` from projecting the sliding point on the line, multipliers 0."""
         return self.batch(structure).initial_unknowns(q[None])[0]
 
-    def assemble(self, structure: Structure, q: np.ndarray,
-                 y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    def assemble(
+        self, structure: Structure, q: np.ndarray, y: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Residual and Jacobian of the joint on the structure dofs it touches: the ``B = 1``
         case of :meth:`SliderBatch.evaluate`, duplicate dofs summed.
 
@@ -204,32 +212,44 @@ class SliderBatch:
     def __init__(self, sliders: Sequence[Slider], structures: Sequence[Structure]) -> None:
         self.sliders, self.structures = list(sliders), list(structures)
         first = self.sliders[0]
-        placed = (np.all(np.stack([s.offset for s in self.sliders]) == first.offset, axis=1)
-                  & np.all(np.stack([s.frame for s in self.sliders]) == first.frame,
-                           axis=(1, 2)))
+        placed = np.all(
+            np.stack([s.offset for s in self.sliders]) == first.offset, axis=1
+        ) & np.all(np.stack([s.frame for s in self.sliders]) == first.frame, axis=(1, 2))
         for b, s in enumerate(self.sliders[1:], start=1):
-            if not (s.kind == first.kind and s.orientation == first.orientation
-                    and s.smearing == first.smearing and s.kernel == first.kernel
-                    and s.end_stops == first.end_stops and placed[b]
-                    and (s.drive is None) == (first.drive is None)
-                    and isinstance(s.line, BeamChain) == isinstance(first.line, BeamChain)):
-                raise ValueError(f"{s.name}: slider of member {b} of the batch differs from "
-                                 "member 0 (kind, orientation, smearing, offset, frame, end "
-                                 "stops, drive or kind of line)")
+            if not (
+                s.kind == first.kind
+                and s.orientation == first.orientation
+                and s.smearing == first.smearing
+                and s.kernel == first.kernel
+                and s.end_stops == first.end_stops
+                and placed[b]
+                and (s.drive is None) == (first.drive is None)
+                and isinstance(s.line, BeamChain) == isinstance(first.line, BeamChain)
+            ):
+                raise ValueError(
+                    f"{s.name}: slider of member {b} of the batch differs from "
+                    "member 0 (kind, orientation, smearing, offset, frame, end "
+                    "stops, drive or kind of line)"
+                )
         self.kind, self.orientation = first.kind, first.orientation
         self.smearing, self.kernel, self.end_stops = first.smearing, first.kernel, first.end_stops
         self.offset, self.frame, self.n_unknowns = first.offset, first.frame, first.n_unknowns
         self.length = first.line.length
-        self.body = np.stack([s.body_dofs(st) for s, st in zip(self.sliders, self.structures)])
-        self.reference = np.stack([s.reference_point(st)
-                                   for s, st in zip(self.sliders, self.structures)])
-        self.chains = (ChainStack([s.line for s in self.sliders])
-                       if isinstance(first.line, BeamChain) else None)
+        self.body = np.stack(
+            [s.body_dofs(st) for s, st in zip(self.sliders, self.structures, strict=True)]
+        )
+        self.reference = np.stack(
+            [s.reference_point(st) for s, st in zip(self.sliders, self.structures, strict=True)]
+        )
+        self.chains = (
+            ChainStack([s.line for s in self.sliders])
+            if isinstance(first.line, BeamChain)
+            else None
+        )
         self.drives = [s.drive for s in self.sliders]
 
     @classmethod
-    def translated(cls, slider: Slider, structure: Structure,
-                   shifts: np.ndarray) -> SliderBatch:
+    def translated(cls, slider: Slider, structure: Structure, shifts: np.ndarray) -> SliderBatch:
         """``slider`` of ``structure`` in ``B`` copies whose beams are moved rigidly by
         ``shifts`` ((B, n_beams, 3), one shift per beam; rigid bodies stay), as if each copy
         were built on :meth:`fvbeam.beam.Beam.translated` beams (same node positions, body
@@ -239,14 +259,18 @@ class SliderBatch:
         """
         shifts = np.asarray(shifts, dtype=float)
         if shifts.ndim != 3 or shifts.shape[1:] != (len(structure.beams), 3):
-            raise ValueError(f"{slider.name}: shifts must be (B, {len(structure.beams)}, 3), "
-                             f"got {shifts.shape}")
+            raise ValueError(
+                f"{slider.name}: shifts must be (B, {len(structure.beams)}, 3), got {shifts.shape}"
+            )
         one, B = slider.batch(structure), len(shifts)
         out = copy.copy(one)
         out.sliders, out.structures, out.drives = [slider] * B, [structure] * B, one.drives * B
         out.body = np.repeat(one.body, B, axis=0)
-        moved = (shifts[:, structure.beam_index(slider.body[0])]
-                 if isinstance(slider.body, tuple) else np.zeros((B, 3)))
+        moved = (
+            shifts[:, structure.beam_index(slider.body[0])]
+            if isinstance(slider.body, tuple)
+            else np.zeros((B, 3))
+        )
         out.reference = structure.node_position(slider.body) + moved + slider.offset
         out.chains = one.chains.translated(shifts) if one.chains is not None else None
         return out
@@ -260,17 +284,25 @@ class SliderBatch:
         Raises ``ValueError`` naming the first batch that differs from the first one."""
         first = batches[0]
         for other in batches[1:]:
-            if not (other.kind == first.kind and other.orientation == first.orientation
-                    and other.smearing == first.smearing and other.kernel == first.kernel
-                    and other.end_stops == first.end_stops
-                    and other.n_unknowns == first.n_unknowns and other.length == first.length
-                    and np.array_equal(other.offset, first.offset)
-                    and np.array_equal(other.frame, first.frame)
-                    and (other.drives[0] is None) == (first.drives[0] is None)
-                    and other.chains is not None and first.chains is not None):
-                raise ValueError(f"{other.sliders[0].name}: its joints differ from "
-                                 f"{first.sliders[0].name}'s (kind, orientation, smearing, "
-                                 "offset, frame, end stops, drive, length or kind of line)")
+            if not (
+                other.kind == first.kind
+                and other.orientation == first.orientation
+                and other.smearing == first.smearing
+                and other.kernel == first.kernel
+                and other.end_stops == first.end_stops
+                and other.n_unknowns == first.n_unknowns
+                and other.length == first.length
+                and np.array_equal(other.offset, first.offset)
+                and np.array_equal(other.frame, first.frame)
+                and (other.drives[0] is None) == (first.drives[0] is None)
+                and other.chains is not None
+                and first.chains is not None
+            ):
+                raise ValueError(
+                    f"{other.sliders[0].name}: its joints differ from "
+                    f"{first.sliders[0].name}'s (kind, orientation, smearing, "
+                    "offset, frame, end stops, drive, length or kind of line)"
+                )
         out = copy.copy(first)
         out.sliders = [s for b in batches for s in b.sliders]
         out.structures = [s for b in batches for s in b.structures]
@@ -300,9 +332,9 @@ class SliderBatch:
         if self.chains is not None:
             xi = self.chains.project(points, q)
         else:
-            xi = np.array([s.line.project(p) for s, p in zip(self.sliders, points)])
+            xi = np.array([s.line.project(p) for s, p in zip(self.sliders, points, strict=True)])
         if self.kind == "spline":
-            for s, x in zip(self.sliders, xi):
+            for s, x in zip(self.sliders, xi, strict=True):
                 s._check_frame(float(x))
         return np.column_stack([xi, np.zeros((len(xi), self.n_unknowns - 1))])
 
@@ -310,24 +342,67 @@ class SliderBatch:
         """The lines' geometry, interpolation and load transfer at ``xi`` (B,)."""
         B = len(xi)
         if self.chains is not None:
-            s = self.chains.line_state(xi, q, self.kind != "spherical"
-                                       and self.orientation == "section",
-                                       self.smearing, self.kernel)
+            s = self.chains.line_state(
+                xi,
+                q,
+                self.kind != "spherical" and self.orientation == "section",
+                self.smearing,
+                self.kernel,
+            )
             interp = s.interpolation
-            return _LineState(s.x, s.l, s.l_xi, np.zeros((B, 3)),
-                              interp.N, interp.dN, interp.d2N, s.load_dofs, s.G, s.dG,
-                              s.rotation, None, s.tangent, s.tangent_xi,
-                              interp.tangent_dofs.reshape(B, -1), interp.T, interp.T_xi)
-        p = [s.line.at(float(x)) for s, x in zip(self.sliders, xi)]
-        x, l, l_xi, l_xixi, R, k, k_xi = (np.array([getattr(a, f) for a in p]) for f in
-                                          ("x", "l", "l_xi", "l_xixi", "R", "k", "k_xi"))
+            return _LineState(
+                s.x,
+                s.l,
+                s.l_xi,
+                np.zeros((B, 3)),
+                interp.N,
+                interp.dN,
+                interp.d2N,
+                s.load_dofs,
+                s.G,
+                s.dG,
+                s.rotation,
+                None,
+                s.tangent,
+                s.tangent_xi,
+                interp.tangent_dofs.reshape(B, -1),
+                interp.T,
+                interp.T_xi,
+            )
+        p = [s.line.at(float(x)) for s, x in zip(self.sliders, xi, strict=True)]
+        x, l, l_xi, l_xixi, R, k, k_xi = (
+            np.array([getattr(a, f) for a in p])
+            for f in ("x", "l", "l_xi", "l_xixi", "R", "k", "k_xi")
+        )
         none, empty = np.zeros((B, 0), dtype=int), np.zeros((B, 0))
-        return _LineState(x, l, l_xi, l_xixi, empty, empty, empty, none,
-                          np.zeros((B, 0, 6)), np.zeros((B, 0, 6)), None, (R, k, k_xi),
-                          l, l_xi, none, empty, empty)
+        return _LineState(
+            x,
+            l,
+            l_xi,
+            l_xixi,
+            empty,
+            empty,
+            empty,
+            none,
+            np.zeros((B, 0, 6)),
+            np.zeros((B, 0, 6)),
+            None,
+            (R, k, k_xi),
+            l,
+            l_xi,
+            none,
+            empty,
+            empty,
+        )
 
-    def evaluate(self, q: np.ndarray, y: np.ndarray, time: float = 0.0, scale: float = 1.0,
-                 jacobian: bool = True) -> tuple[np.ndarray, np.ndarray, SlotJacobian | None]:
+    def evaluate(
+        self,
+        q: np.ndarray,
+        y: np.ndarray,
+        time: float = 0.0,
+        scale: float = 1.0,
+        jacobian: bool = True,
+    ) -> tuple[np.ndarray, np.ndarray, SlotJacobian | None]:
         """Residuals and Jacobians of the joints of all members (module docstring table).
 
         ``q`` (B, n): the members' structure states; ``y`` (B, n_unknowns): their joint
@@ -360,28 +435,69 @@ class SliderBatch:
             raise ValueError(f"slider {self.sliders[0].name!r}: {exc}") from exc
         rot = line.rotation
         rotation_dofs = rot.dofs if rot is not None else np.zeros((B, 0, 3), dtype=np.int64)
-        dofs = np.concatenate([self.body, line.load_dofs, rotation_dofs.reshape(B, -1),
-                               line.tangent_dofs], axis=1)
-        at = _Layout(3 * line.N.shape[1], line.load_dofs.shape[1], 3 * rotation_dofs.shape[1],
-                     line.tangent_dofs.shape[1], self.n_unknowns)
-        J = at.jacobian(B if jacobian else 0,
-                        _pattern(self.kind, self.orientation, bool(np.any(self.offset)),
-                                 rotation_dofs.shape[1] > 0))
+        dofs = np.concatenate(
+            [self.body, line.load_dofs, rotation_dofs.reshape(B, -1), line.tangent_dofs], axis=1
+        )
+        at = _Layout(
+            3 * line.N.shape[1],
+            line.load_dofs.shape[1],
+            3 * rotation_dofs.shape[1],
+            line.tangent_dofs.shape[1],
+            self.n_unknowns,
+        )
+        J = at.jacobian(
+            B if jacobian else 0,
+            _pattern(
+                self.kind, self.orientation, bool(np.any(self.offset)), rotation_dofs.shape[1] > 0
+            ),
+        )
         r = np.zeros((B, at.t + self.n_unknowns))
         if rot is not None:
             frame = (rot.R0, rot.k0, rot.k0_xi)
             section = (rot.w, rot.w_xi, rot.kink, rot.kink_xi, rot.compliance)
         else:
             frame = line.frame or (np.zeros((B, 3, 3)), np.zeros((B, 3)), np.zeros((B, 3)))
-            section = (np.zeros((B, 0)), np.zeros((B, 0)), np.zeros(B), np.zeros(B),
-                       np.zeros((B, 3, 3)))
+            section = (
+                np.zeros((B, 0)),
+                np.zeros((B, 0)),
+                np.zeros(B),
+                np.zeros(B),
+                np.zeros((B, 3, 3)),
+            )
         joint_equations(
-            KERNEL_KINDS[self.kind], self.orientation == "slope", jacobian, self.offset,
-            self.frame, self.body, _c(self.reference), _c(q), _c(y),
-            *map(_c, (line.x, line.l, line.l_xi, line.l_xixi, line.N, line.dN, line.d2N,
-                      line.G, line.dG, line.tangent, line.tangent_xi, line.T)),
+            KERNEL_KINDS[self.kind],
+            self.orientation == "slope",
+            jacobian,
+            self.offset,
+            self.frame,
+            self.body,
+            _c(self.reference),
+            _c(q),
+            _c(y),
+            *map(
+                _c,
+                (
+                    line.x,
+                    line.l,
+                    line.l_xi,
+                    line.l_xixi,
+                    line.N,
+                    line.dN,
+                    line.d2N,
+                    line.G,
+                    line.dG,
+                    line.tangent,
+                    line.tangent_xi,
+                    line.T,
+                ),
+            ),
             np.ascontiguousarray(rotation_dofs, dtype=np.int64),
-            *map(_c, section + frame), float(scale), *J.index(GROUPS), r, J.values)
+            *map(_c, section + frame),
+            float(scale),
+            *J.index(GROUPS),
+            r,
+            J.values,
+        )
         if self.end_stops:
             self._end_stop(y[:, 0], y[:, 1:4], line, at, r, J if jacobian else None)
         if self.drives[0] is not None:
@@ -390,8 +506,15 @@ class SliderBatch:
                 J.unit_row("xi")
         return dofs, r, J if jacobian else None
 
-    def _end_stop(self, xi: np.ndarray, lam: np.ndarray, line: _LineState, at: _Layout,
-                  r: np.ndarray, J: SlotJacobian | None) -> None:
+    def _end_stop(
+        self,
+        xi: np.ndarray,
+        lam: np.ndarray,
+        line: _LineState,
+        at: _Layout,
+        r: np.ndarray,
+        J: SlotJacobian | None,
+    ) -> None:
         """Replace the ``xi`` equation by ``xi = end`` beyond an end, or at an end where the
         stop pushes: the force on the body, ``-lambda``, points back into the line
         (``l . lambda > 0`` at the far end, ``< 0`` at the start).  At the end itself the
@@ -425,7 +548,7 @@ class _LineState:
     the interpolation's; rigid lines: ``l``, no dofs)."""
 
     x: np.ndarray
-    l: np.ndarray  # noqa: E741
+    l: np.ndarray
     l_xi: np.ndarray
     l_xixi: np.ndarray
     N: np.ndarray
@@ -448,8 +571,9 @@ class _Layout:
     load, rotation and tangent dofs (the interpolation's are the tangent's first), then
     ``xi``, ``lambda`` and the multipliers ``mu``."""
 
-    def __init__(self, n_interp: int, n_load: int, n_rotation: int, n_tangent: int,
-                 n_unknowns: int) -> None:
+    def __init__(
+        self, n_interp: int, n_load: int, n_rotation: int, n_tangent: int, n_unknowns: int
+    ) -> None:
         self.body, self.turn = slice(0, 3), slice(3, 6)
         start = 6
         self.load, start = slice(start, start + n_load), start + n_load
@@ -458,8 +582,14 @@ class _Layout:
         self.tangent, start = slice(start, start + n_tangent), start + n_tangent
         self.t = self.xi = start
         self.lam, self.mu = slice(start + 1, start + 4), slice(start + 4, start + n_unknowns)
-        self.groups = [("body", 3), ("turn", 3), ("load", n_load), ("rotation", n_rotation),
-                       ("interp", n_interp), ("beside", n_tangent - n_interp)]
+        self.groups = [
+            ("body", 3),
+            ("turn", 3),
+            ("load", n_load),
+            ("rotation", n_rotation),
+            ("interp", n_interp),
+            ("beside", n_tangent - n_interp),
+        ]
         self.own = [("xi", 1), ("lam", 3), ("mu", n_unknowns - 4)]
 
     def jacobian(self, members: int, pattern: list[tuple[str, str]]) -> SlotJacobian:
@@ -471,20 +601,47 @@ class _Layout:
 
 #: The blocks of the Jacobian every joint writes (module docstring table): the reaction on
 #: the body and the line, the ``xi`` equation and the position constraint.
-_BASE = [("body", "lam"), ("turn", "lam"), ("load", "xi"), ("load", "lam"), ("xi", "xi"),
-         ("xi", "lam"), ("xi", "interp"), ("xi", "beside"), ("lam", "body"), ("lam", "xi"),
-         ("lam", "interp")]
+_BASE = [
+    ("body", "lam"),
+    ("turn", "lam"),
+    ("load", "xi"),
+    ("load", "lam"),
+    ("xi", "xi"),
+    ("xi", "lam"),
+    ("xi", "interp"),
+    ("xi", "beside"),
+    ("lam", "body"),
+    ("lam", "xi"),
+    ("lam", "interp"),
+]
 #: Added by a sliding point off the node (the lever arm ``f_b``).
 _LEVER = [("turn", "turn"), ("lam", "turn")]
 #: Added by the ``section`` orientation, and by the rotation dofs of a chain's section.
-_SECTION = [("turn", "xi"), ("turn", "mu"), ("xi", "turn"), ("xi", "mu"), ("mu", "turn"),
-            ("mu", "xi"), ("mu", "mu")]
-_SECTION_ROTATION = [("rotation", "xi"), ("rotation", "mu"), ("xi", "rotation"),
-                     ("mu", "rotation")]
+_SECTION = [
+    ("turn", "xi"),
+    ("turn", "mu"),
+    ("xi", "turn"),
+    ("xi", "mu"),
+    ("mu", "turn"),
+    ("mu", "xi"),
+    ("mu", "mu"),
+]
+_SECTION_ROTATION = [("rotation", "xi"), ("rotation", "mu"), ("xi", "rotation"), ("mu", "rotation")]
 #: Added by the ``slope`` orientation (the couple on the line's gradient).
-_SLOPE = [("turn", "turn"), ("turn", "xi"), ("turn", "mu"), ("turn", "interp"), ("load", "turn"),
-          ("load", "mu"), ("load", "interp"), ("xi", "turn"), ("xi", "mu"), ("mu", "turn"),
-          ("mu", "xi"), ("mu", "interp")]
+_SLOPE = [
+    ("turn", "turn"),
+    ("turn", "xi"),
+    ("turn", "mu"),
+    ("turn", "interp"),
+    ("load", "turn"),
+    ("load", "mu"),
+    ("load", "interp"),
+    ("xi", "turn"),
+    ("xi", "mu"),
+    ("mu", "turn"),
+    ("mu", "xi"),
+    ("mu", "interp"),
+]
 
 
 def _pattern(kind: str, orientation: str, lever: bool, rotation: bool) -> list[tuple[str, str]]:

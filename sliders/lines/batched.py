@@ -28,8 +28,9 @@ chain's beams must all have the same number of nodes per element (fixed-size slo
 from __future__ import annotations
 
 import copy
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import NamedTuple, Protocol, Sequence
+from typing import NamedTuple, Protocol
 
 import numpy as np
 
@@ -43,7 +44,6 @@ from sliders.lines import batched_kernel as stack_kernel
 from sliders.lines.rigid import curvature_rate, frame_and_curvature, project
 
 
-
 class Chain(Protocol):
     """What a batch reads of each member chain (:class:`sliders.lines.chain.BeamChain` is one)."""
 
@@ -54,8 +54,10 @@ class Chain(Protocol):
     offsets: np.ndarray
     length: float
 
-    def transfer(self, xi: float, smearing: float = 0.0,
-                 kernel: str = "box") -> tuple[np.ndarray, np.ndarray, np.ndarray]: ...
+    def transfer(
+        self, xi: float, smearing: float = 0.0, kernel: str = "box"
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]: ...
+
 
 #: Lag of a 3-node element's mid-node rotation under a couple ``M`` at the mid-node, per
 #: ``h C M`` (the exact rotation steps its rate by ``C M`` there, the elements cannot):
@@ -110,8 +112,9 @@ class Interpolation(ElementInterpolation):
 
     def tangent(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The recovered tangent ``l~`` and ``l~_/xi`` of the deformed line."""
-        return _weighted(np.stack([self.T, self.T_xi], axis=-2), self.tangent_X, q,
-                         self.tangent_dofs)
+        return _weighted(
+            np.stack([self.T, self.T_xi], axis=-2), self.tangent_X, q, self.tangent_dofs
+        )
 
     def member(self, b: int) -> Interpolation:
         """Member ``b`` of a stacked interpolation."""
@@ -161,7 +164,7 @@ class LineState(NamedTuple):
 
     interpolation: Interpolation
     x: np.ndarray
-    l: np.ndarray  # noqa: E741
+    l: np.ndarray
     l_xi: np.ndarray
     tangent: np.ndarray
     tangent_xi: np.ndarray
@@ -214,38 +217,62 @@ class ChainStack:
         self.length = first.length
         npe = {beam.mesh.nodes_per_element for beam in first.beams}
         if len(npe) != 1:
-            raise ValueError(f"{first.name}: the beams of a chain must have the same number of "
-                             f"nodes per element, got {sorted(npe)}")
+            raise ValueError(
+                f"{first.name}: the beams of a chain must have the same number of "
+                f"nodes per element, got {sorted(npe)}"
+            )
         self.npe = npe.pop()
         for b, chain in enumerate(self.chains[1:], start=1):
             if not _same_topology(first, chain):
-                raise ValueError(f"{chain.name}: member {b} of the batch differs from member 0 "
-                                 "in more than its node positions (beams, dof maps, element "
-                                 "lengths, formulations, sections)")
+                raise ValueError(
+                    f"{chain.name}: member {b} of the batch differs from member 0 "
+                    "in more than its node positions (beams, dof maps, element "
+                    "lengths, formulations, sections)"
+                )
         counts = [beam.mesh.n_elements for beam in self.beams]
         self.first_element = np.concatenate([[0], np.cumsum(counts)])
         nodes = np.concatenate([[0], np.cumsum([beam.mesh.n_nodes for beam in self.beams])])
-        self.cells = np.concatenate([beam.mesh.cells + n for beam, n in zip(self.beams, nodes)])
+        self.cells = np.concatenate(
+            [beam.mesh.cells + n for beam, n in zip(self.beams, nodes[:-1], strict=True)]
+        )
         # the dofs of each element's nodes, (maps, elements, npe, 6), and each member's map
         # (one here; a joined stack holds one per chain of the structure, :meth:`joined`)
-        self.maps = np.concatenate([
-            first.structure.dof_maps[i][6 * beam.mesh.cells[:, :, None] + np.arange(6)]
-            for i, beam in zip(first.indices, self.beams)])[None].astype(np.int64)
+        self.maps = np.concatenate(
+            [
+                first.structure.dof_maps[i][6 * beam.mesh.cells[:, :, None] + np.arange(6)]
+                for i, beam in zip(first.indices, self.beams, strict=True)
+            ]
+        )[None].astype(np.int64)
         self.map = np.zeros(len(self.chains), dtype=np.int64)
         self.breaks = np.stack([chain.offsets for chain in self.chains])
         # each member's beams' vertex abscissae, one beam after the other (B, E + n_beams)
-        self.vertex_s = np.stack([np.concatenate([beam.mesh.vertex_s for beam in chain.beams])
-                                  for chain in self.chains])
-        self.h = np.concatenate([np.diff(self.vertex_s[:, f + j:f + j + n + 1], axis=1)
-                                 for j, (f, n) in enumerate(zip(self.first_element, counts))],
-                                axis=1)
-        self.up = np.concatenate([np.tile(beam.mesh.up, (n, 1))
-                                  for beam, n in zip(self.beams, counts)])
-        self.lag = np.concatenate([np.full(n, MID_NODE_LAG[
-            "fv" if isinstance(beam.formulation, FiniteVolume) else "galerkin"])
-            for beam, n in zip(self.beams, counts)])
-        self.points = np.stack([np.concatenate([beam.mesh.points for beam in chain.beams])
-                                for chain in self.chains])
+        self.vertex_s = np.stack(
+            [np.concatenate([beam.mesh.vertex_s for beam in chain.beams]) for chain in self.chains]
+        )
+        self.h = np.concatenate(
+            [
+                np.diff(self.vertex_s[:, f + j : f + j + n + 1], axis=1)
+                for j, (f, n) in enumerate(zip(self.first_element[:-1], counts, strict=True))
+            ],
+            axis=1,
+        )
+        self.up = np.concatenate(
+            [np.tile(beam.mesh.up, (n, 1)) for beam, n in zip(self.beams, counts, strict=True)]
+        )
+        self.lag = np.concatenate(
+            [
+                np.full(
+                    n,
+                    MID_NODE_LAG[
+                        "fv" if isinstance(beam.formulation, FiniteVolume) else "galerkin"
+                    ],
+                )
+                for beam, n in zip(self.beams, counts, strict=True)
+            ]
+        )
+        self.points = np.stack(
+            [np.concatenate([beam.mesh.points for beam in chain.beams]) for chain in self.chains]
+        )
         # the rotational block of each beam's inverse section stiffness, in section axes
         # (in global axes: R C R^T, the section stiffness rotating by blockdiag(R, R))
         self.compliance = [np.linalg.inv(beam.section.stiffness)[3:, 3:] for beam in self.beams]
@@ -276,23 +303,33 @@ class ChainStack:
         positions and dof maps."""
         first = stacks[0]
         for stack in stacks[1:]:
-            if not (stack.npe == first.npe
-                    and _same_topology(first.chains[0], stack.chains[0], maps=False)):
-                raise ValueError(f"{stack.name}: its chains differ from {first.name}'s in more "
-                                 "than their node positions and dof maps")
+            if not (
+                stack.npe == first.npe
+                and _same_topology(first.chains[0], stack.chains[0], maps=False)
+            ):
+                raise ValueError(
+                    f"{stack.name}: its chains differ from {first.name}'s in more "
+                    "than their node positions and dof maps"
+                )
         out = copy.copy(first)
         out.chains = [c for stack in stacks for c in stack.chains]
         out.breaks, out.h, out.points, out.vertex_s = (
             np.concatenate([getattr(stack, f) for stack in stacks])
-            for f in ("breaks", "h", "points", "vertex_s"))
+            for f in ("breaks", "h", "points", "vertex_s")
+        )
         out.maps = np.concatenate([stack.maps for stack in stacks])
         out._node_map = None
-        out.map = np.concatenate([stack.map + sum(len(s.maps) for s in stacks[:i])
-                                  for i, stack in enumerate(stacks)])
+        out.map = np.concatenate(
+            [stack.map + sum(len(s.maps) for s in stacks[:i]) for i, stack in enumerate(stacks)]
+        )
         out.members = np.arange(len(out.chains))
-        out._frames = (None if any(stack._frames is None for stack in stacks) else
-                       ElementFrames(*(np.concatenate(f) for f in
-                                       zip(*(stack._frames for stack in stacks)))))
+        out._frames = (
+            None
+            if any(stack._frames is None for stack in stacks)
+            else ElementFrames(
+                *(np.concatenate(f) for f in zip(*(stack._frames for stack in stacks), strict=True))
+            )
+        )
         return out
 
     def _dofs(self, element: np.ndarray) -> np.ndarray:
@@ -334,35 +371,64 @@ class ChainStack:
             locate_abscissa(xi, self.offsets, self.name, "the chain")  # raises if off it
         return xi
 
-    def _query(self, xi: np.ndarray, q: np.ndarray | None, transfer: bool,
-               rotation: bool) -> _Answer:
+    def _query(
+        self, xi: np.ndarray, q: np.ndarray | None, transfer: bool, rotation: bool
+    ) -> _Answer:
         """:func:`sliders.lines.batched_kernel.line_state` at ``xi`` (B,): the deformed line on the
         states ``q`` (B, n) unless None, the load transfer and the rotation if asked."""
         xi = self._checked(xi)
         frames = self.element_frames() if rotation else None
         none = np.zeros((0, 0, 3, 3))
-        return _Answer(*stack_kernel.line_state(
-            xi, np.zeros((len(xi), 0)) if q is None else np.ascontiguousarray(q, dtype=float),
-            self.map, self.maps, self.cells, self.points, self.breaks, self.vertex_s,
-            self.first_element, self.h, self.lag, self.rigid, self.regions, self._ends,
-            none if frames is None else frames.R0, none if frames is None else
-            frames.compliance, q is not None, transfer, rotation))
+        return _Answer(
+            *stack_kernel.line_state(
+                xi,
+                np.zeros((len(xi), 0)) if q is None else np.ascontiguousarray(q, dtype=float),
+                self.map,
+                self.maps,
+                self.cells,
+                self.points,
+                self.breaks,
+                self.vertex_s,
+                self.first_element,
+                self.h,
+                self.lag,
+                self.rigid,
+                self.regions,
+                self._ends,
+                none if frames is None else frames.R0,
+                none if frames is None else frames.compliance,
+                q is not None,
+                transfer,
+                rotation,
+            )
+        )
 
-    def line_state(self, xi: np.ndarray, q: np.ndarray, rotation: bool,
-                   smearing: float = 0.0, kernel: str = "box") -> LineState:
+    def line_state(
+        self,
+        xi: np.ndarray,
+        q: np.ndarray,
+        rotation: bool,
+        smearing: float = 0.0,
+        kernel: str = "box",
+    ) -> LineState:
         """What a joint needs of each member at ``xi`` (B,) on its state ``q`` (B, n), in one
         kernel call (:class:`LineState`): with ``smearing > 0`` the load transfer is each
         member's smeared one (:meth:`transfer`); ``rotation``: the section rotation too."""
         a = self._query(xi, q, smearing == 0, rotation)
         load = (a.load_dofs, a.G, a.dG) if smearing == 0 else self.transfer(xi, smearing, kernel)
-        return LineState(self._interpolation(a), *(a.geometry[:, j] for j in range(5)), *load,
-                         self._rotation(a) if rotation else None)
+        return LineState(
+            self._interpolation(a),
+            *(a.geometry[:, j] for j in range(5)),
+            *load,
+            self._rotation(a) if rotation else None,
+        )
 
     @staticmethod
     def _interpolation(a: _Answer) -> Interpolation:
         """The interpolation of a kernel answer."""
-        return Interpolation(a.dofs, a.nodes, a.N, a.dN, a.d2N, a.tangent_dofs,
-                             a.tangent_nodes, a.T, a.T_xi)
+        return Interpolation(
+            a.dofs, a.nodes, a.N, a.dN, a.d2N, a.tangent_dofs, a.tangent_nodes, a.T, a.T_xi
+        )
 
     def _nodes(self, element: np.ndarray) -> np.ndarray:
         """Reference node positions ``(B, ..., npe, 3)`` of each member's ``element``
@@ -406,18 +472,20 @@ class ChainStack:
             for b in np.unique(beam):
                 on = beam == b
                 compliance[on] = R0[on] @ self.compliance[b] @ np.swapaxes(R0[on], 1, 2)
-        return LineRotation(a.rotation_dofs, a.w, a.w_xi, a.kink, a.kink_xi, compliance, R0,
-                            k0, k0_xi)
+        return LineRotation(
+            a.rotation_dofs, a.w, a.w_xi, a.kink, a.kink_xi, compliance, R0, k0, k0_xi
+        )
 
-    def _reference_line(self, element: np.ndarray,
-                        X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _reference_line(self, element: np.ndarray, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The reference line's ``l0`` and ``l0_/xi`` at the reference coordinates ``X``
         (...) of the members' ``element`` (...)."""
         nodes = self._nodes(element)
         h = self.h[self.members.reshape((-1,) + (1,) * (element.ndim - 1)), element]
         l0, l0_xi = stack_kernel.reference_line(
-            np.ascontiguousarray(nodes.reshape(-1, self.npe, 3)), h.ravel(),
-            np.ascontiguousarray(X, dtype=float).ravel())
+            np.ascontiguousarray(nodes.reshape(-1, self.npe, 3)),
+            h.ravel(),
+            np.ascontiguousarray(X, dtype=float).ravel(),
+        )
         return l0.reshape(X.shape + (3,)), l0_xi.reshape(X.shape + (3,))
 
     def element_frames(self) -> ElementFrames:
@@ -436,11 +504,14 @@ class ChainStack:
             sections = np.stack(self.compliance)[beam]
             self._frames = ElementFrames(
                 np.linalg.norm(l0_xi, axis=-1) <= 1e-12 * np.linalg.norm(l0, axis=-1),
-                R0, R0 @ sections @ np.swapaxes(R0, -1, -2))
+                R0,
+                R0 @ sections @ np.swapaxes(R0, -1, -2),
+            )
         return self._frames
 
-    def transfer(self, xi: np.ndarray, smearing: float = 0.0,
-                 kernel: str = "box") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def transfer(
+        self, xi: np.ndarray, smearing: float = 0.0, kernel: str = "box"
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """How a force and couple ``[F; M]`` at each member's ``xi`` loads its chain (T6).
 
         Returns global ``dofs`` (B, k), ``G`` (B, k, 6) and ``dG/dxi`` (B, k, 6) as
@@ -448,12 +519,16 @@ class ChainStack:
         to a common ``k`` with zero rows on the member's first dof).
         """
         if smearing > 0:
-            parts = [chain.transfer(float(x), smearing, kernel)
-                     for chain, x in zip(self.chains, xi)]
+            parts = [
+                chain.transfer(float(x), smearing, kernel)
+                for chain, x in zip(self.chains, xi, strict=True)
+            ]
             size = max(len(p[0]) for p in parts)
             dofs = np.array([np.pad(d, (0, size - len(d)), mode="edge") for d, _, _ in parts])
-            G, dG = (np.array([np.pad(p[i], ((0, size - len(p[0])), (0, 0))) for p in parts])
-                     for i in (1, 2))
+            G, dG = (
+                np.array([np.pad(p[i], ((0, size - len(p[0])), (0, 0))) for p in parts])
+                for i in (1, 2)
+            )
             return dofs, G, dG
         a = self._query(xi, None, True, False)
         return a.load_dofs, a.G, a.dG
@@ -475,9 +550,15 @@ class ChainStack:
         """The distinct node abscissae of the chain, increasing (tied for all members), and
         a node (of :attr:`points`) at each: the beams' nodes are their vertices along the
         beam, then their mid nodes (:class:`fvbeam.mesh.BeamMesh`)."""
-        return np.unique(np.concatenate([offset + beam.mesh.node_abscissae()
-                                         for offset, beam in zip(self.offsets, self.beams)]),
-                         return_index=True)
+        return np.unique(
+            np.concatenate(
+                [
+                    offset + beam.mesh.node_abscissae()
+                    for offset, beam in zip(self.offsets[:-1], self.beams, strict=True)
+                ]
+            ),
+            return_index=True,
+        )
 
     def _node_dofs(self) -> np.ndarray:
         """The translational dofs (maps, nodes, 3) of every node of :attr:`points`, per dof
@@ -493,18 +574,31 @@ def _same_topology(a: Chain, b: Chain, maps: bool = True) -> bool:
     ``maps``, their dof maps).  Beams sharing
     their arc lengths (moved copies, :meth:`fvbeam.mesh.BeamMesh.translated`) have equal
     lengths and chain offsets without comparing them."""
-    return (len(a.beams) == len(b.beams)
-            and (all(x.mesh.vertex_s is y.mesh.vertex_s for x, y in zip(a.beams, b.beams))
-                 or _tied(a.offsets, b.offsets))
-            and (not maps or all(np.array_equal(a.structure.dof_maps[i], b.structure.dof_maps[j])
-                                 for i, j in zip(a.indices, b.indices)))
-            and all(x.formulation == y.formulation and x.section is y.section
-                    and (x.mesh.cells is y.mesh.cells
-                         or np.array_equal(x.mesh.cells, y.mesh.cells))
-                    and (x.mesh.vertex_s is y.mesh.vertex_s
-                         or _tied(x.mesh.element_length, y.mesh.element_length))
-                    and (x.mesh.up is y.mesh.up or np.array_equal(x.mesh.up, y.mesh.up))
-                    for x, y in zip(a.beams, b.beams)))
+    return (
+        len(a.beams) == len(b.beams)
+        and (
+            all(x.mesh.vertex_s is y.mesh.vertex_s for x, y in zip(a.beams, b.beams, strict=True))
+            or _tied(a.offsets, b.offsets)
+        )
+        and (
+            not maps
+            or all(
+                np.array_equal(a.structure.dof_maps[i], b.structure.dof_maps[j])
+                for i, j in zip(a.indices, b.indices, strict=True)
+            )
+        )
+        and all(
+            x.formulation == y.formulation
+            and x.section is y.section
+            and (x.mesh.cells is y.mesh.cells or np.array_equal(x.mesh.cells, y.mesh.cells))
+            and (
+                x.mesh.vertex_s is y.mesh.vertex_s
+                or _tied(x.mesh.element_length, y.mesh.element_length)
+            )
+            and (x.mesh.up is y.mesh.up or np.array_equal(x.mesh.up, y.mesh.up))
+            for x, y in zip(a.beams, b.beams, strict=True)
+        )
+    )
 
 
 def _tied(a: np.ndarray, b: np.ndarray) -> bool:
@@ -513,8 +607,13 @@ def _tied(a: np.ndarray, b: np.ndarray) -> bool:
     return a.shape == b.shape and bool(np.all(np.abs(a - b) <= LENGTH_TIE * np.abs(b)))
 
 
-def _weighted(f: np.ndarray, nodes: np.ndarray, q: np.ndarray, dofs: np.ndarray,
-              rows: np.ndarray | None = None) -> tuple[np.ndarray, ...]:
+def _weighted(
+    f: np.ndarray,
+    nodes: np.ndarray,
+    q: np.ndarray,
+    dofs: np.ndarray,
+    rows: np.ndarray | None = None,
+) -> tuple[np.ndarray, ...]:
     """``sum_a f_ja (nodes_a + q[dofs_a])`` for each ``j`` of coefficients ``f`` (..., k, m),
     nodes (..., m, 3) and dofs (..., m, 3): on one state ``q`` (n,), or on each member's own
     (``q`` (B, n), leading axis of ``f`` B), or on the states ``q[rows]`` for flattened
@@ -527,6 +626,8 @@ def _weighted(f: np.ndarray, nodes: np.ndarray, q: np.ndarray, dofs: np.ndarray,
     out = stack_kernel.weighted_current(
         np.ascontiguousarray(f, dtype=float).reshape(P, k, m),
         np.ascontiguousarray(nodes, dtype=float).reshape(P, m, 3),
-        np.ascontiguousarray(np.atleast_2d(q), dtype=float), rows,
-        np.ascontiguousarray(dofs, dtype=np.int64).reshape(P, m, 3)).reshape(lead + (k, 3))
+        np.ascontiguousarray(np.atleast_2d(q), dtype=float),
+        rows,
+        np.ascontiguousarray(dofs, dtype=np.int64).reshape(P, m, 3),
+    ).reshape(lead + (k, 3))
     return tuple(out[..., j, :] for j in range(k))

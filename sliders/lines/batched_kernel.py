@@ -29,8 +29,9 @@ def interval(breaks: np.ndarray, start: int, n: int, value: float) -> int:
 
 
 @numba.njit(cache=True, inline="never")
-def locate_one(xi: float, breaks: np.ndarray, vertex_s: np.ndarray,
-               first_element: np.ndarray, h: np.ndarray) -> tuple[int, int, float]:
+def locate_one(
+    xi: float, breaks: np.ndarray, vertex_s: np.ndarray, first_element: np.ndarray, h: np.ndarray
+) -> tuple[int, int, float]:
     """Beam ``k`` of the chain, element (chain index) and reference coordinate ``X`` of the
     abscissa ``xi`` (on the chain, checked by the caller) of one member: its beam breaks
     ``breaks`` (n_beams + 1,), vertex abscissae ``vertex_s`` (each beam's from 0, one after
@@ -39,8 +40,9 @@ def locate_one(xi: float, breaks: np.ndarray, vertex_s: np.ndarray,
     local = min(max(xi - breaks[k], 0.0), breaks[k + 1] - breaks[k])
     start = first_element[k] + k
     e = interval(vertex_s, start, first_element[k + 1] - first_element[k], local)
-    offset = min(max(local - vertex_s[start + e], 0.0),
-                 vertex_s[start + e + 1] - vertex_s[start + e])
+    offset = min(
+        max(local - vertex_s[start + e], 0.0), vertex_s[start + e + 1] - vertex_s[start + e]
+    )
     element = first_element[k] + e
     return k, element, min(max(offset / h[element], 0.0), 1.0)
 
@@ -56,9 +58,18 @@ def element_shape(X: float, he: float, N: np.ndarray, dN: np.ndarray, d2N: np.nd
 
 
 @numba.njit(cache=True, inline="never")
-def interpolation_one(element: int, X: float, h: np.ndarray, N: np.ndarray, dN: np.ndarray,
-                      d2N: np.ndarray, ends: np.ndarray, T: np.ndarray, T_xi: np.ndarray,
-                      neighbours: np.ndarray) -> None:
+def interpolation_one(
+    element: int,
+    X: float,
+    h: np.ndarray,
+    N: np.ndarray,
+    dN: np.ndarray,
+    d2N: np.ndarray,
+    ends: np.ndarray,
+    T: np.ndarray,
+    T_xi: np.ndarray,
+    neighbours: np.ndarray,
+) -> None:
     """The shape functions ``N``, ``dN``, ``d2N`` (npe,) in ``xi`` of ``element`` at ``X``,
     and the recovered tangent's coefficients ``T``, ``T_xi`` (3 npe,) (``docs/sliders.md``):
     ``l~ = l + (1 - X) (l_a - l(a)) + X (l_b - l(b))`` with ``l_a``, ``l_b`` the tangents of
@@ -107,8 +118,9 @@ def weighted(f: np.ndarray, points: np.ndarray, out: np.ndarray) -> None:
 
 
 @numba.njit(cache=True, inline="never")
-def rotation_one(X: float, he: float, lag: float, npe: int, pair: np.ndarray, w: np.ndarray,
-                 w_xi: np.ndarray) -> tuple[float, float]:
+def rotation_one(
+    X: float, he: float, lag: float, npe: int, pair: np.ndarray, w: np.ndarray, w_xi: np.ndarray
+) -> tuple[float, float]:
     """The section rotation's interpolation at ``X`` of an element of length ``he``
     (:meth:`sliders.lines.batched.ChainStack.rotation`): the two consecutive nodes around ``X``
     (``pair``, local indices, along the element: end 0, mid node, end 1), their weights
@@ -133,25 +145,43 @@ def rotation_one(X: float, he: float, lag: float, npe: int, pair: np.ndarray, w:
 
 
 @numba.njit(cache=True)
-def locate(xi: np.ndarray, breaks: np.ndarray, vertex_s: np.ndarray,
-           first_element: np.ndarray, h: np.ndarray) -> tuple[np.ndarray, np.ndarray,
-                                                              np.ndarray]:
+def locate(
+    xi: np.ndarray,
+    breaks: np.ndarray,
+    vertex_s: np.ndarray,
+    first_element: np.ndarray,
+    h: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`locate_one` for each member (rows of ``breaks``, ``vertex_s``, ``h``)."""
     B = len(xi)
     beam, element, X = np.empty(B, np.int64), np.empty(B, np.int64), np.empty(B)
     for b in range(B):
-        beam[b], element[b], X[b] = locate_one(xi[b], breaks[b], vertex_s[b], first_element,
-                                               h[b])
+        beam[b], element[b], X[b] = locate_one(xi[b], breaks[b], vertex_s[b], first_element, h[b])
     return beam, element, X
 
 
 @numba.njit(cache=True)
-def line_state(xi: np.ndarray, q: np.ndarray, member_map: np.ndarray, maps: np.ndarray,
-               cells: np.ndarray, points: np.ndarray, breaks: np.ndarray,
-               vertex_s: np.ndarray, first_element: np.ndarray, h: np.ndarray,
-               lag: np.ndarray, rigid: np.ndarray, regions: np.ndarray, ends: np.ndarray,
-               R0_of: np.ndarray, compliance_of: np.ndarray, state: bool, transfer: bool,
-               rotation: bool) -> tuple:
+def line_state(
+    xi: np.ndarray,
+    q: np.ndarray,
+    member_map: np.ndarray,
+    maps: np.ndarray,
+    cells: np.ndarray,
+    points: np.ndarray,
+    breaks: np.ndarray,
+    vertex_s: np.ndarray,
+    first_element: np.ndarray,
+    h: np.ndarray,
+    lag: np.ndarray,
+    rigid: np.ndarray,
+    regions: np.ndarray,
+    ends: np.ndarray,
+    R0_of: np.ndarray,
+    compliance_of: np.ndarray,
+    state: bool,
+    transfer: bool,
+    rotation: bool,
+) -> tuple:
     """The line state of each member at ``xi`` (B,) on its states ``q`` (B, n), on the
     stack's arrays (:class:`sliders.lines.batched.ChainStack`): ``member_map`` (B,) into ``maps``
     (M, E, npe, 6), ``cells`` (E, npe), ``points`` (B, n_nodes, 3), ``breaks``
@@ -177,20 +207,27 @@ def line_state(xi: np.ndarray, q: np.ndarray, member_map: np.ndarray, maps: np.n
     N, dN, d2N = np.empty((B, npe)), np.empty((B, npe)), np.empty((B, npe))
     T, T_xi = np.empty((B, m)), np.empty((B, m))
     geometry = np.empty((nb, 5, 3))
-    load_dofs, G, dG = (np.empty((nt, 6 * npe), np.int64), np.empty((nt, 6 * npe, 6)),
-                        np.empty((nt, 6 * npe, 6)))
+    load_dofs, G, dG = (
+        np.empty((nt, 6 * npe), np.int64),
+        np.empty((nt, 6 * npe, 6)),
+        np.empty((nt, 6 * npe, 6)),
+    )
     rotation_dofs, w, w_xi = np.empty((nr, 2, 3), np.int64), np.empty((nr, 2)), np.empty((nr, 2))
     kink, kink_xi = np.empty(nr), np.empty(nr)
     R0, compliance = np.empty((nr, 3, 3)), np.empty((nr, 3, 3))
     neighbours, pair = np.empty(2, np.int64), np.empty(2, np.int64)
-    n, dn, d2n, chi, dchi = (np.empty(npe), np.empty(npe), np.empty(npe), np.empty(npe),
-                             np.empty(npe))
+    n, dn, d2n, chi, dchi = (
+        np.empty(npe),
+        np.empty(npe),
+        np.empty(npe),
+        np.empty(npe),
+        np.empty(npe),
+    )
     moved = np.empty((m, 3))
     for b in range(B):
         k, e, Xb = locate_one(xi[b], breaks[b], vertex_s[b], first_element, h[b])
         beam[b], element[b], X[b] = k, e, Xb
-        interpolation_one(e, Xb, h[b], N[b], dN[b], d2N[b], ends, T[b], T_xi[b],
-                          neighbours)
+        interpolation_one(e, Xb, h[b], N[b], dN[b], d2N[b], ends, T[b], T_xi[b], neighbours)
         dof_map = maps[member_map[b]]
         for slot in range(3):
             el = e if slot == 0 else neighbours[slot - 1]
@@ -210,8 +247,9 @@ def line_state(xi: np.ndarray, q: np.ndarray, member_map: np.ndarray, maps: np.n
             for a in range(npe):
                 for c in range(6):
                     load_dofs[b, 6 * a + c] = dof_map[e, a, c]
-            transfer_at(rigid[k], regions, nodes[b, :npe], h[b, e], Xb, n, dn, d2n, chi, dchi,
-                        G[b], dG[b])
+            transfer_at(
+                rigid[k], regions, nodes[b, :npe], h[b, e], Xb, n, dn, d2n, chi, dchi, G[b], dG[b]
+            )
         if rotation:
             kink[b], kink_xi[b] = rotation_one(Xb, h[b, e], lag[e], npe, pair, w[b], w_xi[b])
             for s in range(2):
@@ -219,13 +257,37 @@ def line_state(xi: np.ndarray, q: np.ndarray, member_map: np.ndarray, maps: np.n
                     rotation_dofs[b, s, c] = dof_map[e, pair[s], 3 + c]
             R0[b] = R0_of[b, e]
             compliance[b] = compliance_of[b, e]
-    return (beam, element, X, dofs[:, :npe], nodes[:, :npe], N, dN, d2N, dofs, nodes, T, T_xi,
-            geometry, load_dofs, G, dG, rotation_dofs, w, w_xi, kink, kink_xi, R0, compliance)
+    return (
+        beam,
+        element,
+        X,
+        dofs[:, :npe],
+        nodes[:, :npe],
+        N,
+        dN,
+        d2N,
+        dofs,
+        nodes,
+        T,
+        T_xi,
+        geometry,
+        load_dofs,
+        G,
+        dG,
+        rotation_dofs,
+        w,
+        w_xi,
+        kink,
+        kink_xi,
+        R0,
+        compliance,
+    )
 
 
 @numba.njit(cache=True)
-def weighted_current(f: np.ndarray, nodes: np.ndarray, q: np.ndarray, rows: np.ndarray,
-                     dofs: np.ndarray) -> np.ndarray:
+def weighted_current(
+    f: np.ndarray, nodes: np.ndarray, q: np.ndarray, rows: np.ndarray, dofs: np.ndarray
+) -> np.ndarray:
     """``sum_a f_ja (nodes_a + q[dofs_a])`` (P, k, 3) for coefficients ``f`` (P, k, m) at
     points with nodes ``nodes`` and dofs ``dofs`` (P, m, 3), on the states ``q[rows]``
     (``q`` (R, n), ``rows`` (P,)): :func:`weighted` on :func:`current`."""
@@ -239,8 +301,9 @@ def weighted_current(f: np.ndarray, nodes: np.ndarray, q: np.ndarray, rows: np.n
 
 
 @numba.njit(cache=True)
-def reference_line(nodes: np.ndarray, h: np.ndarray,
-                   X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def reference_line(
+    nodes: np.ndarray, h: np.ndarray, X: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """The reference line's ``l0`` and ``l0_/xi`` (P, 3) at ``X`` (P,) of elements with node
     positions ``nodes`` (P, npe, 3) and lengths ``h`` (P,) (:func:`element_shape`,
     :func:`weighted`)."""

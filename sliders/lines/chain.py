@@ -17,8 +17,9 @@ position, the load transfer and the constraints keep the interpolation itself.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from functools import cached_property, wraps
-from typing import Callable, Sequence
+from itertools import pairwise
 
 import numpy as np
 
@@ -34,6 +35,7 @@ def memoised(method: Callable) -> Callable:
     ``xi`` depends on the reference geometry only, and a Newton step asks for it several
     times (the joint, its residual check).  The store is emptied when it reaches 512
     entries.  Results are shared: callers must not modify them."""
+
     @wraps(method)
     def wrapper(self, *args):
         key = (method.__name__,) + args
@@ -43,6 +45,7 @@ def memoised(method: Callable) -> Callable:
                 store.clear()
             store[key] = method(self, *args)
         return store[key]
+
     return wrapper
 
 
@@ -57,13 +60,14 @@ class BeamChain:
         if not self.indices:
             raise ValueError(f"{name}: a chain needs at least one beam")
         self.beams = [structure.beams[structure.beam_index(b)] for b in self.indices]
-        for (a, beam_a), (b, beam_b) in zip(zip(self.indices, self.beams),
-                                            zip(self.indices[1:], self.beams[1:])):
+        for (a, beam_a), (b, beam_b) in pairwise(zip(self.indices, self.beams, strict=True)):
             end = structure.dof_maps[a][6 * beam_a.node_index("end")]
             start = structure.dof_maps[b][6 * beam_b.node_index("start")]
             if end != start:
-                raise ValueError(f"{name}: beam {a} does not end where beam {b} starts "
-                                 "(tie its end node to the next beam's start node)")
+                raise ValueError(
+                    f"{name}: beam {a} does not end where beam {b} starts "
+                    "(tie its end node to the next beam's start node)"
+                )
         self.offsets = np.concatenate([[0.0], np.cumsum([b.mesh.length for b in self.beams])])
         self.length = float(self.offsets[-1])
         self._memo: dict = {}
@@ -99,8 +103,9 @@ class BeamChain:
         return self._stack.rotation(np.array([float(xi)])).member(0)
 
     @memoised
-    def transfer(self, xi: float, smearing: float = 0.0,
-                 kernel: str = "box") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def transfer(
+        self, xi: float, smearing: float = 0.0, kernel: str = "box"
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """How a force and couple ``[F; M]`` at ``xi`` loads the chain (eq. T6).
 
         Returns global ``dofs`` (k,), ``G`` (k, 6) -- the nodal loads of a unit force and
@@ -133,8 +138,10 @@ class BeamChain:
             to_global = self.structure.dof_maps[self.indices[k]]
             dofs += [to_global[local], to_global[jump_dofs[inside]]]
             N += [w[:, None, None] * H, np.zeros_like(J[inside])]
-            dN += [w[:, None, None] * dH,
-                   density(jump_xi[inside] - xi, smearing, kernel)[:, None, None] * J[inside]]
+            dN += [
+                w[:, None, None] * dH,
+                density(jump_xi[inside] - xi, smearing, kernel)[:, None, None] * J[inside],
+            ]
         dweight = 0.0
         for end, sign, k in ((0.0, 1.0, 0), (self.length, -1.0, len(self.beams) - 1)):
             if abs(end - xi) < smearing:
@@ -144,8 +151,7 @@ class BeamChain:
                 N.append(np.zeros_like(H))
                 dN.append(cut[:, None, None] * H)
                 dweight += cut[0]
-        unique, where = np.unique(np.concatenate([d.ravel() for d in dofs]),
-                                  return_inverse=True)
+        unique, where = np.unique(np.concatenate([d.ravel() for d in dofs]), return_inverse=True)
         G, dG = np.zeros((len(unique), 6)), np.zeros((len(unique), 6))
         np.add.at(G, where, np.concatenate([n.reshape(-1, 6) for n in N]))
         np.add.at(dG, where, np.concatenate([n.reshape(-1, 6) for n in dN]))

@@ -15,8 +15,8 @@ by the cumulative chord length of its points (``|l|`` close to, not exactly, 1).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 from scipy.interpolate import CubicSpline as _ScipyCubicSpline
@@ -30,7 +30,7 @@ class LinePoint:
 
     xi: float
     x: np.ndarray
-    l: np.ndarray  # noqa: E741 -- the paper's name
+    l: np.ndarray
     l_xi: np.ndarray
     l_xixi: np.ndarray
     R: np.ndarray
@@ -40,8 +40,10 @@ class LinePoint:
 
 def axial(A: np.ndarray) -> np.ndarray:
     """``ax(A)``: the vector of the skew-symmetric part of 3x3 matrices ``(..., 3, 3)``."""
-    return 0.5 * np.stack([A[..., 2, 1] - A[..., 1, 2], A[..., 0, 2] - A[..., 2, 0],
-                           A[..., 1, 0] - A[..., 0, 1]], axis=-1)
+    return 0.5 * np.stack(
+        [A[..., 2, 1] - A[..., 1, 2], A[..., 0, 2] - A[..., 2, 0], A[..., 1, 0] - A[..., 0, 1]],
+        axis=-1,
+    )
 
 
 def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -49,8 +51,9 @@ def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.sum(a * b, axis=-1, keepdims=True)
 
 
-def frame_and_curvature(l: np.ndarray, l_xi: np.ndarray,  # noqa: E741
-                        up: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def frame_and_curvature(
+    l: np.ndarray, l_xi: np.ndarray, up: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Frame ``R = [t, e2, e3]`` from the direction and ``up``, and ``k = ax(R_/xi R^T)``.
 
     With ``t = l / |l|`` and ``n = up - (up . t) t``, ``e3 = n / |n|``, ``e2 = e3 x t``;
@@ -70,8 +73,9 @@ def frame_and_curvature(l: np.ndarray, l_xi: np.ndarray,  # noqa: E741
     return R, axial(R_xi @ np.swapaxes(R, -1, -2))
 
 
-def curvature_rate(l: np.ndarray, l_xi: np.ndarray, l_xixi: np.ndarray,  # noqa: E741
-                   up: np.ndarray) -> np.ndarray:
+def curvature_rate(
+    l: np.ndarray, l_xi: np.ndarray, l_xixi: np.ndarray, up: np.ndarray
+) -> np.ndarray:
     """``k_/xi``, the derivative of the frame's curvature vector (vectors ``(..., 3)``).
 
     A central difference of :func:`frame_and_curvature` over ``xi +- d``, the direction and its
@@ -89,8 +93,12 @@ def curvature_rate(l: np.ndarray, l_xi: np.ndarray, l_xixi: np.ndarray,  # noqa:
     return np.where(curved, (ahead - behind) / (2 * d), 0.0)
 
 
-def project(curve: Callable[[np.ndarray], tuple[np.ndarray, ...]], grid: np.ndarray,
-            points: np.ndarray, sampled: np.ndarray | None = None) -> np.ndarray:
+def project(
+    curve: Callable[[np.ndarray], tuple[np.ndarray, ...]],
+    grid: np.ndarray,
+    points: np.ndarray,
+    sampled: np.ndarray | None = None,
+) -> np.ndarray:
     """Abscissae of the points of ``B`` curves closest to ``points`` ``(B, 3)``, one each.
 
     ``curve(xi)`` returns ``x, l, l_xi`` ``(B, 3)`` of the curves at abscissae ``xi``
@@ -105,7 +113,7 @@ def project(curve: Callable[[np.ndarray], tuple[np.ndarray, ...]], grid: np.ndar
         sampled = np.stack([curve(np.full(len(points), s))[0] for s in grid], axis=1)
     xi = grid[np.argmin(np.sum((sampled - points[:, None]) ** 2, axis=2), axis=1)]
     for _ in range(50):
-        x, l, l_xi = curve(xi)  # noqa: E741
+        x, l, l_xi = curve(xi)
         gap = x - points
         h = np.sum(l * l + l_xi * gap, axis=1)
         step = np.where(h > 0, -np.sum(l * gap, axis=1) / np.where(h > 0, h, 1.0), 0.0)
@@ -115,10 +123,12 @@ def project(curve: Callable[[np.ndarray], tuple[np.ndarray, ...]], grid: np.ndar
     return xi
 
 
-def project_one(curve: Callable[[float], tuple[np.ndarray, ...]], grid: np.ndarray,
-                point: np.ndarray) -> float:
+def project_one(
+    curve: Callable[[float], tuple[np.ndarray, ...]], grid: np.ndarray, point: np.ndarray
+) -> float:
     """:func:`project` for one curve given point by point: ``curve(xi)`` returns ``x, l, l_xi``
     (3,) at a scalar ``xi``."""
+
     def batched(xi: np.ndarray) -> tuple[np.ndarray, ...]:
         return tuple(v[None] for v in curve(float(xi[0])))
 
@@ -138,21 +148,21 @@ class RigidLine:
 
     def check_xi(self, xi: float) -> float:
         """``xi`` clipped to the line; ``ValueError`` beyond its ends."""
-        _, offset = locate_abscissa(float(xi), np.array([0.0, self.length]),
-                                    self.name, "the line")
+        _, offset = locate_abscissa(float(xi), np.array([0.0, self.length]), self.name, "the line")
         return float(offset)
 
     def at(self, xi: float) -> LinePoint:
         """Geometry at abscissa ``xi`` (``ValueError`` outside ``[0, length]``)."""
         xi = self.check_xi(xi)
-        x, l, l_xi, l_xixi = self.derivatives(xi)  # noqa: E741
+        x, l, l_xi, l_xixi = self.derivatives(xi)
         R, k = frame_and_curvature(l, l_xi, self.up)
         return LinePoint(xi, x, l, l_xi, l_xixi, R, k, curvature_rate(l, l_xi, l_xixi, self.up))
 
     def project(self, point: np.ndarray) -> float:
         """Abscissa of the point of the line closest to ``point`` (initial ``xi``)."""
-        return project_one(lambda xi: self.derivatives(xi)[:3],
-                           np.linspace(0, self.length, 65), point)
+        return project_one(
+            lambda xi: self.derivatives(xi)[:3], np.linspace(0, self.length, 65), point
+        )
 
 
 def _check_positive(value: float, what: str, name: str) -> float:
@@ -182,8 +192,9 @@ class CircularArc(RigidLine):
     """Arc of radius ``radius`` about ``center`` in the plane normal to z, from ``angle0`` to
     ``angle1`` (radians, either direction), arc-length parametrised."""
 
-    def __init__(self, center, radius: float, angle0: float, angle1: float,
-                 name: str = "circular arc") -> None:
+    def __init__(
+        self, center, radius: float, angle0: float, angle1: float, name: str = "circular arc"
+    ) -> None:
         self.name = name
         self.center = vector3(center, f"{name}: center")
         self.radius = _check_positive(radius, "radius", name)
@@ -195,16 +206,21 @@ class CircularArc(RigidLine):
         r, w = self.radius, self.sense / self.radius
         a = self.angle0 + w * xi
         c, s = np.cos(a), np.sin(a)
-        return (self.center + r * np.array([c, s, 0.0]), r * w * np.array([-s, c, 0.0]),
-                r * w**2 * np.array([-c, -s, 0.0]), r * w**3 * np.array([s, -c, 0.0]))
+        return (
+            self.center + r * np.array([c, s, 0.0]),
+            r * w * np.array([-s, c, 0.0]),
+            r * w**2 * np.array([-c, -s, 0.0]),
+            r * w**3 * np.array([s, -c, 0.0]),
+        )
 
 
 class Helix(RigidLine):
     """Helix about the z axis through ``center``: radius, rise per turn ``pitch``, ``turns``
     turns, arc-length parametrised."""
 
-    def __init__(self, center, radius: float, pitch: float, turns: float,
-                 name: str = "helix") -> None:
+    def __init__(
+        self, center, radius: float, pitch: float, turns: float, name: str = "helix"
+    ) -> None:
         self.name = name
         self.center = vector3(center, f"{name}: center")
         self.radius = _check_positive(radius, "radius", name)
@@ -220,10 +236,12 @@ class Helix(RigidLine):
         r, h, w = self.radius, self.rise, self.w
         a = w * xi
         c, s = np.cos(a), np.sin(a)
-        return (self.center + np.array([r * c, r * s, h * a]),
-                w * np.array([-r * s, r * c, h]),
-                w**2 * np.array([-r * c, -r * s, 0.0]),
-                w**3 * np.array([r * s, -r * c, 0.0]))
+        return (
+            self.center + np.array([r * c, r * s, h * a]),
+            w * np.array([-r * s, r * c, h]),
+            w**2 * np.array([-r * c, -r * s, 0.0]),
+            w**3 * np.array([r * s, -r * c, 0.0]),
+        )
 
 
 class CubicSpline(RigidLine):
@@ -237,8 +255,9 @@ class CubicSpline(RigidLine):
             raise ValueError(f"{name}: points must be at least 3 finite 3-D points")
         chords = np.linalg.norm(np.diff(pts, axis=0), axis=1)
         if np.any(chords <= 0):
-            raise ValueError(f"{name}: points {int(np.argmin(chords))} and "
-                             f"{int(np.argmin(chords)) + 1} coincide")
+            raise ValueError(
+                f"{name}: points {int(np.argmin(chords))} and {int(np.argmin(chords)) + 1} coincide"
+            )
         u = np.concatenate([[0.0], np.cumsum(chords)])
         self.spline = _ScipyCubicSpline(u, pts, bc_type="natural")
         self.length = float(u[-1])

@@ -26,8 +26,9 @@ import numpy as np
 Load = tuple[str, float, float]  # ("force" | "couple", station, magnitude)
 
 
-def cantilever(loads: list[Load], y: float, length: float, EJ: float, GA: float,
-               side: str = "mean") -> np.ndarray:
+def cantilever(
+    loads: list[Load], y: float, length: float, EJ: float, GA: float, side: str = "mean"
+) -> np.ndarray:
     """Deflection ``v``, rotation ``theta`` and slope ``v'`` at ``y`` of a Timoshenko
     cantilever on ``[0, length]`` clamped at 0 under point forces and couples (superposition).
 
@@ -55,8 +56,16 @@ def cantilever(loads: list[Load], y: float, length: float, EJ: float, GA: float,
     return np.array([v, theta, slope])
 
 
-def sliding_beams(s: float, L: float, EJ: float, GA: float, kind: str, F: float = 1.0,
-                  orientation: str = "section", slope_side: str = "mean") -> dict[str, float]:
+def sliding_beams(
+    s: float,
+    L: float,
+    EJ: float,
+    GA: float,
+    kind: str,
+    F: float = 1.0,
+    orientation: str = "section",
+    slope_side: str = "mean",
+) -> dict[str, float]:
     """Reactions, tip deflection and normalised tip stiffness ``k L^3 / EJ`` at offset ``s``.
 
     ``kind``: ``spherical`` or ``classical``.  ``s`` in ``[0, L)``.  ``orientation``: what a
@@ -79,8 +88,12 @@ def sliding_beams(s: float, L: float, EJ: float, GA: float, kind: str, F: float 
         at_A = cantilever(C, s, L, EJ, GA, slope_side)
         vC_L, thetaC_L, _ = cantilever(C, L, L, EJ, GA)
         at_B = cantilever(P, L - s, L, EJ, GA, slope_side)
-        equations = [Ra - Rb + F, Ma - Mb - Rb * (L - s) + F * L,
-                     a - at_A[0], a + b * (L - s) + at_B[0] - vC_L]
+        equations = [
+            Ra - Rb + F,
+            Ma - Mb - Rb * (L - s) + F * L,
+            a - at_A[0],
+            a + b * (L - s) + at_B[0] - vC_L,
+        ]
         if kind == "classical":
             equations += [b - at_A[read], thetaC_L - (b + at_B[read])]
         else:
@@ -90,7 +103,11 @@ def sliding_beams(s: float, L: float, EJ: float, GA: float, kind: str, F: float 
     r0 = residual(np.zeros(6))
     A = np.column_stack([residual(e) - r0 for e in np.eye(6)])
     Ra, Rb, Ma, Mb, a, b = np.linalg.solve(A, -r0)
-    tip = a + b * L + cantilever([("force", L - s, -Rb), ("couple", L - s, -Mb),
-                                  ("force", L, F)], L, L, EJ, GA)[0]
-    return {"R_A": Ra, "R_B": Rb, "M_A": Ma, "M_B": Mb, "tip": tip,
-            "k_norm": F / tip * L**3 / EJ}
+    tip = (
+        a
+        + b * L
+        + cantilever(
+            [("force", L - s, -Rb), ("couple", L - s, -Mb), ("force", L, F)], L, L, EJ, GA
+        )[0]
+    )
+    return {"R_A": Ra, "R_B": Rb, "M_A": Ma, "M_B": Mb, "tip": tip, "k_norm": F / tip * L**3 / EJ}

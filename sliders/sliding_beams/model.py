@@ -46,8 +46,9 @@ class Setup:
 
 
 #: The paper's setup (Sec. 6) with a unit tip force.
-PAPER = Setup(Section.diagonal(EA=1.1e9, GAy=1.1e8, GAz=1.1e8, GJ=4.1e4, EJy=4.1e4,
-                               EJz=4.1e4), 0.6, 1.0)
+PAPER = Setup(
+    Section.diagonal(EA=1.1e9, GAy=1.1e8, GAz=1.1e8, GJ=4.1e4, EJy=4.1e4, EJz=4.1e4), 0.6, 1.0
+)
 
 
 class SlidingBeams:
@@ -56,14 +57,21 @@ class SlidingBeams:
     sliders' form (:class:`sliders.joints.slider.Slider`).  The piston is the cylinder's beam
     moved (same mesh, section and formulation), so one stiffness is assembled for both."""
 
-    def __init__(self, formulation: str, n_elements: int, kind: str,
-                 smearing: float = 0.0, orientation: str = "section",
-                 setup: Setup = PAPER) -> None:
+    def __init__(
+        self,
+        formulation: str,
+        n_elements: int,
+        kind: str,
+        smearing: float = 0.0,
+        orientation: str = "section",
+        setup: Setup = PAPER,
+    ) -> None:
         npe = 2 if formulation in ("fv2", "galerkin-p1") else 3
         self.setup = setup
         L = setup.length
-        self.cylinder = Beam(straight((0, 0, 0), (L, 0, 0), n_elements, npe), setup.section,
-                             formulation)
+        self.cylinder = Beam(
+            straight((0, 0, 0), (L, 0, 0), n_elements, npe), setup.section, formulation
+        )
         self.kind, self.smearing = kind, smearing * L / n_elements
         self.orientation = orientation if kind == "classical" else "section"
         self.supports = [Support(0, "start"), Support(1, "start", "ux+rx")]
@@ -76,12 +84,13 @@ class SlidingBeams:
         piston = self.cylinder.translated((s_over_L * self.setup.length, 0, 0))
         structure = Structure([self.cylinder, piston])
         options = dict(smearing=self.smearing, orientation=self.orientation)
-        sliders = [Slider(self.kind, BeamChain(structure, [0], "C"), (1, "start"), name="A",
-                          **options),
-                   Slider(self.kind, BeamChain(structure, [1], "P"), (0, "end"), name="B",
-                          **options)]
-        statics = SliderStatics(structure, self.supports, sliders, reuse=self._previous,
-                                method="condensed")
+        sliders = [
+            Slider(self.kind, BeamChain(structure, [0], "C"), (1, "start"), name="A", **options),
+            Slider(self.kind, BeamChain(structure, [1], "P"), (0, "end"), name="B", **options),
+        ]
+        statics = SliderStatics(
+            structure, self.supports, sliders, reuse=self._previous, method="condensed"
+        )
         self._previous = statics
         return statics, structure.gather(1, piston.nodal_load("end", (0, self.setup.force, 0)))
 

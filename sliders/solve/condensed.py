@@ -43,8 +43,8 @@ import scipy.sparse.linalg as spla
 from scipy.sparse.csgraph import connected_components
 
 from fvbeam.structure import Structure
-from sliders.solve.condensed_kernel import condensed_step
 from sliders.joints.blocks import SlotJacobian
+from sliders.solve.condensed_kernel import condensed_step
 
 #: A small system whose row- and column-equilibrated reciprocal condition number (1-norm)
 #: falls below this is singular: the threshold of the bordered diagnostic
@@ -62,7 +62,7 @@ def node_positions(structure: Structure) -> np.ndarray:
     """Reference position of every structure node, beam nodes and rigid bodies,
     ``(n_nodes, 3)``."""
     x = np.zeros((structure.n_nodes, 3))
-    for beam, dofs in zip(structure.beams, structure.dof_maps):
+    for beam, dofs in zip(structure.beams, structure.dof_maps, strict=True):
         x[dofs[::6] // 6] = beam.mesh.points
     for body in structure.bodies:
         x[structure.node_dofs(body.name)[0] // 6] = body.position
@@ -79,8 +79,10 @@ def rigid_modes(structure: Structure, K: sp.spmatrix, free: np.ndarray) -> np.nd
     supported dofs are kept.
     """
     coo = K.tocoo()
-    graph = sp.coo_matrix((np.ones(coo.nnz), (coo.row // 6, coo.col // 6)),
-                          shape=(structure.n_nodes, structure.n_nodes))
+    graph = sp.coo_matrix(
+        (np.ones(coo.nnz), (coo.row // 6, coo.col // 6)),
+        shape=(structure.n_nodes, structure.n_nodes),
+    )
     n_parts, part = connected_components(graph, directed=False)
     x = node_positions(structure)
     modes = np.zeros((structure.n_dofs, 6 * n_parts))
@@ -125,10 +127,14 @@ class CondensedOperator:
         self.phi = np.ascontiguousarray(unresisted(rigid_modes(structure, K, free), K_free))
         self.n_free, self.n_rigid = len(free), self.phi.shape[1]
         scale = np.abs(K_free).max()
-        B = sp.bmat([[K_free, scale * sp.csr_matrix(self.phi)],
-                     [scale * sp.csr_matrix(self.phi.T), None]], format="csc")
-        message = ("the stiffness without the free parts' rigid motions is singular: the "
-                   "supports leave a mechanism; solve with method='bordered'")
+        B = sp.bmat(
+            [[K_free, scale * sp.csr_matrix(self.phi)], [scale * sp.csr_matrix(self.phi.T), None]],
+            format="csc",
+        )
+        message = (
+            "the stiffness without the free parts' rigid motions is singular: the "
+            "supports leave a mechanism; solve with method='bordered'"
+        )
         try:
             self.lu = spla.splu(B)
         except RuntimeError as exc:
@@ -164,8 +170,13 @@ class CondensedOperator:
         self._slot[missing] = len(self._store) + np.arange(missing.size)
         self._store = np.vstack([self._store, self.lu.solve(unit).T])
 
-    def step(self, r_free: np.ndarray, slots: list[np.ndarray], blocks: list[SlotJacobian],
-             r_y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def step(
+        self,
+        r_free: np.ndarray,
+        slots: list[np.ndarray],
+        blocks: list[SlotJacobian],
+        r_y: np.ndarray,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Newton increments of ``B`` members sharing this operator (module docstring): the
         small systems formed and solved per member by
         :func:`sliders.solve.condensed_kernel.condensed_step`.
@@ -195,11 +206,22 @@ class CondensedOperator:
             self._columns(layout.force_dofs)
         r_free = np.ascontiguousarray(r_free, dtype=float)
         force, z, regular = condensed_step(
-            self._store, self._slot, self.phi, self.solve(r_free), r_free,
-            np.ascontiguousarray(r_y, dtype=float), layout.slots, layout.values, layout.tables,
-            layout.c_of, layout.batches, layout.nc, SINGULAR_RCOND)
-        dq = -self.solve(force)[:, :n] + z[:, layout.nc + m:] @ self.phi.T
-        return dq, z[:, layout.nc:layout.nc + m], regular
+            self._store,
+            self._slot,
+            self.phi,
+            self.solve(r_free),
+            r_free,
+            np.ascontiguousarray(r_y, dtype=float),
+            layout.slots,
+            layout.values,
+            layout.tables,
+            layout.c_of,
+            layout.batches,
+            layout.nc,
+            SINGULAR_RCOND,
+        )
+        dq = -self.solve(force)[:, :n] + z[:, layout.nc + m :] @ self.phi.T
+        return dq, z[:, layout.nc : layout.nc + m], regular
 
 
 class _Layout:
@@ -216,13 +238,25 @@ class _Layout:
         at = np.zeros(4, dtype=np.int64)
         self.nc = 0
         self._forces = []
-        for p, J in zip(slots, blocks):
+        for p, J in zip(slots, blocks, strict=True):
             k, t = len(p) // B, p.shape[1]
             c, forces, index = J.coupling()
             c_of.append(index)
             self._forces.append((p, forces))
-            rows.append([k, t, J.n - t, J.values.shape[1], at[0], at[1], at[2],
-                         at[2] + len(J.table), at[3], len(c)])
+            rows.append(
+                [
+                    k,
+                    t,
+                    J.n - t,
+                    J.values.shape[1],
+                    at[0],
+                    at[1],
+                    at[2],
+                    at[2] + len(J.table),
+                    at[3],
+                    len(c),
+                ]
+            )
             at += [p.size, J.values.size, len(J.table), t]
             self.nc += k * len(c)
         self.batches = np.array(rows, dtype=np.int64)

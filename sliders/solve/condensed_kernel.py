@@ -25,8 +25,9 @@ import numpy as np
 
 
 @numba.njit(inline="never")
-def _register(dof: int, where: np.ndarray, dofs: np.ndarray, rows: np.ndarray,
-              counts: np.ndarray, kind: int) -> int:
+def _register(
+    dof: int, where: np.ndarray, dofs: np.ndarray, rows: np.ndarray, counts: np.ndarray, kind: int
+) -> int:
     """A new free dof appended to the force (``kind`` 0) or read (1) dofs ``dofs``, its row
     of ``rows`` zeroed; returns that row."""
     i = counts[kind]
@@ -36,10 +37,27 @@ def _register(dof: int, where: np.ndarray, dofs: np.ndarray, rows: np.ndarray,
 
 
 @numba.njit(inline="never")
-def _joint(t: int, slots: np.ndarray, s0: int, values: np.ndarray, v0: int,
-           table: np.ndarray, c_of: np.ndarray, c0: int, y_at: int, c_at: int, nc: int,
-           where_f: np.ndarray, where_r: np.ndarray, fd: np.ndarray, rd: np.ndarray,
-           counts: np.ndarray, G: np.ndarray, Ct: np.ndarray, D: np.ndarray) -> None:
+def _joint(
+    t: int,
+    slots: np.ndarray,
+    s0: int,
+    values: np.ndarray,
+    v0: int,
+    table: np.ndarray,
+    c_of: np.ndarray,
+    c0: int,
+    y_at: int,
+    c_at: int,
+    nc: int,
+    where_f: np.ndarray,
+    where_r: np.ndarray,
+    fd: np.ndarray,
+    rd: np.ndarray,
+    counts: np.ndarray,
+    G: np.ndarray,
+    Ct: np.ndarray,
+    D: np.ndarray,
+) -> None:
     """One joint's nonzero Jacobian entries (``values[v0:]``, laid out by its blocks
     ``table``: first row slot, rows, first column slot, columns, offset) added into
     ``G = P F``, ``Ct = (C P^T)^T`` and ``D`` (its unknowns from ``y_at``, its ``c`` slots
@@ -49,8 +67,13 @@ def _joint(t: int, slots: np.ndarray, s0: int, values: np.ndarray, v0: int,
     dof).  A free dof is registered as a force dof ``fd`` or a read dof ``rd`` at its first
     nonzero entry (``counts``: how many of each so far, updated); supported slots drop."""
     for block in range(len(table)):
-        r0, nr, q0, nq, off = table[block, 0], table[block, 1], table[block, 2], \
-            table[block, 3], v0 + table[block, 4]
+        r0, nr, q0, nq, off = (
+            table[block, 0],
+            table[block, 1],
+            table[block, 2],
+            table[block, 3],
+            v0 + table[block, 4],
+        )
         if r0 >= t and q0 >= t:
             for p in range(nr):
                 for q in range(nq):
@@ -84,10 +107,25 @@ def _joint(t: int, slots: np.ndarray, s0: int, values: np.ndarray, v0: int,
 
 
 @numba.njit(inline="never")
-def _gather(b: int, members: int, slots: np.ndarray, values: np.ndarray, tables: np.ndarray,
-            c_of: np.ndarray, batches: np.ndarray, nc: int, where_f: np.ndarray,
-            where_r: np.ndarray, fd: np.ndarray, rd: np.ndarray, counts: np.ndarray,
-            G: np.ndarray, Ct: np.ndarray, D: np.ndarray, c_dof: np.ndarray) -> None:
+def _gather(
+    b: int,
+    members: int,
+    slots: np.ndarray,
+    values: np.ndarray,
+    tables: np.ndarray,
+    c_of: np.ndarray,
+    batches: np.ndarray,
+    nc: int,
+    where_f: np.ndarray,
+    where_r: np.ndarray,
+    fd: np.ndarray,
+    rd: np.ndarray,
+    counts: np.ndarray,
+    G: np.ndarray,
+    Ct: np.ndarray,
+    D: np.ndarray,
+    c_dof: np.ndarray,
+) -> None:
     """Member ``b``'s Jacobian entries merged by free dof (:func:`_joint`), joints in the
     order of :meth:`sliders.solve.condensed.CondensedOperator.step` (batch after batch, joint
     ``i`` of a batch in its row ``i B + b``), and the free dof of each ``c`` slot (-1 if
@@ -109,16 +147,44 @@ def _gather(b: int, members: int, slots: np.ndarray, values: np.ndarray, tables:
                         where_r[dof], rd[counts[1]] = counts[1], dof
                         Ct[counts[1]] = 0.0
                         counts[1] += 1
-            _joint(t, slots, s0, values, batches[j, 5] + (i * members + b) * width,
-                   tables[batches[j, 6]:batches[j, 7]], c_of, c0, y_at, c_at, nc, where_f,
-                   where_r, fd, rd, counts, G, Ct, D)
+            _joint(
+                t,
+                slots,
+                s0,
+                values,
+                batches[j, 5] + (i * members + b) * width,
+                tables[batches[j, 6] : batches[j, 7]],
+                c_of,
+                c0,
+                y_at,
+                c_at,
+                nc,
+                where_f,
+                where_r,
+                fd,
+                rd,
+                counts,
+                G,
+                Ct,
+                D,
+            )
             y_at += m
             c_at += n_c
 
 
 @numba.njit(inline="never")
-def _columns(store: np.ndarray, column: np.ndarray, n: int, fd: np.ndarray, n_f: int,
-             rd: np.ndarray, n_r: int, G: np.ndarray, Y: np.ndarray, Y_z: np.ndarray) -> None:
+def _columns(
+    store: np.ndarray,
+    column: np.ndarray,
+    n: int,
+    fd: np.ndarray,
+    n_f: int,
+    rd: np.ndarray,
+    n_r: int,
+    G: np.ndarray,
+    Y: np.ndarray,
+    Y_z: np.ndarray,
+) -> None:
     """``Y = B^{-1}[rd, fd] G`` and ``Y_z = B^{-1}[n:, fd] G`` from the stored columns of
     ``B^{-1}`` (rows of ``store``; ``column``: the row of each free dof), over the nonzeros
     of ``G``."""
@@ -137,9 +203,21 @@ def _columns(store: np.ndarray, column: np.ndarray, n: int, fd: np.ndarray, n_f:
 
 
 @numba.njit(inline="never")
-def _small(base: np.ndarray, r_y: np.ndarray, phi: np.ndarray, c_dof: np.ndarray,
-           where_r: np.ndarray, rd: np.ndarray, n_r: int, Y: np.ndarray, Y_z: np.ndarray,
-           Ct: np.ndarray, D: np.ndarray, A: np.ndarray, rhs: np.ndarray) -> None:
+def _small(
+    base: np.ndarray,
+    r_y: np.ndarray,
+    phi: np.ndarray,
+    c_dof: np.ndarray,
+    where_r: np.ndarray,
+    rd: np.ndarray,
+    n_r: int,
+    Y: np.ndarray,
+    Y_z: np.ndarray,
+    Ct: np.ndarray,
+    D: np.ndarray,
+    A: np.ndarray,
+    rhs: np.ndarray,
+) -> None:
     """One member's small system ``A`` (rows ``c``, rigid, equations; columns ``u_c``,
     ``dy``, rigid amplitudes) and right-hand side (module docstring), its base solution
     ``base = B^{-1}[r_q; 0]`` and joint residuals ``r_y``."""
@@ -216,9 +294,16 @@ def _invert(a: np.ndarray, swaps: np.ndarray) -> bool:
 
 
 @numba.njit(inline="never")
-def _equilibrated_solve(A: np.ndarray, rhs: np.ndarray, threshold: float, x: np.ndarray,
-                        inverse: np.ndarray, swaps: np.ndarray, rows: np.ndarray,
-                        cols: np.ndarray) -> bool:
+def _equilibrated_solve(
+    A: np.ndarray,
+    rhs: np.ndarray,
+    threshold: float,
+    x: np.ndarray,
+    inverse: np.ndarray,
+    swaps: np.ndarray,
+    rows: np.ndarray,
+    cols: np.ndarray,
+) -> bool:
     """Solve ``A x = rhs`` after scaling the rows, then the columns, of ``A`` to unit largest
     entries (at least 1e-300); regular when the reciprocal condition number of the scaled
     matrix in the 1-norm, from its exact inverse, is at least ``threshold``.  A singular
@@ -267,10 +352,21 @@ def _norm_1(a: np.ndarray, sums: np.ndarray) -> float:
 
 
 @numba.njit(cache=True)
-def condensed_step(store: np.ndarray, column: np.ndarray, phi: np.ndarray, base: np.ndarray,
-                   r_free: np.ndarray, r_y: np.ndarray, slots: np.ndarray, values: np.ndarray,
-                   tables: np.ndarray, c_of: np.ndarray, batches: np.ndarray, nc: int,
-                   threshold: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def condensed_step(
+    store: np.ndarray,
+    column: np.ndarray,
+    phi: np.ndarray,
+    base: np.ndarray,
+    r_free: np.ndarray,
+    r_y: np.ndarray,
+    slots: np.ndarray,
+    values: np.ndarray,
+    tables: np.ndarray,
+    c_of: np.ndarray,
+    batches: np.ndarray,
+    nc: int,
+    threshold: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The small systems of ``B`` members solved (:mod:`sliders.solve.condensed`, module docstring).
 
     Parameters
@@ -324,8 +420,25 @@ def condensed_step(store: np.ndarray, column: np.ndarray, phi: np.ndarray, base:
     z = np.zeros((members, ncm + k))
     regular = np.zeros(members, dtype=np.bool_)
     for b in range(members):
-        _gather(b, members, slots, values, tables, c_of, batches, nc, where_f, where_r, fd, rd,
-                counts, G, Ct, D, c_dof)
+        _gather(
+            b,
+            members,
+            slots,
+            values,
+            tables,
+            c_of,
+            batches,
+            nc,
+            where_f,
+            where_r,
+            fd,
+            rd,
+            counts,
+            G,
+            Ct,
+            D,
+            c_dof,
+        )
         n_f, n_r = counts[0], counts[1]
         _columns(store, column, n, fd, n_f, rd, n_r, G, Y, Y_z)
         _small(base[b], r_y[b], phi, c_dof, where_r, rd, n_r, Y, Y_z, Ct, D, A, rhs)

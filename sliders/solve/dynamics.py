@@ -21,8 +21,9 @@ steps computed so far stay on disk.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Callable, Protocol, Sequence
+from typing import Protocol
 
 import numpy as np
 import scipy.sparse as sp
@@ -33,10 +34,9 @@ from fvbeam.geometry import vector3
 from fvbeam.structure import Structure
 from fvbeam.support import DOF_NAMES, Support
 from sliders.joints.drives import DofDrive
-from sliders.solve.integrator import GeneralizedAlpha, Prediction, State
 from sliders.joints.slider import Slider
+from sliders.solve.integrator import GeneralizedAlpha, Prediction, State
 from sliders.solve.statics import SliderStatics, newton_many
-
 
 
 class Recorder(Protocol):
@@ -48,6 +48,7 @@ class Recorder(Protocol):
     def record(self, dynamics: "Dynamics", new: State, old: State) -> None: ...
 
     def close(self) -> None: ...
+
 
 #: A load: a fixed global vector, or a function of time returning one.
 Load = np.ndarray | Callable[[float], np.ndarray]
@@ -76,10 +77,10 @@ class Adaptive:
     h_max: float = np.inf
 
     def __post_init__(self) -> None:
-        if not (self.rtol > 0 and self.atol >= 0 and self.h_min >= 0
-                and self.h_max > self.h_min):
-            raise ValueError("adaptive step: need rtol > 0, atol >= 0, 0 <= h_min < h_max, got "
-                             f"{self}")
+        if not (self.rtol > 0 and self.atol >= 0 and self.h_min >= 0 and self.h_max > self.h_min):
+            raise ValueError(
+                f"adaptive step: need rtol > 0, atol >= 0, 0 <= h_min < h_max, got {self}"
+            )
 
 
 class Dynamics:
@@ -105,12 +106,22 @@ class Dynamics:
         Newton's convergence rule (:func:`sliders.solve.statics.converged`).
     """
 
-    def __init__(self, structure: Structure, supports: Sequence[Support] = (),
-                 sliders: Sequence[Slider] = (), load: Load | None = None, *,
-                 mass: str = "lumped", damping: float | sp.spmatrix = 0.0,
-                 gravity: Sequence[float] | None = None, drives: Sequence[DofDrive] = (),
-                 rho_inf: float = 0.8, method: str = "bordered", tol: float = 1e-8,
-                 max_iterations: int = 25) -> None:
+    def __init__(
+        self,
+        structure: Structure,
+        supports: Sequence[Support] = (),
+        sliders: Sequence[Slider] = (),
+        load: Load | None = None,
+        *,
+        mass: str = "lumped",
+        damping: float | sp.spmatrix = 0.0,
+        gravity: Sequence[float] | None = None,
+        drives: Sequence[DofDrive] = (),
+        rho_inf: float = 0.8,
+        method: str = "bordered",
+        tol: float = 1e-8,
+        max_iterations: int = 25,
+    ) -> None:
         self.structure, self.sliders, self.drives = structure, list(sliders), list(drives)
         self.scheme = GeneralizedAlpha(rho_inf)
         self.method, self.tol, self.max_iterations = method, tol, max_iterations
@@ -125,8 +136,9 @@ class Dynamics:
             self.f_gravity = self.M @ np.tile(np.concatenate([g, np.zeros(3)]), n // 6)
         self.supports = list(supports) + [Support.at(d.node, d.dof) for d in self.drives]
         fixed = structure.support_dofs(supports)
-        self.driven = np.array([structure.node_dofs(d.node)[DOF_NAMES.index(d.dof)]
-                                for d in self.drives], dtype=int)
+        self.driven = np.array(
+            [structure.node_dofs(d.node)[DOF_NAMES.index(d.dof)] for d in self.drives], dtype=int
+        )
         clash = np.intersect1d(fixed, self.driven)
         if clash.size or len(np.unique(self.driven)) < len(self.driven):
             name = structure.dof_name(clash[0] if clash.size else self.driven[0])
@@ -139,8 +151,9 @@ class Dynamics:
         if sp.issparse(damping) or isinstance(damping, np.ndarray):
             C = sp.csr_matrix(damping)
             if C.shape != self.K.shape or not np.all(np.isfinite(C.data)):
-                raise ValueError(f"damping matrix must be finite and {self.K.shape}, got "
-                                 f"shape {C.shape}")
+                raise ValueError(
+                    f"damping matrix must be finite and {self.K.shape}, got shape {C.shape}"
+                )
             return C
         if not (np.isfinite(damping) and damping >= 0):
             raise ValueError(f"damping must be a finite coefficient >= 0, got {damping!r}")
@@ -167,8 +180,9 @@ class Dynamics:
             return self._last_load[1]
         f = np.asarray(self._load(t), dtype=float) + self.f_gravity
         if f.shape != (self.structure.n_dofs,) or not np.all(np.isfinite(f)):
-            raise ValueError(f"the load at t = {t:.6g} is not a finite vector of "
-                             f"{self.structure.n_dofs} rows")
+            raise ValueError(
+                f"the load at t = {t:.6g} is not a finite vector of {self.structure.n_dofs} rows"
+            )
         f.setflags(write=False)
         self._last_load = (t, f)
         return f
@@ -176,7 +190,7 @@ class Dynamics:
     def prescribe(self, q: np.ndarray, t: float) -> np.ndarray:
         """``q`` with the driven dofs set to their values at ``t``."""
         q = q.copy()
-        for dof, drive in zip(self.driven, self.drives):
+        for dof, drive in zip(self.driven, self.drives, strict=True):
             q[dof] = drive.motion(t)[0]
         return q
 
@@ -186,8 +200,9 @@ class Dynamics:
         start = self.prescribe(zero, t)
         unknowns = [s.initial_unknowns(self.structure, start) for s in self.sliders]
         at_rest = State(t, zero, zero, zero, zero, [])
-        q, unknowns, iterations = self._solve("static", self.load(t), start, unknowns, t, 1.0,
-                                              at_rest)
+        q, unknowns, iterations = self._solve(
+            "static", self.load(t), start, unknowns, t, 1.0, at_rest
+        )
         return State(t, q, zero.copy(), zero.copy(), zero.copy(), unknowns, 0.0, iterations)
 
     def state(self, q: np.ndarray, v: np.ndarray | None = None, t: float = 0.0) -> State:
@@ -195,8 +210,10 @@ class Dynamics:
         the accelerations solve ``M qdd = f - K q - C v`` on the free dofs (``ValueError`` if
         the mass is singular there)."""
         if self.sliders:
-            raise ValueError("a start with sliders is a static state (static_state) or a "
-                             "saved one (State.load): their multipliers need an equilibrium")
+            raise ValueError(
+                "a start with sliders is a static state (static_state) or a "
+                "saved one (State.load): their multipliers need an equilibrium"
+            )
         n = self.structure.n_dofs
         q = np.asarray(q, dtype=float)
         v = np.zeros(n) if v is None else np.asarray(v, dtype=float)
@@ -207,8 +224,10 @@ class Dynamics:
         try:
             qdd_free = spla.splu(M).solve(f[self.free])
         except RuntimeError as exc:
-            raise ValueError("the mass matrix is singular on the free dofs (a dof with no "
-                             "mass: give the sections rotary inertia)") from exc
+            raise ValueError(
+                "the mass matrix is singular on the free dofs (a dof with no "
+                "mass: give the sections rotary inertia)"
+            ) from exc
         qdd = np.zeros(n)
         qdd[self.free] = qdd_free
         return State(t, q.copy(), v.copy(), qdd.copy(), qdd, [])
@@ -225,20 +244,33 @@ class Dynamics:
         if key not in self._operators:
             operator = self.K if key == "static" else self.operator(key)
             if self.sliders:
-                self._operators[key] = SliderStatics(self.structure, self.supports,
-                                                     self.sliders, method=self.method,
-                                                     operator=operator)
+                self._operators[key] = SliderStatics(
+                    self.structure,
+                    self.supports,
+                    self.sliders,
+                    method=self.method,
+                    operator=operator,
+                )
             else:
                 try:
                     lu = spla.splu(operator[self.free][:, self.free].tocsc())
                 except RuntimeError as exc:
-                    raise ValueError("the structure is not held: its operator is singular "
-                                     "on the free dofs") from exc
+                    raise ValueError(
+                        "the structure is not held: its operator is singular on the free dofs"
+                    ) from exc
                 self._operators[key] = (lu, operator)
         return self._operators[key]
 
-    def _solve(self, key, f: np.ndarray, start: np.ndarray, unknowns: list[np.ndarray],
-               t: float, scale: float, last: State) -> tuple[np.ndarray, list, int]:
+    def _solve(
+        self,
+        key,
+        f: np.ndarray,
+        start: np.ndarray,
+        unknowns: list[np.ndarray],
+        t: float,
+        scale: float,
+        last: State,
+    ) -> tuple[np.ndarray, list, int]:
         """Solve the (scaled) step problem: displacements, physical joint unknowns and
         Newton iterations; :class:`DynamicsError` on failure."""
         try:
@@ -249,8 +281,16 @@ class Dynamics:
                 q[self.free] += lu.solve((f - operator @ start)[self.free])
                 return q, [], 1
             batches = [s.batch(self.structure) for s in self.sliders]
-            outcome = newton_many([solver], batches, f[None], [(start, unknowns)], self.tol,
-                                  self.max_iterations, time=t, scale=scale)[0]
+            outcome = newton_many(
+                [solver],
+                batches,
+                f[None],
+                [(start, unknowns)],
+                self.tol,
+                self.max_iterations,
+                time=t,
+                scale=scale,
+            )[0]
         except ValueError as exc:
             raise DynamicsError(f"t = {t:.6g}: {exc}", last) from exc
         if isinstance(outcome, str):
@@ -266,33 +306,42 @@ class Dynamics:
             f = self.load(t)
         except ValueError as exc:
             raise DynamicsError(str(exc), state) from exc
-        f_eff = (f + self.M @ (p.beta_rate * p.q_hat - p.qdd_hat)
-                 + self.C @ (p.gamma_rate * p.q_hat - p.v_hat))
+        f_eff = (
+            f
+            + self.M @ (p.beta_rate * p.q_hat - p.qdd_hat)
+            + self.C @ (p.gamma_rate * p.q_hat - p.v_hat)
+        )
         start = self.prescribe(p.q_hat + self.scheme.beta * h * h * state.a, t)
         unknowns = [_scale_multipliers(y, scale) for y in state.unknowns]
-        q, unknowns, iterations = self._solve(h, scale * f_eff, start, unknowns, t, scale,
-                                              state)
+        q, unknowns, iterations = self._solve(h, scale * f_eff, start, unknowns, t, scale, state)
         return p.complete(t, q, unknowns, self.scheme.beta, iterations)
 
     def constraint_forces(self, state: State) -> np.ndarray:
         """What the supports, drives and joints exert on the structure:
         ``M qdd + C v + K q - f`` (zero on the dofs nothing holds, to the solver's
         tolerance)."""
-        return (self.M @ state.qdd + self.C @ state.v + self.K @ state.q
-                - self.load(state.t))
+        return self.M @ state.qdd + self.C @ state.v + self.K @ state.q - self.load(state.t)
 
     def joint_residuals(self, state: State) -> np.ndarray:
         """Largest position and orientation constraint violation of each slider at
         ``state`` (``|x_b - x(xi)|`` and ``|g_j|``)."""
         out = []
-        for s, y in zip(self.sliders, state.unknowns):
-            dofs, r, _ = s.batch(self.structure).evaluate(state.q[None], np.asarray(y)[None],
-                                                          state.t, jacobian=False)
-            out.append(float(np.abs(r[0, dofs.shape[1] + 1:]).max()))
+        for s, y in zip(self.sliders, state.unknowns, strict=True):
+            dofs, r, _ = s.batch(self.structure).evaluate(
+                state.q[None], np.asarray(y)[None], state.t, jacobian=False
+            )
+            out.append(float(np.abs(r[0, dofs.shape[1] + 1 :]).max()))
         return np.array(out)
 
-    def run(self, state: State, t_end: float, h: float, adaptive: Adaptive | None = None,
-            recorder: "Recorder | None" = None, progress: bool = True) -> State:
+    def run(
+        self,
+        state: State,
+        t_end: float,
+        h: float,
+        adaptive: Adaptive | None = None,
+        recorder: "Recorder | None" = None,
+        progress: bool = True,
+    ) -> State:
         """Integrate from ``state`` to ``t_end``.
 
         Fixed step (``adaptive`` None): ``h`` is shortened so that a whole number ``n`` of
@@ -303,8 +352,9 @@ class Dynamics:
         :class:`DynamicsError` with the last converged state.
         """
         if not (np.isfinite(t_end) and t_end > state.t and np.isfinite(h) and h > 0):
-            raise ValueError(f"need t_end > t = {state.t} and a step h > 0, got t_end = "
-                             f"{t_end}, h = {h}")
+            raise ValueError(
+                f"need t_end > t = {state.t} and a step h > 0, got t_end = {t_end}, h = {h}"
+            )
         steps = 0
         if adaptive is None:
             steps = int(np.ceil((t_end - state.t) / h * (1 - 1e-12)))
@@ -312,13 +362,19 @@ class Dynamics:
         if recorder is not None:
             recorder.start(self, state)
         try:
-            with tqdm(total=t_end - state.t, disable=None if progress else True, unit="s",
-                      desc="time", bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}]"
-                      ) as bar:
-                while (steps > 0 if adaptive is None
-                       else t_end - state.t > 1e-12 * max(abs(t_end), h)):
-                    new, h = self._advance(state, h if adaptive is None
-                                           else min(h, t_end - state.t), adaptive)
+            with tqdm(
+                total=t_end - state.t,
+                disable=None if progress else True,
+                unit="s",
+                desc="time",
+                bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}]",
+            ) as bar:
+                while (
+                    steps > 0 if adaptive is None else t_end - state.t > 1e-12 * max(abs(t_end), h)
+                ):
+                    new, h = self._advance(
+                        state, h if adaptive is None else min(h, t_end - state.t), adaptive
+                    )
                     steps -= 1
                     if recorder is not None:
                         recorder.record(self, new, state)
@@ -329,8 +385,7 @@ class Dynamics:
                 recorder.close()
         return state
 
-    def _advance(self, state: State, h: float,
-                 adaptive: Adaptive | None) -> tuple[State, float]:
+    def _advance(self, state: State, h: float, adaptive: Adaptive | None) -> tuple[State, float]:
         """One accepted step and the next step size."""
         if adaptive is None:
             return self.step(state, h), h
@@ -349,8 +404,11 @@ class Dynamics:
     @staticmethod
     def _halve(h: float, adaptive: Adaptive, state: State, reason: str) -> float:
         if h / 2 < adaptive.h_min:
-            raise DynamicsError(f"t = {state.t:.6g}: the step fell below its minimum "
-                                f"{adaptive.h_min:.3g} ({reason})", state)
+            raise DynamicsError(
+                f"t = {state.t:.6g}: the step fell below its minimum "
+                f"{adaptive.h_min:.3g} ({reason})",
+                state,
+            )
         return h / 2
 
 
@@ -359,4 +417,3 @@ def _scale_multipliers(y: np.ndarray, factor: float) -> np.ndarray:
     out = np.array(y, dtype=float)
     out[1:] *= factor
     return out
-

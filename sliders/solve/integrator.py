@@ -70,8 +70,10 @@ class GeneralizedAlpha:
 
     def rates(self, h: float) -> tuple[float, float]:
         """``beta' = d qdd / d q`` and ``gamma' = d v / d q`` of a step ``h``."""
-        return ((1 - self.alpha_m) / ((1 - self.alpha_f) * self.beta * h * h),
-                self.gamma / (self.beta * h))
+        return (
+            (1 - self.alpha_m) / ((1 - self.alpha_f) * self.beta * h * h),
+            self.gamma / (self.beta * h),
+        )
 
     def predict(self, state: "State", h: float) -> "Prediction":
         """The known parts of a step ``h`` from ``state``: ``q_hat``, ``v_hat``, ``qdd_hat``
@@ -102,12 +104,21 @@ class Prediction:
     beta_rate: float
     gamma_rate: float
 
-    def complete(self, t: float, q: np.ndarray, unknowns: list[np.ndarray],
-                 beta: float, iterations: int) -> "State":
+    def complete(
+        self, t: float, q: np.ndarray, unknowns: list[np.ndarray], beta: float, iterations: int
+    ) -> "State":
         """The state at ``t`` once ``q_{n+1}`` and the joint unknowns are known."""
         dq = q - self.q_hat
-        return State(t, q, self.v_hat + self.gamma_rate * dq, dq / (beta * self.h ** 2),
-                     self.qdd_hat + self.beta_rate * dq, unknowns, self.h, iterations)
+        return State(
+            t,
+            q,
+            self.v_hat + self.gamma_rate * dq,
+            dq / (beta * self.h**2),
+            self.qdd_hat + self.beta_rate * dq,
+            unknowns,
+            self.h,
+            iterations,
+        )
 
 
 @dataclass
@@ -128,11 +139,16 @@ class State:
 
     def save(self, path: str | Path) -> None:
         """Write the state to ``path`` (``.npz``, atomically) for a restart."""
-        arrays = {"t": np.array(self.t), "q": self.q, "v": self.v, "a": self.a,
-                  "qdd": self.qdd, "h": np.array(self.h),
-                  "sizes": np.array([len(y) for y in self.unknowns], dtype=int),
-                  "unknowns": (np.concatenate(self.unknowns) if self.unknowns
-                               else np.zeros(0))}
+        arrays = {
+            "t": np.array(self.t),
+            "q": self.q,
+            "v": self.v,
+            "a": self.a,
+            "qdd": self.qdd,
+            "h": np.array(self.h),
+            "sizes": np.array([len(y) for y in self.unknowns], dtype=int),
+            "unknowns": (np.concatenate(self.unknowns) if self.unknowns else np.zeros(0)),
+        }
 
         def write(tmp: Path) -> None:
             with open(tmp, "wb") as stream:
@@ -147,7 +163,14 @@ class State:
             with np.load(path) as data:
                 sizes = data["sizes"]
                 unknowns = np.split(data["unknowns"], np.cumsum(sizes)[:-1]) if sizes.size else []
-                return cls(float(data["t"]), data["q"], data["v"], data["a"], data["qdd"],
-                           [np.array(y) for y in unknowns], float(data["h"]))
+                return cls(
+                    float(data["t"]),
+                    data["q"],
+                    data["v"],
+                    data["a"],
+                    data["qdd"],
+                    [np.array(y) for y in unknowns],
+                    float(data["h"]),
+                )
         except (OSError, KeyError, ValueError) as exc:
             raise ValueError(f"{path}: not a saved integrator state ({exc})") from exc

@@ -24,19 +24,17 @@ solve is its one-member case.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Sequence
 
 import numpy as np
-
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from fvbeam.structure import Structure
-
 from fvbeam.support import Support
-from sliders.solve.condensed import CondensedOperator, node_positions
 from sliders.joints.slider import Slider, SliderBatch
+from sliders.solve.condensed import CondensedOperator, node_positions
 
 METHODS = ("bordered", "condensed")
 
@@ -70,9 +68,15 @@ class SliderStatics:
     ``M + c_v C + c_q K``, :mod:`sliders.solve.dynamics`); default the structure's stiffness.
     """
 
-    def __init__(self, structure: Structure, supports: Sequence[Support],
-                 sliders: Sequence[Slider], reuse: "SliderStatics | None" = None,
-                 method: str = "bordered", operator: sp.spmatrix | None = None) -> None:
+    def __init__(
+        self,
+        structure: Structure,
+        supports: Sequence[Support],
+        sliders: Sequence[Slider],
+        reuse: "SliderStatics | None" = None,
+        method: str = "bordered",
+        operator: sp.spmatrix | None = None,
+    ) -> None:
         if method not in METHODS:
             raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
         self.structure, self.sliders, self.method = structure, list(sliders), method
@@ -84,8 +88,9 @@ class SliderStatics:
             self.K, self.free, self.K_free = reuse.K, reuse.free, reuse.K_free
             self._position, self._condensed = reuse._position, reuse._condensed
         else:
-            self.K = (structure.tangent(np.zeros(structure.n_dofs)) if operator is None
-                      else operator).tocsr()
+            self.K = (
+                structure.tangent(np.zeros(structure.n_dofs)) if operator is None else operator
+            ).tocsr()
             self.free = np.setdiff1d(np.arange(structure.n_dofs), fixed)
             self._position = np.full(structure.n_dofs, -1)
             self._position[self.free] = np.arange(len(self.free))
@@ -96,10 +101,17 @@ class SliderStatics:
 
     def _same_operator(self, structure: Structure, fixed: np.ndarray) -> bool:
         old = self.structure
-        return (len(old.beams) == len(structure.beams)
-                and all(a.stiffness is b.stiffness for a, b in zip(old.beams, structure.beams))
-                and all(np.array_equal(a, b) for a, b in zip(old.dof_maps, structure.dof_maps))
-                and structure.n_dofs == old.n_dofs and np.array_equal(fixed, self._fixed))
+        return (
+            len(old.beams) == len(structure.beams)
+            and all(
+                a.stiffness is b.stiffness for a, b in zip(old.beams, structure.beams, strict=True)
+            )
+            and all(
+                np.array_equal(a, b) for a, b in zip(old.dof_maps, structure.dof_maps, strict=True)
+            )
+            and structure.n_dofs == old.n_dofs
+            and np.array_equal(fixed, self._fixed)
+        )
 
     def initial_unknowns(self, q: np.ndarray) -> list[np.ndarray]:
         return [s.initial_unknowns(self.structure, q) for s in self.sliders]
@@ -115,8 +127,14 @@ class SliderStatics:
             if batch.chains is not None:
                 batch.chains.element_frames()
 
-    def solve(self, f: np.ndarray, start: tuple[np.ndarray, list[np.ndarray]] | None = None,
-              tol: float = 1e-8, max_iterations: int = 25, load_steps: int = 1) -> SliderSolution:
+    def solve(
+        self,
+        f: np.ndarray,
+        start: tuple[np.ndarray, list[np.ndarray]] | None = None,
+        tol: float = 1e-8,
+        max_iterations: int = 25,
+        load_steps: int = 1,
+    ) -> SliderSolution:
         """Newton-Raphson from ``start`` (default: no displacement, projected ``xi``).
 
         ``load_steps``: the load is applied in that many equal increments, each solved from
@@ -136,8 +154,7 @@ class SliderStatics:
         state, counts = start, []
         for k in range(1, load_steps + 1):
             try:
-                q, ys, residuals = self._newton(f * (k / load_steps), state, tol,
-                                                max_iterations)
+                q, ys, residuals = self._newton(f * (k / load_steps), state, tol, max_iterations)
             except ValueError as exc:
                 if load_steps == 1:
                     raise
@@ -146,8 +163,13 @@ class SliderStatics:
             state = (q, ys)
         return SliderSolution(q, ys, residuals, counts)
 
-    def _newton(self, f: np.ndarray, start: tuple[np.ndarray, list[np.ndarray]] | None,
-                tol: float, max_iterations: int) -> tuple[np.ndarray, list, list[float]]:
+    def _newton(
+        self,
+        f: np.ndarray,
+        start: tuple[np.ndarray, list[np.ndarray]] | None,
+        tol: float,
+        max_iterations: int,
+    ) -> tuple[np.ndarray, list, list[float]]:
         """One Newton solve: converged ``q``, slider unknowns and residual history (the
         ``B = 1`` case of :func:`newton_many`); ``ValueError`` with its diagnostic.  Without
         sliders the problem is linear: one solve on the free dofs."""
@@ -176,8 +198,13 @@ class SliderStatics:
 
     def _parts(self, q: np.ndarray, unknowns: Sequence[np.ndarray]) -> list:
         """Each slider's ``(dofs, r_q, r_y, J)`` on its slots (:meth:`SliderBatch.evaluate`)."""
-        return _member([s.batch(self.structure).evaluate(q[None], np.asarray(y)[None])
-                        for s, y in zip(self.sliders, unknowns)], 0)
+        return _member(
+            [
+                s.batch(self.structure).evaluate(q[None], np.asarray(y)[None])
+                for s, y in zip(self.sliders, unknowns, strict=True)
+            ],
+            0,
+        )
 
     def _bordered(self, parts: list) -> tuple[sp.csc_matrix, list[np.ndarray]]:
         """The bordered matrix on the free dofs and slider unknowns (a dof held by several
@@ -194,12 +221,13 @@ class SliderStatics:
             vals.append(J[np.ix_(keep, keep)].ravel())
             r_y.append(ry)
             offset += len(ry)
-        S = sp.csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                          shape=(offset, offset))
+        S = sp.csc_matrix(
+            (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+            shape=(offset, offset),
+        )
         return S, r_y
 
-    def _bordered_step(self, r_q: np.ndarray,
-                       parts: list) -> tuple[np.ndarray, np.ndarray] | None:
+    def _bordered_step(self, r_q: np.ndarray, parts: list) -> tuple[np.ndarray, np.ndarray] | None:
         """Newton increments from the factorised bordered system; None if it is singular."""
         S, r_y = self._bordered(parts)
         try:
@@ -209,11 +237,17 @@ class SliderStatics:
         if not np.all(np.isfinite(z)):
             return None
         dq = np.zeros_like(r_q)
-        dq[self.free] = z[:len(self.free)]
-        return dq, z[len(self.free):]
+        dq[self.free] = z[: len(self.free)]
+        return dq, z[len(self.free) :]
 
-    def _steps(self, members: Sequence[SliderStatics], R: np.ndarray, parts: list,
-               r_y: np.ndarray, stacked: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _steps(
+        self,
+        members: Sequence[SliderStatics],
+        R: np.ndarray,
+        parts: list,
+        r_y: np.ndarray,
+        stacked: list,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Newton increments ``dq`` (B, n), ``dy`` (B, m) of ``members`` (this one's
         operator; their residuals ``R`` (B, n), ``r_y`` and the joints' slot arrays
         ``parts``, per slider, and ``stacked``, per evaluated batch, :func:`_evaluate`), and
@@ -228,8 +262,11 @@ class SliderStatics:
                     (dq[b], dy[b]), regular[b] = step, True
             return dq, dy, regular
         dq_free, dy, regular = self._condensed.step(
-            R[:, self.free], [self._position[d] for d, _, _ in stacked],
-            [J for _, _, J in stacked], r_y)
+            R[:, self.free],
+            [self._position[d] for d, _, _ in stacked],
+            [J for _, _, J in stacked],
+            r_y,
+        )
         dq[:, self.free] = dq_free
         return dq, dy, regular
 
@@ -253,8 +290,10 @@ class SliderStatics:
         v = Vt[-1]
         top = np.argsort(-np.abs(v))[:3]
         moving = ", ".join(f"{names[i]} ({v[i]:+.2f})" for i in top if abs(v[i]) > 0.1)
-        return ("singular configuration: the supports and sliders leave a free motion "
-                f"(null vector mostly along {moving})")
+        return (
+            "singular configuration: the supports and sliders leave a free motion "
+            f"(null vector mostly along {moving})"
+        )
 
 
 def _member(parts: list, b: int) -> list:
@@ -266,9 +305,16 @@ def _member(parts: list, b: int) -> list:
     return out
 
 
-def converged(dq: np.ndarray, dy: np.ndarray, sizes: Sequence[int],
-              lengths: Sequence[float], reach: np.ndarray, force: np.ndarray,
-              tol: float, resolution: float = 0.0) -> np.ndarray:
+def converged(
+    dq: np.ndarray,
+    dy: np.ndarray,
+    sizes: Sequence[int],
+    lengths: Sequence[float],
+    reach: np.ndarray,
+    force: np.ndarray,
+    tol: float,
+    resolution: float = 0.0,
+) -> np.ndarray:
     """Newton's convergence rule, per member: every increment below ``tol`` relative to its
     scale -- ``q`` to ``reach`` (the largest displacement met), each ``xi`` to its line's
     length, the multipliers to ``force`` (the largest of them and of the load).  ``dq``
@@ -276,9 +322,11 @@ def converged(dq: np.ndarray, dy: np.ndarray, sizes: Sequence[int],
     increment below ``resolution`` (what the positions ``X + q`` can resolve) also passes:
     a solution at rest (``q = 0``, the load taken by the sliders) moves by roundoff only."""
     first, multipliers = _unknown_columns(sizes)
-    return ((np.abs(dq).max(axis=1, initial=0.0) <= np.maximum(tol * reach, resolution))
-            & np.all(np.abs(dy[:, first]) <= tol * np.asarray(lengths, dtype=float), axis=1)
-            & (np.abs(dy[:, multipliers]).max(axis=1, initial=0.0) <= tol * force))
+    return (
+        (np.abs(dq).max(axis=1, initial=0.0) <= np.maximum(tol * reach, resolution))
+        & np.all(np.abs(dy[:, first]) <= tol * np.asarray(lengths, dtype=float), axis=1)
+        & (np.abs(dy[:, multipliers]).max(axis=1, initial=0.0) <= tol * force)
+    )
 
 
 def _unknown_columns(sizes: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
@@ -290,18 +338,24 @@ def _unknown_columns(sizes: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
     return first, multipliers
 
 
-def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch],
-                loads: np.ndarray, starts: Sequence[tuple | None], tol: float,
-                max_iterations: int, time: float = 0.0,
-                scale: float = 1.0) -> list[tuple[np.ndarray, list, list[float]] | str]:
+def newton_many(
+    members: Sequence[SliderStatics],
+    batches: Sequence[SliderBatch],
+    loads: np.ndarray,
+    starts: Sequence[tuple | None],
+    tol: float,
+    max_iterations: int,
+    time: float = 0.0,
+    scale: float = 1.0,
+) -> list[tuple[np.ndarray, list, list[float]] | str]:
     """Newton on ``B`` independent members at once: the one Newton loop of the package.
 
     ``members`` share the first one's operator (stiffness, supports, back end); ``batches``
     holds, per slider, the members' sliders (:class:`~sliders.joints.slider.SliderBatch`);
     ``loads`` (B, n); ``starts``: per member ``(q, unknowns)`` or None (no displacement,
     projected ``xi``); ``time`` and ``scale``: where the drives are read and the scaling of
-    the multipliers (:meth:`~sliders.joints.slider.SliderBatch.evaluate`).  Each member stops when it
-    has converged (:func:`converged`, then one more residual), or fails on its own.  Returns
+    the multipliers (:meth:`~sliders.joints.slider.SliderBatch.evaluate`).  Each member stops
+    when it has converged (:func:`converged`, then one more residual), or fails on its own.  Returns
     per member the converged ``q``, slider unknowns and scaled residual history, or the
     message of its failure: the
     singular-configuration diagnostic naming the free motion, or the last residual when
@@ -315,15 +369,22 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
     warm = np.array([s is not None for s in starts], dtype=bool)
     for b in np.flatnonzero(warm):
         Q[b], Y[b] = starts[b][0], np.concatenate(starts[b][1])
-    bounds = list(zip(np.cumsum([0] + sizes[:-1]), np.cumsum(sizes)))
+    bounds = list(zip(np.cumsum([0] + sizes[:-1]), np.cumsum(sizes), strict=True))
     full, spans = _joined(batches, bounds)
     cold = np.flatnonzero(~warm)
     if cold.size:
         # one projection per batch of full, its sliders' unknowns side by side
-        Y[cold] = np.concatenate([
-            (v if cold.size == B else _pick(v, len(span), B, cold)).initial_unknowns(
-                np.tile(Q[cold], (len(span), 1))).reshape(len(span), cold.size, -1)
-            .transpose(1, 0, 2).reshape(cold.size, -1) for v, span in zip(full, spans)], axis=1)
+        Y[cold] = np.concatenate(
+            [
+                (v if cold.size == B else _pick(v, len(span), B, cold))
+                .initial_unknowns(np.tile(Q[cold], (len(span), 1)))
+                .reshape(len(span), cold.size, -1)
+                .transpose(1, 0, 2)
+                .reshape(cold.size, -1)
+                for v, span in zip(full, spans, strict=True)
+            ],
+            axis=1,
+        )
     Q0, Y0 = Q.copy(), Y.copy()
     load_scale = np.maximum(np.abs(loads).max(axis=1), 1e-300)
     # 4 ulp of the largest coordinate (at least 1: rotations are dimensionless)
@@ -341,16 +402,29 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
         going = ~done[active]
         r_y = np.zeros((len(active), sum(sizes)))
         # the converged members need their residuals only (the convergence check)
-        for on in ([slice(None)] if going.all() or not going.any()
-                   else [np.flatnonzero(going), np.flatnonzero(~going)]):
-            joints = (view if isinstance(on, slice)
-                      else [_pick(v, len(span), len(active), on) for v, span in zip(view, spans)])
-            evaluated, stacked = _evaluate(joints, spans, Q[active[on]], Y[active[on]], time,
-                                           scale, bool(going[on][0]))
-            scatter_add(R, np.arange(len(active))[on][:, None],
-                        np.concatenate([d for d, _, _ in evaluated], axis=1),
-                        np.concatenate([r[:, :d.shape[1]] for d, r, _ in evaluated], axis=1))
-            r_y[on] = np.concatenate([r[:, d.shape[1]:] for d, r, _ in evaluated], axis=1)
+        for on in (
+            [slice(None)]
+            if going.all() or not going.any()
+            else [np.flatnonzero(going), np.flatnonzero(~going)]
+        ):
+            joints = (
+                view
+                if isinstance(on, slice)
+                else [
+                    _pick(v, len(span), len(active), on)
+                    for v, span in zip(view, spans, strict=True)
+                ]
+            )
+            evaluated, stacked = _evaluate(
+                joints, spans, Q[active[on]], Y[active[on]], time, scale, bool(going[on][0])
+            )
+            scatter_add(
+                R,
+                np.arange(len(active))[on][:, None],
+                np.concatenate([d for d, _, _ in evaluated], axis=1),
+                np.concatenate([r[:, : d.shape[1]] for d, r, _ in evaluated], axis=1),
+            )
+            r_y[on] = np.concatenate([r[:, d.shape[1] :] for d, r, _ in evaluated], axis=1)
             if going[on][0]:
                 parts, whole = evaluated, stacked
         measure = np.maximum(np.abs(R[:, lead.free]).max(axis=1), np.abs(r_y).max(axis=1))
@@ -362,12 +436,12 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
             break
         if not going.all():
             R, r_y = R[going], r_y[going]
-        dq, dy, regular = lead._steps([members[b] for b in active[going]], R, parts, r_y,
-                                      whole)
+        dq, dy, regular = lead._steps([members[b] for b in active[going]], R, parts, r_y, whole)
         for i in np.flatnonzero(~regular):
             b = active[going][i]
             outcome[b] = members[b]._diagnose(
-                _member(parts, i), f"the {lead.method} system has no finite solution")
+                _member(parts, i), f"the {lead.method} system has no finite solution"
+            )
         active = active[going][regular]
         if not active.size:
             break
@@ -376,22 +450,29 @@ def newton_many(members: Sequence[SliderStatics], batches: Sequence[SliderBatch]
         rows = _rows(active, B)
         Q[rows] += dq
         Y[rows] += dy
-        reach[rows] = np.maximum.reduce([reach[rows], np.abs(dq).max(axis=1),
-                                         np.abs(Q[rows]).max(axis=1)])
+        reach[rows] = np.maximum.reduce(
+            [reach[rows], np.abs(dq).max(axis=1), np.abs(Q[rows]).max(axis=1)]
+        )
         force = np.maximum(load_scale[rows], np.abs(Y[rows][:, multipliers]).max(axis=1))
         done[rows] = converged(dq, dy, sizes, lengths, reach[rows], force, tol, resolution)
         if len(active) < len(view[0]) // len(spans[0]):
-            view = [_pick(v, len(span), B, active) for v, span in zip(full, spans)]
+            view = [_pick(v, len(span), B, active) for v, span in zip(full, spans, strict=True)]
     for b in active:
-        first = _member([v.subset(np.array([b])).evaluate(Q0[b][None], Y0[b][None, i:j],
-                                                          time, scale)
-                         for v, (i, j) in zip(batches, bounds)], 0)
+        first = _member(
+            [
+                v.subset(np.array([b])).evaluate(Q0[b][None], Y0[b][None, i:j], time, scale)
+                for v, (i, j) in zip(batches, bounds, strict=True)
+            ],
+            0,
+        )
         outcome[b] = members[b]._diagnose(
-            first, f"Newton did not converge in {max_iterations} iterations "
-                   f"(scaled residual {history[last[b], b]:.3g})")
+            first,
+            f"Newton did not converge in {max_iterations} iterations "
+            f"(scaled residual {history[last[b], b]:.3g})",
+        )
     finished = np.flatnonzero(ended)
     parts = [Y[finished, i:j] for i, j in bounds]
-    for n_b, b, q, *y in zip(last[finished] + 1, finished, Q[finished], *parts):
+    for n_b, b, q, *y in zip(last[finished] + 1, finished, Q[finished], *parts, strict=True):
         outcome[b] = (q, y, history[:n_b, b].tolist())
     return outcome
 
@@ -402,8 +483,7 @@ def _rows(active: np.ndarray, B: int) -> np.ndarray | slice:
     return slice(None) if len(active) == B else active
 
 
-def scatter_add(R: np.ndarray, rows: np.ndarray, columns: np.ndarray,
-                values: np.ndarray) -> None:
+def scatter_add(R: np.ndarray, rows: np.ndarray, columns: np.ndarray, values: np.ndarray) -> None:
     """``R[rows, columns] += values`` with repeated entries summed (``np.add.at``, whose
     per-entry loop costs more than the rest of a Newton pass's bookkeeping): one
     ``np.bincount`` over the flat indices of the (B, n) array ``R``."""
@@ -411,8 +491,9 @@ def scatter_add(R: np.ndarray, rows: np.ndarray, columns: np.ndarray,
     R += np.bincount(flat, values.ravel(), minlength=R.size).reshape(R.shape)
 
 
-def _joined(batches: Sequence[SliderBatch],
-            bounds: list[tuple[int, int]]) -> tuple[list[SliderBatch], list[list]]:
+def _joined(
+    batches: Sequence[SliderBatch], bounds: list[tuple[int, int]]
+) -> tuple[list[SliderBatch], list[list]]:
     """The batches to evaluate and, per batch, the ``(start, stop)`` of the unknowns of each
     slider it holds: all sliders in one batch when they are alike
     (:meth:`SliderBatch.joined`: one evaluation for every joint of the members), else one
@@ -431,18 +512,29 @@ def _pick(batch: SliderBatch, parts: int, size: int, members: np.ndarray) -> Sli
     return batch.subset((np.arange(parts)[:, None] * size + members).ravel())
 
 
-def _evaluate(view: list[SliderBatch], spans: list[list], q: np.ndarray, y: np.ndarray,
-              time: float, scale: float, jacobian: bool) -> tuple[list, list]:
+def _evaluate(
+    view: list[SliderBatch],
+    spans: list[list],
+    q: np.ndarray,
+    y: np.ndarray,
+    time: float,
+    scale: float,
+    jacobian: bool,
+) -> tuple[list, list]:
     """``(dofs, r, J)`` of the members at states ``q`` (B, n) and unknowns ``y`` (B, m)
     (:meth:`SliderBatch.evaluate`), each batch of ``view`` evaluated once for the sliders
     it holds (``spans``: their unknowns in ``y``, :func:`_joined`): per slider, and per
     batch (its sliders' members one slider after the other, as the condensed step takes
     them, :meth:`sliders.solve.condensed.CondensedOperator.step`)."""
     out, stacked, B = [], [], len(q)
-    for batch, span in zip(view, spans):
-        dofs, r, J = batch.evaluate(np.tile(q, (len(span), 1)) if len(span) > 1 else q,
-                                    np.concatenate([y[:, i:j] for i, j in span]), time, scale,
-                                    jacobian=jacobian)
+    for batch, span in zip(view, spans, strict=True):
+        dofs, r, J = batch.evaluate(
+            np.tile(q, (len(span), 1)) if len(span) > 1 else q,
+            np.concatenate([y[:, i:j] for i, j in span]),
+            time,
+            scale,
+            jacobian=jacobian,
+        )
         stacked.append((dofs, r, J))
         if len(span) == 1:
             out.append(stacked[-1])
@@ -453,8 +545,12 @@ def _evaluate(view: list[SliderBatch], spans: list[list], q: np.ndarray, y: np.n
     return out, stacked
 
 
-def solve_many(members: Sequence[SliderStatics], loads: Sequence[np.ndarray], tol: float = 1e-8,
-               max_iterations: int = 25) -> list[SliderSolution | str]:
+def solve_many(
+    members: Sequence[SliderStatics],
+    loads: Sequence[np.ndarray],
+    tol: float = 1e-8,
+    max_iterations: int = 25,
+) -> list[SliderSolution | str]:
     """Solve independent problems of one shape together, each from its default start.
 
     ``members``: statics sharing the first one's operator (built with ``reuse``: the same
@@ -468,24 +564,36 @@ def solve_many(members: Sequence[SliderStatics], loads: Sequence[np.ndarray], to
     """
     lead = members[0]
     for b, member in enumerate(members):
-        if not (member.K is lead.K and member.method == lead.method
-                and np.array_equal(member.free, lead.free)
-                and len(member.sliders) == len(lead.sliders)):
-            raise ValueError(f"member {b} does not share member 0's operator (build it with "
-                             "reuse=, the same supports, back end and number of sliders)")
+        if not (
+            member.K is lead.K
+            and member.method == lead.method
+            and np.array_equal(member.free, lead.free)
+            and len(member.sliders) == len(lead.sliders)
+        ):
+            raise ValueError(
+                f"member {b} does not share member 0's operator (build it with "
+                "reuse=, the same supports, back end and number of sliders)"
+            )
     loads = np.array(loads, dtype=float)
     if loads.shape != (len(members), lead.structure.n_dofs) or not np.all(np.isfinite(loads)):
-        raise ValueError(f"loads must be {len(members)} finite vectors of "
-                         f"{lead.structure.n_dofs} rows")
-    batches = [SliderBatch([m.sliders[i] for m in members], [m.structure for m in members])
-               for i in range(len(lead.sliders))]
+        raise ValueError(
+            f"loads must be {len(members)} finite vectors of {lead.structure.n_dofs} rows"
+        )
+    batches = [
+        SliderBatch([m.sliders[i] for m in members], [m.structure for m in members])
+        for i in range(len(lead.sliders))
+    ]
     outcomes = newton_many(members, batches, loads, [None] * len(members), tol, max_iterations)
     return [_solution(o) for o in outcomes]
 
 
-def solve_translated(statics: SliderStatics, shifts: np.ndarray, loads: np.ndarray,
-                     tol: float = 1e-8,
-                     max_iterations: int = 25) -> list[SliderSolution | str]:
+def solve_translated(
+    statics: SliderStatics,
+    shifts: np.ndarray,
+    loads: np.ndarray,
+    tol: float = 1e-8,
+    max_iterations: int = 25,
+) -> list[SliderSolution | str]:
     """Solve ``B`` copies of ``statics`` with its beams moved rigidly, together.
 
     Copy ``b`` is the problem :func:`solve_many` would solve on statics built on the beams
@@ -516,8 +624,10 @@ def solve_translated(statics: SliderStatics, shifts: np.ndarray, loads: np.ndarr
     if loads.shape != (B, statics.structure.n_dofs) or not np.all(np.isfinite(loads)):
         raise ValueError(f"loads must be {B} finite vectors of {statics.structure.n_dofs} rows")
     batches = [SliderBatch.translated(s, statics.structure, shifts) for s in statics.sliders]
-    return [_solution(o) for o in newton_many([statics] * B, batches, loads, [None] * B, tol,
-                                              max_iterations)]
+    return [
+        _solution(o)
+        for o in newton_many([statics] * B, batches, loads, [None] * B, tol, max_iterations)
+    ]
 
 
 def _solution(outcome: tuple | str) -> SliderSolution | str:

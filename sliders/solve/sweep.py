@@ -22,9 +22,10 @@ Failures and interruptions keep what was computed:
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from numbers import Real
-from typing import Any, Callable, Iterable
+from typing import Any
 
 import numpy as np
 
@@ -67,9 +68,16 @@ class SweepResult:
         return [(p.value, p.error) for p in self.points if p.error is not None]
 
 
-def sweep(values: Iterable[Any], build: Build, *, continuation: bool = True,
-          stop_on_failure: bool = False, progress: bool = True, desc: str = "sweep",
-          **solve_options: Any) -> SweepResult:
+def sweep(
+    values: Iterable[Any],
+    build: Build,
+    *,
+    continuation: bool = True,
+    stop_on_failure: bool = False,
+    progress: bool = True,
+    desc: str = "sweep",
+    **solve_options: Any,
+) -> SweepResult:
     """Solve ``build(value)`` for every value, each point from the previous converged one.
 
     Parameters
@@ -119,8 +127,9 @@ def sweep(values: Iterable[Any], build: Build, *, continuation: bool = True,
     return result
 
 
-def _predict(statics: SliderStatics, value: Any,
-             converged: list[SweepPoint]) -> tuple[np.ndarray, list[np.ndarray]] | None:
+def _predict(
+    statics: SliderStatics, value: Any, converged: list[SweepPoint]
+) -> tuple[np.ndarray, list[np.ndarray]] | None:
     """Start of the point at ``value`` from the last (up to two) converged points, or None
     when they do not fit ``statics``' unknowns."""
     fitting = [p for p in converged if _fits(statics, p.solution)]
@@ -131,14 +140,20 @@ def _predict(statics: SliderStatics, value: Any,
     if len(fitting) == 2 and all(isinstance(v, Real) for v in values) and values[1] != values[2]:
         first = fitting[0].solution
         c = (values[0] - values[2]) / (values[2] - values[1])
-        return (last.q + c * (last.q - first.q),
-                [y1 + c * (y1 - y0) for y1, y0 in zip(last.unknowns, first.unknowns)])
+        return (
+            last.q + c * (last.q - first.q),
+            [y1 + c * (y1 - y0) for y1, y0 in zip(last.unknowns, first.unknowns, strict=True)],
+        )
     return last.q, last.unknowns
 
 
-def _solve_point(statics: SliderStatics, f: np.ndarray, value: Any,
-                 start: tuple[np.ndarray, list[np.ndarray]] | None,
-                 options: dict[str, Any]) -> SweepPoint:
+def _solve_point(
+    statics: SliderStatics,
+    f: np.ndarray,
+    value: Any,
+    start: tuple[np.ndarray, list[np.ndarray]] | None,
+    options: dict[str, Any],
+) -> SweepPoint:
     """One point: from ``start`` if any, then cold; the failure message otherwise."""
     if start is not None:
         try:
@@ -153,12 +168,14 @@ def _solve_point(statics: SliderStatics, f: np.ndarray, value: Any,
 
 def _fits(statics: SliderStatics, solution: SliderSolution) -> bool:
     """Whether ``solution`` has the shapes of ``statics``' unknowns."""
-    return (len(solution.q) == statics.structure.n_dofs
-            and [len(y) for y in solution.unknowns] == [s.n_unknowns for s in statics.sliders])
+    return len(solution.q) == statics.structure.n_dofs and [len(y) for y in solution.unknowns] == [
+        s.n_unknowns for s in statics.sliders
+    ]
 
 
-def sweep_batched(values: Iterable[Any], build: Build, *, tol: float = 1e-8,
-                  max_iterations: int = 25) -> SweepResult:
+def sweep_batched(
+    values: Iterable[Any], build: Build, *, tol: float = 1e-8, max_iterations: int = 25
+) -> SweepResult:
     """Solve ``build(value)`` for every value, all points at once (no continuation).
 
     The points are independent problems; those whose statics share an operator (built with
@@ -182,11 +199,15 @@ def sweep_batched(values: Iterable[Any], build: Build, *, tol: float = 1e-8,
                 continue
             groups.setdefault(id(statics.K), []).append((i, statics, f))
         for group in groups.values():
-            outcomes = solve_many([g[1] for g in group], [g[2] for g in group], tol=tol,
-                                  max_iterations=max_iterations)
-            for (i, _, _), outcome in zip(group, outcomes):
-                points[i] = (SweepPoint(values[i], None, outcome) if isinstance(outcome, str)
-                             else SweepPoint(values[i], outcome))
+            outcomes = solve_many(
+                [g[1] for g in group], [g[2] for g in group], tol=tol, max_iterations=max_iterations
+            )
+            for (i, _, _), outcome in zip(group, outcomes, strict=True):
+                points[i] = (
+                    SweepPoint(values[i], None, outcome)
+                    if isinstance(outcome, str)
+                    else SweepPoint(values[i], outcome)
+                )
     except KeyboardInterrupt:
         result.interrupted = True
     result.points = [p for p in points if p is not None]
