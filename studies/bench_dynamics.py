@@ -34,9 +34,9 @@ import time
 from pathlib import Path
 from typing import Any
 
-from studies import fig2_smearing as fig2
-from studies import moving_load as ml
-from studies.bench import environment, read_existing, summary, write_merged
+from . import fig2_smearing as fig2
+from . import moving_load as ml
+from .bench import environment, read_existing, summary, write_merged
 
 KEY = "moving_load"
 ELEMENTS, STEPS, RHO_INF, REPEATS = 16, 2000, 0.8, 3

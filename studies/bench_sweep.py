@@ -52,8 +52,9 @@ import numpy as np
 from sliders.sliding_beams.exact import sliding_beams
 from sliders.sliding_beams.model import KINDS, SlidingBeams, compile_kernels
 from sliders.solve.sweep import sweep
-from studies.bench import environment, write_merged
-from studies.fig4_stiffness import EJ, GA, STATIONS, L
+
+from .bench import environment, write_merged
+from .fig4_stiffness import EJ, GA, STATIONS, L
 
 KEY = "fig4_sweep"
 #: The per-position modes (the default of :func:`bench`); ``main`` runs ``batched`` first.

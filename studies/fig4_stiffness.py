@@ -223,7 +223,7 @@ def reproduce(
     if plot_png:
         plot(rows, out)
         if importlib.util.find_spec("pyvista") is not None:
-            from studies.render import render_sliding_beams
+            from .render import render_sliding_beams
 
             for line in render_sliding_beams(out):
                 print(line)
