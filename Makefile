@@ -29,7 +29,11 @@ render-libs:
 	[ -z "$$missing" ] || { echo "VTK renders off-screen through EGL: installing" $$missing; \
 	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing; }
 
+# Lint, format and type checks first (seconds), then the suite.
 test: render-libs $(VENV)/.installed-test
+	$(BIN)/ruff check .
+	$(BIN)/ruff format --check .
+	$(BIN)/mypy
 	$(BIN)/python -m pytest -q
 
 demo: render-libs $(VENV)/.installed-all
@@ -44,4 +48,4 @@ bench: $(VENV)/.installed-all
 	$(BIN)/python -m studies.bench_dynamics --out $(RESULTS)/bench.json
 
 clean:
-	rm -rf $(VENV) $(RESULTS) .pytest_cache
+	rm -rf $(VENV) $(RESULTS) .pytest_cache .mypy_cache

@@ -13,6 +13,7 @@ from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
+from numpy.typing import ArrayLike
 from skfem import CellBasis, MeshLine1, asm
 
 from fvbeam import mass as beam_mass
@@ -24,7 +25,7 @@ from fvbeam.mesh import BeamMesh, shape_functions
 from fvbeam.section import Section
 from fvbeam.smearing import check_smearing, density, kernel_breaks
 
-Field = np.ndarray | Callable[[np.ndarray], np.ndarray]
+Field = ArrayLike | Callable[[np.ndarray], np.ndarray]
 
 
 @dataclass(frozen=True)
@@ -80,7 +81,7 @@ class Beam:
         )
         self._mass: dict[str, sp.csr_matrix] = {}
 
-    def translated(self, offset) -> "Beam":
+    def translated(self, offset: ArrayLike) -> "Beam":
         """The same beam moved rigidly by ``offset``, sharing everything a translation leaves
         unchanged (bases, stiffness, transfer jumps): they are assembled here, once."""
         self.stiffness, self.transfer_jumps()
@@ -180,7 +181,10 @@ class Beam:
         return self._transfer_jumps
 
     def nodal_load(
-        self, node: int | str, force=(0.0, 0.0, 0.0), moment=(0.0, 0.0, 0.0)
+        self,
+        node: int | str,
+        force: ArrayLike = (0.0, 0.0, 0.0),
+        moment: ArrayLike = (0.0, 0.0, 0.0),
     ) -> np.ndarray:
         """Load vector of a force and couple applied directly to a mesh node."""
         f = np.zeros(self.n_dofs)
@@ -190,8 +194,8 @@ class Beam:
     def point_load(
         self,
         xi: float,
-        force=(0.0, 0.0, 0.0),
-        moment=(0.0, 0.0, 0.0),
+        force: ArrayLike = (0.0, 0.0, 0.0),
+        moment: ArrayLike = (0.0, 0.0, 0.0),
         smearing: float = 0.0,
         kernel: str = "box",
     ) -> np.ndarray:

@@ -12,8 +12,12 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 import scipy.optimize
+from numpy.typing import ArrayLike
 
 from fvbeam.pointwise import TIE
+
+#: The tip response of a cantilever: flexural and shear parts of the displacement, rotation.
+Tip = tuple[np.ndarray, np.ndarray, np.ndarray]
 
 
 def _step(x: np.ndarray, L: float = 1.0) -> np.ndarray:
@@ -22,13 +26,17 @@ def _step(x: np.ndarray, L: float = 1.0) -> np.ndarray:
     return np.where(tie, 0.5, np.where(x > 0, 1.0, 0.0))
 
 
-def cantilever_exact(xi, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, F: float = 1.0):
+def cantilever_exact(
+    xi: ArrayLike, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, F: float = 1.0
+) -> Tip:
     """Timoshenko cantilever, force at ``xi`` (paper Sec. 5.1)."""
     xi = np.asarray(xi, dtype=float)
     return F * xi**2 * (3 * L - xi) / (6 * EJ), F * xi / GA, F * xi**2 / (2 * EJ)
 
 
-def cantilever_fv2(xi, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, F: float = 1.0):
+def cantilever_fv2(
+    xi: ArrayLike, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, F: float = 1.0
+) -> Tip:
     """One 2-node finite-volume element (paper Sec. 5.2)."""
     xi = np.asarray(xi, dtype=float)
     step = _step(xi - L / 2, L)
@@ -39,7 +47,9 @@ def cantilever_fv2(xi, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, F: floa
     )
 
 
-def cantilever_fv3(xi, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, F: float = 1.0):
+def cantilever_fv3(
+    xi: ArrayLike, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, F: float = 1.0
+) -> Tip:
     """One 3-node finite-volume element (paper Sec. 5.3; ``docs/theory.md`` for a < xi < b).
 
     With the evaluation points ``a, b = L (1 -+ 1/sqrt(3)) / 2``:
@@ -59,13 +69,15 @@ def cantilever_fv3(xi, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, F: floa
     return flex, shear, phi
 
 
-def cantilever_internal_forces(zeta, xi: float, F: float = 1.0):
+def cantilever_internal_forces(
+    zeta: ArrayLike, xi: float, F: float = 1.0
+) -> tuple[np.ndarray, np.ndarray]:
     """Exact shear and bending moment at ``zeta`` for a force at ``xi`` (paper Sec. 5.1)."""
     zeta = np.asarray(zeta, dtype=float)
     return F * _step(xi - zeta), F * np.maximum(xi - zeta, 0.0)
 
 
-def quarter_circle_tip(R: float, P: float, GJ: float, EJ_radial: float, GA_normal: float):
+def quarter_circle_tip(R: float, P: float, GJ: float, EJ_radial: float, GA_normal: float) -> float:
     """Out-of-plane tip deflection of a quarter-circle cantilever under a tip force ``P``.
 
     Castigliano on the statically determinate arc (angle alpha from the clamp): torque
@@ -142,7 +154,7 @@ def timoshenko_cantilever_frequencies(
 
 
 def simply_supported_point_load(
-    x, a, L: float = 1.0, EJ: float = 1.0, GA: float = np.inf, F: float = 1.0
+    x: ArrayLike, a: ArrayLike, L: float = 1.0, EJ: float = 1.0, GA: float = np.inf, F: float = 1.0
 ) -> np.ndarray:
     """Static deflection of a simply supported Timoshenko beam under a force ``F`` at ``a``.
 
@@ -219,8 +231,8 @@ def moving_load_n_modes(
 
 
 def moving_load_simply_supported(
-    x,
-    t,
+    x: ArrayLike,
+    t: ArrayLike,
     L: float = 1.0,
     EJ: float = 1.0,
     GA: float = np.inf,

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 from skfem.element import DiscreteField, Element
+from skfem.mapping import Mapping
 from skfem.refdom import RefLine
 
 from fvbeam.mesh import BeamMesh
@@ -139,7 +140,9 @@ class ElementBeamFV(Element):
         """The evaluation points as a quadrature rule (weights cancel in the spikes)."""
         return self.points[None, :], np.full(len(self.points), self.weight)
 
-    def gbasis(self, mapping, X: np.ndarray, i: int, tind=None):
+    def gbasis(
+        self, mapping: Mapping, X: np.ndarray, i: int, tind: np.ndarray | None = None
+    ) -> tuple[DiscreteField]:
         npe = self.mesh.nodes_per_element
         if not 0 <= i < 6 * npe:
             self._index_error()
@@ -158,7 +161,7 @@ class ElementBeamFV(Element):
         return (DiscreteField(value=value[i], grad=grad[i][:, None]),)
 
     def _all_functions(
-        self, mapping, X: np.ndarray, tind: np.ndarray
+        self, mapping: Mapping, X: np.ndarray, tind: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray]:
         """All 6 npe test functions at once: scikit-fem asks for them one by one, at the same
         points, so they are evaluated together and kept for the next request."""

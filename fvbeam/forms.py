@@ -19,11 +19,12 @@ from __future__ import annotations
 
 import numpy as np
 from skfem import BilinearForm, LinearForm
+from skfem.element import DiscreteField
 
 from fvbeam.geometry import cross
 
 
-def generalised_strain(field, t: np.ndarray, metric: np.ndarray) -> np.ndarray:
+def generalised_strain(field: DiscreteField, t: np.ndarray, metric: np.ndarray) -> np.ndarray:
     """``[u' - theta x t, theta']`` of a 6-component field, shape (6, ...) (eq. T1)."""
     d = field.grad[:, 0] / metric
     rot = cross(np.asarray(field)[3:], t, axis=0)

@@ -4,9 +4,10 @@ and a vector."""
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 
-def vector3(value, name: str) -> np.ndarray:
+def vector3(value: ArrayLike, name: str) -> np.ndarray:
     """``value`` as a finite 3-vector, or ``ValueError`` naming ``name``."""
     v = np.asarray(value, dtype=float)
     if v.shape != (3,) or not np.all(np.isfinite(v)):
@@ -14,13 +15,13 @@ def vector3(value, name: str) -> np.ndarray:
     return v
 
 
-def wrench(force, moment) -> np.ndarray:
+def wrench(force: ArrayLike, moment: ArrayLike) -> np.ndarray:
     """``[force; moment]`` as a 6-vector from two finite 3-vectors (``ValueError`` naming the
     bad one)."""
     return np.concatenate([vector3(force, "force"), vector3(moment, "moment")])
 
 
-def inertia3(value, name: str) -> np.ndarray:
+def inertia3(value: ArrayLike, name: str) -> np.ndarray:
     """``value`` as a finite, symmetric, positive semi-definite 3x3 matrix, or ``ValueError``
     naming ``name``.
 
@@ -41,7 +42,7 @@ def inertia3(value, name: str) -> np.ndarray:
     return J
 
 
-def orthonormal3(value, name: str) -> np.ndarray:
+def orthonormal3(value: ArrayLike, name: str) -> np.ndarray:
     """``value`` as an orthonormal 3x3 matrix (``R^T R = I`` to 1e-12), or ``ValueError``
     naming ``name``."""
     R = np.array(value, dtype=float)

@@ -13,6 +13,7 @@ import copy
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import meshio
 import numpy as np
@@ -66,6 +67,8 @@ class BeamMesh:
     up: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, 1.0]))
     point_ids: np.ndarray | None = None
     name: str = "beam"
+    #: Arc length of each vertex from the first (computed from the nodes).
+    vertex_s: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         points = np.array(self.points, dtype=float)
@@ -235,12 +238,12 @@ class BeamMesh:
         write_atomic(path, lambda tmp: meshio.write(tmp, self.to_meshio(), file_format=file_format))
 
     @classmethod
-    def read(cls, path: str | Path, **kwargs) -> "BeamMesh":
+    def read(cls, path: str | Path, **kwargs: Any) -> "BeamMesh":
         """Read a file holding exactly one beam (see :func:`read_beams` for several)."""
         return cls.from_meshio(_read_meshio(path), **kwargs)
 
     @classmethod
-    def from_meshio(cls, mesh: meshio.Mesh, **kwargs) -> "BeamMesh":
+    def from_meshio(cls, mesh: meshio.Mesh, **kwargs: Any) -> "BeamMesh":
         """Build the beam from a meshio mesh whose line cells form exactly one chain."""
         beams = read_beams(mesh, **kwargs)
         if len(beams) != 1:
@@ -272,8 +275,8 @@ def read_beams(
         mesh = _read_meshio(mesh)
     blocks = [b for b in mesh.cells if b.type in _CELL_TYPES]
     if not blocks:
-        kinds = sorted({b.type for b in mesh.cells}) or ["none"]
-        raise ValueError(f"the mesh has no line or line3 cells (cell types: {', '.join(kinds)})")
+        found = sorted({b.type for b in mesh.cells}) or ["none"]
+        raise ValueError(f"the mesh has no line or line3 cells (cell types: {', '.join(found)})")
     kinds = {b.type for b in blocks}
     if len(kinds) > 1:
         raise ValueError(f"the mesh mixes {' and '.join(sorted(kinds))} cells; use one kind")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -60,7 +61,7 @@ class Section:
 
     @classmethod
     def diagonal(
-        cls, EA: float, GAy: float, GAz: float, GJ: float, EJy: float, EJz: float, **kwargs
+        cls, EA: float, GAy: float, GAz: float, GJ: float, EJy: float, EJz: float, **kwargs: Any
     ) -> "Section":
         """Uncoupled section from its six stiffnesses (named as in :data:`COMPONENTS`)."""
         values = dict(EA=EA, GAy=GAy, GAz=GAz, GJ=GJ, EJy=EJy, EJz=EJz)

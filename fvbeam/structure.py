@@ -6,6 +6,7 @@ from collections.abc import Sequence
 
 import numpy as np
 import scipy.sparse as sp
+from numpy.typing import ArrayLike
 
 from fvbeam.beam import Beam
 from fvbeam.body import RigidBody
@@ -79,9 +80,10 @@ class Structure:
         if isinstance(tie, (tuple, list)) and len(tie) == 2:
             return tie[0], tie[1]
         if isinstance(tie, (tuple, list)) and len(tie) == 4:
-            return tuple(
+            a, b = (
                 x if isinstance(x, str) and n is None else (x, n) for x, n in (tie[:2], tie[2:])
             )
+            return a, b
         raise ValueError(
             f"tie {tie!r} must be (ref_a, ref_b), each (beam, node) or a body "
             "name, or (beam_a, node_a, beam_b, node_b)"
@@ -162,14 +164,18 @@ class Structure:
         first: dict[int, tuple[int, int]] = {}
         ties = []
         for b, beam in enumerate(beams):
-            for node, pid in enumerate(beam.mesh.point_ids.tolist()):
+            ids = beam.mesh.point_ids
+            assert ids is not None  # BeamMesh.__post_init__ numbers the nodes when not given
+            for node, pid in enumerate(ids.tolist()):
                 if pid in first:
                     ties.append(first[pid] + (b, node))
                 else:
                     first[pid] = (b, node)
         return cls(beams, ties, bodies)
 
-    def nodal_load(self, ref: NodeRef, force=(0.0, 0.0, 0.0), moment=(0.0, 0.0, 0.0)) -> np.ndarray:
+    def nodal_load(
+        self, ref: NodeRef, force: ArrayLike = (0.0, 0.0, 0.0), moment: ArrayLike = (0.0, 0.0, 0.0)
+    ) -> np.ndarray:
         """Global load vector of a force and couple applied to a node (``(beam, node)`` or a
         body name)."""
         f = np.zeros(self.n_dofs)

@@ -50,7 +50,10 @@ class Support:
     @property
     def ref(self) -> NodeRef:
         """The supported node as a structure node reference."""
-        return self.beam if isinstance(self.beam, str) else (self.beam, self.node)
+        if isinstance(self.beam, str):
+            return self.beam
+        assert self.node is not None  # __post_init__: a beam index comes with a node
+        return self.beam, self.node
 
     def dofs(self) -> np.ndarray:
         """Local dof indices (0..5) the support holds."""

@@ -128,8 +128,11 @@ def registered_studies() -> dict[str, str]:
 
 def describe(key: str) -> str:
     """The first line of a study's docstring, read without importing it."""
-    origin = importlib.util.find_spec(registered_studies()[key]).origin
-    doc = ast.get_docstring(ast.parse(Path(origin).read_text())) or ""
+    module = registered_studies()[key]
+    spec = importlib.util.find_spec(module)
+    if spec is None or spec.origin is None:
+        raise ValueError(f"study {key!r}: its module {module} is not installed")
+    doc = ast.get_docstring(ast.parse(Path(spec.origin).read_text())) or ""
     return doc.splitlines()[0] if doc else ""
 
 

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from pydantic import BaseModel, ValidationError
+from pydantic_core import ErrorDetails
 
 
 class _NoValue:
@@ -153,7 +154,7 @@ class _Place:
 
 
 def _walk(root: type[BaseModel], loc: Sequence[Any]) -> _Place:
-    place, node = _Place(), root
+    place, node = _Place(), typing.cast(Any, root)
     for item in loc:
         node = _unwrap(node)
         members = _union_members(node)
@@ -191,7 +192,7 @@ def _choices(annotation: Any) -> list[str]:
     return []
 
 
-def _message(error: dict, place: _Place) -> tuple[str, str]:
+def _message(error: ErrorDetails, place: _Place) -> tuple[str, str]:
     """The path and message of one pydantic error (``place``: where its location points)."""
     kind, ctx, value = error["type"], error.get("ctx", {}), error.get("input")
     described = place.field.description if place.field is not None else None

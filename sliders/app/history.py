@@ -31,12 +31,15 @@ import csv
 import os
 from collections.abc import Callable
 from pathlib import Path
-from typing import TextIO
+from typing import TYPE_CHECKING, TextIO
 
 import numpy as np
 
 from sliders.solve.dynamics import Dynamics
 from sliders.solve.integrator import State
+
+if TYPE_CHECKING:
+    import _csv
 
 #: A probe: an extra ``history.csv`` column computed from the state and the dynamics.
 Probe = Callable[[State, "Dynamics"], float]
@@ -83,9 +86,13 @@ class Recorder:
         self.displacements: list[np.ndarray] = []
         self.internal_forces: list[np.ndarray] = []
         self.columns: list[str] = []
-        self._files: dict[str, tuple[TextIO, csv.writer]] = {}
+        self._files: dict[str, tuple[TextIO, _csv.Writer]] = {}
         self._work = np.zeros(3)
         self._reference: float | None = None
+        # the load, constraint forces and damping power of the last state (_append)
+        self._f: np.ndarray
+        self._reaction: np.ndarray
+        self._power: float
 
     def table(self) -> dict[str, np.ndarray]:
         """``history.csv`` as arrays, one per column."""
@@ -132,11 +139,13 @@ class Recorder:
         """Flush the files and give them their final names."""
         for name, (stream, _) in self._files.items():
             stream.close()
+            assert self.directory is not None  # files are opened only with a directory
             part = self.directory / f"{name}.csv.part"
             os.replace(part, self.directory / f"{name}.csv")
         self._files = {}
 
     def _open(self, name: str, header: list[str]) -> None:
+        assert self.directory is not None  # start opens files only with a directory
         stream = open(self.directory / f"{name}.csv.part", "w", newline="")
         writer = csv.writer(stream)
         writer.writerow(header)

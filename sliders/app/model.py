@@ -15,6 +15,8 @@ on the line passes, and a point a millionth of the line away is a mistake, not r
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
+from functools import partial
 
 import numpy as np
 
@@ -25,6 +27,7 @@ from sliders.app.errors import Problems
 from sliders.app.schema import (
     Abscissa,
     BeamSpec,
+    DynamicStudy,
     LoadFactor,
     PointLoad,
     Scene,
@@ -76,6 +79,7 @@ def _mesh(spec: BeamSpec, formulation: str) -> BeamMesh:
     if spec.arc is not None:
         a = spec.arc
         return arc(a.center, a.radius, a.angle0, a.angle1, a.elements, npe, name=spec.name)
+    assert spec.mesh is not None  # checks.py: exactly one of straight, arc, mesh
     return BeamMesh.read(spec.mesh, up=spec.up or (0.0, 0.0, 1.0), name=spec.name)
 
 
@@ -114,6 +118,8 @@ class _Probe:
     no displacement), and the on-line tolerance (module docstring)."""
 
     def __init__(self, line: BeamChain | RigidLine, zero: np.ndarray) -> None:
+        self.curve: Callable[[float], tuple[np.ndarray, ...]]
+        self.project: Callable[[np.ndarray], float]
         if isinstance(line, BeamChain):
             self.curve = lambda xi: line.geometry(xi, zero)
             self.project = lambda point: line.project(point, zero)
@@ -121,7 +127,7 @@ class _Probe:
             self.curve = lambda xi: line.derivatives(xi)[:3]
             self.project = line.project
         self.length = line.length
-        ends = [np.linalg.norm(self.curve(xi)[0]) for xi in (0.0, line.length)]
+        ends = [float(np.linalg.norm(self.curve(xi)[0])) for xi in (0.0, line.length)]
         self.size = max([line.length] + ends)
 
     def gap(self, point: np.ndarray, start: float | None = None) -> tuple[float, float, float]:
@@ -157,28 +163,26 @@ class Model:
         self.scene = scene
         problems = Problems()
         sections = {
-            s.name: problems.attempt(f"section[{i}]", lambda s=s: _section(s))
+            s.name: problems.attempt(f"section[{i}]", partial(_section, s))
             for i, s in enumerate(scene.section)
         }
         self.beams: list[Beam] = []
         for i, spec in enumerate(scene.beam):
             form = spec.formulation or scene.formulation
             where = f"beam[{i}].mesh" if spec.mesh is not None else f"beam[{i}]"
-            mesh = problems.attempt(where, lambda spec=spec, form=form: _mesh(spec, form))
+            mesh = problems.attempt(where, partial(_mesh, spec, form))
             if mesh is not None and sections[spec.section] is not None:
                 self.beams.append(
                     problems.attempt(
                         where,
-                        lambda mesh=mesh, spec=spec, form=form: Beam(
-                            mesh, sections[spec.section], form, scene.integration
-                        ),
+                        partial(Beam, mesh, sections[spec.section], form, scene.integration),
                     )
                 )
         self.bodies = [
-            problems.attempt(f"body[{i}]", lambda s=s: _body(s)) for i, s in enumerate(scene.body)
+            problems.attempt(f"body[{i}]", partial(_body, s)) for i, s in enumerate(scene.body)
         ]
         self.lines = {
-            s.name: problems.attempt(f"line[{i}]", lambda s=s: _rigid_line(s))
+            s.name: problems.attempt(f"line[{i}]", partial(_rigid_line, s))
             for i, s in enumerate(scene.line)
         }
         problems.raise_if_any(source)
@@ -193,7 +197,7 @@ class Model:
         }
         self.structure = Structure(self.beams, self.ties, self.bodies)
         self.sliders = [
-            problems.attempt(f"slider[{i}]", lambda s=s: self._slider(s, self.structure))
+            problems.attempt(f"slider[{i}]", partial(self._slider, s, self.structure))
             for i, s in enumerate(scene.slider)
         ]
         problems.raise_if_any(source)
@@ -268,11 +272,10 @@ class Model:
         """Every slider's body on its line, in the scene and at every sweep value."""
         zero = np.zeros(self.structure.n_dofs)
         for i, slider in enumerate(self.sliders):
-            xi = problems.attempt(
-                f"slider[{i}]",
-                lambda slider=slider: slider.initial_unknowns(self.structure, zero)[0],
+            unknowns = problems.attempt(
+                f"slider[{i}]", partial(slider.initial_unknowns, self.structure, zero)
             )
-            if xi is not None:
+            if unknowns is not None:
                 gap, tol, _ = _Probe(slider.line, zero).gap(slider.reference_point(self.structure))
                 if gap > tol:
                     problems.add(
@@ -328,7 +331,7 @@ class Model:
     def _abscissa_length(self, of: str) -> float:
         if of in self._slider_names():
             return self.sliders[self._slider_names().index(of)].line.length
-        load = next(load for load in self.scene.load if load.name == of)
+        load = next(p for p in self.scene.load if p.name == of and isinstance(p, PointLoad))
         return self.beams[self.index[load.beam]].mesh.length
 
     def _line_moves(self, i: int, moved: set[str]) -> bool:
@@ -350,7 +353,10 @@ class Model:
 
     def offset(self, value: float) -> np.ndarray:
         """How far a sweep value moves the moved parts from their scene placement."""
-        parameter = self.scene.study.parameter
+        study = self.scene.study
+        if not isinstance(study, SweepStudy) or isinstance(study.parameter, LoadFactor):
+            raise ValueError("only a sweep over a translation or an abscissa moves parts")
+        parameter = study.parameter
         if isinstance(parameter, Translation):
             direction = np.array(parameter.direction)
             return value * direction / np.linalg.norm(direction)
@@ -369,7 +375,7 @@ class Model:
         moved = self.moved_parts() if value is not None else set()
         method = self.scene.study.method
         if moved or self._previous is None:
-            shift = self.offset(value) if moved else np.zeros(3)
+            shift = self.offset(value) if moved and value is not None else np.zeros(3)
             beams = [
                 b.translated(shift) if s.name in moved else b
                 for s, b in zip(self.scene.beam, self.beams, strict=True)
@@ -388,6 +394,8 @@ class Model:
     def dynamics(self) -> Dynamics:
         """The time integration of a dynamic study's scene."""
         study = self.scene.study
+        if not isinstance(study, DynamicStudy):
+            raise ValueError(f"a {study.kind} study has no time integration")
         drives = [
             DofDrive(self.ref(d.node), d.dof, _motion(d.motion))
             for d in self.scene.drive
@@ -422,14 +430,10 @@ class Model:
             if spec.kind == "distributed":
                 f += structure.gather(i, beam.distributed_load(spec.force, spec.moment))
                 continue
-            moves = (
-                isinstance(parameter, Abscissa) and parameter.of == spec.name and value is not None
-            )
+            moves = isinstance(parameter, Abscissa) and parameter.of == spec.name
+            at = value if moves and value is not None else spec.at
             f += structure.gather(
-                i,
-                beam.point_load(
-                    value if moves else spec.at, spec.force, spec.moment, spec.smearing, spec.kernel
-                ),
+                i, beam.point_load(at, spec.force, spec.moment, spec.smearing, spec.kernel)
             )
         if isinstance(parameter, LoadFactor) and value is not None:
             f *= value

@@ -66,7 +66,7 @@ def magnification_for(structure: Structure, q: np.ndarray, magnification: float 
 def beam_samples(structure: Structure, q: np.ndarray) -> list[tuple[np.ndarray, ...]]:
     """Per beam: reference points (n, 3), displacements (n, 3) and bending-moment magnitude
     (n,) at the ends of ``SAMPLES_PER_ELEMENT`` chords per element, each point once."""
-    out = []
+    out: list[tuple[np.ndarray, ...]] = []
     X = np.arange(SAMPLES_PER_ELEMENT) / SAMPLES_PER_ELEMENT
     for beam, dofs in zip(structure.beams, structure.dof_maps, strict=True):
         mesh, q_beam = beam.mesh, q[dofs]

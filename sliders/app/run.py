@@ -9,11 +9,12 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
 from sliders.app.model import Model
-from sliders.app.schema import Scene, SweepStudy
+from sliders.app.schema import DynamicStudy, Scene, SweepStudy
 from sliders.solve.statics import SliderSolution, SliderStatics
 from sliders.solve.sweep import sweep
 
@@ -68,7 +69,11 @@ def run(model: Model, progress: bool = True) -> Results:
         Every sample, converged or not (a static study that fails has one failed sample).
     """
     study = model.scene.study
-    options = dict(tol=study.tol, max_iterations=study.max_iterations, load_steps=study.load_steps)
+    if isinstance(study, DynamicStudy):
+        raise ValueError("a dynamic study: sliders.app.run_dynamic.run_dynamic integrates it")
+    options: dict[str, Any] = dict(
+        tol=study.tol, max_iterations=study.max_iterations, load_steps=study.load_steps
+    )
     start = time.perf_counter()
     if not isinstance(study, SweepStudy):
         statics, f = model.problem()
@@ -77,12 +82,12 @@ def run(model: Model, progress: bool = True) -> Results:
         except ValueError as exc:
             sample = Sample(0, None, statics, f, None, str(exc))
         return Results(model, [sample], seconds=time.perf_counter() - start)
-    built: list = []
+    built: list[tuple[SliderStatics, np.ndarray] | tuple[None, None]] = []
 
     def build(value: float) -> tuple[SliderStatics, np.ndarray]:
         built.append((None, None))
-        built[-1] = model.problem(float(value))
-        return built[-1]
+        problem = built[-1] = model.problem(float(value))
+        return problem
 
     values = study.sweep_values()
     result = sweep(
@@ -95,7 +100,7 @@ def run(model: Model, progress: bool = True) -> Results:
         **options,
     )
     samples = [
-        Sample(k, float(p.value), *built[k], p.solution, p.error)
+        Sample(k, float(p.value), built[k][0], built[k][1], p.solution, p.error)
         for k, p in enumerate(result.points)
     ]
     return Results(model, samples, len(values), result.interrupted, time.perf_counter() - start)

@@ -24,6 +24,7 @@ from fvbeam.io import OUTPUT_MARKER, replace_directory
 from sliders.app.history import Recorder
 from sliders.app.model import Model
 from sliders.app.scene import dump_scene
+from sliders.app.schema import DynamicStudy
 from sliders.app.vtu import Frame, write_series
 from sliders.solve.dynamics import Adaptive, DynamicsError
 from sliders.solve.integrator import State
@@ -48,6 +49,8 @@ def run_dynamic(model: Model, out: str | Path, progress: bool = True) -> Dynamic
     scene)."""
     scene = model.scene
     study, output = scene.study, scene.output
+    if not isinstance(study, DynamicStudy):
+        raise ValueError(f"a {study.kind} study: run_dynamic integrates dynamic studies")
     dynamics = model.dynamics()
     start = None
     if study.restart is not None:

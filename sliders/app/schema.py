@@ -7,7 +7,7 @@ positive stiffnesses and masses, allowed kinds, with a did-you-mean for unknown 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Literal, get_args
 
 import numpy as np
 from pydantic import (
@@ -23,9 +23,11 @@ from pydantic import (
 from fvbeam.geometry import inertia3, orthonormal3
 
 NAME_PATTERN = r"^[A-Za-z_][A-Za-z0-9_\-]*$"
-FORMULATIONS = ("fv2", "fv3", "galerkin-p1", "galerkin-p2")
+Formulation = Literal["fv2", "fv3", "galerkin-p1", "galerkin-p2"]
+FORMULATIONS = get_args(Formulation)
 #: The CSV tables a run can write (:mod:`sliders.app.tables`).
-TABLES = ("samples", "nodes", "sliders", "internal_forces", "reactions")
+TableName = Literal["samples", "nodes", "sliders", "internal_forces", "reactions"]
+TABLES = get_args(TableName)
 
 Number = Annotated[float, Strict(), Field(allow_inf_nan=False, description="a finite number")]
 Positive = Annotated[
@@ -178,7 +180,7 @@ class BeamSpec(Table):
 
     name: Name
     section: Name
-    formulation: Literal[FORMULATIONS] | None = None
+    formulation: Formulation | None = None
     straight: StraightSpec | None = None
     arc: ArcSpec | None = None
     mesh: MeshPath | None = None
@@ -417,6 +419,8 @@ class SweepStudy(Solver):
         """The parameter's values, in order."""
         if self.values is not None:
             return np.array(self.values)
+        if self.range is None:
+            raise ValueError("study: give exactly one of values, range")
         return np.linspace(self.range.start, self.range.stop, self.range.num)
 
 
@@ -458,7 +462,7 @@ class Output(Table):
     renders of the deformed configuration, of the ``last`` converged sample or of ``all``
     (:mod:`studies.render`, needs the ``render`` extra)."""
 
-    csv: tuple[Literal[TABLES], ...] = TABLES
+    csv: tuple[TableName, ...] = TABLES
     vtu: bool = False
     png: Literal["none", "last", "all"] = "none"
 
@@ -467,7 +471,7 @@ class Scene(Table):
     """A whole scene: the model's parts, the study and the outputs."""
 
     title: Text = ""
-    formulation: Literal[FORMULATIONS] = "fv3"
+    formulation: Formulation = "fv3"
     integration: Literal["reduced", "full"] = "reduced"
     section: tuple[SectionSpec, ...] = ()
     beam: tuple[BeamSpec, ...] = ()

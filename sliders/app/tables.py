@@ -37,6 +37,7 @@ from fvbeam.io import replace_directory
 from sliders.app.run import Results, Sample
 from sliders.app.scene import dump_scene
 from sliders.app.vtu import Frame, contact_point, write_series
+from sliders.solve.statics import SliderSolution, SliderStatics
 
 COLUMNS = {
     "samples": ("sample", "value", "converged", "iterations", "error"),
@@ -70,14 +71,15 @@ def _samples_rows(results: Results) -> Iterator[list]:
         converged = s.solution is not None
         yield _head(s) + [
             str(converged).lower(),
-            s.solution.iterations if converged else None,
+            s.solution.iterations if s.solution is not None else None,
             s.error,
         ]
 
 
 def _nodes_rows(results: Results) -> Iterator[list]:
     for s in _converged(results):
-        structure, q = s.statics.structure, s.solution.q
+        statics, solution = _solved(s)
+        structure, q = statics.structure, solution.q
         for i, spec in enumerate(results.scene.beam):
             mesh = structure.beams[i].mesh
             u = structure.local(i, q).reshape(-1, 6)
@@ -90,8 +92,9 @@ def _nodes_rows(results: Results) -> Iterator[list]:
 
 def _sliders_rows(results: Results) -> Iterator[list]:
     for s in _converged(results):
-        q = s.solution.q
-        for slider, y in zip(s.statics.sliders, s.solution.unknowns, strict=True):
+        statics, solution = _solved(s)
+        q = solution.q
+        for slider, y in zip(statics.sliders, solution.unknowns, strict=True):
             x = np.sum(contact_point(slider, q, y), axis=0)
             mu = list(y[4:]) + [None] * (7 - len(y))
             yield _head(s) + [slider.name, float(y[0]), *x, *y[1:4], *mu]
@@ -99,18 +102,20 @@ def _sliders_rows(results: Results) -> Iterator[list]:
 
 def _internal_forces_rows(results: Results) -> Iterator[list]:
     for s in _converged(results):
-        structure = s.statics.structure
+        statics, solution = _solved(s)
+        structure = statics.structure
         for i, spec in enumerate(results.scene.beam):
-            forces = structure.beams[i].internal_forces(structure.local(i, s.solution.q))
+            forces = structure.beams[i].internal_forces(structure.local(i, solution.q))
             for xi, f, m in zip(forces.xi, forces.force, forces.moment, strict=True):
                 yield _head(s) + [spec.name, xi, *f, *m]
 
 
 def _reactions_rows(results: Results) -> Iterator[list]:
     for s in _converged(results):
-        structure, q = s.statics.structure, s.solution.q
-        residual = s.statics.K @ q - s.load
-        for slider, y in zip(s.statics.sliders, s.solution.unknowns, strict=True):
+        statics, solution = _solved(s)
+        structure, q = statics.structure, solution.q
+        residual = statics.K @ q - s.load
+        for slider, y in zip(statics.sliders, solution.unknowns, strict=True):
             dofs, r_q, _, _ = slider.assemble(structure, q, y)
             np.add.at(residual, dofs, r_q)
         for spec, support in zip(results.scene.support, results.model.supports, strict=True):
@@ -123,6 +128,12 @@ def _reactions_rows(results: Results) -> Iterator[list]:
 
 def _converged(results: Results) -> Iterator[Sample]:
     return (s for s in results.samples if s.solution is not None)
+
+
+def _solved(sample: Sample) -> tuple[SliderStatics, SliderSolution]:
+    """The statics and the solution of a converged sample."""
+    assert sample.statics is not None and sample.solution is not None, "not converged"
+    return sample.statics, sample.solution
 
 
 ROWS = {
@@ -176,9 +187,9 @@ def _frame(sample: Sample, converged: list[Sample]) -> Frame:
     the values are absent or repeat."""
     values = [s.value for s in converged]
     distinct = None not in values and len(set(values)) == len(values)
-    statics, solution = sample.statics, sample.solution
+    statics, solution = _solved(sample)
     return Frame(
-        float(sample.value) if distinct else float(sample.index),
+        float(sample.value) if distinct and sample.value is not None else float(sample.index),
         statics.structure,
         solution.q,
         statics.sliders,
@@ -190,7 +201,7 @@ def _render(sample: Sample, path: Path, title: str) -> None:
     from sliders.app.render import render
 
     value = "" if sample.value is None else f", value {sample.value:g}"
-    statics, solution = sample.statics, sample.solution
+    statics, solution = _solved(sample)
     render(
         path,
         statics.structure,

@@ -47,6 +47,7 @@ from pathlib import Path
 
 import meshio
 import numpy as np
+from numpy.typing import ArrayLike
 
 from fvbeam.io import replace_directory, write_atomic
 from fvbeam.structure import Structure
@@ -176,7 +177,10 @@ class _Blocks:
     """Points, point data, cell blocks and cell data, gathered block by block."""
 
     def __init__(self) -> None:
-        self.points, self.displacement, self.rotation, self.radius = [], [], [], []
+        self.points: list[np.ndarray] = []
+        self.displacement: list[np.ndarray] = []
+        self.rotation: list[np.ndarray] = []
+        self.radius: list[np.ndarray] = []
         self.cells: list[tuple[str, np.ndarray]] = []
         self.data: dict[str, list[np.ndarray]] = {
             name: [] for name in (*INT_CELL_FIELDS, *FLOAT_CELL_FIELDS)
@@ -189,8 +193,8 @@ class _Blocks:
         connectivity: np.ndarray,
         points: np.ndarray,
         motion: np.ndarray,
-        radius: np.ndarray,
-        **cell_data: np.ndarray,
+        radius: ArrayLike,
+        **cell_data: ArrayLike,
     ) -> None:
         """One cell block; ``connectivity`` indexes ``points``; ``motion`` (n, 6);
         ``cell_data`` any subset of the cell fields (the rest are filled)."""

@@ -40,7 +40,7 @@ class Motion(Protocol):
         """Value, rate and acceleration at time ``t``."""
 
 
-def _finite(value, name: str) -> float:
+def _finite(value: float, name: str) -> float:
     value = float(value)
     if not np.isfinite(value):
         raise ValueError(f"{name} must be finite, got {value}")
@@ -131,7 +131,8 @@ class Tabulated:
         if t <= times[0] or t >= times[-1]:
             return float(values[0] if t <= times[0] else values[-1]), 0.0, 0.0
         if self._spline is not None:
-            return tuple(float(self._spline(t, nu)) for nu in range(3))
+            spline = self._spline
+            return float(spline(t, 0)), float(spline(t, 1)), float(spline(t, 2))
         k = int(np.searchsorted(times, t, side="right")) - 1
         rate = (values[k + 1] - values[k]) / (times[k + 1] - times[k])
         return float(values[k] + rate * (t - times[k])), float(rate), 0.0

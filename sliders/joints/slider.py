@@ -46,6 +46,7 @@ from __future__ import annotations
 import copy
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 
@@ -189,8 +190,9 @@ class Slider:
         J : (t + n_unknowns, t + n_unknowns) derivative of ``[r_q; r_y]`` in ``[q_t; y]``
         """
         y = np.asarray(y, dtype=float)
-        dofs, r, J = self.batch(structure).evaluate(q[None], y[None])
-        dofs, r, J = dofs[0], r[0], J.dense()[0]
+        dofs, r, blocks = self.batch(structure).evaluate(q[None], y[None])
+        assert blocks is not None  # evaluate returns the Jacobian unless told not to
+        dofs, r, J = dofs[0], r[0], blocks.dense()[0]
         unique, where = np.unique(dofs, return_inverse=True)
         t, m, s = len(unique), self.n_unknowns, len(dofs)
         P = np.zeros((s + m, t + m))
@@ -241,8 +243,9 @@ class SliderBatch:
         self.reference = np.stack(
             [s.reference_point(st) for s, st in zip(self.sliders, self.structures, strict=True)]
         )
+        # the members' lines are all chains or all rigid (checked above)
         self.chains = (
-            ChainStack([s.line for s in self.sliders])
+            ChainStack(cast(list[BeamChain], [s.line for s in self.sliders]))
             if isinstance(first.line, BeamChain)
             else None
         )
@@ -309,7 +312,7 @@ class SliderBatch:
         out.body = np.concatenate([b.body for b in batches])
         out.reference = np.concatenate([b.reference for b in batches])
         out.drives = [d for b in batches for d in b.drives]
-        out.chains = ChainStack.joined([b.chains for b in batches])
+        out.chains = ChainStack.joined(cast(list[ChainStack], [b.chains for b in batches]))
         return out
 
     def __len__(self) -> int:
@@ -325,6 +328,10 @@ class SliderBatch:
         out.chains = self.chains.subset(members) if self.chains is not None else None
         return out
 
+    def _rigid(self) -> list[RigidLine]:
+        """The members' lines when they are rigid (``chains`` is None)."""
+        return cast(list[RigidLine], [s.line for s in self.sliders])
+
     def initial_unknowns(self, q: np.ndarray) -> np.ndarray:
         """``xi`` from projecting each member's sliding point on its line (states ``q``,
         (B, n)), multipliers 0: (B, n_unknowns)."""
@@ -332,7 +339,7 @@ class SliderBatch:
         if self.chains is not None:
             xi = self.chains.project(points, q)
         else:
-            xi = np.array([s.line.project(p) for s, p in zip(self.sliders, points, strict=True)])
+            xi = np.array([line.project(p) for line, p in zip(self._rigid(), points, strict=True)])
         if self.kind == "spline":
             for s, x in zip(self.sliders, xi, strict=True):
                 s._check_frame(float(x))
@@ -369,7 +376,7 @@ class SliderBatch:
                 interp.T,
                 interp.T_xi,
             )
-        p = [s.line.at(float(x)) for s, x in zip(self.sliders, xi, strict=True)]
+        p = [line.at(float(x)) for line, x in zip(self._rigid(), xi, strict=True)]
         x, l, l_xi, l_xixi, R, k, k_xi = (
             np.array([getattr(a, f) for a in p])
             for f in ("x", "l", "l_xi", "l_xixi", "R", "k", "k_xi")
@@ -501,7 +508,8 @@ class SliderBatch:
         if self.end_stops:
             self._end_stop(y[:, 0], y[:, 1:4], line, at, r, J if jacobian else None)
         if self.drives[0] is not None:
-            r[:, at.xi] = y[:, 0] - np.array([d(time)[0] for d in self.drives])
+            drives = cast(list[Motion], self.drives)  # all driven or none (checked in __init__)
+            r[:, at.xi] = y[:, 0] - np.array([d(time)[0] for d in drives])
             if jacobian:
                 J.unit_row("xi")
         return dofs, r, J if jacobian else None

@@ -95,7 +95,8 @@ class ElementInterpolation:
 
     def geometry(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``x``, ``l`` and ``l_/xi`` of the deformed line."""
-        return _weighted(np.stack([self.N, self.dN, self.d2N], axis=-2), self.X, q, self.dofs)
+        x, l, l_xi = _weighted(np.stack([self.N, self.dN, self.d2N], axis=-2), self.X, q, self.dofs)
+        return x, l, l_xi
 
 
 @dataclass(frozen=True)
@@ -112,9 +113,10 @@ class Interpolation(ElementInterpolation):
 
     def tangent(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The recovered tangent ``l~`` and ``l~_/xi`` of the deformed line."""
-        return _weighted(
+        l, l_xi = _weighted(
             np.stack([self.T, self.T_xi], axis=-2), self.tangent_X, q, self.tangent_dofs
         )
+        return l, l_xi
 
     def member(self, b: int) -> Interpolation:
         """Member ``b`` of a stacked interpolation."""
@@ -416,9 +418,14 @@ class ChainStack:
         member's smeared one (:meth:`transfer`); ``rotation``: the section rotation too."""
         a = self._query(xi, q, smearing == 0, rotation)
         load = (a.load_dofs, a.G, a.dG) if smearing == 0 else self.transfer(xi, smearing, kernel)
+        g = a.geometry
         return LineState(
             self._interpolation(a),
-            *(a.geometry[:, j] for j in range(5)),
+            g[:, 0],
+            g[:, 1],
+            g[:, 2],
+            g[:, 3],
+            g[:, 4],
             *load,
             self._rotation(a) if rotation else None,
         )

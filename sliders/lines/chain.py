@@ -119,8 +119,8 @@ class BeamChain:
         """
         smearing = check_smearing(smearing, kernel)
         if smearing == 0:
-            dofs, G, dG = self._stack.transfer(np.array([float(xi)]))
-            return dofs[0], G[0], dG[0]
+            touched, G, dG = self._stack.transfer(np.array([float(xi)]))
+            return touched[0], G[0], dG[0]
         self.locate(xi)
         lo, hi = max(xi - smearing, 0.0), min(xi + smearing, self.length)
         dofs, N, dN, weight = [], [], [], 0.0

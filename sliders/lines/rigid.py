@@ -19,6 +19,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.interpolate import CubicSpline as _ScipyCubicSpline
 
 from fvbeam.geometry import cross, locate_abscissa, section_frames, vector3
@@ -175,11 +176,17 @@ def _check_positive(value: float, what: str, name: str) -> float:
 class StraightLine(RigidLine):
     """Segment from ``start`` to ``end``, arc-length parametrised."""
 
-    def __init__(self, start, end, up=(0.0, 0.0, 1.0), name: str = "straight line") -> None:
+    def __init__(
+        self,
+        start: ArrayLike,
+        end: ArrayLike,
+        up: ArrayLike = (0.0, 0.0, 1.0),
+        name: str = "straight line",
+    ) -> None:
         self.name = name
         self.start = vector3(start, f"{name}: start")
         d = vector3(end, f"{name}: end") - self.start
-        self.length = _check_positive(np.linalg.norm(d), "length", name)
+        self.length = _check_positive(float(np.linalg.norm(d)), "length", name)
         self.t = d / self.length
         self.up = vector3(up, f"{name}: up")
 
@@ -193,7 +200,12 @@ class CircularArc(RigidLine):
     ``angle1`` (radians, either direction), arc-length parametrised."""
 
     def __init__(
-        self, center, radius: float, angle0: float, angle1: float, name: str = "circular arc"
+        self,
+        center: ArrayLike,
+        radius: float,
+        angle0: float,
+        angle1: float,
+        name: str = "circular arc",
     ) -> None:
         self.name = name
         self.center = vector3(center, f"{name}: center")
@@ -219,7 +231,7 @@ class Helix(RigidLine):
     turns, arc-length parametrised."""
 
     def __init__(
-        self, center, radius: float, pitch: float, turns: float, name: str = "helix"
+        self, center: ArrayLike, radius: float, pitch: float, turns: float, name: str = "helix"
     ) -> None:
         self.name = name
         self.center = vector3(center, f"{name}: center")
@@ -248,7 +260,9 @@ class CubicSpline(RigidLine):
     """C2 cubic spline through ``points`` (natural end conditions), parametrised by the
     cumulative chord length."""
 
-    def __init__(self, points, up=(0.0, 0.0, 1.0), name: str = "cubic spline") -> None:
+    def __init__(
+        self, points: ArrayLike, up: ArrayLike = (0.0, 0.0, 1.0), name: str = "cubic spline"
+    ) -> None:
         self.name = name
         pts = np.asarray(points, dtype=float)
         if pts.ndim != 2 or pts.shape[1] != 3 or len(pts) < 3 or not np.all(np.isfinite(pts)):

@@ -83,10 +83,16 @@ class SlidingBeams:
         ``s = s_over_L L``."""
         piston = self.cylinder.translated((s_over_L * self.setup.length, 0, 0))
         structure = Structure([self.cylinder, piston])
-        options = dict(smearing=self.smearing, orientation=self.orientation)
         sliders = [
-            Slider(self.kind, BeamChain(structure, [0], "C"), (1, "start"), name="A", **options),
-            Slider(self.kind, BeamChain(structure, [1], "P"), (0, "end"), name="B", **options),
+            Slider(
+                self.kind,
+                BeamChain(structure, [k], line),
+                body,
+                name=name,
+                smearing=self.smearing,
+                orientation=self.orientation,
+            )
+            for k, line, body, name in ((0, "C", (1, "start"), "A"), (1, "P", (0, "end"), "B"))
         ]
         statics = SliderStatics(
             structure, self.supports, sliders, reuse=self._previous, method="condensed"

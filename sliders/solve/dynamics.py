@@ -237,12 +237,12 @@ class Dynamics:
         beta_rate, gamma_rate = self.scheme.rates(h)
         return (self.M + (gamma_rate / beta_rate) * self.C + self.K / beta_rate).tocsr()
 
-    def _solver(self, key) -> SliderStatics | tuple[spla.SuperLU, sp.csr_matrix]:
+    def _solver(self, key: float | str) -> SliderStatics | tuple[spla.SuperLU, sp.csr_matrix]:
         """The cached solver of the operator ``key`` (a step size, or ``static``): the
         statics of the sliders on it, or without sliders its factor on the free dofs and the
         operator itself."""
         if key not in self._operators:
-            operator = self.K if key == "static" else self.operator(key)
+            operator = self.K if isinstance(key, str) else self.operator(key)
             if self.sliders:
                 self._operators[key] = SliderStatics(
                     self.structure,
@@ -263,7 +263,7 @@ class Dynamics:
 
     def _solve(
         self,
-        key,
+        key: float | str,
         f: np.ndarray,
         start: np.ndarray,
         unknowns: list[np.ndarray],
@@ -275,7 +275,7 @@ class Dynamics:
         Newton iterations; :class:`DynamicsError` on failure."""
         try:
             solver = self._solver(key)
-            if not self.sliders:
+            if isinstance(solver, tuple):
                 lu, operator = solver
                 q = start.copy()
                 q[self.free] += lu.solve((f - operator @ start)[self.free])

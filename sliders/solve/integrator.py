@@ -139,20 +139,20 @@ class State:
 
     def save(self, path: str | Path) -> None:
         """Write the state to ``path`` (``.npz``, atomically) for a restart."""
-        arrays = {
-            "t": np.array(self.t),
-            "q": self.q,
-            "v": self.v,
-            "a": self.a,
-            "qdd": self.qdd,
-            "h": np.array(self.h),
-            "sizes": np.array([len(y) for y in self.unknowns], dtype=int),
-            "unknowns": (np.concatenate(self.unknowns) if self.unknowns else np.zeros(0)),
-        }
 
         def write(tmp: Path) -> None:
             with open(tmp, "wb") as stream:
-                np.savez(stream, **arrays)
+                np.savez(
+                    stream,
+                    t=np.array(self.t),
+                    q=self.q,
+                    v=self.v,
+                    a=self.a,
+                    qdd=self.qdd,
+                    h=np.array(self.h),
+                    sizes=np.array([len(y) for y in self.unknowns], dtype=int),
+                    unknowns=np.concatenate(self.unknowns) if self.unknowns else np.zeros(0),
+                )
 
         write_atomic(path, write)
 

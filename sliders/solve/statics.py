@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from numpy.typing import ArrayLike
 
 from fvbeam.structure import Structure
 from fvbeam.support import Support
@@ -67,6 +68,12 @@ class SliderStatics:
     a matrix that takes the place of the stiffness (the time integrator's
     ``M + c_v C + c_q K``, :mod:`sliders.solve.dynamics`); default the structure's stiffness.
     """
+
+    K: sp.csr_matrix
+    free: np.ndarray
+    K_free: sp.coo_matrix
+    _position: np.ndarray
+    _condensed: CondensedOperator | None
 
     def __init__(
         self,
@@ -261,6 +268,7 @@ class SliderStatics:
                 if step is not None:
                     (dq[b], dy[b]), regular[b] = step, True
             return dq, dy, regular
+        assert self._condensed is not None  # __init__ builds it for the condensed back end
         dq_free, dy, regular = self._condensed.step(
             R[:, self.free],
             [self._position[d] for d, _, _ in stacked],
@@ -367,8 +375,9 @@ def newton_many(
     lengths = [b.length for b in batches]
     Q, Y = np.zeros((B, n)), np.zeros((B, sum(sizes)))
     warm = np.array([s is not None for s in starts], dtype=bool)
-    for b in np.flatnonzero(warm):
-        Q[b], Y[b] = starts[b][0], np.concatenate(starts[b][1])
+    for b, start in enumerate(starts):
+        if start is not None:
+            Q[b], Y[b] = start[0], np.concatenate(start[1])
     bounds = list(zip(np.cumsum([0] + sizes[:-1]), np.cumsum(sizes), strict=True))
     full, spans = _joined(batches, bounds)
     cold = np.flatnonzero(~warm)
@@ -437,7 +446,7 @@ def newton_many(
         if not going.all():
             R, r_y = R[going], r_y[going]
         dq, dy, regular = lead._steps([members[b] for b in active[going]], R, parts, r_y, whole)
-        for i in np.flatnonzero(~regular):
+        for i in np.flatnonzero(~regular).tolist():
             b = active[going][i]
             outcome[b] = members[b]._diagnose(
                 _member(parts, i), f"the {lead.method} system has no finite solution"
@@ -457,7 +466,7 @@ def newton_many(
         done[rows] = converged(dq, dy, sizes, lengths, reach[rows], force, tol, resolution)
         if len(active) < len(view[0]) // len(spans[0]):
             view = [_pick(v, len(span), B, active) for v, span in zip(full, spans, strict=True)]
-    for b in active:
+    for b in active.tolist():
         first = _member(
             [
                 v.subset(np.array([b])).evaluate(Q0[b][None], Y0[b][None, i:j], time, scale)
@@ -547,7 +556,7 @@ def _evaluate(
 
 def solve_many(
     members: Sequence[SliderStatics],
-    loads: Sequence[np.ndarray],
+    loads: ArrayLike,
     tol: float = 1e-8,
     max_iterations: int = 25,
 ) -> list[SliderSolution | str]:

@@ -104,7 +104,8 @@ def sweep(
 
     if "start" in solve_options:
         raise ValueError("sweep chooses each point's start; do not pass start")
-    result, converged = SweepResult(), []
+    result = SweepResult()
+    converged: list[SweepPoint] = []
     values = list(values)
     with tqdm(values, disable=None if progress else True, desc=desc) as bar:
         try:
@@ -132,13 +133,17 @@ def _predict(
 ) -> tuple[np.ndarray, list[np.ndarray]] | None:
     """Start of the point at ``value`` from the last (up to two) converged points, or None
     when they do not fit ``statics``' unknowns."""
-    fitting = [p for p in converged if _fits(statics, p.solution)]
+    fitting = [
+        (p.value, p.solution)
+        for p in converged
+        if p.solution is not None and _fits(statics, p.solution)
+    ]
     if not fitting:
         return None
-    last = fitting[-1].solution
-    values = [value] + [p.value for p in fitting]
+    last = fitting[-1][1]
+    values = [value] + [v for v, _ in fitting]
     if len(fitting) == 2 and all(isinstance(v, Real) for v in values) and values[1] != values[2]:
-        first = fitting[0].solution
+        first = fitting[0][1]
         c = (values[0] - values[2]) / (values[2] - values[1])
         return (
             last.q + c * (last.q - first.q),
