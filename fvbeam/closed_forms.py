@@ -29,7 +29,13 @@ def _step(x: np.ndarray, L: float = 1.0) -> np.ndarray:
 def cantilever_exact(
     xi: ArrayLike, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, F: float = 1.0
 ) -> Tip:
-    """Timoshenko cantilever, force at ``xi`` (paper Sec. 5.1)."""
+    """Timoshenko cantilever, force at ``xi`` (paper Sec. 5.1).
+
+    At the tip, ``F L^3 / (3 EJ)``, ``F L / GA`` and ``F L^2 / (2 EJ)``:
+
+    >>> print(*cantilever_exact(1.0))
+    0.3333333333333333 1.0 0.5
+    """
     xi = np.asarray(xi, dtype=float)
     return F * xi**2 * (3 * L - xi) / (6 * EJ), F * xi / GA, F * xi**2 / (2 * EJ)
 
@@ -37,7 +43,14 @@ def cantilever_exact(
 def cantilever_fv2(
     xi: ArrayLike, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, F: float = 1.0
 ) -> Tip:
-    """One 2-node finite-volume element (paper Sec. 5.2)."""
+    """One 2-node finite-volume element (paper Sec. 5.2).
+
+    At the tip, ``F L^3 / (4 EJ)``: the element bends only beyond its evaluation point
+    ``L / 2``; the shear part and the rotation are exact:
+
+    >>> print(*cantilever_fv2(1.0))
+    0.25 1.0 0.5
+    """
     xi = np.asarray(xi, dtype=float)
     step = _step(xi - L / 2, L)
     return (
@@ -58,6 +71,11 @@ def cantilever_fv3(
     * ``a < xi < b``: ``v = F [L b (xi - a) / (2 EJ) + L / (2 GA)]``,
       ``phi = F L (xi - a) / (2 EJ)`` (eq. T9);
     * ``xi > b``: ``v = F [L^2 (3 xi - L) / (6 EJ) + L / GA]``, ``phi = F L (xi - L/2) / EJ``.
+
+    At the tip, the exact response (:func:`cantilever_exact`):
+
+    >>> print(*cantilever_fv3(1.0))
+    0.3333333333333333 1.0 0.5
     """
     xi = np.asarray(xi, dtype=float)
     a, b = L * (1 - 1 / np.sqrt(3)) / 2, L * (1 + 1 / np.sqrt(3)) / 2
@@ -163,6 +181,11 @@ def simply_supported_point_load(
     ``b = L - a``; for ``x > a`` the mirror image ``x -> L - x``, ``a -> L - a``::
 
         w(x) = F b x (L^2 - b^2 - x^2) / (6 EJ L) + F b x / (GA L),    0 <= x <= a
+
+    At mid-span under a mid-span force, ``F L^3 / (48 EJ) + F L / (4 GA) = 1/48 + 1/4``:
+
+    >>> print(f"{simply_supported_point_load(0.5, 0.5, GA=1.0):.10f}")
+    0.2708333333
     """
     x, a = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(a, dtype=float))
     left = x <= a

@@ -63,7 +63,13 @@ class Section:
     def diagonal(
         cls, EA: float, GAy: float, GAz: float, GJ: float, EJy: float, EJz: float, **kwargs: Any
     ) -> "Section":
-        """Uncoupled section from its six stiffnesses (named as in :data:`COMPONENTS`)."""
+        """Uncoupled section from its six stiffnesses (named as in :data:`COMPONENTS`): the
+        diagonal of the 6x6 stiffness, in the order of the generalised strains (eq. T2).
+
+        >>> section = Section.diagonal(EA=1e9, GAy=1e8, GAz=1e8, GJ=3e4, EJy=4e4, EJz=4e4)
+        >>> section.stiffness.diagonal().tolist()
+        [1000000000.0, 100000000.0, 100000000.0, 30000.0, 40000.0, 40000.0]
+        """
         values = dict(EA=EA, GAy=GAy, GAz=GAz, GJ=GJ, EJy=EJy, EJz=EJz)
         name = kwargs.get("name", "section")
         for key, value in values.items():
