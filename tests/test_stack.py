@@ -22,7 +22,8 @@ sum.  The sum of the magnitudes of the monomial terms of a shape function or der
 [0, 1] is at most :data:`TERMS` ``= 12`` (``|4 - 8 X|``'s ``4 + 8`` at ``X = 1``, P2), times
 ``1 / h^k`` for a ``k``-th derivative in ``xi``; the recovered tangent adds two half-weighted
 one-sided tangents, at most doubling it.  With ``h`` the shortest of the elements read and
-``Y`` the largest coordinate of the nodes read (reference or deformed): a coefficient of
+``Y`` the largest coordinate of the nodes read (reference or deformed; at least 1, for the
+Galerkin ``G`` which is the coefficients themselves): a coefficient of
 order ``k`` within ``2 gamma_16 2 TERMS / h^k``; a line quantity within that times
 ``3 npe Y``.  The integers (dofs, beam, element) and the copied node positions are equal
 exactly, and so is ``X`` (both take ``xi`` off the same breaks by the same operations).
@@ -37,7 +38,8 @@ derivatives times the difference of ``l0``, ``l0_/xi`` (bounded as above).  The 
 the sum, so ``|dR0| <= 10 |dl| / (|l0| |n|)`` plus the frame's own rounding
 (``2 gamma_16``); ``k0 = ax(R0_/xi R0^T)`` has the same sensitivity to ``l0_/xi`` and
 ``|l0_/xi| / |l0|`` times it to ``l0``; the compliance ``R0 C R0^T`` (9 terms) moves by
-``9 max|C| (2 |dR0| + 2 gamma_16)``.  ``k0_/xi`` is a central difference over
+``9 max|C| (2 |dR0| + 2 gamma_16)``, ``max|C|`` at most the trace of the compliance (``C``
+is positive definite, the trace invariant).  ``k0_/xi`` is a central difference over
 ``+-d = 1e-4 / |l0_/xi|`` of ``k0`` (:func:`sliders.lines.rigid.curvature_rate`): to the
 first order it moves with ``k0``'s sensitivity times ``|l0_/xi| / |l0|``, and the rounding
 of its two ends, ``2 gamma_16 |k0|`` each, is divided by ``2 d``.
@@ -125,7 +127,7 @@ def special_abscissae(chain, rng):
     abscissae."""
     npe = chain.beams[0].mesh.nodes_per_element
     xi = [0.0, chain.length, *chain.offsets[1:-1]]
-    for offset, beam in zip(chain.offsets, chain.beams, strict=False):
+    for offset, beam in zip(chain.offsets[:-1], chain.beams, strict=True):
         mesh = beam.mesh
         for start, h in zip(offset + mesh.vertex_s[:-1], mesh.element_length, strict=True):
             xi += [start, start + 0.5 * h] if npe == 3 else [start]
@@ -182,7 +184,7 @@ class Bounds:
         k0 = np.linalg.norm(rotation.k0)
         dk = 10 * (dl_xi + self.l0_xi / self.l0 * dl) / (self.l0 * n) + ROUNDING * k0
         dk_xi = dk * self.l0_xi / self.l0 + ROUNDING * k0 * self.l0_xi * 1e4
-        dC = 9 * np.abs(rotation.compliance).max() * (2 * dR + ROUNDING)
+        dC = 9 * np.trace(rotation.compliance) * (2 * dR + ROUNDING)
         return {"R0": dR, "k0": dk, "k0_xi": dk_xi, "compliance": dC}
 
 

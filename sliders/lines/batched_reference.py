@@ -6,7 +6,7 @@ joint needs of its line at ``xi``; this module states the same quantities for on
 quantity, from the beams themselves (meshes, formulations, sections and the structure's
 dof maps) rather than from the arrays :class:`~sliders.lines.batched.ChainStack` builds of
 them.  It is slow and is not used by the solvers: it is what the kernel is tested against
-(``tests/test_line_state_reference.py``), and where to read what the kernel computes.
+(``tests/test_stack.py``), and where to read what the kernel computes.
 
 * :func:`locate`: the beam, element and reference coordinate ``X`` of ``xi``;
 * :func:`shape_functions`: the Lagrange interpolation of the element and its derivatives in
@@ -274,8 +274,8 @@ def line_state(
     member, as :meth:`sliders.lines.batched.ChainStack.line_state` with ``rotation``): the
     :func:`interpolation`, the deformed line ``x``, ``l``, ``l_/xi`` and the recovered tangent
     ``l~``, ``l~_/xi`` (:func:`deformed`), the load transfer (:func:`transfer`; with
-    ``smearing > 0``, the smeared one, :meth:`sliders.lines.chain.BeamChain.transfer`, which
-    is numpy already) and the :func:`rotation`."""
+    ``smearing > 0`` the smeared one, :meth:`sliders.lines.chain.BeamChain.transfer`, which
+    the stack reads too: a quadrature outside the kernel) and the :func:`rotation`."""
     line = interpolation(chain, xi)
     x, l, l_xi = (deformed(f, line.X, line.dofs, q) for f in (line.N, line.dN, line.d2N))
     tangent, tangent_xi = (
