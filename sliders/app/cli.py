@@ -100,10 +100,12 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _run_dynamic(model, out: Path) -> int:
-    from sliders.app.run_dynamic import run_dynamic
+    from sliders.app.run import run
+    from sliders.app.run_dynamic import write_dynamic
 
     try:
-        outcome = run_dynamic(model, out, progress=True)
+        outcome = run(model, progress=True)
+        write_dynamic(outcome, out)
     except ValueError as exc:
         print(f"fvslider: {exc}", file=sys.stderr)
         return 2
