@@ -21,6 +21,7 @@ Sources of the asserted numbers:
 from __future__ import annotations
 
 import filecmp
+import re
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
@@ -351,6 +352,46 @@ def test_a_dynamic_run_writes_its_series_in_one_call_as_by_frames(pushed, tmp_pa
     assert times[0] == times[1] and len(times[0]) == len(states) + 1
     for k in range(len(by_hand)):
         same_vtu(tmp_path / "one" / f"step_{k:06d}.vtu", tmp_path / "hand" / f"step_{k:06d}.vtu")
+
+
+# -- the documented examples --------------------------------------------------------------------
+def python_blocks(doc: str) -> list[str]:
+    return re.findall(r"```python\n(.*?)```", (ROOT / doc).read_text(), re.S)
+
+
+@pytest.fixture
+def workdir(tmp_path, monkeypatch):
+    """An empty working directory where the repository's ``studies/`` is at hand."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "studies").symlink_to(ROOT / "studies")
+    return tmp_path
+
+
+def test_the_readme_examples_run_and_solve_figure_4_as_the_library(workdir):
+    namespace: dict = {}
+    blocks = python_blocks("README.md")
+    assert len(blocks) == 3
+    for block in blocks:
+        exec(compile(block, "README.md", "exec"), namespace)
+    statics, solution = namespace["statics"], namespace["solution"]
+    assert tip_stiffness(statics, solution.q) == pytest.approx(
+        SlidingBeams("fv3", 5, "spherical").stiffness(0.18 / L), rel=4 * EPS
+    )
+    assert (workdir / "sliding_beams.vtu").is_file()
+    assert (workdir / "results" / "sliding_beams" / "samples.csv").is_file()
+    assert len(namespace["results"].samples) == 20 and not namespace["results"].failures
+
+
+def test_the_scenes_python_example_runs_a_dynamic_study(workdir):
+    (block,) = python_blocks("docs/scenes.md")
+    namespace: dict = {}
+    exec(compile(block, "docs/scenes.md", "exec"), namespace)
+    outcome = namespace["outcome"]
+    assert isinstance(outcome, DynamicRun) and outcome.error is None
+    assert outcome.state.t == pytest.approx(10.0)
+    history = outcome.recorder.table()
+    np.testing.assert_allclose(history["push.xi"], 0.6 + 0.035 * history["t"], atol=TOL)
+    assert (workdir / "results" / "pushed_body" / "history.csv").is_file()
 
 
 # -- the packages' names -------------------------------------------------------------------------
