@@ -98,12 +98,12 @@ class Structure:
             "name, or (beam_a, node_a, beam_b, node_b)"
         )
 
-    def _slot(self, ref: NodeRef) -> int:
-        """Index of a node before ties are merged (beam nodes, then bodies)."""
-        ref = self.resolve_node(ref)
-        if isinstance(ref, str):
-            return int(self._offsets[-1]) + self._body_index[ref]
-        return int(self._offsets[ref[0]]) + ref[1]
+    def _slot(self, node: str | tuple[int, int]) -> int:
+        """Index of a resolved node (:meth:`resolve_node`) before ties are merged (beam
+        nodes, then bodies)."""
+        if isinstance(node, str):
+            return int(self._offsets[-1]) + self._body_index[node]
+        return int(self._offsets[node[0]]) + node[1]
 
     def _check_coincident(self, tie: tuple, a: NodeRef, b: NodeRef) -> None:
         points = np.vstack(
@@ -170,7 +170,7 @@ class Structure:
 
     def node_dofs(self, ref: NodeRef) -> np.ndarray:
         """The six global dofs ``ux uy uz rx ry rz`` of a node (:meth:`resolve_node`)."""
-        return 6 * int(self._node_number[self._slot(ref)]) + np.arange(6)
+        return 6 * int(self._node_number[self._slot(self.resolve_node(ref))]) + np.arange(6)
 
     def node_position(self, ref: NodeRef) -> np.ndarray:
         """Reference position of a node (:meth:`resolve_node`)."""
