@@ -8,23 +8,12 @@ Typical use, a scene from Python (``docs/scenes.md``)::
     results = sliders.run(model)  # a sweep's samples; a dynamic study's steps
     sliders.write_results(results, "results/sliding_beams")
 
-or the objects built directly, named as in a scene (the paper's Figure 4 setup)::
+or the objects built directly, parts named as in a scene (``README.md``, section Python: the
+paper's Figure 4 setup)::
 
-    from fvbeam import Beam, Section, Structure, Support, straight
-    from sliders import BeamChain, Slider, SliderStatics, write_vtu
-
-    section = Section.diagonal(1.1e9, 1.1e8, 1.1e8, 4.1e4, 4.1e4, 4.1e4)
-    cylinder = Beam(straight((0, 0, 0), (0.6, 0, 0), 4, name="C"), section)
-    piston = Beam(straight((0.18, 0, 0), (0.78, 0, 0), 4, name="P"), section)
-    structure = Structure([cylinder, piston])
-    joints = [
-        Slider("spherical", BeamChain(structure, "C"), "P.start", name="A"),
-        Slider("spherical", BeamChain(structure, "P"), "C.end", name="B"),
-    ]
-    supports = [Support("C.start"), Support("P.start", kind="ux+rx")]
-    statics = SliderStatics(structure, supports, joints)
-    solution = statics.solve(structure.nodal_load("P.end", force=(0, 1, 0)))
-    write_vtu("fig4.vtu", statics, solution)
+    joints = [Slider("spherical", BeamChain(structure, "C"), "P.start", name="A"), ...]
+    statics = SliderStatics(structure, [Support("C.start"), ...], joints)
+    write_vtu("fig4.vtu", statics, statics.solve(structure.nodal_load("P.end", (0, 1, 0))))
 
 The subpackages: :mod:`sliders.lines` (rigid lines, beam chains), :mod:`sliders.joints`
 (sliders, drives), :mod:`sliders.solve` (statics, sweeps, dynamics), :mod:`sliders.app`
