@@ -1,11 +1,12 @@
 """Finite-volume and Galerkin linear Timoshenko beams assembled with scikit-fem.
 
-Typical use::
+Typical use, parts named as in a scene (:mod:`fvbeam.names`)::
 
     from fvbeam import Beam, LinearStatics, Section, Support, straight
 
-    beam = Beam(straight((0, 0, 0), (1, 0, 0), 4), Section.diagonal(1e3, 1, 1, 1, 1, 1), "fv3")
-    statics = LinearStatics(beam, [Support(0, "start")])
+    section = Section.diagonal(EA=1e3, GAy=1, GAz=1, GJ=1, EJy=1, EJz=1)
+    beam = Beam(straight((0, 0, 0), (1, 0, 0), 4, name="shaft"), section, "fv3")
+    statics = LinearStatics(beam, [Support("shaft.start")])
     q = statics.solve(beam.point_load(0.7, force=(0, 1, 0)))
 """
 
@@ -14,16 +15,21 @@ from fvbeam.body import RigidBody
 from fvbeam.formulations import FORMULATIONS, formulation
 from fvbeam.linear_statics import LinearStatics
 from fvbeam.mesh import BeamMesh, arc, from_curve, read_beams, straight
+from fvbeam.modes import Modes, natural_frequencies
+from fvbeam.names import NodeRef, parse_node
 from fvbeam.section import Section
 from fvbeam.structure import Structure
-from fvbeam.support import Support
+from fvbeam.support import DOF_NAMES, Support
 
 __all__ = [
     "Beam",
     "BeamMesh",
+    "DOF_NAMES",
     "FORMULATIONS",
     "InternalForces",
     "LinearStatics",
+    "Modes",
+    "NodeRef",
     "RigidBody",
     "Section",
     "Structure",
@@ -31,6 +37,8 @@ __all__ = [
     "arc",
     "formulation",
     "from_curve",
+    "natural_frequencies",
+    "parse_node",
     "read_beams",
     "straight",
 ]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from numbers import Real
 
 import numpy as np
 
@@ -25,8 +26,9 @@ class Section:
     mass_per_length
         Mass per unit length (for dynamics), >= 0.
     inertia
-        3x3 section inertia per unit length in the section frame (for dynamics), symmetric
-        positive semi-definite.
+        Section inertia per unit length in the section frame (for dynamics): a symmetric
+        positive semi-definite 3x3 matrix, or its three principal values (a diagonal
+        matrix), as a scene's ``inertia``.
     name
         Label used in error messages.
     """
@@ -50,9 +52,7 @@ class Section:
             bad = [f"{n} = {v:g}" for n, v in zip(COMPONENTS, diag, strict=True) if not v > 0]
             detail = ", ".join(bad) if bad else f"smallest eigenvalue {eig.min():g}"
             raise ValueError(f"{self.name}: stiffness must be positive definite ({detail})")
-        m = float(self.mass_per_length)
-        if not np.isfinite(m) or m < 0:
-            raise ValueError(f"{self.name}: mass_per_length must be finite and >= 0, got {m}")
+        m = _number(self.mass_per_length, f"{self.name}: mass_per_length", ">= 0")
         J = inertia3(self.inertia, f"{self.name}: inertia")
         object.__setattr__(self, "stiffness", K)
         object.__setattr__(self, "mass_per_length", m)
@@ -60,15 +60,25 @@ class Section:
 
     @classmethod
     def diagonal(
-        cls, EA: float, GAy: float, GAz: float, GJ: float, EJy: float, EJz: float, **kwargs
+        cls,
+        EA: float,
+        GAy: float,
+        GAz: float,
+        GJ: float,
+        EJy: float,
+        EJz: float,
+        mass_per_length: float = 0.0,
+        inertia: np.ndarray | tuple = (0.0, 0.0, 0.0),
+        name: str = "section",
     ) -> "Section":
-        """Uncoupled section from its six stiffnesses (named as in :data:`COMPONENTS`)."""
+        """Uncoupled section from its six stiffnesses (named as in :data:`COMPONENTS`), with
+        the inputs of a scene's ``[[section]]``: ``inertia`` three principal values (or a
+        3x3 matrix), ``mass_per_length`` and ``name``.  A value that is not a finite number
+        in range raises ``ValueError`` naming it."""
         values = dict(EA=EA, GAy=GAy, GAz=GAz, GJ=GJ, EJy=EJy, EJz=EJz)
-        name = kwargs.get("name", "section")
         for key, value in values.items():
-            if not (np.isfinite(value) and value > 0):
-                raise ValueError(f"{name}: {key} must be finite and > 0, got {value}")
-        return cls(np.diag([values[k] for k in COMPONENTS]), **kwargs)
+            values[key] = _number(value, f"{name}: {key}", "> 0")
+        return cls(np.diag([values[k] for k in COMPONENTS]), mass_per_length, inertia, name)
 
     def global_stiffness(self, frames: np.ndarray) -> np.ndarray:
         """Stiffness in global axes, ``blockdiag(R, R) C blockdiag(R, R)^T`` (eq. T2).
@@ -79,3 +89,15 @@ class Section:
         R6[..., :3, :3] = frames
         R6[..., 3:, 3:] = frames
         return R6 @ self.stiffness @ np.swapaxes(R6, -1, -2)
+
+
+def _number(value, label: str, bound: str) -> float:
+    """``value`` as a float that is finite and ``> 0`` or ``>= 0`` (``bound``), or
+    ``ValueError`` naming ``label`` (a string or a bool is not a number)."""
+    real = isinstance(value, Real) and not isinstance(value, bool)
+    number = float(value) if real else np.nan
+    if not (np.isfinite(number) and (number > 0 if bound == "> 0" else number >= 0)):
+        raise ValueError(
+            f"{label} must be finite and {bound}, got {value if real else repr(value)}"
+        )
+    return number

@@ -14,7 +14,8 @@ from test_scenes import SCENES, data, problems
 
 from sliders.app.cli import main
 from sliders.app.model import Model
-from sliders.app.run_dynamic import run_dynamic
+from sliders.app.run import run
+from sliders.app.run_dynamic import DynamicRun, write_dynamic
 from sliders.app.scene import parse_scene
 
 TOL = 1e-8
@@ -24,6 +25,13 @@ def read_csv(path) -> dict[str, np.ndarray]:
     with open(path, newline="") as handle:
         rows = list(csv.reader(handle))
     return {name: np.array([float(r[i]) for r in rows[1:]]) for i, name in enumerate(rows[0])}
+
+
+def run_into(model: Model, out) -> DynamicRun:
+    """The Python route of a dynamic study: ``run`` in memory, then written into ``out``."""
+    outcome = run(model, progress=False)
+    write_dynamic(outcome, out)
+    return outcome
 
 
 def pushed(t_end: float = 1.0, **study) -> dict:
@@ -88,7 +96,7 @@ def test_dynamic_study_problems_are_named():
 
 def test_pushed_body_follows_its_drive_and_restarts(tmp_path):
     model = Model(parse_scene(pushed(t_end=1.0), SCENES, "pushed"), "pushed")
-    first = run_dynamic(model, tmp_path / "first", progress=False)
+    first = run_into(model, tmp_path / "first")
     assert first.error is None and first.state.t == pytest.approx(1.0)
     history = read_csv(tmp_path / "first" / "history.csv")
     np.testing.assert_allclose(history["push.xi"], 0.6 + 0.035 * history["t"], atol=TOL)
@@ -100,12 +108,8 @@ def test_pushed_body_follows_its_drive_and_restarts(tmp_path):
     reactions = read_csv(tmp_path / "first" / "reactions.csv")
     assert len(reactions["t"]) == len(history["t"]) and "body 'cart' rz" in reactions
     scene = pushed(t_end=2.0, restart=str(tmp_path / "first" / "state.npz"))
-    resumed = run_dynamic(
-        Model(parse_scene(scene, SCENES, "r"), "r"), tmp_path / "second", progress=False
-    )
-    whole = run_dynamic(
-        Model(parse_scene(pushed(t_end=2.0), SCENES, "w"), "w"), tmp_path / "whole", progress=False
-    )
+    resumed = run_into(Model(parse_scene(scene, SCENES, "r"), "r"), tmp_path / "second")
+    whole = run_into(Model(parse_scene(pushed(t_end=2.0), SCENES, "w"), "w"), tmp_path / "whole")
     # the restart's steps end at 1 + k h, the whole run's at (20 + k) h: equal to roundoff
     np.testing.assert_allclose(
         resumed.state.q, whole.state.q, rtol=0, atol=1e-12 * np.abs(whole.state.q).max()

@@ -4,8 +4,9 @@ Exit codes: 0 success; 1 a run that did not fully succeed (a solve failed, a swe
 failed; what was computed is written); 2 an invalid scene or command line (the message on
 stderr); 130 interrupted by Ctrl-C (a sweep writes the points it completed).
 
-Start-up stays light: the modules here are imported when a command needs them, and
-``fvslider --help`` and ``fvslider check`` never import matplotlib or pyvista.
+The command's own modules are imported when a command needs them, and ``fvslider --help`` and
+``fvslider check`` never import matplotlib or pyvista; the package ``sliders`` itself imports
+its library (numba, scipy, scikit-fem, pydantic: about a second) to expose its public names.
 """
 
 from __future__ import annotations
@@ -100,10 +101,12 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _run_dynamic(model, out: Path) -> int:
-    from sliders.app.run_dynamic import run_dynamic
+    from sliders.app.run import run
+    from sliders.app.run_dynamic import write_dynamic
 
     try:
-        outcome = run_dynamic(model, out, progress=True)
+        outcome = run(model, progress=True)
+        write_dynamic(outcome, out)
     except ValueError as exc:
         print(f"fvslider: {exc}", file=sys.stderr)
         return 2

@@ -23,6 +23,7 @@ and recovery point, ``N, Vy, Vz, T, My, Mz`` in the section frame) and ``reactio
 Rows are written as they come into ``NAME.csv.part`` files and flushed; :meth:`Recorder.close`
 renames them to ``NAME.csv``.  :meth:`sliders.solve.dynamics.Dynamics.run` closes the recorder on
 every exit, so an interrupted or failed integration leaves whole rows of what it computed.
+A recorder kept in memory (no directory) writes the same files later, :meth:`Recorder.write`.
 """
 
 from __future__ import annotations
@@ -83,6 +84,7 @@ class Recorder:
         self.displacements: list[np.ndarray] = []
         self.internal_forces: list[np.ndarray] = []
         self.columns: list[str] = []
+        self.headers: dict[str, list[str]] = {}
         self._files: dict[str, tuple[TextIO, csv.writer]] = {}
         self._work = np.zeros(3)
         self._reference: float | None = None
@@ -103,30 +105,50 @@ class Recorder:
         self._held = np.setdiff1d(np.arange(dynamics.structure.n_dofs), dynamics.free)
         self._work = np.zeros(3)
         self._reference = None
+        structure = dynamics.structure
+        self.headers = {"history": self.columns}
+        if self.keep_displacements:
+            self.headers["displacements"] = ["t"] + [
+                structure.dof_name(d) for d in range(structure.n_dofs)
+            ]
+        if self.keep_forces:
+            header = ["t"]
+            for b, beam in enumerate(structure.beams):
+                points = len(beam.internal_forces(np.zeros(beam.n_dofs)).xi)
+                header += [f"beam {b} point {i} {c}" for i in range(points) for c in FORCE_NAMES]
+            self.headers["internal_forces"] = header
+        if self.keep_reactions:
+            self.headers["reactions"] = ["t"] + [structure.dof_name(d) for d in self._held]
         if self.directory is not None:
             self.directory.mkdir(parents=True, exist_ok=True)
-            self._open("history", self.columns)
-            structure = dynamics.structure
-            if self.keep_displacements:
-                self._open(
-                    "displacements",
-                    ["t"] + [structure.dof_name(d) for d in range(structure.n_dofs)],
-                )
-            if self.keep_forces:
-                header = ["t"]
-                for b, beam in enumerate(structure.beams):
-                    points = len(beam.internal_forces(np.zeros(beam.n_dofs)).xi)
-                    header += [
-                        f"beam {b} point {i} {c}" for i in range(points) for c in FORCE_NAMES
-                    ]
-                self._open("internal_forces", header)
-            if self.keep_reactions:
-                self._open("reactions", ["t"] + [structure.dof_name(d) for d in self._held])
+            for name, header in self.headers.items():
+                self._open(name, header)
         self._append(dynamics, state, None)
 
     def record(self, dynamics: "Dynamics", new: State, old: State) -> None:
         """Record the accepted step from ``old`` to ``new``."""
         self._append(dynamics, new, old)
+
+    def write(self, directory: str | Path) -> None:
+        """Write the tables recorded so far into ``directory`` (which must exist), the same
+        files a recorder streaming there would have left: what a recorder kept in memory
+        (``directory=None``) writes once the run is over."""
+        times = [row[1] for row in self.rows]
+        kept = {
+            "displacements": self.displacements,
+            "internal_forces": self.internal_forces,
+            "reactions": self.reactions,
+        }
+        for name, header in self.headers.items():
+            rows = (
+                self.rows
+                if name == "history"
+                else ([t, *v] for t, v in zip(times, kept[name], strict=True))
+            )
+            with open(Path(directory) / f"{name}.csv", "w", newline="") as stream:
+                writer = csv.writer(stream)
+                writer.writerow(header)
+                writer.writerows(_cells(row) for row in rows)
 
     def close(self) -> None:
         """Flush the files and give them their final names."""
@@ -145,9 +167,7 @@ class Recorder:
     def _write(self, name: str, row: list[float]) -> None:
         if name in self._files:
             stream, writer = self._files[name]
-            writer.writerow(
-                [str(x) if isinstance(x, (int, np.integer)) else repr(float(x)) for x in row]
-            )
+            writer.writerow(_cells(row))
             stream.flush()
 
     def _append(self, dynamics: "Dynamics", state: State, old: State | None) -> None:
@@ -207,3 +227,8 @@ class Recorder:
         if self.keep_reactions:
             self.reactions.append(reaction[self._held])
             self._write("reactions", [state.t, *reaction[self._held]])
+
+
+def _cells(row: list[float]) -> list[str]:
+    """A row as its CSV cells: integers as they are, floats by ``repr`` (exact round trip)."""
+    return [str(x) if isinstance(x, (int, np.integer)) else repr(float(x)) for x in row]

@@ -44,6 +44,7 @@ import xml.etree.ElementTree as ET
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Protocol
 
 import meshio
 import numpy as np
@@ -223,13 +224,17 @@ class _Blocks:
 
 
 def to_meshio(
-    structure: Structure,
-    q: np.ndarray,
+    structure: Structure | System,
+    q: np.ndarray | Solution,
     sliders: Sequence[Slider] = (),
     unknowns: Sequence[np.ndarray] = (),
     radius: float | Sequence[float] | None = None,
 ) -> meshio.Mesh:
     """The solved structure as a meshio mesh (layout and fields: module docstring).
+
+    ``to_meshio(statics, solution)`` takes them from a solved system (:meth:`Frame.of`: a
+    ``SliderStatics`` and its ``SliderSolution``, a ``Dynamics`` or ``Model`` and a
+    ``State``), ``radius`` then by keyword.
 
     Parameters
     ----------
@@ -244,6 +249,7 @@ def to_meshio(
         Tube radius: one value, one per beam, or ``None`` for ``RADIUS_FRACTION`` of the
         structure's size; sliders and bodies carry the largest beam radius.
     """
+    structure, q, sliders, unknowns = _solved(structure, q, sliders, unknowns)
     q, ys = check_solution(structure, q, sliders, unknowns)
     radii, marker = tube_radii(structure, radius)
     blocks = _Blocks()
@@ -316,14 +322,15 @@ def to_meshio(
 
 def write_vtu(
     path: str | Path,
-    structure: Structure,
-    q: np.ndarray,
+    structure: Structure | System,
+    q: np.ndarray | Solution,
     sliders: Sequence[Slider] = (),
     unknowns: Sequence[np.ndarray] = (),
     radius: float | Sequence[float] | None = None,
 ) -> None:
     """Write the solved structure to the VTU file ``path`` atomically
-    (:func:`fvbeam.io.write_atomic`); arguments as :func:`to_meshio`."""
+    (:func:`fvbeam.io.write_atomic`); arguments as :func:`to_meshio`, e.g.
+    ``write_vtu(path, statics, solution)``."""
     path = Path(path)
     if path.suffix != ".vtu":
         raise ValueError(f"path {str(path)!r} must end in .vtu")
@@ -369,6 +376,20 @@ def write_pvd(path: str | Path, steps: Sequence[tuple[float, str | Path]]) -> No
     write_atomic(path, lambda tmp: tree.write(tmp, encoding="utf-8", xml_declaration=True))
 
 
+class System(Protocol):
+    """A solved system's parts: ``SliderStatics``, ``Dynamics``, ``Model``."""
+
+    structure: Structure
+    sliders: Sequence[Slider]
+
+
+class Solution(Protocol):
+    """A solution's values: ``SliderSolution``, a dynamics ``State``."""
+
+    q: np.ndarray
+    unknowns: Sequence[np.ndarray]
+
+
 @dataclass(frozen=True)
 class Frame:
     """One output step of a series: the time (or swept parameter) and the solved structure
@@ -379,6 +400,45 @@ class Frame:
     q: np.ndarray
     sliders: Sequence[Slider] = ()
     unknowns: Sequence[np.ndarray] = ()
+
+    @classmethod
+    def of(cls, system: System, solution: Solution, time: float | None = None) -> Frame:
+        """The frame of ``solution`` (its ``q`` and ``unknowns``: a ``SliderSolution``, a
+        dynamics ``State``) of ``system`` (its ``structure`` and ``sliders``: a
+        ``SliderStatics``, a ``Dynamics``, a scene's ``Model``), at ``time`` (default: the
+        solution's ``t``, else 0)."""
+        for given, what, names in (
+            (system, "system", ("structure", "sliders")),
+            (solution, "solution", ("q", "unknowns")),
+        ):
+            if not all(hasattr(given, name) for name in names):
+                raise ValueError(
+                    f"the {what} must have {' and '.join(names)} (got {type(given).__name__})"
+                )
+        if time is None:
+            time = getattr(solution, "t", 0.0)
+        return cls(float(time), system.structure, solution.q, system.sliders, solution.unknowns)
+
+
+def _solved(
+    structure: Structure | System,
+    q: np.ndarray | Solution,
+    sliders: Sequence[Slider],
+    unknowns: Sequence[np.ndarray],
+) -> tuple[Structure, np.ndarray, Sequence[Slider], Sequence[np.ndarray]]:
+    """The arguments of :func:`to_meshio` given either way: as they are, or a system and its
+    solution (:meth:`Frame.of`) with nothing after them."""
+    if isinstance(structure, Structure):
+        return structure, q, sliders, unknowns
+    if not (isinstance(sliders, Sequence) and isinstance(unknowns, Sequence)) or (
+        len(sliders) or len(unknowns)
+    ):
+        raise ValueError(
+            "given a solved system and its solution, the sliders and their unknowns are "
+            "theirs: pass nothing after the solution (the radius by keyword)"
+        )
+    frame = Frame.of(structure, q)
+    return frame.structure, frame.q, frame.sliders, frame.unknowns
 
 
 def write_series(

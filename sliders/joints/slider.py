@@ -50,6 +50,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from fvbeam.geometry import orthonormal3, vector3
+from fvbeam.names import NodeRef, parse_node
 from fvbeam.structure import Structure
 from sliders.joints.blocks import SlotJacobian
 from sliders.joints.drives import Motion
@@ -75,8 +76,8 @@ class Slider:
     line
         A :class:`BeamChain` of the same structure, or a rigid line.
     body
-        The sliding node: ``(beam index, node)`` (node: index, ``'start'`` or ``'end'``) or
-        the name of a rigid body of the structure.
+        The sliding node, named as in a scene (``"P.start"``, a rigid body's name) or as
+        ``(beam, node)`` (:mod:`fvbeam.names`).
     offset
         Sliding point relative to the node, in global axes of the reference configuration.
     frame
@@ -101,7 +102,7 @@ class Slider:
 
     kind: str
     line: BeamChain | RigidLine
-    body: tuple[int, int | str] | str
+    body: NodeRef
     offset: np.ndarray = field(default_factory=lambda: np.zeros(3))
     frame: np.ndarray = field(default_factory=lambda: np.eye(3))
     smearing: float = 0.0
@@ -130,6 +131,7 @@ class Slider:
                 f"{self.name}: orientation 'slope' is the classical slider's "
                 f"(paper eq. 4); a {self.kind} slider needs 'section'"
             )
+        parse_node(self.body, f"{self.name}: body")
         self.offset = vector3(self.offset, f"{self.name}: offset")
         self.frame = orthonormal3(self.frame, f"{self.name}: frame")
         self._batch: SliderBatch | None = None
@@ -266,11 +268,8 @@ class SliderBatch:
         out = copy.copy(one)
         out.sliders, out.structures, out.drives = [slider] * B, [structure] * B, one.drives * B
         out.body = np.repeat(one.body, B, axis=0)
-        moved = (
-            shifts[:, structure.beam_index(slider.body[0])]
-            if isinstance(slider.body, tuple)
-            else np.zeros((B, 3))
-        )
+        node = structure.resolve_node(slider.body)
+        moved = np.zeros((B, 3)) if isinstance(node, str) else shifts[:, node[0]]
         out.reference = structure.node_position(slider.body) + moved + slider.offset
         out.chains = one.chains.translated(shifts) if one.chains is not None else None
         return out
