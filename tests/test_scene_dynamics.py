@@ -26,6 +26,11 @@ def read_csv(path) -> dict[str, np.ndarray]:
     return {name: np.array([float(r[i]) for r in rows[1:]]) for i, name in enumerate(rows[0])}
 
 
+def read_table(path) -> list[dict[str, str]]:
+    with open(path, newline="") as handle:
+        return list(csv.DictReader(handle))
+
+
 def pushed(t_end: float = 1.0, **study) -> dict:
     scene = data("pushed_body")
     scene["study"].update(t_end=t_end, **study)
@@ -94,11 +99,17 @@ def test_pushed_body_follows_its_drive_and_restarts(tmp_path):
     np.testing.assert_allclose(history["push.xi"], 0.6 + 0.035 * history["t"], atol=TOL)
     np.testing.assert_allclose(history["push.lambda_y"], 1.0, atol=1e-12)
     assert np.all(history["push.residual"] <= TOL)
-    shape = read_csv(tmp_path / "first" / "displacements.csv")
-    assert len(shape["t"]) == len(history["t"])
+    # tidy per-step tables: the cantilever's 3 nodes and the cart at every step of history
+    nodes = read_table(tmp_path / "first" / "nodes.csv")
+    assert [(r["step"], r["t"]) for r in nodes[::4]] == list(
+        zip(map(str, range(len(history["t"]))), map(repr, history["t"].tolist()), strict=True)
+    )
+    assert [r["part"] for r in nodes[:4]] == ["cantilever"] * 3 + ["cart"]
     assert (tmp_path / "first" / "internal_forces.csv").is_file()
-    reactions = read_csv(tmp_path / "first" / "reactions.csv")
-    assert len(reactions["t"]) == len(history["t"]) and "body 'cart' rz" in reactions
+    reactions = read_table(tmp_path / "first" / "reactions.csv")
+    assert len(reactions) == 2 * len(history["t"])
+    assert [r["node"] for r in reactions[:2]] == ["cantilever.start", "cart"]
+    assert all(r["mz"] != "" for r in reactions) and reactions[1]["fx"] == ""
     scene = pushed(t_end=2.0, restart=str(tmp_path / "first" / "state.npz"))
     resumed = run_dynamic(
         Model(parse_scene(scene, SCENES, "r"), "r"), tmp_path / "second", progress=False

@@ -4,9 +4,9 @@ The integration (:class:`sliders.solve.dynamics.Dynamics`) starts from the stati
 ``t = 0`` or from the saved state ``study.restart``, and streams its steps into the new
 directory (:mod:`sliders.app.history`), which then replaces the output directory whole:
 
-* ``history.csv`` always; ``displacements.csv`` when ``output.csv`` lists ``nodes``,
-  ``internal_forces.csv`` when it lists ``internal_forces``, ``reactions.csv`` when it lists
-  ``reactions``;
+* ``history.csv`` always (the dynamic study's ``samples``); ``nodes.csv``, ``sliders.csv``,
+  ``internal_forces.csv``, ``reactions.csv`` when ``output.csv`` lists them: the static
+  tables' columns, one set of rows per step (:data:`sliders.app.tables.STEP_COLUMNS`);
 * ``state.npz``, the last converged state (restart from it with ``study.restart``);
 * ``scene.toml``; with ``output.vtu``, a VTU per kept state (``study.every``) and their
   ``.pvd``; with ``output.png``, renders of the last state (``last``) or of every kept one.
@@ -20,10 +20,13 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from fvbeam.io import OUTPUT_MARKER, replace_directory
 from sliders.app.history import Recorder
 from sliders.app.model import Model
 from sliders.app.scene import dump_scene
+from sliders.app.tables import STEP_COLUMNS
 from sliders.app.vtu import Frame, write_series
 from sliders.solve.dynamics import Adaptive, DynamicsError
 from sliders.solve.integrator import State
@@ -49,6 +52,7 @@ def run_dynamic(model: Model, out: str | Path, progress: bool = True) -> Dynamic
     scene = model.scene
     study, output = scene.study, scene.output
     dynamics = model.dynamics()
+    held = np.setdiff1d(np.arange(model.structure.n_dofs), dynamics.free)
     start = None
     if study.restart is not None:
         start = State.load(study.restart)
@@ -69,11 +73,7 @@ def run_dynamic(model: Model, out: str | Path, progress: bool = True) -> Dynamic
     def fill(directory: Path) -> None:
         (directory / "scene.toml").write_text(dump_scene(scene))
         outcome.recorder = Recorder(
-            directory,
-            "nodes" in output.csv,
-            "internal_forces" in output.csv,
-            every=keep,
-            reactions="reactions" in output.csv,
+            directory, [name for name in output.csv if name in STEP_COLUMNS], every=keep
         )
         clock = time.perf_counter()
         try:
@@ -93,20 +93,20 @@ def run_dynamic(model: Model, out: str | Path, progress: bool = True) -> Dynamic
         if output.vtu:
             if not kept or kept[-1] is not outcome.state:
                 kept.append(outcome.state)
-            write_series(directory / "states", (_frame(model, s) for s in kept))
+            write_series(directory / "states", (_frame(model, held, s) for s in kept))
         rendered = {"none": [], "last": [outcome.state], "all": kept}[output.png]
         for k, state in enumerate(rendered):
-            _render(model, state, directory / f"render_{k:06d}.png")
+            _render(model, held, state, directory / f"render_{k:06d}.png")
 
     replace_directory(out, fill, OUTPUT_MARKER)
     return outcome
 
 
-def _frame(model: Model, state: State) -> Frame:
-    return Frame(state.t, model.structure, state.q, model.sliders, state.unknowns)
+def _frame(model: Model, held: np.ndarray, state: State) -> Frame:
+    return Frame(state.t, model.structure, state.q, model.sliders, state.unknowns, held)
 
 
-def _render(model: Model, state: State, path: Path) -> None:
+def _render(model: Model, held: np.ndarray, state: State, path: Path) -> None:
     from sliders.app.render import render
 
     render(
@@ -116,4 +116,5 @@ def _render(model: Model, state: State, path: Path) -> None:
         model.sliders,
         state.unknowns,
         title=f"{model.scene.title or 'scene'}: t = {state.t:.4g} s",
+        held=held,
     )
