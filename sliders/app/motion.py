@@ -39,7 +39,6 @@ from collections.abc import Sequence
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.linalg import null_space
 from scipy.sparse.csgraph import connected_components
 
 from fvbeam.structure import Structure
@@ -145,17 +144,20 @@ def lexicographic_lstsq(levels: Sequence[tuple[np.ndarray, np.ndarray]], n: int)
     """The ``z`` (n,) that solves each ``A z = b`` of ``levels`` in the least-squares sense
     within the solutions of the levels before it (minimum norm in what none fixes).
 
-    A level's directions with a singular value below :data:`RANK` times its largest count as
-    left free, both in its solve and for the levels after it.
+    Each level is solved through the singular value decomposition of ``A`` restricted to
+    the directions still free; those with a singular value below :data:`RANK` times the
+    largest stay free, both in its solve and for the levels after it.
     """
     z, free = np.zeros(n), np.eye(n)
     for A, b in levels:
         if not free.shape[1] or not len(A):
             continue
         reduced = A @ free
-        w = np.linalg.lstsq(reduced, b - A @ z, rcond=RANK)[0]
+        u, s, vh = np.linalg.svd(reduced, full_matrices=len(reduced) < reduced.shape[1])
+        rank = int(np.sum(s > RANK * s[0])) if s.size and s[0] > 0 else 0
+        w = vh[:rank].T @ ((u[:, :rank].T @ (b - A @ z)) / s[:rank])
         z = z + free @ w
-        free = free @ null_space(reduced, rcond=RANK)
+        free = free @ vh[rank:].T
     return z
 
 
