@@ -4,7 +4,7 @@ The integration (:class:`sliders.solve.dynamics.Dynamics`) starts from the stati
 ``t = 0`` or from the saved state ``study.restart``, and streams its steps into the new
 directory (:mod:`sliders.app.history`), which then replaces the output directory whole:
 
-* ``history.csv`` always (the dynamic study's ``samples``); ``nodes.csv``, ``sliders.csv``,
+* ``history.csv`` always (in place of ``samples``); ``nodes.csv``, ``sliders.csv``,
   ``internal_forces.csv``, ``reactions.csv`` when ``output.csv`` lists them: the static
   tables' columns, one set of rows per step (:data:`sliders.app.tables.STEP_COLUMNS`);
 * ``state.npz``, the last converged state (restart from it with ``study.restart``);
