@@ -19,7 +19,7 @@ On request, the per-step tables of :mod:`sliders.app.tables` (``nodes``, ``slide
 in place of ``sample, value`` (:data:`sliders.app.tables.STEP_COLUMNS`), one row per step
 and node, slider, recovery point or held node.  The reactions are what the supports and dof
 drives exert (:attr:`sliders.solve.dynamics.Dynamics.supports`): ``M qdd + C v + K q - f``
-on the dofs they hold, less the joints' share, as in statics.
+on the dofs they hold, less the forces the joints exert there, as in statics.
 
 Rows are written as they come into ``NAME.csv.part`` files and flushed; :meth:`Recorder.close`
 renames them to ``NAME.csv``.  :meth:`sliders.solve.dynamics.Dynamics.run` closes the recorder on

@@ -245,7 +245,7 @@ def render(
             )
         plotter.add_text(title, position="upper_edge", font_size=14, color="black")
         plotter.add_text(
-            f"elastic displacements x {scale:.3g}",
+            f"{'displacements' if held is None else 'elastic displacements'} x {scale:.3g}",
             position="lower_left",
             font_size=10,
             color="black",

@@ -71,8 +71,8 @@ class Snapshot:
     """One solved state, as the tables read it.
 
     ``residual`` is the structure's own equations without the supports and joints: ``K q -
-    f`` in statics, ``M qdd + C v + K q - f`` in dynamics; on a held dof, that minus the
-    joints' share is what the support holds it with.
+    f`` in statics, ``M qdd + C v + K q - f`` in dynamics.  On a held dof, that less the
+    force the joints exert there is the support's reaction.
     """
 
     structure: Structure
