@@ -7,9 +7,9 @@ or from the saved state ``study.restart`` and records every step in memory
 the last converged step.  :func:`write_dynamic` then writes a new directory, which replaces the
 output directory whole:
 
-* ``history.csv`` always; ``displacements.csv`` when ``output.csv`` lists ``nodes``,
-  ``internal_forces.csv`` when it lists ``internal_forces``, ``reactions.csv`` when it lists
-  ``reactions``;
+* ``history.csv`` always (in place of ``samples``); ``nodes.csv``, ``sliders.csv``,
+  ``internal_forces.csv``, ``reactions.csv`` when ``output.csv`` lists them: the static
+  tables' columns, one set of rows per step (:data:`sliders.app.tables.STEP_COLUMNS`);
 * ``state.npz``, the last converged state (restart from it with ``study.restart``);
 * ``scene.toml``; with ``output.vtu``, a VTU per kept state (``study.every``) and their
   ``.pvd``; with ``output.png``, renders of the last state (``last``) or of every kept one.
@@ -18,14 +18,17 @@ output directory whole:
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
+
+import numpy as np
 
 from fvbeam.io import OUTPUT_MARKER, replace_directory
 from sliders.app.history import Recorder
 from sliders.app.model import Model
 from sliders.app.scene import dump_scene
 from sliders.app.schema import Scene
+from sliders.app.state_tables import STEP_COLUMNS
 from sliders.app.vtu import Frame, write_series
 from sliders.solve.dynamics import Adaptive, DynamicsError
 from sliders.solve.integrator import State
@@ -36,10 +39,13 @@ class DynamicRun:
     """What a dynamic study did: the ``model``, the ``recorder`` with every step in memory
     (:meth:`~sliders.app.history.Recorder.table` is ``history.csv``), the last converged
     ``state`` (None when even the start failed), the ``error`` message of a failure,
-    ``interrupted`` by Ctrl-C, and the wall-clock ``seconds``."""
+    ``interrupted`` by Ctrl-C, the wall-clock ``seconds``, and the ``held`` dofs (supports
+    and dof drives: what the rigid part of the drawn motion keeps in place,
+    :func:`sliders.app.motion.rigid_motion`)."""
 
     model: Model
     recorder: Recorder
+    held: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
     state: State | None = None
     error: str | None = None
     interrupted: bool = False
@@ -56,7 +62,7 @@ class DynamicRun:
         kept = list(self.recorder.states)
         if self.state is not None and (not kept or kept[-1] is not self.state):
             kept.append(self.state)
-        return [Frame.of(self.model, state) for state in kept]
+        return [Frame.of(self.model, state, held=self.held) for state in kept]
 
 
 def integrate(model: Model, progress: bool = True) -> DynamicRun:
@@ -80,12 +86,11 @@ def integrate(model: Model, progress: bool = True) -> DynamicRun:
         )
     recorder = Recorder(
         None,
-        "nodes" in output.csv,
-        "internal_forces" in output.csv,
+        [name for name in output.csv if name in STEP_COLUMNS],
         every=study.every if (output.vtu or output.png == "all") else 0,
-        reactions="reactions" in output.csv,
     )
-    outcome = DynamicRun(model, recorder)
+    held = np.setdiff1d(np.arange(model.structure.n_dofs), dynamics.free)
+    outcome = DynamicRun(model, recorder, held)
     clock = time.perf_counter()
     try:
         first = start if start is not None else dynamics.static_state()
@@ -131,4 +136,5 @@ def _render(model: Model, frame: Frame, path: Path) -> None:
         frame.sliders,
         frame.unknowns,
         title=f"{model.scene.title or 'scene'}: t = {frame.time:.4g} s",
+        held=frame.held,
     )
