@@ -250,6 +250,16 @@ def test_a_pattern_without_a_block_the_kernel_writes_is_an_error(kind, orientati
             assert str(list(batch.pattern)) in message
 
 
+def test_inputs_the_pattern_was_not_laid_out_for_are_an_error():
+    """The check follows what the kernel will write at the inputs it is given: a joint laid
+    out on the node (no lever-arm blocks) handed a sliding point off the node."""
+    batch = batch_of("classical", "section", "fv3", OFFSETS["on the node"])
+    _, inputs = batch.joint_inputs(*random_state(batch, np.random.default_rng(6)))
+    off = inputs._replace(offset=OFFSETS["off the node"])
+    with pytest.raises(ValueError, match=r"slider 'A': the kernel writes block \(turn, turn\)"):
+        batch.joint_equations(off)
+
+
 def test_a_pattern_naming_an_unknown_group_is_an_error():
     """A block of a group that is not among the joint's slots: ValueError naming the joint,
     the block, the pattern and the groups there are."""
@@ -269,3 +279,12 @@ def test_writing_a_block_outside_the_pattern_is_an_error():
     _, _, J = batch.evaluate(*random_state(batch, np.random.default_rng(4)))
     with pytest.raises(ValueError, match=r"block \(xi, body\) is not in the joint's pattern \["):
         J.block("xi", "body")
+
+
+def test_the_reference_of_an_unknown_slider_is_an_error():
+    """A kind and orientation with no equations (the slope form is the classical slider's)
+    is a ValueError naming both."""
+    batch = batch_of("spherical", "section", "arc", OFFSETS["on the node"])
+    _, inputs = batch.joint_inputs(*random_state(batch, np.random.default_rng(7)))
+    with pytest.raises(ValueError, match="no slider equations for kind 'spherical' with "):
+        joint_reference("spherical", "slope", inputs)

@@ -265,12 +265,12 @@ def _section(s: JointInputs, g: list[np.ndarray], n: list[np.ndarray]) -> Equati
 
     ``g = [g0, g0_/xi, g0_/xixi]`` (B, J) and ``n = [n, n_/xi, n_/xixi]`` (B, J, 3) define
     ``g_j = g0_j(xi) + n_j(xi) . (theta_b - theta_L - kappa C m)`` (:func:`classical_section`,
-    :func:`spline_section`).  The virtual work of ``sum_j mu_j g_j`` with ``theta_L`` fixed
-    in the kink term gives the couple ``m = sum_j mu_j n_j`` on the body, ``-w_a m`` on the
-    two nodes that carry ``theta_L = sum_a w_a theta_a`` and the ``xi`` row
-    ``sum_j mu_j (g0_j/xi + n_j/xi . (theta_b - theta_L) - n_j . theta_L/xi)``; the kink
-    correction ``kappa C m`` stays in the constraint rows, never in the loads.  ``theta_L``
-    is linear in ``xi`` between the two nodes (``w_/xixi = 0``).
+    :func:`spline_section`).  The virtual work of ``sum_j mu_j g_j`` without the kink term
+    gives the couple ``m = sum_j mu_j n_j`` on the body, ``-w_a m`` on the two nodes that
+    carry ``theta_L = sum_a w_a theta_a`` and the ``xi`` row
+    ``sum_j mu_j (g0_j/xi + n_j/xi . (theta_b - theta_L) - n_j . theta_L/xi)``: the kink
+    correction ``kappa C m`` is a compliance of the constraint rows, never a load.
+    ``theta_L`` is linear in ``xi`` between the two nodes (``w_/xixi = 0``).
     """
     B = len(s.y)
     _, theta_b = _body(s)
@@ -307,9 +307,7 @@ def _section(s: JointInputs, g: list[np.ndarray], n: list[np.ndarray]) -> Equati
         ("xi", "xi"): _dot(mu, g2 + _rows(n2, d) - 2 * _rows(n1, theta_L_xi))[:, None, None],
         ("xi", "mu"): along[:, None, :],
         ("mu", "turn"): n0,
-        ("mu", "rotation"): -(n0[:, :, None, :] * s.w[:, None, :, None]).reshape(
-            B, n0.shape[1], -1
-        ),
+        ("mu", "rotation"): -(n0[:, :, None, :] * s.w[:, None, :, None]).reshape(B, n_mu, -1),
         ("mu", "xi"): (along - _rows(n1, shift) - _rows(n0, shift_xi))[:, :, None],
         ("mu", "mu"): -s.kink[:, None, None] * np.einsum("bic,bcd,bjd->bij", n0, C, n0),
     }

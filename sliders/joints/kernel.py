@@ -23,6 +23,8 @@ unknowns ``xi`` (1), ``lam`` (3), ``mu``.
 
 from __future__ import annotations
 
+from functools import cache
+
 import numba
 import numpy as np
 
@@ -79,6 +81,7 @@ _SLOPE = (
 )
 
 
+@cache
 def reach(kind: str, orientation: str, lever: bool, rotation: bool) -> tuple[tuple[str, str], ...]:
     """The ``(row group, column group)`` blocks :func:`joint_equations` writes for a ``kind``
     slider with the ``orientation`` model: every joint's, the lever arm's (``lever``: a

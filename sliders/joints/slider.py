@@ -252,16 +252,15 @@ class SliderBatch:
         #: Whether the joints read the lines' section rotation (the ``section`` orientation
         #: of the classical and spline sliders).
         self.section = self.kind != "spherical" and self.orientation == "section"
-        #: The Jacobian blocks the kernel writes (:func:`sliders.joints.kernel.reach`), and
-        #: the blocks the joint lays out (:class:`SlotJacobian`), which must hold them
-        #: (:meth:`joint_equations` checks, once per layout).
-        self._writes = reach(
+        #: The Jacobian blocks the joint lays out (:class:`SlotJacobian`): those its kernel
+        #: writes (:func:`sliders.joints.kernel.reach`), which :meth:`joint_equations`
+        #: checks it holds, once per layout.
+        self.pattern = reach(
             self.kind,
             self.orientation,
             bool(np.any(self.offset)),
             self.section and self.chains is not None,
         )
-        self.pattern = self._writes
 
     @classmethod
     def translated(cls, slider: Slider, structure: Structure, shifts: np.ndarray) -> SliderBatch:
@@ -525,8 +524,9 @@ class SliderBatch:
         without ``jacobian``).
 
         Raises ``ValueError`` naming the joint, the block and the pattern when the pattern
-        lacks a block the kernel writes (checked once per layout,
-        :meth:`SlotJacobian.index`).
+        lacks a block the kernel writes at these inputs (:func:`sliders.joints.kernel.reach`
+        of the kind, the orientation, the lever arm and the section rotation dofs; checked
+        once per layout, :meth:`SlotJacobian.index`).
         """
         B = len(inputs.y)
         at = _Layout(
@@ -536,9 +536,15 @@ class SliderBatch:
             3 * inputs.T.shape[1],
             self.n_unknowns,
         )
+        writes = reach(
+            self.kind,
+            self.orientation,
+            bool(inputs.offset.any()),
+            inputs.rotation_dofs.shape[1] > 0,
+        )
         try:
             J = at.jacobian(B if jacobian else 0, self.pattern)
-            index = J.index(GROUPS, self._writes)
+            index = J.index(GROUPS, writes)
         except ValueError as exc:
             raise ValueError(f"slider {self.sliders[0].name!r}: {exc}") from exc
         r = np.zeros((B, at.t + self.n_unknowns))
