@@ -1,13 +1,15 @@
 """Finite-volume and Galerkin linear Timoshenko beams assembled with scikit-fem.
 
-Typical use: a unit cantilever (``EJ = GA = 1``) of four 3-node finite-volume elements,
-clamped at its start, under a unit transverse force at its tip.  Its tip deflection and
-rotation are the exact Timoshenko ones, ``F L^3 / (3 EJ) + F L / GA = 4/3`` and
-``F L^2 / (2 EJ) = 1/2`` (:func:`fvbeam.closed_forms.cantilever_exact`), to round-off:
+Typical use, parts named as in a scene (:mod:`fvbeam.names`): a unit cantilever
+(``EJ = GA = 1``) of four 3-node finite-volume elements, clamped at its start, under a unit
+transverse force at its tip.  Its tip deflection and rotation are the exact Timoshenko ones,
+``F L^3 / (3 EJ) + F L / GA = 4/3`` and ``F L^2 / (2 EJ) = 1/2``
+(:func:`fvbeam.closed_forms.cantilever_exact`), to round-off:
 
 >>> from fvbeam import Beam, LinearStatics, Section, Support, straight
->>> beam = Beam(straight((0, 0, 0), (1, 0, 0), 4), Section.diagonal(1e3, 1, 1, 1, 1, 1), "fv3")
->>> statics = LinearStatics(beam, [Support(0, "start")])  # factorised once
+>>> section = Section.diagonal(EA=1e3, GAy=1, GAz=1, GJ=1, EJy=1, EJz=1)
+>>> beam = Beam(straight((0, 0, 0), (1, 0, 0), 4, name="shaft"), section, "fv3")
+>>> statics = LinearStatics(beam, [Support("shaft.start")])  # factorised once
 >>> q = statics.solve(beam.point_load(1.0, force=(0, 1, 0)))
 >>> ux, uy, uz, rx, ry, rz = beam.displacements(q, 1.0)[0]
 >>> print(f"{uy:.10f} {rz:.10f}")
@@ -19,16 +21,21 @@ from fvbeam.body import RigidBody
 from fvbeam.formulations import FORMULATIONS, formulation
 from fvbeam.linear_statics import LinearStatics
 from fvbeam.mesh import BeamMesh, arc, from_curve, read_beams, straight
+from fvbeam.modes import Modes, natural_frequencies
+from fvbeam.names import NodeRef, parse_node
 from fvbeam.section import Section
 from fvbeam.structure import Structure
-from fvbeam.support import Support
+from fvbeam.support import DOF_NAMES, Support
 
 __all__ = [
     "Beam",
     "BeamMesh",
+    "DOF_NAMES",
     "FORMULATIONS",
     "InternalForces",
     "LinearStatics",
+    "Modes",
+    "NodeRef",
     "RigidBody",
     "Section",
     "Structure",
@@ -36,6 +43,8 @@ __all__ = [
     "arc",
     "formulation",
     "from_curve",
+    "natural_frequencies",
+    "parse_node",
     "read_beams",
     "straight",
 ]

@@ -81,12 +81,13 @@ class Beam:
         )
         self._mass: dict[str, sp.csr_matrix] = {}
 
-    def translated(self, offset: ArrayLike) -> "Beam":
+    def translated(self, offset: ArrayLike, name: str | None = None) -> "Beam":
         """The same beam moved rigidly by ``offset``, sharing everything a translation leaves
-        unchanged (bases, stiffness, transfer jumps): they are assembled here, once."""
+        unchanged (bases, stiffness, transfer jumps): they are assembled here, once.  Its mesh
+        is named ``name`` (default: this beam's)."""
         self.stiffness, self.transfer_jumps()
         moved = copy.copy(self)
-        moved.mesh = self.mesh.translated(vector3(offset, "offset"))
+        moved.mesh = self.mesh.translated(vector3(offset, "offset"), name)
         return moved
 
     @property

@@ -7,9 +7,19 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 
+def _floats(value: object) -> np.ndarray:
+    """``value`` as a float array; NaN when it is not numbers (a string, ragged lists)."""
+    if isinstance(value, str):
+        return np.full(1, np.nan)
+    try:
+        return np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        return np.full(1, np.nan)
+
+
 def vector3(value: ArrayLike, name: str) -> np.ndarray:
     """``value`` as a finite 3-vector, or ``ValueError`` naming ``name``."""
-    v = np.asarray(value, dtype=float)
+    v = _floats(value)
     if v.shape != (3,) or not np.all(np.isfinite(v)):
         raise ValueError(f"{name} must be a finite 3-vector, got {value!r}")
     return v
@@ -23,15 +33,18 @@ def wrench(force: ArrayLike, moment: ArrayLike) -> np.ndarray:
 
 def inertia3(value: ArrayLike, name: str) -> np.ndarray:
     """``value`` as a finite, symmetric, positive semi-definite 3x3 matrix, or ``ValueError``
-    naming ``name``.
+    naming ``name``.  Three numbers are the principal values: the diagonal matrix (as in a
+    scene).
 
     Symmetry is checked to 1e-12 of the largest entry and the smallest eigenvalue may be
     negative by 1e-12 of the largest entry: an inertia computed in floating point is symmetric
     and semi-definite to a few ulps of its entries, and any genuine defect is far larger.
     """
-    J = np.array(value, dtype=float)
+    J = np.array(_floats(value))
+    if J.shape == (3,):
+        J = np.diag(J)
     if J.shape != (3, 3) or not np.all(np.isfinite(J)):
-        raise ValueError(f"{name} must be a finite 3x3 matrix, got {value!r}")
+        raise ValueError(f"{name} must be a finite 3x3 matrix or 3 numbers, got {value!r}")
     scale = np.abs(J).max()
     if np.abs(J - J.T).max() > 1e-12 * scale:
         raise ValueError(f"{name} must be symmetric, got {value!r}")

@@ -139,9 +139,9 @@ class BeamMesh:
                 f"{n_el} elements of {self.cells.shape[1]} nodes"
             )
 
-    def translated(self, offset: np.ndarray) -> "BeamMesh":
+    def translated(self, offset: np.ndarray, name: str | None = None) -> "BeamMesh":
         """The mesh moved rigidly by ``offset`` (a finite 3-vector), sharing its connectivity,
-        ``up``, identifiers and arc lengths.
+        ``up``, identifiers and arc lengths; named ``name`` (default: this mesh's name).
 
         A translation passes every check the mesh passed and keeps its element lengths, so
         neither is run again: the lengths are the original ones exactly (recomputed from the
@@ -149,6 +149,8 @@ class BeamMesh:
         """
         moved = copy.copy(self)
         object.__setattr__(moved, "points", self.points + offset)
+        if name is not None:
+            object.__setattr__(moved, "name", name)
         return moved
 
     # -- sizes -------------------------------------------------------------------------

@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from numbers import Real
+from typing import cast
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from fvbeam.geometry import inertia3
 
@@ -26,8 +28,9 @@ class Section:
     mass_per_length
         Mass per unit length (for dynamics), >= 0.
     inertia
-        3x3 section inertia per unit length in the section frame (for dynamics), symmetric
-        positive semi-definite.
+        Section inertia per unit length in the section frame (for dynamics): a symmetric
+        positive semi-definite 3x3 matrix, or its three principal values (a diagonal
+        matrix), as a scene's ``inertia``.
     name
         Label used in error messages.
     """
@@ -51,9 +54,7 @@ class Section:
             bad = [f"{n} = {v:g}" for n, v in zip(COMPONENTS, diag, strict=True) if not v > 0]
             detail = ", ".join(bad) if bad else f"smallest eigenvalue {eig.min():g}"
             raise ValueError(f"{self.name}: stiffness must be positive definite ({detail})")
-        m = float(self.mass_per_length)
-        if not np.isfinite(m) or m < 0:
-            raise ValueError(f"{self.name}: mass_per_length must be finite and >= 0, got {m}")
+        m = _number(self.mass_per_length, f"{self.name}: mass_per_length", ">= 0")
         J = inertia3(self.inertia, f"{self.name}: inertia")
         object.__setattr__(self, "stiffness", K)
         object.__setattr__(self, "mass_per_length", m)
@@ -61,21 +62,32 @@ class Section:
 
     @classmethod
     def diagonal(
-        cls, EA: float, GAy: float, GAz: float, GJ: float, EJy: float, EJz: float, **kwargs: Any
+        cls,
+        EA: float,
+        GAy: float,
+        GAz: float,
+        GJ: float,
+        EJy: float,
+        EJz: float,
+        mass_per_length: float = 0.0,
+        inertia: ArrayLike = (0.0, 0.0, 0.0),
+        name: str = "section",
     ) -> "Section":
-        """Uncoupled section from its six stiffnesses (named as in :data:`COMPONENTS`): the
-        diagonal of the 6x6 stiffness, in the order of the generalised strains (eq. T2).
+        """Uncoupled section from its six stiffnesses (named as in :data:`COMPONENTS`), with
+        the inputs of a scene's ``[[section]]``: ``inertia`` three principal values (or a
+        3x3 matrix), ``mass_per_length`` and ``name``.  A value that is not a finite number
+        in range raises ``ValueError`` naming it.  The stiffnesses are the diagonal of the
+        6x6 stiffness, in the order of the generalised strains (eq. T2):
 
         >>> section = Section.diagonal(EA=1e9, GAy=1e8, GAz=1e8, GJ=3e4, EJy=4e4, EJz=4e4)
         >>> section.stiffness.diagonal().tolist()
         [1000000000.0, 100000000.0, 100000000.0, 30000.0, 40000.0, 40000.0]
         """
         values = dict(EA=EA, GAy=GAy, GAz=GAz, GJ=GJ, EJy=EJy, EJz=EJz)
-        name = kwargs.get("name", "section")
         for key, value in values.items():
-            if not (np.isfinite(value) and value > 0):
-                raise ValueError(f"{name}: {key} must be finite and > 0, got {value}")
-        return cls(np.diag([values[k] for k in COMPONENTS]), **kwargs)
+            values[key] = _number(value, f"{name}: {key}", "> 0")
+        stiffness = np.diag([values[k] for k in COMPONENTS])
+        return cls(stiffness, mass_per_length, inertia3(inertia, f"{name}: inertia"), name)
 
     def global_stiffness(self, frames: np.ndarray) -> np.ndarray:
         """Stiffness in global axes, ``blockdiag(R, R) C blockdiag(R, R)^T`` (eq. T2).
@@ -86,3 +98,15 @@ class Section:
         R6[..., :3, :3] = frames
         R6[..., 3:, 3:] = frames
         return R6 @ self.stiffness @ np.swapaxes(R6, -1, -2)
+
+
+def _number(value: object, label: str, bound: str) -> float:
+    """``value`` as a float that is finite and ``> 0`` or ``>= 0`` (``bound``), or
+    ``ValueError`` naming ``label`` (a string or a bool is not a number)."""
+    real = isinstance(value, Real) and not isinstance(value, bool)
+    number = float(cast(Real, value)) if real else np.nan
+    if not (np.isfinite(number) and (number > 0 if bound == "> 0" else number >= 0)):
+        raise ValueError(
+            f"{label} must be finite and {bound}, got {value if real else repr(value)}"
+        )
+    return number

@@ -11,7 +11,8 @@ from numpy.typing import ArrayLike
 from fvbeam.beam import Beam
 from fvbeam.body import RigidBody
 from fvbeam.geometry import wrench
-from fvbeam.support import DOF_NAMES, NodeRef, Support
+from fvbeam.names import NodeRef, is_index, known, parse_node, suggest
+from fvbeam.support import DOF_NAMES, Support
 
 
 class Structure:
@@ -21,18 +22,24 @@ class Structure:
     with the six dofs ``ux uy uz rx ry rz``; tied nodes share one number.  Bodies add no
     stiffness: their rows stay zero unless they are tied, supported or held by a joint.
 
+    Beams are named by their mesh's ``name`` (``straight(..., name="C")``), bodies by theirs;
+    wherever a method takes a node or a beam it takes the scene's names (``"C.end"``,
+    ``"hub"``, ``"C"``) or indices (``(0, "end")``, ``0``): :mod:`fvbeam.names`.  Beams left
+    with the same name (the default ``"beam"``) are referred to by index.
+
     Parameters
     ----------
     beams
         The beams, each with its own dofs.
     ties
-        Pairs of nodes that become one node (same dofs): ``(ref_a, ref_b)`` with each ref
-        ``(beam, node)`` or a body name, or the form ``(beam_a, node_a, beam_b, node_b)``
-        (a body there as ``(..., "hub", None)``).  A tie involving a body must join
-        coincident points (to 1e-9 of the structure's size): merging the dofs of points
-        apart would not be a rigid joint.
+        Pairs of nodes that become one node (same dofs): ``(ref_a, ref_b)`` with each ref a
+        node reference (``"C.end"``, ``"hub"``, ``(beam, node)``), or the form ``(beam_a,
+        node_a, beam_b, node_b)`` (a body there as ``(..., "hub", None)``).  A tie involving
+        a body must join coincident points (to 1e-9 of the structure's size): merging the
+        dofs of points apart would not be a rigid joint.
     bodies
-        :class:`~fvbeam.body.RigidBody` nodes, with unique names.
+        :class:`~fvbeam.body.RigidBody` nodes, with unique names, none of the form
+        ``'X.start'`` or ``'X.end'`` (a beam's node).
     """
 
     def __init__(
@@ -48,7 +55,11 @@ class Structure:
         repeated = sorted({n for n in names if names.count(n) > 1})
         if repeated:
             raise ValueError(f"rigid body names must be unique, repeated: {', '.join(repeated)}")
+        for name in names:
+            if not isinstance(parse_node(name), str):
+                raise ValueError(f"rigid body name {name!r} has the form of a beam's node")
         self._body_index = {name: i for i, name in enumerate(names)}
+        self._beam_names = [beam.mesh.name for beam in self.beams]
         self._offsets = np.cumsum([0] + [b.mesh.n_nodes for b in self.beams])
         n_slots = self._offsets[-1] + len(self.bodies)
         parent = np.arange(n_slots)
@@ -59,7 +70,7 @@ class Structure:
             return k
 
         for tie in ties:
-            a, b = self._tie_ends(tie)
+            a, b = (self.resolve_node(ref) for ref in self._tie_ends(tie))
             ka, kb = self._slot(a), self._slot(b)
             if isinstance(a, str) or isinstance(b, str):
                 self._check_coincident(tie, a, b)
@@ -89,14 +100,12 @@ class Structure:
             "name, or (beam_a, node_a, beam_b, node_b)"
         )
 
-    def _slot(self, ref: NodeRef) -> int:
-        """Index of a node reference before ties are merged (beam nodes, then bodies)."""
-        if isinstance(ref, str):
-            return int(self._offsets[-1]) + self.body_index(ref)
-        if isinstance(ref, (tuple, list)) and len(ref) == 2:
-            beam = self.beam_index(ref[0])
-            return int(self._offsets[beam]) + self.beams[beam].node_index(ref[1])
-        raise ValueError(f"node reference {ref!r} must be (beam, node) or a body name")
+    def _slot(self, node: str | tuple[int, int]) -> int:
+        """Index of a resolved node (:meth:`resolve_node`) before ties are merged (beam
+        nodes, then bodies)."""
+        if isinstance(node, str):
+            return int(self._offsets[-1]) + self._body_index[node]
+        return int(self._offsets[node[0]]) + node[1]
 
     def _check_coincident(self, tie: tuple, a: NodeRef, b: NodeRef) -> None:
         points = np.vstack(
@@ -111,32 +120,66 @@ class Structure:
                 "(place the body there, or use a slider's offset)"
             )
 
-    def beam_index(self, i: int) -> int:
-        if not (isinstance(i, (int, np.integer)) and 0 <= i < len(self.beams)):
+    def beam_index(self, beam: int | str) -> int:
+        """Position in :attr:`beams` of the beam ``beam``: its index, or its mesh's name."""
+        if isinstance(beam, str):
+            hits = [i for i, name in enumerate(self._beam_names) if name == beam]
+            if len(hits) == 1:
+                return hits[0]
+            if hits:
+                raise ValueError(
+                    f"beam name {beam!r} is shared by beams {', '.join(map(str, hits))}: "
+                    "refer to them by index, or name their meshes apart "
+                    "(e.g. straight(..., name='C'))"
+                )
+            if beam in self._body_index:
+                raise ValueError(f"{beam!r} is a rigid body, not a beam")
             raise ValueError(
-                f"beam {i!r} does not exist (the structure has {len(self.beams)} beams)"
+                f"no beam named {beam!r} (the structure's beams: "
+                f"{known(self._beam_names)}){suggest(beam, self._beam_names)}"
             )
-        return int(i)
+        if not (is_index(beam) and 0 <= beam < len(self.beams)):
+            raise ValueError(
+                f"beam {beam!r} does not exist (the structure has {len(self.beams)} beams)"
+            )
+        return int(beam)
 
     def body_index(self, name: str) -> int:
         """Position of the body named ``name`` in :attr:`bodies`."""
         if name not in self._body_index:
-            known = ", ".join(repr(n) for n in self._body_index) or "none"
-            raise ValueError(f"no rigid body named {name!r} (the structure's bodies: {known})")
+            if name in self._beam_names:
+                raise ValueError(
+                    f"{name!r} is a beam, not a node: name one of its ends, "
+                    f"'{name}.start' or '{name}.end'"
+                )
+            raise ValueError(
+                f"no rigid body named {name!r} (the structure's bodies: "
+                f"{known(list(self._body_index))}){suggest(name, self._body_index)}"
+            )
         return self._body_index[name]
 
+    def resolve_node(self, ref: NodeRef) -> str | tuple[int, int]:
+        """What a node reference (:mod:`fvbeam.names`: ``"C.end"``, ``"hub"``, ``(beam,
+        node)``) names: ``(beam index, mesh node index)``, or the body's name.  ``ValueError``
+        naming the reference when its form is wrong or its beam, body or node does not
+        exist (with the closest name)."""
+        parsed = parse_node(ref)
+        if isinstance(parsed, str):
+            self.body_index(parsed)
+            return parsed
+        beam = self.beam_index(parsed[0])
+        return beam, self.beams[beam].node_index(parsed[1])
+
     def node_dofs(self, ref: NodeRef) -> np.ndarray:
-        """The six global dofs ``ux uy uz rx ry rz`` of a node: ``(beam, node)`` (node: index,
-        ``'start'`` or ``'end'``) or a body name."""
-        return 6 * int(self._node_number[self._slot(ref)]) + np.arange(6)
+        """The six global dofs ``ux uy uz rx ry rz`` of a node (:meth:`resolve_node`)."""
+        return 6 * int(self._node_number[self._slot(self.resolve_node(ref))]) + np.arange(6)
 
     def node_position(self, ref: NodeRef) -> np.ndarray:
-        """Reference position of a node: ``(beam, node)`` or a body name."""
-        slot = self._slot(ref)
+        """Reference position of a node (:meth:`resolve_node`)."""
+        ref = self.resolve_node(ref)
         if isinstance(ref, str):
-            return self.bodies[slot - int(self._offsets[-1])].position.copy()
-        beam = self.beams[ref[0]]
-        return beam.mesh.points[beam.node_index(ref[1])].copy()
+            return self.bodies[self._body_index[ref]].position.copy()
+        return self.beams[ref[0]].mesh.points[ref[1]].copy()
 
     def dof_name(self, dof: int) -> str:
         """A global dof by name, e.g. ``beam 0 node 3 uy`` or ``body 'hub' rx`` (the first
@@ -176,8 +219,8 @@ class Structure:
     def nodal_load(
         self, ref: NodeRef, force: ArrayLike = (0.0, 0.0, 0.0), moment: ArrayLike = (0.0, 0.0, 0.0)
     ) -> np.ndarray:
-        """Global load vector of a force and couple applied to a node (``(beam, node)`` or a
-        body name)."""
+        """Global load vector of a force and couple applied to a node
+        (:meth:`resolve_node`)."""
         f = np.zeros(self.n_dofs)
         f[self.node_dofs(ref)] = wrench(force, moment)
         return f
@@ -219,14 +262,14 @@ class Structure:
             shape=(self.n_dofs, self.n_dofs),
         )
 
-    def gather(self, beam: int, f_local: np.ndarray) -> np.ndarray:
-        """A beam's load vector as a global one."""
+    def gather(self, beam: int | str, f_local: np.ndarray) -> np.ndarray:
+        """A beam's (index or name) load vector as a global one."""
         f = np.zeros(self.n_dofs)
         np.add.at(f, self.dof_maps[self.beam_index(beam)], f_local)
         return f
 
-    def local(self, beam: int, q: np.ndarray) -> np.ndarray:
-        """A beam's share of a global dof vector."""
+    def local(self, beam: int | str, q: np.ndarray) -> np.ndarray:
+        """A beam's (index or name) share of a global dof vector."""
         return q[self.dof_maps[self.beam_index(beam)]]
 
     def support_dofs(self, supports: Sequence[Support]) -> np.ndarray:

@@ -1,4 +1,4 @@
-"""Supports: the dofs of a structure node held fixed, and how a node is named."""
+"""Supports: the dofs of a structure node held fixed."""
 
 from __future__ import annotations
 
@@ -6,13 +6,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from fvbeam.names import ENDS, NodeRef, is_index, parse_node
+
 #: Names of the six nodal dofs, in order.
 DOF_NAMES = ("ux", "uy", "uz", "rx", "ry", "rz")
-
-
-#: A structure node: ``(beam index, node)`` (node: index, ``'start'`` or ``'end'``) or the
-#: name of a rigid body.
-NodeRef = tuple[int, int | str] | str
 
 
 @dataclass(frozen=True)
@@ -20,8 +17,10 @@ class Support:
     """A node held fixed: ``clamp`` (all six dofs), ``pin`` (the three translations), or the
     dofs named and joined by ``+`` (from ``ux uy uz rx ry rz``), e.g. ``"ux+rx"``.
 
-    ``Support(beam, node, kind)`` holds a beam node; ``Support("hub", kind=...)`` holds the
-    rigid body named ``hub`` (a body is one node, so it takes no ``node``).
+    The node is named as in a scene (:mod:`fvbeam.names`), the kind then by keyword:
+    ``Support("C.start")``, ``Support("hub", kind="pin")`` (a body is one node);
+    or as ``Support(beam, node, kind)`` with ``beam`` a name or an index and ``node`` an
+    index, ``'start'`` or ``'end'``: ``Support("C", "start")``, ``Support(0, 3, "pin")``.
     """
 
     beam: int | str
@@ -29,30 +28,33 @@ class Support:
     kind: str = "clamp"
 
     def __post_init__(self) -> None:
-        if isinstance(self.beam, str) and self.node is not None:
+        if isinstance(self.beam, str) and isinstance(self.node, str) and self.node not in ENDS:
+            what = "body" if isinstance(parse_node(self.beam), str) else "node"
+            single = "a body is a single node" if what == "body" else "the node is named already"
             raise ValueError(
-                f"support of body {self.beam!r}: a body is a single node, so no "
-                f"node is given (got {self.node!r}); write the kind by keyword, "
-                f"e.g. Support({self.beam!r}, kind='pin')"
+                f"support of {what} {self.beam!r}: {single}, so no node is given "
+                f"(got {self.node!r}); write the kind by keyword, "
+                f"e.g. Support({self.beam!r}, kind={self.node!r})"
             )
-        if not isinstance(self.beam, str) and self.node is None:
+        if is_index(self.beam) and self.node is None:
             raise ValueError(
                 f"support of beam {self.beam!r} needs a node (index, 'start' or 'end')"
             )
+        parse_node(self.ref, "support")
         self.dofs()
 
     @classmethod
     def at(cls, ref: NodeRef, kind: str = "clamp") -> "Support":
-        """The support of kind ``kind`` at the structure node ``ref`` (``(beam, node)`` or a
-        body name): the inverse of :attr:`ref`."""
+        """The support of kind ``kind`` at the structure node ``ref`` (any form of
+        :mod:`fvbeam.names`): the inverse of :attr:`ref`."""
         return cls(ref, kind=kind) if isinstance(ref, str) else cls(*ref, kind)
 
     @property
     def ref(self) -> NodeRef:
         """The supported node as a structure node reference."""
-        if isinstance(self.beam, str):
+        if self.node is None:
+            assert isinstance(self.beam, str)  # __post_init__: a beam index comes with a node
             return self.beam
-        assert self.node is not None  # __post_init__: a beam index comes with a node
         return self.beam, self.node
 
     def dofs(self) -> np.ndarray:

@@ -1,1 +1,73 @@
-"""Slider joints on rigid curves and on chains of deformable beams (paper Secs. 3-4)."""
+"""Slider joints on rigid curves and on chains of deformable beams (paper Secs. 3-4).
+
+Typical use, a scene from Python (``docs/scenes.md``)::
+
+    import sliders
+
+    model = sliders.Model(sliders.load_scene("studies/scenes/fig4_sliding_beams.toml"))
+    results = sliders.run(model)  # a sweep's samples; a dynamic study's steps
+    sliders.write_results(results, "results/sliding_beams")
+
+or the objects built directly, parts named as in a scene (``README.md``, section Python: the
+paper's Figure 4 setup)::
+
+    joints = [Slider("spherical", BeamChain(structure, "C"), "P.start", name="A"), ...]
+    statics = SliderStatics(structure, [Support("C.start"), ...], joints)
+    write_vtu("fig4.vtu", statics, statics.solve(structure.nodal_load("P.end", (0, 1, 0))))
+
+The subpackages: :mod:`sliders.lines` (rigid lines, beam chains), :mod:`sliders.joints`
+(sliders, drives), :mod:`sliders.solve` (statics, sweeps, dynamics), :mod:`sliders.app`
+(scenes, runs, outputs), :mod:`sliders.sliding_beams` (the paper's Figure 4 setup).
+"""
+
+from sliders.app.errors import SceneError
+from sliders.app.history import Recorder
+from sliders.app.model import Model
+from sliders.app.render import render
+from sliders.app.run import Results, run
+from sliders.app.run_dynamic import DynamicRun, write_dynamic
+from sliders.app.scene import load_scene, parse_scene
+from sliders.app.tables import write_results
+from sliders.app.vtu import Frame, to_meshio, write_series, write_vtu
+from sliders.joints.drives import DofDrive, Linear, Ramp, Tabulated
+from sliders.joints.slider import Slider
+from sliders.lines.chain import BeamChain
+from sliders.lines.rigid import CircularArc, CubicSpline, Helix, StraightLine
+from sliders.solve.dynamics import Adaptive, Dynamics, DynamicsError
+from sliders.solve.statics import SliderSolution, SliderStatics, solve_translated
+from sliders.solve.sweep import sweep
+
+__all__ = [
+    "Adaptive",
+    "BeamChain",
+    "CircularArc",
+    "CubicSpline",
+    "DofDrive",
+    "DynamicRun",
+    "Dynamics",
+    "DynamicsError",
+    "Frame",
+    "Helix",
+    "Linear",
+    "Model",
+    "Ramp",
+    "Recorder",
+    "Results",
+    "SceneError",
+    "Slider",
+    "SliderSolution",
+    "SliderStatics",
+    "StraightLine",
+    "Tabulated",
+    "load_scene",
+    "parse_scene",
+    "render",
+    "run",
+    "solve_translated",
+    "sweep",
+    "to_meshio",
+    "write_dynamic",
+    "write_results",
+    "write_series",
+    "write_vtu",
+]

@@ -5,7 +5,11 @@ Exactness: VTU stores float64 in binary, so a value copied from an array must co
 bit for bit (``array_equal``).  Values the writer *computes* are compared with their
 definition to roundoff: a point ``sum_a N_a X_a`` of a 2- or 3-node element carries at most
 ``3 eps`` relative rounding per term and the abscissa round trip ``X = (xi - s_e) / h_e`` one
-more, so ``8 eps`` times the coordinates' scale bounds the difference (``POSITION``).
+more, so ``8 eps`` times the coordinates' scale bounds the difference (``POSITION``).  The
+rigid part of a motion (:mod:`sliders.app.motion`) is the solution of least-squares
+problems through the SVD: backward stable, it is off by at most ``m n eps`` times the size
+of the right-hand side (``m`` rows, ``n`` unknowns; Higham, *Accuracy and Stability of
+Numerical Algorithms*, Thm. 20.3; ``SPLIT``).
 """
 
 from __future__ import annotations
@@ -23,6 +27,7 @@ from sliders.app.vtu import (
     PARTS,
     RADIUS_FRACTION,
     Frame,
+    structure_size,
     to_meshio,
     write_pvd,
     write_series,
@@ -44,6 +49,33 @@ def sliding():
     """The sliding-beams setup (classical sliders, fv3, 5 elements) solved at s/L = 0.3."""
     statics, load = SlidingBeams("fv3", 5, "classical").problem(S_OVER_L)
     return statics, statics.solve(load)
+
+
+def split_bound(structure: Structure, q: np.ndarray) -> float:
+    """``m n eps`` times the largest entry of the fit's right-hand side (module docstring):
+    ``m`` the structure's dofs, ``n`` six unknowns per beam or body (at most one group
+    each), rotations weighted by the structure's size."""
+    n = 6 * (len(structure.beams) + len(structure.bodies))
+    ell = structure_size(structure)
+    weighted = np.abs(q.reshape(-1, 6) * [1, 1, 1, ell, ell, ell]).max()
+    return structure.n_dofs * n * EPS * weighted
+
+
+def driven_piston(kind: str = "classical"):
+    """The sliding-beams setup solved with the piston at ``s = 0.3 L`` (``q3``, the
+    unknowns), written on the model whose reference places the piston at ``s = 0.1 L``:
+    the same configuration, the piston's nodes displaced by its travel ``d = 0.2 L`` along
+    x on top of ``q3``, its bottom ``ux`` held at ``d`` as a drive would hold it.
+
+    Returns ``structure, q, sliders, unknowns, held`` of that model, ``q3`` and ``d``."""
+    solved, load = SlidingBeams("fv3", 5, kind).problem(0.3)
+    solution = solved.solve(load)
+    statics, _ = SlidingBeams("fv3", 5, kind).problem(0.1)
+    structure, d = statics.structure, 0.2 * L
+    q = solution.q.copy()
+    q[structure.dof_maps[1][::6]] += d
+    held = np.setdiff1d(np.arange(structure.n_dofs), statics.free)
+    return structure, q, statics.sliders, solution.unknowns, held, solution.q, d
 
 
 def mixed():
@@ -122,6 +154,9 @@ def test_sliding_beams_fields_read_back(sliding, tmp_path):
     size = S_OVER_L * L + L
     assert np.allclose(mesh.point_data["radius"], RADIUS_FRACTION * size, rtol=4 * EPS, atol=0)
     assert_beams(mesh, structure, q, "line3", "line3")
+    # without the held dofs there is no rigid part: the whole displacement is elastic
+    assert np.all(mesh.point_data["rigid_displacement"] == 0)
+    assert np.array_equal(mesh.point_data["elastic_displacement"], mesh.point_data["displacement"])
     for i, (slider, y) in enumerate(zip(statics.sliders, solution.unknowns, strict=True)):
         where, cells, kinds, _ = pick(mesh, "slider", i)
         assert kinds.tolist() == ["vertex"] and data["element"][where].tolist() == [-1]
@@ -176,6 +211,46 @@ def test_mixed_structure_body_and_rigid_line(tmp_path):
     x, _, _ = sliders[1].line.geometry(0.8, q)
     warped = mesh.points[cells[0, 0]] + mesh.point_data["displacement"][cells[0, 0]]
     assert np.abs(warped - x).max() <= POSITION * np.abs(x).max()
+
+
+def test_the_driven_piston_is_split_into_its_travel_and_its_bending(tmp_path):
+    """The piston driven ``d`` along x (:func:`driven_piston`): every point of the piston
+    (nodes, evaluation points, slider B's contact) has the rigid displacement ``(d, 0, 0)``
+    and the elastic displacement the piston has with its reference at ``s = 0.3 L``, to the
+    forming of ``q`` (one rounding, ``eps |q|``) plus the split's bound; the clamped
+    cylinder (and slider A's contact on it) has no rigid part, to the bit.  Everywhere
+    ``displacement = rigid_displacement + elastic_displacement`` to one rounding."""
+    structure, q, sliders, unknowns, held, q3, d = driven_piston()
+    path = tmp_path / "piston.vtu"
+    write_vtu(path, structure, q, sliders, unknowns, held=held)
+    mesh = meshio.read(path)
+    total, rigid, elastic = (
+        mesh.point_data[name]
+        for name in ("displacement", "rigid_displacement", "elastic_displacement")
+    )
+    bound = EPS * np.abs(q).max() + split_bound(structure, q)
+    travel = np.array([d, 0.0, 0.0])
+    piston, q3_piston = structure.beams[1], structure.local(1, q3)
+    _, cells, _, _ = pick(mesh, "beam", 1)
+    nodes = np.unique(cells)
+    assert np.abs(rigid[nodes] - travel).max() <= bound
+    nodal = q3_piston.reshape(-1, 6)[:, :3]
+    assert np.abs(elastic[nodes] - nodal[nodes - nodes.min()]).max() <= bound
+    _, cells, _, _ = pick(mesh, "evaluation point", 1)
+    points = cells[:, 0]
+    assert np.abs(rigid[points] - travel).max() <= bound
+    xi = piston.internal_forces(q3_piston).xi
+    assert np.abs(elastic[points] - piston.displacements(q3_piston, xi)[:, :3]).max() <= bound
+    for part in ("beam", "evaluation point"):
+        _, cells, _, _ = pick(mesh, part, 0)
+        assert np.all(rigid[np.unique(cells)] == 0)
+    (a,), (b,) = (pick(mesh, "slider", i)[1][:, 0] for i in range(2))
+    assert np.all(rigid[a] == 0) and np.abs(rigid[b] - travel).max() <= bound
+    # slider B's contact drawn at its true place: the deformed point of the s = 0.3 L model
+    x3, _, _ = sliders[1].line.geometry(unknowns[1][0], q3)
+    placed = mesh.points[b] + rigid[b] + elastic[b]
+    assert np.abs(placed - x3 - travel).max() <= POSITION * L + 2 * bound
+    assert np.abs(rigid + elastic - total).max() <= EPS * np.abs(total).max()
 
 
 def test_pyvista_reads_line3_as_quadratic_edges(sliding, tmp_path):

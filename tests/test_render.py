@@ -25,9 +25,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_output import driven_piston, split_bound
 
-from sliders.app.render import AUTO_FRACTION, SPHERE_FACTOR, render
-from sliders.app.vtu import RADIUS_FRACTION
+from sliders.app.render import AUTO_FRACTION, SPHERE_FACTOR, drawing, render
+from sliders.app.vtu import RADIUS_FRACTION, rigid_part
 from studies.fig4_stiffness import L, SlidingBeams
 
 S_OVER_L = 0.3
@@ -112,6 +113,34 @@ def test_render_is_not_blank_and_shows_tube_and_sliders(rendered):
     assert 0.5 * tube <= viridis.sum() <= 1.25 * tube
     assert 0.5 * sphere <= red.sum() <= 1.25 * sphere
     assert info["scale"] > 1.0
+
+
+def test_the_driven_piston_is_drawn_at_its_place_and_its_bending_magnified():
+    """The piston driven ``d`` along x (tests/test_output.py ``driven_piston``), drawn with
+    its elastic part magnified ``m = 1000`` times: every node of the piston at ``X + (d, 0,
+    0) + m u3`` (``u3`` the piston's displacement with its reference at ``s = 0.3 L``), the
+    cylinder's at ``X + m u``, the ghost of the piston carried by ``d``, slider B's marker
+    on the drawn piston.  Tolerance: ``m`` times the split's error (tests/test_output.py)
+    plus the rounding of ``X + d`` (``eps``) and of the shape functions at a node (exact: 0
+    and 1 at ``X = 0, 1/2, 1``)."""
+    structure, q, sliders, unknowns, held, q3, d = driven_piston()
+    m = 1000.0
+    rigid = rigid_part(structure, q, sliders, unknowns, held)
+    drawn = drawing(structure, q, sliders, unknowns, rigid, m)
+    bound = m * (np.finfo(float).eps * np.abs(q).max() + split_bound(structure, q)) + 4 * (
+        np.finfo(float).eps * L
+    )
+    for b, shift in ((0, np.zeros(3)), (1, np.array([d, 0.0, 0.0]))):
+        mesh = structure.beams[b].mesh
+        nodal = structure.local(b, q3 if b else q).reshape(-1, 6)[:, :3]
+        ghost, (points, _) = drawn.ghosts[b], drawn.beams[b]
+        for k, X in enumerate(mesh.points):
+            (at,) = np.flatnonzero(np.abs(ghost - X - shift).max(axis=1) <= bound)
+            assert np.abs(points[at] - (X + shift + m * nodal[k])).max() <= bound
+    x3, _, _ = sliders[1].line.geometry(unknowns[1][0], np.zeros_like(q3))
+    u3 = sliders[1].line.geometry(unknowns[1][0], q3)[0] - x3
+    expected = x3 + np.array([d, 0.0, 0.0]) + m * u3
+    assert np.abs(drawn.sliders[1] - expected).max() <= bound
 
 
 def test_render_bad_input(tmp_path):

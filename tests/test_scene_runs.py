@@ -2,19 +2,23 @@
 studies' own models, and the tables a run writes."""
 
 import csv
+import re
 import tomllib
 
 import numpy as np
 import pytest
 from test_condensed import agreement_bound, state
-from test_scenes import SCENES, data
+from test_scenes import ROOT, SCENES, data
 
 from fvbeam import closed_forms
 from fvbeam.io import replace_directory
+from sliders.app.history import ENERGIES
 from sliders.app.model import Model
 from sliders.app.run import run
 from sliders.app.scene import load_scene, parse_scene
+from sliders.app.state_tables import STEP_COLUMNS
 from sliders.app.tables import COLUMNS, MARKER, write_results
+from sliders.app.vtu import to_meshio
 from sliders.sliding_beams.exact import sliding_beams
 from studies.fig4_stiffness import EJ, GA, L, SlidingBeams
 
@@ -258,3 +262,24 @@ def test_states_and_render_of_the_carriage_sweep(tmp_path):
     renders = sorted(p.name for p in out.glob("render_*.png"))
     assert renders == [f"render_{results.samples[-1].index:06d}.png"]
     assert np.asarray(Image.open(out / renders[0])).std() > 0
+
+
+def test_every_output_column_and_field_is_documented():
+    """docs/scenes.md, section Outputs, has a table row (name, unit, meaning) for every
+    column of every table (static and per-step), of ``history.csv`` (the slider columns as
+    ``NAME.xi`` ...) and for every VTU point and cell field."""
+    text = (ROOT / "docs" / "scenes.md").read_text()
+    section = text[text.index("## Outputs") : text.index("## Validation")]
+    documented = {
+        name
+        for line in section.splitlines()
+        if line.startswith("| `")
+        for name in re.findall(r"`([^`]+)`", line.split("|")[1])
+    }
+    columns = {c for table in (*COLUMNS.values(), *STEP_COLUMNS.values()) for c in table}
+    history = {"step", "t", "h", "iterations", *ENERGIES, "NAME.xi", "NAME.residual"}
+    statics, load = SlidingBeams("fv3", 1, "classical").problem(0.3)
+    solution = statics.solve(load)
+    mesh = to_meshio(statics.structure, solution.q, statics.sliders, solution.unknowns)
+    fields = set(mesh.point_data) | set(mesh.cell_data)
+    assert columns | history | fields <= documented, (columns | history | fields) - documented

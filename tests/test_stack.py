@@ -1,23 +1,69 @@
-"""ChainStack: the queries of many chains of one topology at once equal each chain's own.
+"""ChainStack: the compiled line state of many chains against its numpy reference.
 
-The members are one chain of three beams (corners, a junction, fv2/fv3) moved rigidly by
-different offsets, queried at different abscissae (inside elements, on a beam junction, on a
-vertex, at the ends).  A member's stacked result and its chain's single-point query (the
-``B = 1`` case) evaluate the same expressions on the same numbers, in vectorised order:
-they agree to a few units of roundoff of the largest entry, ``16 eps max|value|``.
+:mod:`sliders.lines.batched_reference` states, for one chain at one ``xi``, what
+:func:`sliders.lines.batched_kernel.line_state` computes for a stack of them.  The chains
+here have one to three beams (fv2, fv3, galerkin-p1 and galerkin-p2, mixed in a chain where
+their elements have the same number of nodes; straight and circular-arc beams, each with its
+own section), their members moved rigidly by random shifts and deformed by random nodal
+displacements, queried at random abscissae and at the places where the rules change: the
+chain's ends, beam junctions, element vertices, mid nodes, and evaluation points (on them,
+within :data:`fvbeam.pointwise.TIE` of them, and just off them).
+
+Tolerances (derived).  Every compared entry is a sum ``sum_j c_j y_j`` over the at most
+``3 npe`` nodes read, of coefficients ``c_j`` that are polynomials of degree at most 2 in
+``X`` (shape functions and their derivatives, and the recovered tangent's combination of at
+most three of them with weights in [0, 1] and ``1/h``), or such a coefficient itself.  Kernel
+and reference evaluate it in different orders (expanded monomials against Horner's rule, one
+product order against another); each is within ``gamma_n`` times the sum of the magnitudes
+of its terms of the exact value (Higham, Accuracy and Stability of Numerical Algorithms,
+Sec. 3.1), ``n <= 16`` rounded operations along any entry (9 products, 3 monomials of 3
+factors, the tangent's combination), so the two differ by at most ``2 gamma_16`` times that
+sum.  The sum of the magnitudes of the monomial terms of a shape function or derivative on
+[0, 1] is at most :data:`TERMS` ``= 12`` (``|4 - 8 X|``'s ``4 + 8`` at ``X = 1``, P2), times
+``1 / h^k`` for a ``k``-th derivative in ``xi``; the recovered tangent adds two half-weighted
+one-sided tangents, at most doubling it.  With ``h`` the shortest of the elements read and
+``Y`` the largest coordinate of the nodes read (reference or deformed; at least 1, for the
+Galerkin ``G`` which is the coefficients themselves): a coefficient of
+order ``k`` within ``2 gamma_16 2 TERMS / h^k``; a line quantity within that times
+``3 npe Y``.  The integers (dofs, beam, element) and the copied node positions are equal
+exactly, and so is ``X`` (both take ``xi`` off the same breaks by the same operations).
+
+The frame ``R0``, its curvature ``k0`` and ``k0_/xi`` are functions of the reference line's
+``l0`` and ``l0_/xi`` (the same numpy functions on both sides, on ``l0`` from the kernel or
+from the reference, at ``X``, or at the element's middle when the stack reads its stored
+frames of straight elements, where ``l0`` is constant): they differ to first order by their
+derivatives times the difference of ``l0``, ``l0_/xi`` (bounded as above).  The frame is
+``t = l0 / |l0|``, ``e3 = n / |n|`` with ``n = up - (up . t) t``, ``e2 = e3 x t``: a change
+``dl`` moves ``t`` by at most ``2 |dl| / |l0|``, ``e3`` by ``4 |dt| / |n|`` and ``e2`` by
+the sum, so ``|dR0| <= 10 |dl| / (|l0| |n|)`` plus the frame's own rounding
+(``2 gamma_16``); ``k0 = ax(R0_/xi R0^T)`` has the same sensitivity to ``l0_/xi`` and
+``|l0_/xi| / |l0|`` times it to ``l0``; the compliance ``R0 C R0^T`` (9 terms) moves by
+``9 max|C| (2 |dR0| + 2 gamma_16)``, ``max|C|`` at most the trace of the compliance (``C``
+is positive definite, the trace invariant).  ``k0_/xi`` is a central difference over
+``+-d = 1e-4 / |l0_/xi|`` of ``k0`` (:func:`sliders.lines.rigid.curvature_rate`): to the
+first order it moves with ``k0``'s sensitivity times ``|l0_/xi| / |l0|``, and the rounding
+of its two ends, ``2 gamma_16 |k0|`` each, is divided by ``2 d``.
 """
 
 import numpy as np
 import pytest
 from test_chain import SECTION, chain_of_three
 
-from fvbeam import Beam, Structure, straight
+from fvbeam import Beam, Section, Structure, straight
+from fvbeam.elements import evaluation_points
 from fvbeam.mesh import arc
+from fvbeam.pointwise import TIE
+from sliders.lines import batched_reference as reference
 from sliders.lines.batched import ChainStack
 from sliders.lines.chain import BeamChain
 from sliders.lines.rigid import frame_and_curvature
 
 EPS = np.finfo(float).eps
+#: Twice ``gamma_16`` (module docstring).
+ROUNDING = 2 * 16 * EPS / (1 - 16 * EPS)
+#: Bound on the sum of the magnitudes of the monomial terms of a shape function or one of
+#: its derivatives in ``X`` on [0, 1] (module docstring).
+TERMS = 12
 
 
 def moved_chains(npe, offsets):
@@ -35,39 +81,228 @@ def close(a, b):
     np.testing.assert_allclose(a, b, rtol=0, atol=16 * EPS * max(np.abs(b).max(), 1.0))
 
 
-@pytest.mark.parametrize("npe", [2, 3])
-@pytest.mark.parametrize("smearing", [0.0, 0.03])
-def test_stacked_queries_equal_single_queries(npe, smearing):
-    offsets = [(0, 0, 0), (0.3, -0.2, 0.1), (5.0, 1.0, -2.0), (0.01, 0, 0), (-1, -1, -1)]
-    chains = moved_chains(npe, offsets)
-    xi = np.array([0.0, 0.2, chains[0].offsets[1], chains[0].offsets[2], chains[0].length])
-    stack = ChainStack(chains)
-    rng = np.random.default_rng(4)
-    q = rng.standard_normal((len(chains), chains[0].structure.n_dofs)) * 1e-2
-    interp, rotation = stack.interpolation(xi), stack.rotation(xi)
-    dofs, G, dG = stack.transfer(xi, smearing)
-    geometry, tangent = interp.geometry(q), interp.tangent(q)
-    points = np.array([c.geometry(x, qq)[0] for c, x, qq in zip(chains, xi, q, strict=True)]) + 1e-3
-    projected = stack.project(points, q)
-    for b, (chain, x) in enumerate(zip(chains, xi, strict=True)):
-        one = chain.interpolation(x)
-        for name in one.__dataclass_fields__:
-            close(getattr(interp, name)[b], getattr(one, name))
-        for mine, theirs in zip(geometry, one.geometry(q[b]), strict=True):
-            close(mine[b], theirs)
-        for mine, theirs in zip(tangent, one.tangent(q[b]), strict=True):
-            close(mine[b], theirs)
-        single = chain.rotation(x)
-        for name in single.__dataclass_fields__:
-            close(getattr(rotation, name)[b], getattr(single, name))
-        d, g, dg = chain.transfer(x, smearing)
-        assert np.array_equal(dofs[b, : len(d)], d)
-        close(G[b, : len(d)], g)
-        close(dG[b, : len(d)], dg)
-        assert not np.any(G[b, len(d) :]) and not np.any(dG[b, len(d) :])
-        assert projected[b] == pytest.approx(
-            chain.project(points[b], q[b]), abs=1e-12 * chain.length
+#: Test chains: each beam's formulation and shape, one after the other.
+CHAINS = {
+    "fv2": [("fv2", "straight")],
+    "galerkin-p1, fv2 arc": [("galerkin-p1", "straight"), ("fv2", "arc")],
+    "fv3, galerkin-p2 arc, fv3": [("fv3", "straight"), ("galerkin-p2", "arc"), ("fv3", "straight")],
+    "galerkin-p2 arc, galerkin-p2": [("galerkin-p2", "arc"), ("galerkin-p2", "straight")],
+    "fv3 arc": [("fv3", "arc")],
+}
+
+
+def random_beams(spec, rng):
+    """Beams joined end to start, one per ``(formulation, shape)`` of ``spec``: straight
+    (random direction and length) or a circular arc in a plane z = const (random radius,
+    start angle and sweep), 1 to 3 elements each, each with its own random section."""
+    npe = 2 if spec[0][0] in ("fv2", "galerkin-p1") else 3
+    start, beams = rng.uniform(-1, 1, 3), []
+    for name, shape in spec:
+        n = int(rng.integers(1, 4))
+        if shape == "straight":
+            direction = rng.standard_normal(3)
+            end = start + rng.uniform(0.3, 1.0) * direction / np.linalg.norm(direction)
+            mesh = straight(start, end, n, npe)
+        else:
+            radius, a0 = rng.uniform(0.5, 2.0), rng.uniform(0, 2 * np.pi)
+            a1 = a0 + rng.choice([-1, 1]) * rng.uniform(0.5, 2.0)
+            center = start - radius * np.array([np.cos(a0), np.sin(a0), 0.0])
+            mesh = arc(center, radius, a0, a1, n, npe)
+            end = mesh.points[n]
+        section = Section.diagonal(*(10 ** rng.uniform(-1, 1, 6)))
+        beams.append(Beam(mesh, section, name))
+        start = end
+    return beams
+
+
+def chained(beams):
+    """The beams tied end to start, as one chain."""
+    ties = [(i, "end", i + 1, "start") for i in range(len(beams) - 1)]
+    return BeamChain(Structure(beams, ties=ties), list(range(len(beams))))
+
+
+def special_abscissae(chain, rng):
+    """The chain's ends, beam junctions, element vertices, mid nodes and evaluation points
+    (on them, within half of :data:`TIE` of them, 1e-9 of the element off them), and random
+    abscissae."""
+    npe = chain.beams[0].mesh.nodes_per_element
+    xi = [0.0, chain.length, *chain.offsets[1:-1]]
+    for offset, beam in zip(chain.offsets[:-1], chain.beams, strict=True):
+        mesh = beam.mesh
+        for start, h in zip(offset + mesh.vertex_s[:-1], mesh.element_length, strict=True):
+            xi += [start, start + 0.5 * h] if npe == 3 else [start]
+            xi += [
+                start + (p + d) * h
+                for p in evaluation_points(npe)
+                for d in (0.0, 0.5 * TIE, -0.5 * TIE, 1e-9, -1e-9)
+            ]
+    return np.concatenate([xi, rng.uniform(0, chain.length, 8)])
+
+
+def stack_of(spec, seed):
+    """A stack of translated copies of random beams, one member per special abscissa, each
+    on its own random shift and nodal displacements (rotations included, 1e-2)."""
+    rng = np.random.default_rng(seed)
+    beams = random_beams(spec, rng)
+    xi = special_abscissae(chained(beams), rng)
+    shifts = rng.uniform(-3, 3, (len(xi), 3))
+    chains = [chained([beam.translated(s) for beam in beams]) for s in shifts]
+    q = 1e-2 * rng.standard_normal((len(xi), chains[0].structure.n_dofs))
+    return ChainStack(chains), chains, xi, q
+
+
+class Bounds:
+    """The kernel-against-reference tolerances of one member at ``xi`` (module docstring)."""
+
+    def __init__(self, chain, xi, q):
+        _, element, X = reference.locate(chain, xi)
+        elements, _, _ = reference.recovered_tangent(chain, element, X)
+        self.h = min(reference.element_length(chain, e) for e in elements)
+        line = reference.interpolation(chain, xi)
+        self.npe = len(line.N)
+        self.Y0 = max(np.abs(line.tangent_X).max(), 1.0)
+        self.Y = max(np.abs(line.tangent_X + q[line.tangent_dofs]).max(), self.Y0)
+        _, dN, d2N = reference.shape_functions(
+            X, reference.element_length(chain, element), self.npe
         )
+        self.l0, self.l0_xi = np.linalg.norm(dN @ line.X), np.linalg.norm(d2N @ line.X)
+
+    def coefficient(self, k):
+        """A coefficient of order ``k`` in ``1 / h``."""
+        return ROUNDING * 2 * TERMS / self.h**k
+
+    def line(self, k, Y):
+        """A line quantity of order ``k`` on nodes of coordinates up to ``Y``."""
+        return self.coefficient(k) * 3 * self.npe * Y
+
+    def frame(self, rotation, up):
+        """``R0``, ``k0``, ``k0_/xi`` and the compliance, of the reference's ``rotation``."""
+        t = rotation.R0[:, 0]
+        n = np.linalg.norm(up - (up @ t) * t)
+        dl, dl_xi = self.line(1, self.Y0), self.line(2, self.Y0)
+        dR = 10 * dl / (self.l0 * n) + ROUNDING
+        k0 = np.linalg.norm(rotation.k0)
+        dk = 10 * (dl_xi + self.l0_xi / self.l0 * dl) / (self.l0 * n) + ROUNDING * k0
+        dk_xi = dk * self.l0_xi / self.l0 + ROUNDING * k0 * self.l0_xi * 1e4
+        dC = 9 * np.trace(rotation.compliance) * (2 * dR + ROUNDING)
+        return {"R0": dR, "k0": dk, "k0_xi": dk_xi, "compliance": dC}
+
+
+def agree(kernel, mine, atol):
+    np.testing.assert_allclose(kernel, mine, rtol=0, atol=atol)
+
+
+def check_member(state, interp, rotation, transfer, b, chain, xi, q, smearing, kernel):
+    """Member ``b`` of the stack's answers against the reference at ``xi`` on ``q``."""
+    mine = reference.line_state(chain, xi, q, smearing, kernel)
+    bound = Bounds(chain, xi, q)
+    line = mine.interpolation
+    for answer in (state.interpolation.member(b), interp.member(b)):
+        for name in ("dofs", "X", "tangent_dofs", "tangent_X"):
+            np.testing.assert_array_equal(getattr(answer, name), getattr(line, name))
+        for name, k in (("N", 0), ("dN", 1), ("d2N", 2), ("T", 1), ("T_xi", 2)):
+            agree(getattr(answer, name), getattr(line, name), bound.coefficient(k))
+    geometry = interp.member(b).geometry(q), interp.member(b).tangent(q)
+    for k, name in enumerate(("x", "l", "l_xi")):
+        for value in (getattr(state, name)[b], geometry[0][k]):
+            agree(value, getattr(mine, name), bound.line(k, bound.Y))
+    for k, name in ((1, "tangent"), (2, "tangent_xi")):
+        for value in (getattr(state, name)[b], geometry[1][k - 1]):
+            agree(value, getattr(mine, name), bound.line(k, bound.Y))
+    for dofs, G, dG in ((state.load_dofs, state.G, state.dG), transfer):
+        if smearing == 0:
+            np.testing.assert_array_equal(dofs[b], mine.load_dofs)
+            agree(G[b], mine.G, bound.line(0, bound.Y0))
+            agree(dG[b], mine.dG, bound.line(1, bound.Y0))
+        else:  # the smeared transfer is the chain's own, padded with zero rows
+            size = len(mine.load_dofs)
+            np.testing.assert_array_equal(dofs[b, :size], mine.load_dofs)
+            np.testing.assert_array_equal(G[b, :size], mine.G)
+            np.testing.assert_array_equal(dG[b, :size], mine.dG)
+            assert not np.any(G[b, size:]) and not np.any(dG[b, size:])
+    k_beam = reference.locate(chain, xi)[0]
+    frame = bound.frame(mine.rotation, chain.beams[k_beam].mesh.up)
+    for answer in (state.rotation.member(b), rotation.member(b)):
+        np.testing.assert_array_equal(answer.dofs, mine.rotation.dofs)
+        for name, k in (("w", 0), ("w_xi", 1), ("kink", -1), ("kink_xi", 0)):
+            agree(getattr(answer, name), getattr(mine.rotation, name), bound.coefficient(k))
+        for name, atol in frame.items():
+            agree(getattr(answer, name), getattr(mine.rotation, name), atol)
+
+
+@pytest.mark.parametrize("name", CHAINS)
+@pytest.mark.parametrize("smearing,kernel", [(0.0, "box"), (0.03, "box"), (0.03, "hat")])
+def test_line_state_equals_the_reference(name, smearing, kernel):
+    """Every member of a stack (random shifts, displacements and abscissae, the special
+    ones included) against :func:`sliders.lines.batched_reference.line_state` of its chain:
+    the kernel's line state, interpolation, rotation and transfer, and the deformed line
+    and tangent of its interpolation (:func:`sliders.lines.batched_kernel.weighted_current`),
+    to the derived roundoff bounds (module docstring); the location exactly."""
+    stack, chains, xi, q = stack_of(CHAINS[name], seed=list(CHAINS).index(name))
+    state = stack.line_state(xi, q, rotation=True, smearing=smearing, kernel=kernel)
+    interp, rotation = stack.interpolation(xi), stack.rotation(xi)
+    transfer = stack.transfer(xi, smearing, kernel)
+    located = stack.locate(xi)
+    for b, (chain, x) in enumerate(zip(chains, xi, strict=True)):
+        assert tuple(v[b] for v in located) == reference.locate(chain, x)
+        check_member(state, interp, rotation, transfer, b, chain, x, q[b], smearing, kernel)
+
+
+def test_joined_stack_equals_the_reference():
+    """A joined stack (chains of one structure on different beams, so different dof maps:
+    :meth:`ChainStack.joined`) against the reference of each member's chain."""
+    rng = np.random.default_rng(7)
+    beams = random_beams(CHAINS["fv3, galerkin-p2 arc, fv3"], rng)
+    moved = [beam.translated((0.5, -2.0, 1.0)) for beam in beams]
+    n = len(beams)
+    ties = [(i, "end", i + 1, "start") for i in range(n - 1)]
+    ties += [(n + i, "end", n + i + 1, "start") for i in range(n - 1)]
+    structure = Structure(beams + moved, ties=ties)
+    first, second = BeamChain(structure, range(n)), BeamChain(structure, range(n, 2 * n))
+    xi_first = special_abscissae(first, rng)
+    xi = np.concatenate([xi_first, xi_first[::-1]])
+    chains = [first] * len(xi_first) + [second] * len(xi_first)
+    stack = ChainStack.joined(
+        [ChainStack([first] * len(xi_first)), ChainStack([second] * len(xi_first))]
+    )
+    q = 1e-2 * rng.standard_normal((len(xi), structure.n_dofs))
+    state = stack.line_state(xi, q, rotation=True)
+    interp, rotation, transfer = stack.interpolation(xi), stack.rotation(xi), stack.transfer(xi)
+    for b, (chain, x) in enumerate(zip(chains, xi, strict=True)):
+        check_member(state, interp, rotation, transfer, b, chain, x, q[b], 0.0, "box")
+
+
+@pytest.mark.parametrize("name", CHAINS)
+def test_projection_is_a_foot_of_the_perpendicular(name):
+    """The stacked projection of points 1e-4 off the deformed lines (along a normal at a
+    random ``xi0`` inside an element) is a foot of the perpendicular on the reference's
+    line: ``g = (x - p) . l = 0`` there (a stationary point of the distance, not
+    necessarily ``xi0``: Newton starts from the nearest node, which may lie on the next
+    element).  Newton stops on a step below ``s = 1e-14 max(L, 1)``, so ``|g| <= g' s``
+    with ``g' = |l|^2 + l_/xi . (x - p)``; evaluating ``g`` on the reference adds the line
+    bounds of ``x`` and ``l`` times ``|l|`` and ``|x - p|``."""
+    stack, chains, _, q = stack_of(CHAINS[name], seed=list(CHAINS).index(name))
+    rng = np.random.default_rng(5)
+    xi0, points = np.empty(len(chains)), np.empty((len(chains), 3))
+    for b, chain in enumerate(chains):
+        k = int(rng.integers(len(chain.beams)))
+        mesh = chain.beams[k].mesh
+        e = int(rng.integers(mesh.n_elements))
+        xi0[b] = chain.offsets[k] + mesh.abscissae(e, rng.uniform(0.05, 0.95))
+        mine = reference.line_state(chain, xi0[b], q[b])
+        normal = np.cross(mine.l, rng.standard_normal(3))
+        points[b] = mine.x + 1e-4 * normal / np.linalg.norm(normal)
+    projected = stack.project(points, q)
+    for b, (chain, xi) in enumerate(zip(chains, projected, strict=True)):
+        assert 0 < xi < chain.length
+        mine, bound = reference.line_state(chain, xi, q[b]), Bounds(chain, xi, q[b])
+        gap = mine.x - points[b]
+        slope = mine.l @ mine.l + abs(mine.l_xi @ gap)
+        tol = slope * 1e-14 * max(chain.length, 1.0) + (
+            bound.line(0, bound.Y) * np.linalg.norm(mine.l)
+            + bound.line(1, bound.Y) * np.linalg.norm(gap)
+        )
+        assert abs(gap @ mine.l) <= tol
 
 
 def test_members_must_share_the_topology():

@@ -6,5 +6,6 @@
 - :mod:`~sliders.app.run`, :mod:`~sliders.app.run_dynamic`: a scene's study run;
 - :mod:`~sliders.app.tables`, :mod:`~sliders.app.history`, :mod:`~sliders.app.vtu`,
   :mod:`~sliders.app.render`: CSV tables, per-step histories, VTU/PVD files, pyvista renders;
+  :mod:`~sliders.app.motion`: the rigid and elastic parts of a motion, for the last two;
 - :mod:`~sliders.app.cli`: the ``fvslider`` command.
 """

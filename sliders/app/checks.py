@@ -10,8 +10,9 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
+from fvbeam.names import suggest
 from fvbeam.support import DOF_NAMES
-from sliders.app.errors import Problem, Problems, suggest
+from sliders.app.errors import Problem, Problems
 from sliders.app.schema import Abscissa, DynamicStudy, PointLoad, Scene, SweepStudy, Translation
 
 

@@ -4,8 +4,9 @@ Exit codes: 0 success; 1 a run that did not fully succeed (a solve failed, a swe
 failed; what was computed is written); 2 an invalid scene or command line (the message on
 stderr); 130 interrupted by Ctrl-C (a sweep writes the points it completed).
 
-Start-up stays light: the modules here are imported when a command needs them, and
-``fvslider --help`` and ``fvslider check`` never import matplotlib or pyvista.
+The command's own modules are imported when a command needs them, and ``fvslider --help`` and
+``fvslider check`` never import matplotlib or pyvista; the package ``sliders`` itself imports
+its library (numba, scipy, scikit-fem, pydantic: about a second) to expose its public names.
 """
 
 from __future__ import annotations
@@ -70,7 +71,7 @@ def _check(args: argparse.Namespace) -> int:
 
 def _run(args: argparse.Namespace) -> int:
     from fvbeam.io import check_replaceable
-    from sliders.app.run import run
+    from sliders.app.run import Results, run
     from sliders.app.tables import MARKER, write_results
 
     model = _load(args.scene)
@@ -85,6 +86,7 @@ def _run(args: argparse.Namespace) -> int:
     if model.scene.study.kind == "dynamic":
         return _run_dynamic(model, out)
     results = run(model, progress=True)
+    assert isinstance(results, Results)  # a dynamic study went to _run_dynamic
     write_results(results, out)
     done = len(results.samples)
     print(f"{done} of {results.planned} samples in {results.seconds:.2f} s, written to {out}")
@@ -100,10 +102,11 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _run_dynamic(model, out: Path) -> int:
-    from sliders.app.run_dynamic import run_dynamic
+    from sliders.app.run_dynamic import integrate, write_dynamic
 
     try:
-        outcome = run_dynamic(model, out, progress=True)
+        outcome = integrate(model, progress=True)
+        write_dynamic(outcome, out)
     except ValueError as exc:
         print(f"fvslider: {exc}", file=sys.stderr)
         return 2

@@ -5,20 +5,21 @@ A :class:`Problem` names the key path in the scene (``slider[1].smearing``: the 
 :class:`SceneError` carries all the problems of one validation phase and formats them as one
 message.  :func:`schema_problems` turns pydantic's errors into problems: the path in scene
 terms (pydantic's union tags removed), a plain message, and a did-you-mean for unknown keys,
-kinds and names (:func:`suggest`).
+kinds and names (:func:`fvbeam.names.suggest`).
 """
 
 from __future__ import annotations
 
-import difflib
 import types
 import typing
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 from pydantic import BaseModel, ValidationError
 from pydantic_core import ErrorDetails
+
+from fvbeam.names import suggest
 
 
 class _NoValue:
@@ -28,16 +29,6 @@ class _NoValue:
 
 #: Marker for a problem that has no value to show (a missing key, a whole table).
 NO_VALUE: Any = _NoValue()
-
-
-def suggest(word: Any, choices: Iterable[str]) -> str:
-    """``" (did you mean 'x'?)"`` for the closest of ``choices`` to ``word``, or ``""``."""
-    if not isinstance(word, str):
-        return ""
-    choices = list(choices)
-    same = [c for c in choices if c.lower() == word.lower()]
-    close = same or difflib.get_close_matches(word, choices, n=1, cutoff=0.6)
-    return f" (did you mean {close[0]!r}?)" if close else ""
 
 
 def show(value: Any, limit: int = 60) -> str:

@@ -14,11 +14,12 @@
   the largest violation of its position and orientation constraints;
 * the ``probes`` asked for (a name and a function of the state and the dynamics).
 
-On request, ``displacements.csv`` (``t`` and every global dof, named as
-:meth:`fvbeam.structure.Structure.dof_name`), ``internal_forces.csv`` (``t`` and, per beam
-and recovery point, ``N, Vy, Vz, T, My, Mz`` in the section frame) and ``reactions.csv``
-(``t`` and what the supports and dof drives exert on each dof they hold, global axes:
-``M qdd + C v + K q - f`` there).
+On request, the per-step tables of :mod:`sliders.app.tables` (``nodes``, ``sliders``,
+``internal_forces``, ``reactions``): the same columns as a static study's, with ``step, t``
+in place of ``sample, value`` (:data:`sliders.app.tables.STEP_COLUMNS`), one row per step
+and node, slider, recovery point or held node.  The reactions are what the supports and dof
+drives exert (:attr:`sliders.solve.dynamics.Dynamics.supports`): ``M qdd + C v + K q - f``
+on the dofs they hold, less the forces the joints exert there, as in statics.
 
 Rows are written as they come into ``NAME.csv.part`` files and flushed; :meth:`Recorder.close`
 renames them to ``NAME.csv``.  :meth:`sliders.solve.dynamics.Dynamics.run` closes the recorder on
@@ -29,12 +30,13 @@ from __future__ import annotations
 
 import csv
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, TextIO
 
 import numpy as np
 
+from sliders.app.state_tables import STATE_ROWS, STEP_COLUMNS, Snapshot, cell
 from sliders.solve.dynamics import Dynamics
 from sliders.solve.integrator import State
 
@@ -45,7 +47,6 @@ if TYPE_CHECKING:
 Probe = Callable[[State, "Dynamics"], float]
 
 ENERGIES = ("kinetic", "strain", "external_work", "constraint_work", "dissipated", "energy_error")
-FORCE_NAMES = ("N", "Vy", "Vz", "T", "My", "Mz")
 
 
 class Recorder:
@@ -54,10 +55,11 @@ class Recorder:
     Parameters
     ----------
     directory
-        Where the CSV files go (created if missing); None keeps everything in memory only.
-    displacements, internal_forces, reactions
-        Also keep (and write) every dof, the beams' internal forces, and the reactions on
-        the held dofs.
+        Where the CSV files go (created if missing); None keeps every table in memory, for
+        :meth:`write` once the run is over.
+    tables
+        Per-step tables to keep, from ``nodes``, ``sliders``, ``internal_forces`` and
+        ``reactions`` (module docstring).
     probes
         Extra columns: name to ``probe(state, dynamics)``.
     every
@@ -68,24 +70,27 @@ class Recorder:
     def __init__(
         self,
         directory: str | Path | None = None,
-        displacements: bool = False,
-        internal_forces: bool = False,
+        tables: Sequence[str] = (),
         probes: dict[str, Probe] | None = None,
         every: int = 0,
-        reactions: bool = False,
     ) -> None:
         self.directory = None if directory is None else Path(directory)
-        self.keep_displacements, self.keep_forces = displacements, internal_forces
-        self.keep_reactions = reactions
-        self.reactions: list[np.ndarray] = []
+        self.tables = list(tables)
+        for i, name in enumerate(self.tables):
+            if name not in STEP_COLUMNS:
+                raise ValueError(
+                    f"tables[{i}] must be one of {', '.join(STEP_COLUMNS)}, got {name!r}"
+                )
         self.probes = dict(probes or {})
         self.every = every
         self.states: list[State] = []
         self.last: State | None = None
         self.rows: list[list[float]] = []
-        self.displacements: list[np.ndarray] = []
-        self.internal_forces: list[np.ndarray] = []
         self.columns: list[str] = []
+        #: Each table's header, ``history`` first.
+        self.headers: dict[str, Sequence[str]] = {}
+        #: Without a directory, each per-step table's rows as CSV cells.
+        self.kept: dict[str, list[list[str]]] = {}
         self._files: dict[str, tuple[TextIO, _csv.Writer]] = {}
         self._work = np.zeros(3)
         self._reference: float | None = None
@@ -105,35 +110,32 @@ class Recorder:
         for s in dynamics.sliders:
             self.columns += [f"{s.name}.{u}" for u in s.unknown_names] + [f"{s.name}.residual"]
         self.columns += list(self.probes)
-        self.rows, self.displacements, self.internal_forces, self.states = [], [], [], []
-        self.reactions = []
-        self._held = np.setdiff1d(np.arange(dynamics.structure.n_dofs), dynamics.free)
+        self.rows, self.states = [], []
         self._work = np.zeros(3)
         self._reference = None
+        self.headers = {"history": self.columns} | {
+            name: STEP_COLUMNS[name] for name in self.tables
+        }
+        self.kept = {name: [] for name in self.tables}
         if self.directory is not None:
             self.directory.mkdir(parents=True, exist_ok=True)
-            self._open("history", self.columns)
-            structure = dynamics.structure
-            if self.keep_displacements:
-                self._open(
-                    "displacements",
-                    ["t"] + [structure.dof_name(d) for d in range(structure.n_dofs)],
-                )
-            if self.keep_forces:
-                header = ["t"]
-                for b, beam in enumerate(structure.beams):
-                    points = len(beam.internal_forces(np.zeros(beam.n_dofs)).xi)
-                    header += [
-                        f"beam {b} point {i} {c}" for i in range(points) for c in FORCE_NAMES
-                    ]
-                self._open("internal_forces", header)
-            if self.keep_reactions:
-                self._open("reactions", ["t"] + [structure.dof_name(d) for d in self._held])
+            for name, header in self.headers.items():
+                self._open(name, header)
         self._append(dynamics, state, None)
 
     def record(self, dynamics: "Dynamics", new: State, old: State) -> None:
         """Record the accepted step from ``old`` to ``new``."""
         self._append(dynamics, new, old)
+
+    def write(self, directory: str | Path) -> None:
+        """Write the tables recorded in memory (``directory=None``) into ``directory`` (which
+        must exist): the same files a recorder streaming there would have left."""
+        for name, header in self.headers.items():
+            rows = ([cell(x) for x in row] for row in self.rows) if name == "history" else None
+            with open(Path(directory) / f"{name}.csv", "w", newline="") as stream:
+                writer = csv.writer(stream)
+                writer.writerow(header)
+                writer.writerows(rows if rows is not None else self.kept[name])
 
     def close(self) -> None:
         """Flush the files and give them their final names."""
@@ -144,20 +146,21 @@ class Recorder:
             os.replace(part, self.directory / f"{name}.csv")
         self._files = {}
 
-    def _open(self, name: str, header: list[str]) -> None:
+    def _open(self, name: str, header: Sequence[str]) -> None:
         assert self.directory is not None  # start opens files only with a directory
         stream = open(self.directory / f"{name}.csv.part", "w", newline="")
         writer = csv.writer(stream)
         writer.writerow(header)
         self._files[name] = (stream, writer)
 
-    def _write(self, name: str, row: list[float]) -> None:
+    def _write(self, name: str, rows: list[list]) -> None:
+        cells = [[cell(x) for x in row] for row in rows]
         if name in self._files:
             stream, writer = self._files[name]
-            writer.writerow(
-                [str(x) if isinstance(x, (int, np.integer)) else repr(float(x)) for x in row]
-            )
+            writer.writerows(cells)
             stream.flush()
+        elif name in self.kept:
+            self.kept[name].extend(cells)
 
     def _append(self, dynamics: "Dynamics", state: State, old: State | None) -> None:
         f = dynamics.load(state.t)
@@ -197,22 +200,16 @@ class Recorder:
             self.states.append(state)
         self.last = state
         self.rows.append(row)
-        self._write("history", row)
-        if self.keep_displacements:
-            self.displacements.append(state.q.copy())
-            self._write("displacements", [state.t, *state.q])
-        if self.keep_forces:
-            forces = np.concatenate(
-                [
-                    np.column_stack([i.force, i.moment]).ravel()
-                    for i in (
-                        beam.internal_forces(dynamics.structure.local(b, state.q))
-                        for b, beam in enumerate(dynamics.structure.beams)
-                    )
-                ]
+        self._write("history", [row])
+        if self.tables:
+            snapshot = Snapshot(
+                dynamics.structure,
+                state.q,
+                dynamics.sliders,
+                state.unknowns,
+                dynamics.supports,
+                reaction,
             )
-            self.internal_forces.append(forces)
-            self._write("internal_forces", [state.t, *forces])
-        if self.keep_reactions:
-            self.reactions.append(reaction[self._held])
-            self._write("reactions", [state.t, *reaction[self._held]])
+            head = [row[0], state.t]
+            for name in self.tables:
+                self._write(name, [head + r for r in STATE_ROWS[name](snapshot)])

@@ -21,7 +21,6 @@ from functools import partial
 import numpy as np
 
 from fvbeam import Beam, BeamMesh, RigidBody, Section, Structure, Support, arc, straight
-from fvbeam.support import NodeRef
 from sliders.app.checks import part_of, tied_parts
 from sliders.app.errors import Problems
 from sliders.app.schema import (
@@ -66,7 +65,7 @@ def _section(spec) -> Section:
         spec.EJy,
         spec.EJz,
         mass_per_length=spec.mass_per_length or 0.0,
-        inertia=np.array(spec.inertia or np.zeros((3, 3))),
+        inertia=spec.inertia or (0.0, 0.0, 0.0),
         name=spec.name,
     )
 
@@ -186,12 +185,12 @@ class Model:
             for i, s in enumerate(scene.line)
         }
         problems.raise_if_any(source)
-        self.index = {spec.name: i for i, spec in enumerate(scene.beam)}
-        self._check_ties(problems)
-        self._check_point_loads(problems)
+        parts = Structure(self.beams, bodies=self.bodies)
+        self._check_ties(parts, problems)
+        self._check_point_loads(parts, problems)
         problems.raise_if_any(source)
-        self.ties = [tuple(self.ref(n) for n in tie.nodes) for tie in scene.tie]
-        self.supports = [Support.at(self.ref(s.node), s.kind) for s in scene.support]
+        self.ties = [tie.nodes for tie in scene.tie]
+        self.supports = [Support.at(s.node, s.kind) for s in scene.support]
         self.slider_drives = {
             d.slider: _motion(d.motion) for d in scene.drive if d.kind == "abscissa"
         }
@@ -205,30 +204,15 @@ class Model:
         problems.raise_if_any(source)
         self._previous: SliderStatics | None = None
 
-    # -- references -------------------------------------------------------------------------
-    def ref(self, node: str) -> NodeRef:
-        """A scene node reference (``'beam.start'``, ``'beam.end'``, a body name) as the
-        structure's (``(beam index, 'start' | 'end')`` or the body name)."""
-        name, _, end = node.partition(".")
-        return (self.index[name], end) if end else name
-
-    def position(self, node: str) -> np.ndarray:
-        """Reference position of a scene node."""
-        ref = self.ref(node)
-        if isinstance(ref, str):
-            return self.bodies[[b.name for b in self.bodies].index(ref)].position.copy()
-        mesh = self.beams[ref[0]].mesh
-        return mesh.points[0 if ref[1] == "start" else mesh.n_elements].copy()
-
     def _slider(self, spec: SliderSpec, structure: Structure) -> Slider:
         if spec.line[0] in self.lines:
             line = self.lines[spec.line[0]]
         else:
-            line = BeamChain(structure, [self.index[b] for b in spec.line], "+".join(spec.line))
+            line = BeamChain(structure, spec.line)
         return Slider(
             spec.kind,
             line,
-            self.ref(spec.body),
+            spec.body,
             np.array(spec.offset),
             np.array(spec.frame).T,
             spec.smearing,
@@ -244,10 +228,12 @@ class Model:
         points = np.vstack([b.mesh.points for b in self.beams] + [b.position for b in self.bodies])
         return float(np.linalg.norm(points.max(axis=0) - points.min(axis=0)))
 
-    def _check_ties(self, problems: Problems) -> None:
+    def _check_ties(self, parts: Structure, problems: Problems) -> None:
+        """Ties join coincident nodes (``parts``: the beams and bodies, not yet tied)."""
         tol = COINCIDENT * self._size()
         for i, tie in enumerate(self.scene.tie):
-            gap = float(np.linalg.norm(self.position(tie.nodes[0]) - self.position(tie.nodes[1])))
+            a, b = (parts.node_position(node) for node in tie.nodes)
+            gap = float(np.linalg.norm(a - b))
             if gap > tol:
                 problems.add(
                     f"tie[{i}].nodes",
@@ -257,10 +243,10 @@ class Model:
                     list(tie.nodes),
                 )
 
-    def _check_point_loads(self, problems: Problems) -> None:
+    def _check_point_loads(self, parts: Structure, problems: Problems) -> None:
         for i, load in enumerate(self.scene.load):
             if isinstance(load, PointLoad):
-                length = self.beams[self.index[load.beam]].mesh.length
+                length = self.beams[parts.beam_index(load.beam)].mesh.length
                 if load.at > length * (1 + 1e-12):
                     problems.add(
                         f"load[{i}].at",
@@ -332,7 +318,7 @@ class Model:
         if of in self._slider_names():
             return self.sliders[self._slider_names().index(of)].line.length
         load = next(p for p in self.scene.load if p.name == of and isinstance(p, PointLoad))
-        return self.beams[self.index[load.beam]].mesh.length
+        return self.beams[self.structure.beam_index(load.beam)].mesh.length
 
     def _line_moves(self, i: int, moved: set[str]) -> bool:
         return self.scene.slider[i].line[0] in moved
@@ -397,9 +383,7 @@ class Model:
         if not isinstance(study, DynamicStudy):
             raise ValueError(f"a {study.kind} study has no time integration")
         drives = [
-            DofDrive(self.ref(d.node), d.dof, _motion(d.motion))
-            for d in self.scene.drive
-            if d.kind == "dof"
+            DofDrive(d.node, d.dof, _motion(d.motion)) for d in self.scene.drive if d.kind == "dof"
         ]
         return Dynamics(
             self.structure,
@@ -423,9 +407,9 @@ class Model:
         f = np.zeros(structure.n_dofs)
         for spec in self.scene.load:
             if spec.kind == "nodal":
-                f += structure.nodal_load(self.ref(spec.node), spec.force, spec.moment)
+                f += structure.nodal_load(spec.node, spec.force, spec.moment)
                 continue
-            i = self.index[spec.beam]
+            i = structure.beam_index(spec.beam)
             beam = structure.beams[i]
             if spec.kind == "distributed":
                 f += structure.gather(i, beam.distributed_load(spec.force, spec.moment))

@@ -2,9 +2,16 @@
 
 The deformed beams are drawn as a tube coloured by the bending-moment magnitude
 ``|(M2, M3)|`` (section axes), interpolated linearly in ``xi`` between the beam's recovery
-points (held constant beyond the first and last); the undeformed beams as a translucent grey
-tube; sliders as red spheres at their contact points on the deformed lines; rigid bodies as
-dark cubes.  Displacements are magnified by a factor, shown in the image.
+points (held constant beyond the first and last); the undeformed beams, carried by their
+rigid motion, as a translucent grey tube; sliders as red spheres at their contact points on
+the deformed lines; rigid bodies as dark cubes.
+
+Every point is drawn at ``X + u_R + m (u - u_R)``: its reference position, the rigid part
+``u_R`` of its displacement at true size and the elastic part magnified ``m`` times (the
+factor is shown in the image).  Given the held dofs, ``u_R`` is the rigid motion of
+:func:`sliders.app.motion.rigid_motion` (a body's travel along its line, a drive's motion),
+so sliding bodies and driven parts stay at their true places, on their magnified lines;
+without them it is zero and the whole displacement is magnified.
 
 pyvista is imported only when a render is made.  Without a display, VTK renders through EGL
 (Mesa's software rasteriser; the Makefile installs Debian's ``libegl1 libegl-mesa0
@@ -17,13 +24,15 @@ from __future__ import annotations
 import ctypes.util
 import os
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from fvbeam.io import write_atomic
 from fvbeam.structure import Structure
-from sliders.app.vtu import check_solution, contact_point, structure_size, tube_radii
+from sliders.app.vtu import check_solution, contact_point, rigid_part, structure_size, tube_radii
 from sliders.joints.slider import Slider
 
 #: Samples per element along the tube (a 3-node element is a parabola; 8 chords keep
@@ -50,11 +59,14 @@ def headless_defaults() -> None:
         os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
 
-def magnification_for(structure: Structure, q: np.ndarray, magnification: float | None) -> float:
+def magnification_for(
+    structure: Structure, elastic: np.ndarray, magnification: float | None
+) -> float:
     """``magnification``, checked, or by default the factor drawing the largest nodal
-    displacement as ``AUTO_FRACTION`` of the structure's size (1 when nothing moves)."""
+    elastic displacement as ``AUTO_FRACTION`` of the structure's size (1 when nothing
+    deforms)."""
     if magnification is None:
-        largest = float(np.abs(q.reshape(-1, 6)[:, :3]).max()) if q.size else 0.0
+        largest = float(np.abs(elastic.reshape(-1, 6)[:, :3]).max()) if elastic.size else 0.0
         return AUTO_FRACTION * structure_size(structure) / largest if largest > 0 else 1.0
     if not (
         isinstance(magnification, (int, float)) and np.isfinite(magnification) and magnification > 0
@@ -63,9 +75,13 @@ def magnification_for(structure: Structure, q: np.ndarray, magnification: float 
     return float(magnification)
 
 
-def beam_samples(structure: Structure, q: np.ndarray) -> list[tuple[np.ndarray, ...]]:
-    """Per beam: reference points (n, 3), displacements (n, 3) and bending-moment magnitude
-    (n,) at the ends of ``SAMPLES_PER_ELEMENT`` chords per element, each point once."""
+def beam_samples(
+    structure: Structure, q: np.ndarray, rigid: np.ndarray
+) -> list[tuple[np.ndarray, ...]]:
+    """Per beam, at the ends of ``SAMPLES_PER_ELEMENT`` chords per element (each point
+    once, element vertices among them): reference points (n, 3), the displacement (n, 3)
+    and its rigid part (n, 3) (``q`` and its rigid part ``rigid`` interpolated as the beam
+    interpolates them), and the bending-moment magnitude (n,)."""
     out: list[tuple[np.ndarray, ...]] = []
     X = np.arange(SAMPLES_PER_ELEMENT) / SAMPLES_PER_ELEMENT
     for beam, dofs in zip(structure.beams, structure.dof_maps, strict=True):
@@ -79,10 +95,56 @@ def beam_samples(structure: Structure, q: np.ndarray) -> list[tuple[np.ndarray, 
             (
                 mesh.positions(e, Xe),
                 beam.displacements(q_beam, xi)[:, :3],
+                beam.displacements(rigid[dofs], xi)[:, :3],
                 np.interp(xi, forces.xi, bending),
             )
         )
     return out
+
+
+@dataclass(frozen=True)
+class Drawing:
+    """Where :func:`render` draws everything, ``X + u_R + m (u - u_R)`` (module
+    docstring): ``beams``, per beam the sample points of :func:`beam_samples` and their
+    bending moment; ``ghosts``, the same points undeformed, ``X + u_R``; ``sliders``, the
+    contact points (k, 3); ``bodies``, the body nodes (k, 3)."""
+
+    beams: list[tuple[np.ndarray, np.ndarray]]
+    ghosts: list[np.ndarray]
+    sliders: np.ndarray
+    bodies: np.ndarray
+
+
+def place(X: np.ndarray, u: np.ndarray, u_rigid: np.ndarray, scale: float) -> np.ndarray:
+    """The drawn point ``X + u_R + scale (u - u_R)``."""
+    return X + u_rigid + scale * (u - u_rigid)
+
+
+def drawing(
+    structure: Structure,
+    q: np.ndarray,
+    sliders: Sequence[Slider],
+    unknowns: Sequence[np.ndarray],
+    rigid: np.ndarray,
+    scale: float,
+) -> Drawing:
+    """The :class:`Drawing` of the state ``q`` with rigid part ``rigid``, the elastic part
+    magnified ``scale`` times."""
+    samples = beam_samples(structure, q, rigid)
+    contact = []
+    for slider, y in zip(sliders, unknowns, strict=True):
+        x, u = contact_point(slider, q, y)
+        contact.append(place(x, u, contact_point(slider, rigid, y)[1], scale))
+    bodies = []
+    for body in structure.bodies:
+        dofs = structure.node_dofs(body.name)[:3]
+        bodies.append(place(body.position, q[dofs], rigid[dofs], scale))
+    return Drawing(
+        [(place(X, u, u_R, scale), bending) for X, u, u_R, bending in samples],
+        [X + u_R for X, _, u_R, _ in samples],
+        np.array(contact).reshape(-1, 3),
+        np.array(bodies).reshape(-1, 3),
+    )
 
 
 def polyline(pv, points: np.ndarray):
@@ -102,6 +164,7 @@ def render(
     view: str = "xy",
     window_size: tuple[int, int] = (1200, 600),
     scalar_bar: bool = True,
+    held: ArrayLike | None = None,
 ) -> float:
     """Render the deformed configuration to the PNG file ``path`` (atomically).
 
@@ -112,7 +175,8 @@ def render(
     structure, q, sliders, unknowns, radius
         As :func:`sliders.app.vtu.to_meshio` (``radius``: the tube's).
     magnification
-        Displacement scale; ``None`` for automatic (:func:`magnification_for`).
+        Scale of the elastic displacements; ``None`` for automatic
+        (:func:`magnification_for`).
     title
         Text at the top of the image.
     view
@@ -121,6 +185,10 @@ def render(
         Image width and height in pixels.
     scalar_bar
         Show the colour bar of the bending moment.
+    held
+        The global dofs the supports and dof drives hold, for the rigid part of the motion
+        (:func:`sliders.app.vtu.rigid_part`); ``None``: no rigid part, the whole
+        displacement magnified.
 
     Returns
     -------
@@ -134,20 +202,22 @@ def render(
         raise ValueError(f"view must be one of {', '.join(VIEWS)}, got {view!r}")
     q, ys = check_solution(structure, q, sliders, unknowns)
     radii, marker = tube_radii(structure, radius)
-    scale = magnification_for(structure, q, magnification)
+    rigid = rigid_part(structure, q, sliders, ys, held)
+    scale = magnification_for(structure, q - rigid, magnification)
+    drawn = drawing(structure, q, sliders, ys, rigid, scale)
     headless_defaults()
     import pyvista as pv
 
     plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
     try:
         plotter.set_background("white")
-        samples = beam_samples(structure, q)
-        if samples:
-            clim = [0.0, max(max(float(b.max()) for _, _, b in samples), 1e-300)]
-            for (X, u, bending), r in zip(samples, radii, strict=True):
-                ghost = polyline(pv, X).tube(radius=r, n_sides=24)
-                plotter.add_mesh(ghost, color="grey", opacity=0.25)
-                line = polyline(pv, X + scale * u)
+        if drawn.beams:
+            clim = [0.0, max(max(float(b.max()) for _, b in drawn.beams), 1e-300)]
+            for ghost, (points, bending), r in zip(drawn.ghosts, drawn.beams, radii, strict=True):
+                plotter.add_mesh(
+                    polyline(pv, ghost).tube(radius=r, n_sides=24), color="grey", opacity=0.25
+                )
+                line = polyline(pv, points)
                 line.point_data[BAR_TITLE] = bending
                 plotter.add_mesh(
                     line.tube(radius=r, n_sides=24),
@@ -157,29 +227,17 @@ def render(
                     show_scalar_bar=scalar_bar,
                     scalar_bar_args={"color": "black"},
                 )
-        if sliders:
-            points = np.array(
-                [
-                    x + scale * u
-                    for x, u in (contact_point(s, q, y) for s, y in zip(sliders, ys, strict=True))
-                ]
-            )
+        if len(drawn.sliders):
             plotter.add_mesh(
-                pv.PolyData(points).glyph(
+                pv.PolyData(drawn.sliders).glyph(
                     geom=pv.Sphere(radius=SPHERE_FACTOR * marker), scale=False, orient=False
                 ),
                 color="red",
             )
-        if structure.bodies:
-            points = np.array(
-                [
-                    body.position + scale * q[structure.node_dofs(body.name)[:3]]
-                    for body in structure.bodies
-                ]
-            )
+        if len(drawn.bodies):
             edge = CUBE_FACTOR * marker
             plotter.add_mesh(
-                pv.PolyData(points).glyph(
+                pv.PolyData(drawn.bodies).glyph(
                     geom=pv.Cube(x_length=edge, y_length=edge, z_length=edge),
                     scale=False,
                     orient=False,
@@ -188,7 +246,10 @@ def render(
             )
         plotter.add_text(title, position="upper_edge", font_size=14, color="black")
         plotter.add_text(
-            f"displacements x {scale:.3g}", position="lower_left", font_size=10, color="black"
+            f"{'displacements' if held is None else 'elastic displacements'} x {scale:.3g}",
+            position="lower_left",
+            font_size=10,
+            color="black",
         )
         {
             "xy": plotter.view_xy,

@@ -1,8 +1,11 @@
-"""Running a scene's study: every sample's solution (or failure) in memory.
+"""Running a scene's study: every sample's solution (or failure), or every step, in memory.
 
 A static study has one sample; a sweep has one per parameter value, solved as a continuation
 (:func:`sliders.solve.sweep.sweep`: a progress bar on a terminal, failed points recorded with their
-message, Ctrl-C keeping the completed points).
+message, Ctrl-C keeping the completed points).  A dynamic study is a time integration
+(:func:`sliders.app.run_dynamic.integrate`).  Writing is a separate step:
+:func:`sliders.app.tables.write_results` for samples, :func:`sliders.app.run_dynamic.write_dynamic`
+for a time integration.
 """
 
 from __future__ import annotations
@@ -14,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from sliders.app.model import Model
+from sliders.app.run_dynamic import DynamicRun, integrate
 from sliders.app.schema import DynamicStudy, Scene, SweepStudy
 from sliders.solve.statics import SliderSolution, SliderStatics
 from sliders.solve.sweep import sweep
@@ -53,24 +57,28 @@ class Results:
         return [s for s in self.samples if s.solution is None]
 
 
-def run(model: Model, progress: bool = True) -> Results:
-    """Solve the scene's study.
+def run(model: Model, progress: bool = True) -> Results | DynamicRun:
+    """Solve the scene's study, of any kind.
 
     Parameters
     ----------
     model
         The built scene.
     progress
-        A progress bar on sweeps (shown only on a terminal).
+        A progress bar on sweeps and time integrations (shown only on a terminal).
 
     Returns
     -------
     Results
-        Every sample, converged or not (a static study that fails has one failed sample).
+        For a static study or a sweep: every sample, converged or not (a static study that
+        fails has one failed sample).
+    DynamicRun
+        For a dynamic study: every step (its recorder), the last state, and the failure or
+        interruption that ended it early, if any.
     """
     study = model.scene.study
     if isinstance(study, DynamicStudy):
-        raise ValueError("a dynamic study: sliders.app.run_dynamic.run_dynamic integrates it")
+        return integrate(model, progress)
     options: dict[str, Any] = dict(
         tol=study.tol, max_iterations=study.max_iterations, load_steps=study.load_steps
     )

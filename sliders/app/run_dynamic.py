@@ -1,30 +1,34 @@
-"""Running a scene's dynamic study into an output directory.
+"""A scene's dynamic study: integrated in memory, then written into an output directory.
 
-The integration (:class:`sliders.solve.dynamics.Dynamics`) starts from the static equilibrium at
-``t = 0`` or from the saved state ``study.restart``, and streams its steps into the new
-directory (:mod:`sliders.app.history`), which then replaces the output directory whole:
+:func:`integrate` (what :func:`sliders.app.run.run` does for a dynamic study) starts the
+integration (:class:`sliders.solve.dynamics.Dynamics`) from the static equilibrium at ``t = 0``
+or from the saved state ``study.restart`` and records every step in memory
+(:class:`sliders.app.history.Recorder`); a failed step or Ctrl-C ends it with everything up to
+the last converged step.  :func:`write_dynamic` then writes a new directory, which replaces the
+output directory whole:
 
-* ``history.csv`` always; ``displacements.csv`` when ``output.csv`` lists ``nodes``,
-  ``internal_forces.csv`` when it lists ``internal_forces``, ``reactions.csv`` when it lists
-  ``reactions``;
+* ``history.csv`` always (in place of ``samples``); ``nodes.csv``, ``sliders.csv``,
+  ``internal_forces.csv``, ``reactions.csv`` when ``output.csv`` lists them: the static
+  tables' columns, one set of rows per step (:data:`sliders.app.tables.STEP_COLUMNS`);
 * ``state.npz``, the last converged state (restart from it with ``study.restart``);
 * ``scene.toml``; with ``output.vtu``, a VTU per kept state (``study.every``) and their
   ``.pvd``; with ``output.png``, renders of the last state (``last``) or of every kept one.
-
-A failed step or Ctrl-C still writes everything computed up to the last converged step.
 """
 
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
+
+import numpy as np
 
 from fvbeam.io import OUTPUT_MARKER, replace_directory
 from sliders.app.history import Recorder
 from sliders.app.model import Model
 from sliders.app.scene import dump_scene
-from sliders.app.schema import DynamicStudy
+from sliders.app.schema import DynamicStudy, Scene
+from sliders.app.state_tables import STEP_COLUMNS
 from sliders.app.vtu import Frame, write_series
 from sliders.solve.dynamics import Adaptive, DynamicsError
 from sliders.solve.integrator import State
@@ -32,25 +36,41 @@ from sliders.solve.integrator import State
 
 @dataclass
 class DynamicRun:
-    """What a dynamic study did: the ``recorder`` with every step, the last converged
+    """What a dynamic study did: the ``model``, the ``recorder`` with every step in memory
+    (:meth:`~sliders.app.history.Recorder.table` is ``history.csv``), the last converged
     ``state`` (None when even the start failed), the ``error`` message of a failure,
-    ``interrupted`` by Ctrl-C, and the wall-clock ``seconds``."""
+    ``interrupted`` by Ctrl-C, the wall-clock ``seconds``, and the ``held`` dofs (supports
+    and dof drives: what the rigid part of the drawn motion keeps in place,
+    :func:`sliders.app.motion.rigid_motion`)."""
 
+    model: Model
     recorder: Recorder
+    held: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
     state: State | None = None
     error: str | None = None
     interrupted: bool = False
     seconds: float = 0.0
 
+    @property
+    def scene(self) -> Scene:
+        return self.model.scene
 
-def run_dynamic(model: Model, out: str | Path, progress: bool = True) -> DynamicRun:
-    """Integrate ``model``'s dynamic study and write its outputs into ``out`` (replaced
-    whole; ``ValueError`` if ``out`` is not ours, or the restart file is not a state of this
-    scene)."""
-    scene = model.scene
-    study, output = scene.study, scene.output
+    def frames(self) -> list[Frame]:
+        """The kept states (one in ``study.every`` when the scene asks for VTU or for every
+        render) and the last one, as the frames of a VTU series: ``write_series(directory,
+        run.frames())`` (:func:`sliders.app.vtu.write_series`)."""
+        kept = list(self.recorder.states)
+        if self.state is not None and (not kept or kept[-1] is not self.state):
+            kept.append(self.state)
+        return [Frame.of(self.model, state, held=self.held) for state in kept]
+
+
+def integrate(model: Model, progress: bool = True) -> DynamicRun:
+    """Integrate ``model``'s dynamic study, every step recorded in memory (``ValueError`` if
+    the restart file is not a state of this scene)."""
+    study, output = model.scene.study, model.scene.output
     if not isinstance(study, DynamicStudy):
-        raise ValueError(f"a {study.kind} study: run_dynamic integrates dynamic studies")
+        raise ValueError(f"a {study.kind} study: integrate runs dynamic studies")
     dynamics = model.dynamics()
     start = None
     if study.restart is not None:
@@ -60,63 +80,63 @@ def run_dynamic(model: Model, out: str | Path, progress: bool = True) -> Dynamic
                 f"{study.restart}: a state of another model ({len(start.q)} "
                 f"dofs, {len(start.unknowns)} sliders)"
             )
-    keep = study.every if (output.vtu or output.png == "all") else 0
-    outcome = DynamicRun(Recorder())
     adaptive = None
     if study.adaptive is not None:
         spec = study.adaptive
         adaptive = Adaptive(
             spec.rtol, spec.atol, spec.h_min, spec.h_max if spec.h_max is not None else float("inf")
         )
-
-    def fill(directory: Path) -> None:
-        (directory / "scene.toml").write_text(dump_scene(scene))
-        outcome.recorder = Recorder(
-            directory,
-            "nodes" in output.csv,
-            "internal_forces" in output.csv,
-            every=keep,
-            reactions="reactions" in output.csv,
-        )
-        clock = time.perf_counter()
-        try:
-            first = start if start is not None else dynamics.static_state()
-            outcome.state = dynamics.run(
-                first, study.t_end, study.step, adaptive, outcome.recorder, progress
-            )
-        except DynamicsError as exc:
-            outcome.error, outcome.state = str(exc), outcome.recorder.last
-        except KeyboardInterrupt:
-            outcome.interrupted, outcome.state = True, outcome.recorder.last
-        outcome.seconds = time.perf_counter() - clock
-        if outcome.state is None:
-            return
-        outcome.state.save(directory / "state.npz")
-        kept = list(outcome.recorder.states)
-        if output.vtu:
-            if not kept or kept[-1] is not outcome.state:
-                kept.append(outcome.state)
-            write_series(directory / "states", (_frame(model, s) for s in kept))
-        rendered = {"none": [], "last": [outcome.state], "all": kept}[output.png]
-        for k, state in enumerate(rendered):
-            _render(model, state, directory / f"render_{k:06d}.png")
-
-    replace_directory(out, fill, OUTPUT_MARKER)
+    recorder = Recorder(
+        None,
+        [name for name in output.csv if name in STEP_COLUMNS],
+        every=study.every if (output.vtu or output.png == "all") else 0,
+    )
+    held = np.setdiff1d(np.arange(model.structure.n_dofs), dynamics.free)
+    outcome = DynamicRun(model, recorder, held)
+    clock = time.perf_counter()
+    try:
+        first = start if start is not None else dynamics.static_state()
+        outcome.state = dynamics.run(first, study.t_end, study.step, adaptive, recorder, progress)
+    except DynamicsError as exc:
+        outcome.error, outcome.state = str(exc), recorder.last
+    except KeyboardInterrupt:
+        outcome.interrupted, outcome.state = True, recorder.last
+    outcome.seconds = time.perf_counter() - clock
     return outcome
 
 
-def _frame(model: Model, state: State) -> Frame:
-    return Frame(state.t, model.structure, state.q, model.sliders, state.unknowns)
+def write_dynamic(outcome: DynamicRun, out: str | Path) -> None:
+    """Write ``outcome`` into a new directory that replaces ``out`` whole (module docstring;
+    ``ValueError`` if ``out`` is not a directory ``fvslider`` wrote)."""
+    model = outcome.model
+    output = model.scene.output
+
+    def fill(directory: Path) -> None:
+        (directory / "scene.toml").write_text(dump_scene(model.scene))
+        outcome.recorder.write(directory)
+        if outcome.state is None:
+            return
+        outcome.state.save(directory / "state.npz")
+        frames = outcome.frames()
+        if output.vtu:
+            write_series(directory / "states", frames)
+        kept = frames if output.vtu else frames[: len(outcome.recorder.states)]
+        rendered = {"none": [], "last": frames[-1:], "all": kept}[output.png]
+        for k, frame in enumerate(rendered):
+            _render(model, frame, directory / f"render_{k:06d}.png")
+
+    replace_directory(out, fill, OUTPUT_MARKER)
 
 
-def _render(model: Model, state: State, path: Path) -> None:
+def _render(model: Model, frame: Frame, path: Path) -> None:
     from sliders.app.render import render
 
     render(
         path,
-        model.structure,
-        state.q,
-        model.sliders,
-        state.unknowns,
-        title=f"{model.scene.title or 'scene'}: t = {state.t:.4g} s",
+        frame.structure,
+        frame.q,
+        frame.sliders,
+        frame.unknowns,
+        title=f"{model.scene.title or 'scene'}: t = {frame.time:.4g} s",
+        held=frame.held,
     )

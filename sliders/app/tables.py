@@ -1,26 +1,31 @@
-"""CSV tables of a run, tidy: one row per sample and per node, slider, recovery point or
-support (``docs/scenes.md`` documents every column).  Units SI; a blank cell is a value that
-does not apply (the ``value`` of a static study, ``mu_1`` of a classical slider, the free
-components of a support).
+"""CSV tables of a run, tidy: one row per sample (or time step) and per node, slider,
+recovery point or support (``docs/scenes.md`` documents every column).  Units SI; a blank
+cell is a value that does not apply (the ``value`` of a static study, ``mu_1`` of a
+classical slider, the free components of a support).
 
-* ``samples``: ``sample, value, converged, iterations, error``
-* ``nodes``: ``sample, value, part, xi, x, y, z, ux, uy, uz, rx, ry, rz`` -- every beam node
-  (in order along the beam, ``xi`` its abscissa) and every body (``xi`` blank); ``x, y, z``
-  its reference position at that sample, then its displacement and small rotation
-* ``sliders``: ``sample, value, slider, xi, x, y, z, lambda_x, lambda_y, lambda_z, mu_2,
-  mu_3, mu_1`` -- the abscissa of the contact, its deformed position, the reaction force on
-  the body and the couples of the orientation constraints
-* ``internal_forces``: ``sample, value, beam, xi, N, V2, V3, T, M2, M3`` -- at the beam's
-  recovery points, in the section frame ``(t, e2, e3)``: axial force, shears, twisting and
-  bending moments
-* ``reactions``: ``sample, value, node, fx, fy, fz, mx, my, mz`` -- what each support exerts
-  on its node, global axes, on the dofs it holds
+Every table but ``samples`` describes one solved state, and is written the same way by a
+static study or a sweep (its rows start with ``sample, value``: :data:`COLUMNS`) and by a
+dynamic study, one set of rows per time step (``step, t``: :data:`STEP_COLUMNS`,
+:class:`sliders.app.history.Recorder`).  After that head:
 
-A run writes its tables, ``scene.toml`` (the scene as it was validated) and the states and
-renders the scene asks for (``states/states.pvd`` with ``states/step_NNNNNN.vtu``, one per
-converged sample, the sample's value as its time, or its index for a static study or
-repeated values; ``render_NNNNNN.png``) into a new directory that then replaces the output
-directory (:func:`fvbeam.io.replace_directory`).
+* ``samples`` (static and sweep only; a dynamic study's ``history.csv`` takes its place):
+  ``converged, iterations, error``
+* ``nodes``: ``part, xi, x, y, z, ux, uy, uz, rx, ry, rz`` -- every beam node (in order
+  along the beam, ``xi`` its abscissa) and every body (``xi`` blank); ``x, y, z`` its
+  reference position, then its displacement and small rotation
+* ``sliders``: ``slider, xi, x, y, z, lambda_x, lambda_y, lambda_z, mu_2, mu_3, mu_1`` --
+  the abscissa of the contact, its deformed position, the reaction force on the body and the
+  multipliers of the orientation constraints
+* ``internal_forces``: ``beam, xi,`` :data:`FORCE_NAMES` -- at the beam's recovery points,
+  in the section frame ``(t, e2, e3)``: axial force, shears, twisting and bending moments
+* ``reactions``: ``node, fx, fy, fz, mx, my, mz`` -- what each support (and, in a dynamic
+  study, each dof drive) exerts on its node, global axes, on the dofs it holds
+
+A static run writes its tables, ``scene.toml`` (the scene as it was validated) and the
+states and renders the scene asks for (``states/states.pvd`` with
+``states/step_NNNNNN.vtu``, one per converged sample, the sample's value as its time, or its
+index for a static study or repeated values; ``render_NNNNNN.png``) into a new directory
+that then replaces the output directory (:func:`fvbeam.io.replace_directory`).
 """
 
 from __future__ import annotations
@@ -36,94 +41,48 @@ from fvbeam.io import OUTPUT_MARKER as MARKER
 from fvbeam.io import replace_directory
 from sliders.app.run import Results, Sample
 from sliders.app.scene import dump_scene
-from sliders.app.vtu import Frame, contact_point, write_series
+from sliders.app.state_tables import STATE_COLUMNS, STATE_ROWS, Snapshot, cell
+from sliders.app.vtu import Frame, write_series
 from sliders.solve.statics import SliderSolution, SliderStatics
 
+#: Columns of the tables of a static study or a sweep: a row per sample and item.
 COLUMNS = {
     "samples": ("sample", "value", "converged", "iterations", "error"),
-    "nodes": ("sample", "value", "part", "xi", "x", "y", "z", "ux", "uy", "uz", "rx", "ry", "rz"),
-    "sliders": (
-        "sample",
-        "value",
-        "slider",
-        "xi",
-        "x",
-        "y",
-        "z",
-        "lambda_x",
-        "lambda_y",
-        "lambda_z",
-        "mu_2",
-        "mu_3",
-        "mu_1",
-    ),
-    "internal_forces": ("sample", "value", "beam", "xi", "N", "V2", "V3", "T", "M2", "M3"),
-    "reactions": ("sample", "value", "node", "fx", "fy", "fz", "mx", "my", "mz"),
+    **{name: ("sample", "value", *columns) for name, columns in STATE_COLUMNS.items()},
 }
-
-
-def _head(sample: Sample) -> list:
-    return [sample.index, sample.value]
 
 
 def _samples_rows(results: Results) -> Iterator[list]:
     for s in results.samples:
         converged = s.solution is not None
-        yield _head(s) + [
+        yield [
+            s.index,
+            s.value,
             str(converged).lower(),
             s.solution.iterations if s.solution is not None else None,
             s.error,
         ]
 
 
-def _nodes_rows(results: Results) -> Iterator[list]:
-    for s in _converged(results):
-        statics, solution = _solved(s)
-        structure, q = statics.structure, solution.q
-        for i, spec in enumerate(results.scene.beam):
-            mesh = structure.beams[i].mesh
-            u = structure.local(i, q).reshape(-1, 6)
-            xi = mesh.node_abscissae()
-            for k in np.argsort(xi, kind="stable"):
-                yield _head(s) + [spec.name, xi[k], *mesh.points[k], *u[k]]
-        for body in structure.bodies:
-            yield _head(s) + [body.name, None, *body.position, *q[structure.node_dofs(body.name)]]
+def _snapshot(results: Results, sample: Sample) -> Snapshot:
+    statics, solution = _solved(sample)
+    return Snapshot(
+        statics.structure,
+        solution.q,
+        statics.sliders,
+        solution.unknowns,
+        results.model.supports,
+        statics.K @ solution.q - sample.load,
+    )
 
 
-def _sliders_rows(results: Results) -> Iterator[list]:
-    for s in _converged(results):
-        statics, solution = _solved(s)
-        q = solution.q
-        for slider, y in zip(statics.sliders, solution.unknowns, strict=True):
-            x = np.sum(contact_point(slider, q, y), axis=0)
-            mu = list(y[4:]) + [None] * (7 - len(y))
-            yield _head(s) + [slider.name, float(y[0]), *x, *y[1:4], *mu]
-
-
-def _internal_forces_rows(results: Results) -> Iterator[list]:
-    for s in _converged(results):
-        statics, solution = _solved(s)
-        structure = statics.structure
-        for i, spec in enumerate(results.scene.beam):
-            forces = structure.beams[i].internal_forces(structure.local(i, solution.q))
-            for xi, f, m in zip(forces.xi, forces.force, forces.moment, strict=True):
-                yield _head(s) + [spec.name, xi, *f, *m]
-
-
-def _reactions_rows(results: Results) -> Iterator[list]:
-    for s in _converged(results):
-        statics, solution = _solved(s)
-        structure, q = statics.structure, solution.q
-        residual = statics.K @ q - s.load
-        for slider, y in zip(statics.sliders, solution.unknowns, strict=True):
-            dofs, r_q, _, _ = slider.assemble(structure, q, y)
-            np.add.at(residual, dofs, r_q)
-        for spec, support in zip(results.scene.support, results.model.supports, strict=True):
-            held = support.dofs()
-            values: list = [None] * 6
-            for c, dof in zip(held, structure.node_dofs(support.ref)[held], strict=True):
-                values[c] = residual[dof]
-            yield _head(s) + [spec.node, *values]
+def _rows(results: Results, name: str) -> Iterator[list]:
+    if name == "samples":
+        yield from _samples_rows(results)
+        return
+    for sample in _converged(results):
+        for row in STATE_ROWS[name](_snapshot(results, sample)):
+            yield [sample.index, sample.value, *row]
 
 
 def _converged(results: Results) -> Iterator[Sample]:
@@ -136,28 +95,13 @@ def _solved(sample: Sample) -> tuple[SliderStatics, SliderSolution]:
     return sample.statics, sample.solution
 
 
-ROWS = {
-    "samples": _samples_rows,
-    "nodes": _nodes_rows,
-    "sliders": _sliders_rows,
-    "internal_forces": _internal_forces_rows,
-    "reactions": _reactions_rows,
-}
-
-
-def _cell(value) -> str:
-    if value is None:
-        return ""
-    return repr(float(value)) if isinstance(value, (float, np.floating)) else str(value)
-
-
 def write_table(results: Results, name: str, path: Path) -> None:
     """Write the table ``name`` of ``results`` to ``path``."""
     with open(path, "w", newline="") as handle:
         writer = csv.writer(handle)
         writer.writerow(COLUMNS[name])
-        for row in ROWS[name](results):
-            writer.writerow([_cell(v) for v in row])
+        for row in _rows(results, name):
+            writer.writerow([cell(v) for v in row])
 
 
 def write_results(results: Results, out: str | Path, tables: Sequence[str] | None = None) -> None:
@@ -165,7 +109,7 @@ def write_results(results: Results, out: str | Path, tables: Sequence[str] | Non
     directory that replaces ``out`` whole."""
     output = results.scene.output
     tables = output.csv if tables is None else tables
-    converged = [s for s in results.samples if s.solution is not None]
+    converged = list(_converged(results))
     rendered = {"none": [], "last": converged[-1:], "all": converged}[output.png]
     if rendered and importlib.util.find_spec("pyvista") is None:
         raise ValueError("output.png needs pyvista: pip install 'fvslider[render]'")
@@ -182,6 +126,12 @@ def write_results(results: Results, out: str | Path, tables: Sequence[str] | Non
     replace_directory(out, fill, MARKER)
 
 
+def _held(sample: Sample) -> np.ndarray:
+    """The dofs the supports hold at ``sample``."""
+    statics, _ = _solved(sample)
+    return np.setdiff1d(np.arange(statics.structure.n_dofs), statics.free)
+
+
 def _frame(sample: Sample, converged: list[Sample]) -> Frame:
     """A converged sample as a state of the series: its value as the time, or its index when
     the values are absent or repeat."""
@@ -194,6 +144,7 @@ def _frame(sample: Sample, converged: list[Sample]) -> Frame:
         solution.q,
         statics.sliders,
         solution.unknowns,
+        _held(sample),
     )
 
 
@@ -209,4 +160,5 @@ def _render(sample: Sample, path: Path, title: str) -> None:
         statics.sliders,
         solution.unknowns,
         title=f"{title or 'scene'}: sample {sample.index}{value}",
+        held=_held(sample),
     )

@@ -16,8 +16,15 @@ rigid bodies       each body's node                               ``vertex``
 Point data: ``displacement`` and ``rotation`` (N, 3) from ``q`` through the structure's dof
 maps (beam nodes: their dofs; evaluation points: the beam's trial interpolation; sliders:
 the line's displacement at ``xi`` and the body's rotation; bodies: their dofs), so that the
-reference points warped by ``displacement`` (ParaView's *Warp By Vector*, any scale) are the
-deformed configuration, sliders on their deformed lines; ``radius`` (N,) for tubes.
+reference points warped by ``displacement`` (ParaView's *Warp By Vector*, scale 1) are the
+deformed configuration, sliders on their deformed lines; ``rigid_displacement`` (N, 3), the
+same maps applied to the rigid part ``q_R`` of the motion (:func:`sliders.app.motion.rigid_motion`:
+the sliding travel, a drive's motion, a free part's mean motion), and
+``elastic_displacement = displacement - rigid_displacement``.  Warped by
+``rigid_displacement`` at scale 1 and then by ``elastic_displacement`` at any scale ``m``,
+the points are the picture :mod:`sliders.app.render` draws: sliding bodies and driven parts
+at their true places, the deformation magnified ``m`` times, sliders on their lines.  Without
+the held dofs (``held=None``) the rigid part is zero.  ``radius`` (N,) for tubes.
 
 Cell data, one value per cell of every block (meshio needs every name on every block; a
 value that does not apply is NaN, or -1 for integers):
@@ -44,6 +51,7 @@ import xml.etree.ElementTree as ET
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Protocol, cast
 
 import meshio
 import numpy as np
@@ -51,6 +59,7 @@ from numpy.typing import ArrayLike
 
 from fvbeam.io import replace_directory, write_atomic
 from fvbeam.structure import Structure
+from sliders.app.motion import rigid_motion
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
 
@@ -173,6 +182,20 @@ def slider_couple(slider: Slider, structure: Structure, q: np.ndarray, y: np.nda
     return J[turn, len(dofs) + 4 :] @ y[4:]
 
 
+def rigid_part(
+    structure: Structure,
+    q: np.ndarray,
+    sliders: Sequence[Slider],
+    unknowns: Sequence[np.ndarray],
+    held: ArrayLike | None,
+) -> np.ndarray:
+    """The rigid part of ``q`` (:func:`sliders.app.motion.rigid_motion`), or zero without
+    the held dofs (``held=None``)."""
+    if held is None:
+        return np.zeros_like(q)
+    return rigid_motion(structure, q, sliders, unknowns, held)
+
+
 class _Blocks:
     """Points, point data, cell blocks and cell data, gathered block by block."""
 
@@ -181,6 +204,7 @@ class _Blocks:
         self.displacement: list[np.ndarray] = []
         self.rotation: list[np.ndarray] = []
         self.radius: list[np.ndarray] = []
+        self.rigid: list[np.ndarray] = []
         self.cells: list[tuple[str, np.ndarray]] = []
         self.data: dict[str, list[np.ndarray]] = {
             name: [] for name in (*INT_CELL_FIELDS, *FLOAT_CELL_FIELDS)
@@ -193,16 +217,19 @@ class _Blocks:
         connectivity: np.ndarray,
         points: np.ndarray,
         motion: np.ndarray,
+        rigid: np.ndarray,
         radius: ArrayLike,
         **cell_data: ArrayLike,
     ) -> None:
-        """One cell block; ``connectivity`` indexes ``points``; ``motion`` (n, 6);
-        ``cell_data`` any subset of the cell fields (the rest are filled)."""
+        """One cell block; ``connectivity`` indexes ``points``; ``motion`` (n, 6) and its
+        rigid part's displacement ``rigid`` (n, 3); ``cell_data`` any subset of the cell
+        fields (the rest are filled)."""
         n_cells = len(connectivity)
         self.cells.append((kind, connectivity + self.n_points))
         self.points.append(points)
         self.displacement.append(motion[:, :3])
         self.rotation.append(motion[:, 3:])
+        self.rigid.append(rigid)
         self.radius.append(np.broadcast_to(radius, (len(points),)))
         self.n_points += len(points)
         for name in INT_CELL_FIELDS:
@@ -216,8 +243,11 @@ class _Blocks:
             )
 
     def mesh(self) -> meshio.Mesh:
+        displacement, rigid = np.vstack(self.displacement), np.vstack(self.rigid)
         point_data = {
-            "displacement": np.vstack(self.displacement),
+            "displacement": displacement,
+            "rigid_displacement": rigid,
+            "elastic_displacement": displacement - rigid,
             "rotation": np.vstack(self.rotation),
             "radius": np.concatenate(self.radius),
         }
@@ -227,13 +257,18 @@ class _Blocks:
 
 
 def to_meshio(
-    structure: Structure,
-    q: np.ndarray,
+    structure: Structure | System,
+    q: np.ndarray | Solution,
     sliders: Sequence[Slider] = (),
     unknowns: Sequence[np.ndarray] = (),
     radius: float | Sequence[float] | None = None,
+    held: ArrayLike | None = None,
 ) -> meshio.Mesh:
     """The solved structure as a meshio mesh (layout and fields: module docstring).
+
+    ``to_meshio(statics, solution)`` takes them from a solved system (:meth:`Frame.of`: a
+    ``SliderStatics`` and its ``SliderSolution``, a ``Dynamics`` or ``Model`` and a
+    ``State``), ``radius`` then by keyword.
 
     Parameters
     ----------
@@ -247,20 +282,26 @@ def to_meshio(
     radius
         Tube radius: one value, one per beam, or ``None`` for ``RADIUS_FRACTION`` of the
         structure's size; sliders and bodies carry the largest beam radius.
+    held
+        The global dofs the supports and dof drives hold, for the rigid part of the motion
+        (:func:`rigid_part`); ``None``: no rigid part.
     """
+    structure, q, sliders, unknowns, held = _solved(structure, q, sliders, unknowns, held)
     q, ys = check_solution(structure, q, sliders, unknowns)
     radii, marker = tube_radii(structure, radius)
+    q_rigid = rigid_part(structure, q, sliders, ys, held)
     blocks = _Blocks()
     for b, (beam, dofs, r) in enumerate(
         zip(structure.beams, structure.dof_maps, radii, strict=True)
     ):
-        mesh, q_beam = beam.mesh, q[dofs]
+        mesh, q_beam, rigid_beam = beam.mesh, q[dofs], q_rigid[dofs]
         kind = "line" if mesh.nodes_per_element == 2 else "line3"
         blocks.add(
             kind,
             mesh.cells,
             mesh.points,
             q_beam.reshape(-1, 6),
+            rigid_beam.reshape(-1, 6)[:, :3],
             r,
             part=PARTS["beam"],
             id=b,
@@ -273,6 +314,7 @@ def to_meshio(
             np.arange(len(e))[:, None],
             mesh.positions(e, X),
             beam.displacements(q_beam, forces.xi),
+            beam.displacements(rigid_beam, forces.xi)[:, :3],
             r,
             part=PARTS["evaluation point"],
             id=b,
@@ -296,6 +338,7 @@ def to_meshio(
             np.arange(len(sliders))[:, None],
             np.array([x for x, _ in contact]),
             motion,
+            np.array([contact_point(s, q_rigid, y)[1] for s, y in zip(sliders, ys, strict=True)]),
             marker,
             part=PARTS["slider"],
             id=np.arange(len(sliders)),
@@ -311,6 +354,7 @@ def to_meshio(
             np.arange(len(structure.bodies))[:, None],
             np.array([body.position for body in structure.bodies]),
             np.array([q[structure.node_dofs(body.name)] for body in structure.bodies]),
+            np.array([q_rigid[structure.node_dofs(body.name)[:3]] for body in structure.bodies]),
             marker,
             part=PARTS["body"],
             id=np.arange(len(structure.bodies)),
@@ -320,18 +364,20 @@ def to_meshio(
 
 def write_vtu(
     path: str | Path,
-    structure: Structure,
-    q: np.ndarray,
+    structure: Structure | System,
+    q: np.ndarray | Solution,
     sliders: Sequence[Slider] = (),
     unknowns: Sequence[np.ndarray] = (),
     radius: float | Sequence[float] | None = None,
+    held: ArrayLike | None = None,
 ) -> None:
     """Write the solved structure to the VTU file ``path`` atomically
-    (:func:`fvbeam.io.write_atomic`); arguments as :func:`to_meshio`."""
+    (:func:`fvbeam.io.write_atomic`); arguments as :func:`to_meshio`, e.g.
+    ``write_vtu(path, statics, solution)``."""
     path = Path(path)
     if path.suffix != ".vtu":
         raise ValueError(f"path {str(path)!r} must end in .vtu")
-    mesh = to_meshio(structure, q, sliders, unknowns, radius)
+    mesh = to_meshio(structure, q, sliders, unknowns, radius, held)
     write_atomic(path, lambda tmp: meshio.write(tmp, mesh, file_format="vtu"))
 
 
@@ -373,16 +419,89 @@ def write_pvd(path: str | Path, steps: Sequence[tuple[float, str | Path]]) -> No
     write_atomic(path, lambda tmp: tree.write(tmp, encoding="utf-8", xml_declaration=True))
 
 
+class System(Protocol):
+    """A solved system's parts: ``SliderStatics``, ``Dynamics``, ``Model``."""
+
+    @property
+    def structure(self) -> Structure: ...
+    @property
+    def sliders(self) -> Sequence[Slider]: ...
+
+
+class Solution(Protocol):
+    """A solution's values: ``SliderSolution``, a dynamics ``State``."""
+
+    @property
+    def q(self) -> np.ndarray: ...
+    @property
+    def unknowns(self) -> Sequence[np.ndarray]: ...
+
+
 @dataclass(frozen=True)
 class Frame:
     """One output step of a series: the time (or swept parameter) and the solved structure
-    with its sliders (arguments of :func:`to_meshio`)."""
+    with its sliders and held dofs (arguments of :func:`to_meshio`)."""
 
     time: float
     structure: Structure
     q: np.ndarray
     sliders: Sequence[Slider] = ()
     unknowns: Sequence[np.ndarray] = ()
+    held: ArrayLike | None = None
+
+    @classmethod
+    def of(
+        cls,
+        system: System,
+        solution: Solution,
+        time: float | None = None,
+        held: ArrayLike | None = None,
+    ) -> Frame:
+        """The frame of ``solution`` (its ``q`` and ``unknowns``: a ``SliderSolution``, a
+        dynamics ``State``) of ``system`` (its ``structure`` and ``sliders``: a
+        ``SliderStatics``, a ``Dynamics``, a scene's ``Model``), at ``time`` (default: the
+        solution's ``t``, else 0).  ``held``: the dofs the supports and dof drives hold
+        (default: those not in ``system.free``, for a ``SliderStatics`` or a ``Dynamics``;
+        ``None`` for a system without ``free``: no rigid part)."""
+        for given, what, names in (
+            (system, "system", ("structure", "sliders")),
+            (solution, "solution", ("q", "unknowns")),
+        ):
+            if not all(hasattr(given, name) for name in names):
+                raise ValueError(
+                    f"the {what} must have {' and '.join(names)} (got {type(given).__name__})"
+                )
+        if time is None:
+            time = getattr(solution, "t", 0.0)
+        free = getattr(system, "free", None)
+        if held is None and free is not None:
+            held = np.setdiff1d(np.arange(system.structure.n_dofs), free)
+        return cls(
+            float(time), system.structure, solution.q, system.sliders, solution.unknowns, held
+        )
+
+
+def _solved(
+    structure: Structure | System,
+    q: np.ndarray | Solution,
+    sliders: Sequence[Slider],
+    unknowns: Sequence[np.ndarray],
+    held: ArrayLike | None,
+) -> tuple[Structure, np.ndarray, Sequence[Slider], Sequence[np.ndarray], ArrayLike | None]:
+    """The arguments of :func:`to_meshio` given either way: as they are, or a system and its
+    solution (:meth:`Frame.of`, which finds the held dofs of a system that has ``free``)
+    with nothing after them but ``held``."""
+    if isinstance(structure, Structure):
+        return structure, cast(np.ndarray, q), sliders, unknowns, held
+    if not (isinstance(sliders, Sequence) and isinstance(unknowns, Sequence)) or (
+        len(sliders) or len(unknowns)
+    ):
+        raise ValueError(
+            "given a solved system and its solution, the sliders and their unknowns are "
+            "theirs: pass nothing after the solution (the radius by keyword)"
+        )
+    frame = Frame.of(structure, cast(Solution, q), held=held)
+    return frame.structure, frame.q, frame.sliders, frame.unknowns, frame.held
 
 
 def write_series(
@@ -406,7 +525,9 @@ def write_series(
             if not isinstance(frame, Frame):
                 raise ValueError(f"frames[{k}] must be a Frame, got {type(frame).__name__}")
             file = tmp / f"step_{k:06d}.vtu"
-            write_vtu(file, frame.structure, frame.q, frame.sliders, frame.unknowns, radius)
+            write_vtu(
+                file, frame.structure, frame.q, frame.sliders, frame.unknowns, radius, frame.held
+            )
             steps.append((frame.time, file))
         write_pvd(tmp / index.name, steps)
 

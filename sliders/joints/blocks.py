@@ -30,8 +30,9 @@ class SlotJacobian:
     ``structure`` and ``unknowns``: the ordered ``(name, size)`` slot groups of the structure
     dofs and of the joint's unknowns; the dense matrix has them in that order, rows and
     columns alike.  ``pattern``: the ``(row group, column group)`` blocks that may be
-    nonzero, each stored once, zero to start with.  Writing a block outside the pattern is an
-    error (``KeyError`` naming it).
+    nonzero, each stored once, zero to start with.  A block of a group that is not among the
+    slots, and writing a block outside the pattern (:meth:`block`; a kernel's blocks,
+    :meth:`index`), are errors (``ValueError`` naming the block and the pattern).
     """
 
     def __init__(
@@ -64,18 +65,24 @@ class SlotJacobian:
             }
         return self._blocks
 
-    def index(self, groups: Sequence[str]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def index(
+        self, groups: Sequence[str], writes: Sequence[tuple[str, str]] = ()
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """For a kernel: the first slot and size of each of ``groups`` (g,), and the
         offset of block ``(groups[i], groups[j])`` in ``values`` at ``[i, j]`` (g, g), -1
-        where it is not in the pattern."""
-        return _index(*self._key[:2], tuple(groups))
+        where it is not in the pattern.  ``writes``: the blocks the kernel writes, which
+        must all have an offset (``ValueError`` naming the first that has none and the
+        pattern, checked once per layout)."""
+        return _index(*self._key[:2], tuple(groups), tuple(writes))
 
     def block(self, rows: str, cols: str) -> np.ndarray:
         """The (B, rows, cols) block of the pattern (a view, to write into)."""
         try:
             return self.blocks[rows, cols]
         except KeyError:
-            raise KeyError(f"block ({rows}, {cols}) is not in the joint's pattern") from None
+            raise ValueError(
+                f"block ({rows}, {cols}) is not in the joint's pattern {self.pattern}"
+            ) from None
 
     def unit_row(self, row: str, members: np.ndarray | slice = slice(None)) -> None:
         """Replace the derivatives of the one-row group ``row`` of the given ``members`` by
@@ -119,6 +126,12 @@ def _layout(
         size[name], at[name] = n, slice(start, start + n)
         start += n
     blocks = list(dict.fromkeys(pattern))
+    for r, c in blocks:
+        if r not in at or c not in at:
+            raise ValueError(
+                f"block ({r}, {c}) of the pattern {blocks} names a group that is not among "
+                f"the slots ({', '.join(at)})"
+            )
     rows, offset = [], 0
     for r, c in blocks:
         rows.append((at[r].start, size[r], at[c].start, size[c], offset))
@@ -131,13 +144,19 @@ def _index(
     groups: tuple[tuple[str, int], ...],
     pattern: tuple[tuple[str, str], ...],
     names: tuple[str, ...],
+    writes: tuple[tuple[str, str], ...],
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """:meth:`SlotJacobian.index` of the groups ``names``, read from :func:`_layout`, once
-    per layout."""
+    """:meth:`SlotJacobian.index` of the groups ``names`` for a kernel that ``writes`` those
+    blocks, read from :func:`_layout`, once per layout."""
     size, at, _, blocks, table = _layout(groups, pattern)
     where = np.full((len(names), len(names)), -1, dtype=np.int64)
     for (r, c), row in zip(blocks, table, strict=True):
         where[names.index(r), names.index(c)] = row[4]
+    for r, c in writes:
+        if r not in names or c not in names or where[names.index(r), names.index(c)] < 0:
+            raise ValueError(
+                f"the kernel writes block ({r}, {c}), which is not in the pattern {blocks}"
+            )
     return (
         np.array([at[g].start for g in names], dtype=np.int64),
         np.array([size[g] for g in names], dtype=np.int64),

@@ -30,7 +30,8 @@ from typing import Protocol
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from fvbeam.support import DOF_NAMES, NodeRef
+from fvbeam.names import NodeRef, parse_node
+from fvbeam.support import DOF_NAMES
 
 
 class Motion(Protocol):
@@ -140,15 +141,16 @@ class Tabulated:
 
 @dataclass(frozen=True)
 class DofDrive:
-    """Prescribe one dof of a structure node (``(beam, node)`` or a body name): ``dof`` is one
-    of ``ux uy uz rx ry rz``; its value follows ``motion`` (displacement from the reference
-    configuration)."""
+    """Prescribe one dof of a structure node (:mod:`fvbeam.names`: ``"C.end"``, a body's
+    name, ``(beam, node)``): ``dof`` is one of ``ux uy uz rx ry rz``; its value follows
+    ``motion`` (displacement from the reference configuration)."""
 
     node: NodeRef
     dof: str
     motion: Motion
 
     def __post_init__(self) -> None:
+        parse_node(self.node, "drive")
         if self.dof not in DOF_NAMES:
             raise ValueError(
                 f"drive of {self.node!r}: dof must be one of "

@@ -1,13 +1,20 @@
 """The slider joint's equations, compiled: residuals and Jacobian blocks of ``B`` members.
 
-:meth:`sliders.joints.slider.SliderBatch.evaluate` gathers what the joints need (the line state at
-``xi``, the body's displacements, the unknowns) and calls :func:`joint_equations`, which
-writes, member by member, the residual on the slots and the Jacobian blocks of the joint's
-pattern (:class:`sliders.joints.blocks.SlotJacobian`: one flat array, ``where[row group, column
-group]`` the offset of a block, -1 where it is not in the pattern).  The equations are those
-of the table of :mod:`sliders.joints.slider` (paper eqs. 1-5, Sec. 4), with the two orientation
-models (``section``: :meth:`~sliders.joints.slider.SliderBatch.evaluate`'s docstring and
-``docs/sliders.md``; ``slope``: paper eq. 4).
+:meth:`sliders.joints.slider.SliderBatch.joint_inputs` gathers what the joints need (the line
+state at ``xi``, the body's displacements, the unknowns:
+:class:`sliders.joints.equations.JointInputs`) and
+:meth:`~sliders.joints.slider.SliderBatch.joint_equations` calls :func:`joint_equations`,
+which writes, member by member, the residual on the slots and the Jacobian blocks of the
+joint's pattern (:class:`sliders.joints.blocks.SlotJacobian`: one flat array, ``where[row
+group, column group]`` the offset of a block, -1 where it is not in the pattern).  The
+equations are those of :mod:`sliders.joints.equations`, which writes them in plain numpy with
+the paper's numbers (eqs. 1-5, Sec. 4), one function per kind and orientation model
+(``section``: the section frame, ``docs/sliders.md``; ``slope``: paper eq. 4);
+``tests/test_joint_reference.py`` holds the two equal to roundoff.
+
+:func:`reach` lists the blocks the kernel writes for a kind, orientation and options: the
+pattern a joint lays out, which :meth:`sliders.joints.blocks.SlotJacobian.index` checks once
+per layout (a block written outside the pattern would land at offset -1).
 
 Slot groups, in this order (their first slot ``start`` and ``size``): ``body`` (3), ``turn``
 (3, the body's rotations), ``load``, ``rotation``, ``interp``, ``beside``, then the joint's
@@ -15,6 +22,8 @@ unknowns ``xi`` (1), ``lam`` (3), ``mu``.
 """
 
 from __future__ import annotations
+
+from functools import cache
 
 import numba
 import numpy as np
@@ -24,6 +33,66 @@ BODY, TURN, LOAD, ROTATION, INTERP, BESIDE, XI, LAM, MU = range(9)
 GROUPS = ("body", "turn", "load", "rotation", "interp", "beside", "xi", "lam", "mu")
 KINDS = {"spherical": 0, "classical": 1, "spline": 2}
 ORIENTATIONS = {"section": 0, "slope": 1}
+
+#: The blocks :func:`joint_equations` writes for every joint: the reaction on the body and
+#: the line, the ``xi`` equation and the position constraint
+#: (:func:`sliders.joints.equations.spherical`).
+_BASE = (
+    ("body", "lam"),
+    ("turn", "lam"),
+    ("load", "xi"),
+    ("load", "lam"),
+    ("xi", "xi"),
+    ("xi", "lam"),
+    ("xi", "interp"),
+    ("xi", "beside"),
+    ("lam", "body"),
+    ("lam", "xi"),
+    ("lam", "interp"),
+)
+#: Written for a sliding point off the node (the lever arm ``f_b``).
+_LEVER = (("turn", "turn"), ("lam", "turn"))
+#: Written by the ``section`` orientation (:func:`_section`), and on a chain's section
+#: rotation dofs.
+_SECTION = (
+    ("turn", "xi"),
+    ("turn", "mu"),
+    ("xi", "turn"),
+    ("xi", "mu"),
+    ("mu", "turn"),
+    ("mu", "xi"),
+    ("mu", "mu"),
+)
+_SECTION_ROTATION = (("rotation", "xi"), ("rotation", "mu"), ("xi", "rotation"), ("mu", "rotation"))
+#: Written by the ``slope`` orientation (:func:`_slope`: the couple on the line's gradient).
+_SLOPE = (
+    ("turn", "turn"),
+    ("turn", "xi"),
+    ("turn", "mu"),
+    ("turn", "interp"),
+    ("load", "turn"),
+    ("load", "mu"),
+    ("load", "interp"),
+    ("xi", "turn"),
+    ("xi", "mu"),
+    ("mu", "turn"),
+    ("mu", "xi"),
+    ("mu", "interp"),
+)
+
+
+@cache
+def reach(kind: str, orientation: str, lever: bool, rotation: bool) -> tuple[tuple[str, str], ...]:
+    """The ``(row group, column group)`` blocks :func:`joint_equations` writes for a ``kind``
+    slider with the ``orientation`` model: every joint's, the lever arm's (``lever``: a
+    sliding point off the node) and its orientation's (``rotation``: with a chain's section
+    rotation dofs), each once, in that order."""
+    blocks = _BASE + (_LEVER if lever else ())
+    if kind != "spherical" and orientation == "slope":
+        blocks += _SLOPE
+    elif kind != "spherical":
+        blocks += _SECTION + (_SECTION_ROTATION if rotation else ())
+    return tuple(dict.fromkeys(blocks))
 
 
 @numba.njit(cache=True)
@@ -109,27 +178,11 @@ def joint_equations(
         :data:`KINDS` code; ``slope``: the ``slope`` orientation (else ``section``).
     jacobian
         Whether to write ``values`` (else the residuals only).
-    offset, frame
-        The sliding point on the body node (3,) and the slider axes (3, 3), columns.
-    body, reference
-        The body's dofs (B, 6) and the sliding point's reference position (B, 3).
-    q, y
-        The structure states (B, n) and the joints' unknowns (B, m).
-    x, l, l_xi, l_xixi, N, dN, d2N, G, dG, tangent, tangent_xi, T
-        The line at ``xi`` (:class:`sliders.joints.slider._LineState`): position and derivatives,
-        shape functions (B, npe), load transfer (B, k, 6) and its derivative, the tangent
-        of the frictionless condition and its coefficients on the tangent slots (B, p).
-    rotation_dofs, w, w_xi, kink, kink_xi, compliance
-        The section rotation (``section`` orientation on a chain): the two nodes' rotation
-        dofs (B, a, 3), their weights (B, a) and ``xi``-derivatives, the kink correction
-        and the section compliance in global axes (B, 3, 3); ``a = 0`` on a rigid line.
-    R0, k0, k0_xi
-        The line's reference frame (B, 3, 3), curvature and its rate (B, 3).
-    scale
-        The multipliers' scaling (the kink compliance is divided by it).
+    offset, ..., scale
+        The fields of :class:`sliders.joints.equations.JointInputs`, in its order.
     start, size, where
         First slot and size of each group (9,), block offsets (9, 9), -1 outside the
-        pattern.
+        pattern (which must hold every block of :func:`reach`).
     r, values
         Zero outputs, written here.
     """

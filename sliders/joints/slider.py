@@ -35,10 +35,11 @@ Two orientation models (``docs/sliders.md`` compares them):
 Neither routes the couple through ``d l / d q`` as a force dipole on the slope: on
 shear-deformable beams the dipole form loses the couple under mesh refinement.
 
-The equations are written once, compiled, in :mod:`sliders.joints.kernel`, which
-:meth:`SliderBatch.evaluate` calls for ``B`` members at once
-(arrays with a leading member axis, fixed slots per member); :meth:`Slider.assemble` is the
-case ``B = 1``.
+The equations are written in plain numpy, with the paper's numbers, in
+:mod:`sliders.joints.equations` (one function per kind and orientation), and compiled in
+:mod:`sliders.joints.kernel`, which :meth:`SliderBatch.evaluate` calls for ``B`` members at
+once (arrays with a leading member axis, fixed slots per member); both read what
+:meth:`SliderBatch.joint_inputs` gathers.  :meth:`Slider.assemble` is the case ``B = 1``.
 """
 
 from __future__ import annotations
@@ -51,10 +52,12 @@ from typing import cast
 import numpy as np
 
 from fvbeam.geometry import orthonormal3, vector3
+from fvbeam.names import NodeRef, parse_node
 from fvbeam.structure import Structure
 from sliders.joints.blocks import SlotJacobian
 from sliders.joints.drives import Motion
-from sliders.joints.kernel import GROUPS, joint_equations
+from sliders.joints.equations import JointInputs
+from sliders.joints.kernel import GROUPS, joint_equations, reach
 from sliders.joints.kernel import KINDS as KERNEL_KINDS
 from sliders.lines.batched import ChainStack, LineRotation, gather
 from sliders.lines.chain import BeamChain
@@ -76,8 +79,8 @@ class Slider:
     line
         A :class:`BeamChain` of the same structure, or a rigid line.
     body
-        The sliding node: ``(beam index, node)`` (node: index, ``'start'`` or ``'end'``) or
-        the name of a rigid body of the structure.
+        The sliding node, named as in a scene (``"P.start"``, a rigid body's name) or as
+        ``(beam, node)`` (:mod:`fvbeam.names`).
     offset
         Sliding point relative to the node, in global axes of the reference configuration.
     frame
@@ -102,7 +105,7 @@ class Slider:
 
     kind: str
     line: BeamChain | RigidLine
-    body: tuple[int, int | str] | str
+    body: NodeRef
     offset: np.ndarray = field(default_factory=lambda: np.zeros(3))
     frame: np.ndarray = field(default_factory=lambda: np.eye(3))
     smearing: float = 0.0
@@ -131,6 +134,7 @@ class Slider:
                 f"{self.name}: orientation 'slope' is the classical slider's "
                 f"(paper eq. 4); a {self.kind} slider needs 'section'"
             )
+        parse_node(self.body, f"{self.name}: body")
         self.offset = vector3(self.offset, f"{self.name}: offset")
         self.frame = orthonormal3(self.frame, f"{self.name}: frame")
         self._batch: SliderBatch | None = None
@@ -250,6 +254,18 @@ class SliderBatch:
             else None
         )
         self.drives = [s.drive for s in self.sliders]
+        #: Whether the joints read the lines' section rotation (the ``section`` orientation
+        #: of the classical and spline sliders).
+        self.section = self.kind != "spherical" and self.orientation == "section"
+        #: The Jacobian blocks the joint lays out (:class:`SlotJacobian`): those its kernel
+        #: writes (:func:`sliders.joints.kernel.reach`), which :meth:`joint_equations`
+        #: checks it holds, once per layout.
+        self.pattern = reach(
+            self.kind,
+            self.orientation,
+            bool(np.any(self.offset)),
+            self.section and self.chains is not None,
+        )
 
     @classmethod
     def translated(cls, slider: Slider, structure: Structure, shifts: np.ndarray) -> SliderBatch:
@@ -269,11 +285,8 @@ class SliderBatch:
         out = copy.copy(one)
         out.sliders, out.structures, out.drives = [slider] * B, [structure] * B, one.drives * B
         out.body = np.repeat(one.body, B, axis=0)
-        moved = (
-            shifts[:, structure.beam_index(slider.body[0])]
-            if isinstance(slider.body, tuple)
-            else np.zeros((B, 3))
-        )
+        node = structure.resolve_node(slider.body)
+        moved = np.zeros((B, 3)) if isinstance(node, str) else shifts[:, node[0]]
         out.reference = structure.node_position(slider.body) + moved + slider.offset
         out.chains = one.chains.translated(shifts) if one.chains is not None else None
         return out
@@ -352,7 +365,7 @@ class SliderBatch:
             s = self.chains.line_state(
                 xi,
                 q,
-                self.kind != "spherical" and self.orientation == "section",
+                self.section,
                 self.smearing,
                 self.kernel,
             )
@@ -423,7 +436,9 @@ class SliderBatch:
         rotation (6, section orientation on a chain) and recovered-tangent (9 npe) dofs,
         whose first 3 npe are the interpolation's (the element's nodes), then ``xi``,
         ``lambda`` and the multipliers.  A dof may hold several slots (sum them, e.g.
-        :meth:`Slider.assemble`); padded slots carry zeros.
+        :meth:`Slider.assemble`); padded slots carry zeros.  The joint equations are
+        :meth:`joint_equations` at :meth:`joint_inputs`; end stops and drives then replace
+        the ``xi`` equation where they act.
 
         Returns
         -------
@@ -434,6 +449,26 @@ class SliderBatch:
             ``beside`` (the tangent's other dofs), ``xi``, ``lam``, ``mu``
             (:class:`sliders.joints.blocks.SlotJacobian`); None without ``jacobian``
         """
+        dofs, inputs = self.joint_inputs(q, y, scale)
+        r, J = self.joint_equations(inputs, jacobian)
+        xi = dofs.shape[1]
+        if self.end_stops:
+            self._end_stop(y[:, 0], y[:, 1:4], inputs.l, xi, r, J)
+        if self.drives[0] is not None:
+            drives = cast(list[Motion], self.drives)  # all driven or none (checked in __init__)
+            r[:, xi] = y[:, 0] - np.array([d(time)[0] for d in drives])
+            if J is not None:
+                J.unit_row("xi")
+        return dofs, r, J
+
+    def joint_inputs(
+        self, q: np.ndarray, y: np.ndarray, scale: float = 1.0
+    ) -> tuple[np.ndarray, JointInputs]:
+        """The global dof of each slot (B, s) and what the joint equations read at the states
+        ``q`` (B, n) and unknowns ``y`` (B, n_unknowns): the body's dofs and reference point,
+        the lines at ``xi`` (held at the ends with end stops), ``q``, ``y`` and ``scale``
+        (:meth:`evaluate`), as :class:`sliders.joints.equations.JointInputs`, the arguments of
+        the compiled kernel and of the reference alike."""
         B = len(y)
         xi = np.clip(y[:, 0], 0.0, self.length) if self.end_stops else y[:, 0]
         try:
@@ -445,20 +480,6 @@ class SliderBatch:
         dofs = np.concatenate(
             [self.body, line.load_dofs, rotation_dofs.reshape(B, -1), line.tangent_dofs], axis=1
         )
-        at = _Layout(
-            3 * line.N.shape[1],
-            line.load_dofs.shape[1],
-            3 * rotation_dofs.shape[1],
-            line.tangent_dofs.shape[1],
-            self.n_unknowns,
-        )
-        J = at.jacobian(
-            B if jacobian else 0,
-            _pattern(
-                self.kind, self.orientation, bool(np.any(self.offset)), rotation_dofs.shape[1] > 0
-            ),
-        )
-        r = np.zeros((B, at.t + self.n_unknowns))
         if rot is not None:
             frame = (rot.R0, rot.k0, rot.k0_xi)
             section = (rot.w, rot.w_xi, rot.kink, rot.kink_xi, rot.compliance)
@@ -471,67 +492,102 @@ class SliderBatch:
                 np.zeros(B),
                 np.zeros((B, 3, 3)),
             )
-        joint_equations(
-            KERNEL_KINDS[self.kind],
-            self.orientation == "slope",
-            jacobian,
+        w, w_xi, kink, kink_xi, compliance = section
+        R0, k0, k0_xi = frame
+        inputs = JointInputs(
             self.offset,
             self.frame,
             self.body,
             _c(self.reference),
             _c(q),
             _c(y),
-            *map(
-                _c,
-                (
-                    line.x,
-                    line.l,
-                    line.l_xi,
-                    line.l_xixi,
-                    line.N,
-                    line.dN,
-                    line.d2N,
-                    line.G,
-                    line.dG,
-                    line.tangent,
-                    line.tangent_xi,
-                    line.T,
-                ),
-            ),
+            _c(line.x),
+            _c(line.l),
+            _c(line.l_xi),
+            _c(line.l_xixi),
+            _c(line.N),
+            _c(line.dN),
+            _c(line.d2N),
+            _c(line.G),
+            _c(line.dG),
+            _c(line.tangent),
+            _c(line.tangent_xi),
+            _c(line.T),
             np.ascontiguousarray(rotation_dofs, dtype=np.int64),
-            *map(_c, section + frame),
+            _c(w),
+            _c(w_xi),
+            _c(kink),
+            _c(kink_xi),
+            _c(compliance),
+            _c(R0),
+            _c(k0),
+            _c(k0_xi),
             float(scale),
-            *J.index(GROUPS),
+        )
+        return dofs, inputs
+
+    def joint_equations(
+        self, inputs: JointInputs, jacobian: bool = True
+    ) -> tuple[np.ndarray, SlotJacobian | None]:
+        """The joint equations at ``inputs`` (:meth:`joint_inputs`), compiled
+        (:func:`sliders.joints.kernel.joint_equations`): the residuals (B, s + n_unknowns)
+        on the slots and the unknowns, and the Jacobian by blocks of :attr:`pattern` (None
+        without ``jacobian``).
+
+        Raises ``ValueError`` naming the joint, the block and the pattern when the pattern
+        lacks a block the kernel writes at these inputs (:func:`sliders.joints.kernel.reach`
+        of the kind, the orientation, the lever arm and the section rotation dofs; checked
+        once per layout, :meth:`SlotJacobian.index`).
+        """
+        B = len(inputs.y)
+        at = _Layout(
+            3 * inputs.N.shape[1],
+            inputs.G.shape[1],
+            3 * inputs.rotation_dofs.shape[1],
+            3 * inputs.T.shape[1],
+            self.n_unknowns,
+        )
+        writes = reach(
+            self.kind,
+            self.orientation,
+            bool(inputs.offset.any()),
+            inputs.rotation_dofs.shape[1] > 0,
+        )
+        try:
+            J = at.jacobian(B if jacobian else 0, self.pattern)
+            index = J.index(GROUPS, writes)
+        except ValueError as exc:
+            raise ValueError(f"slider {self.sliders[0].name!r}: {exc}") from exc
+        r = np.zeros((B, at.t + self.n_unknowns))
+        joint_equations(
+            KERNEL_KINDS[self.kind],
+            self.orientation == "slope",
+            jacobian,
+            *inputs,
+            *index,
             r,
             J.values,
         )
-        if self.end_stops:
-            self._end_stop(y[:, 0], y[:, 1:4], line, at, r, J if jacobian else None)
-        if self.drives[0] is not None:
-            drives = cast(list[Motion], self.drives)  # all driven or none (checked in __init__)
-            r[:, at.xi] = y[:, 0] - np.array([d(time)[0] for d in drives])
-            if jacobian:
-                J.unit_row("xi")
-        return dofs, r, J if jacobian else None
+        return r, J if jacobian else None
 
     def _end_stop(
         self,
         xi: np.ndarray,
         lam: np.ndarray,
-        line: _LineState,
-        at: _Layout,
+        l: np.ndarray,
+        slot: int,
         r: np.ndarray,
         J: SlotJacobian | None,
     ) -> None:
-        """Replace the ``xi`` equation by ``xi = end`` beyond an end, or at an end where the
-        stop pushes: the force on the body, ``-lambda``, points back into the line
-        (``l . lambda > 0`` at the far end, ``< 0`` at the start).  At the end itself the
-        derivatives in ``xi`` are the one-sided ones of the line."""
+        """Replace the ``xi`` equation (row ``slot`` of ``r``) by ``xi = end`` beyond an end,
+        or at an end where the stop pushes: the force on the body, ``-lambda``, points back
+        into the line (``l . lambda > 0`` at the far end, ``< 0`` at the start).  At the end
+        itself the derivatives in ``xi`` are the one-sided ones of the line."""
         for end, sign in ((0.0, -1.0), (self.length, 1.0)):
             beyond = sign * (xi - end) > 0
-            pushing = (np.abs(xi - end) <= 1e-12 * self.length) & (sign * _dot(line.l, lam) > 0)
+            pushing = (np.abs(xi - end) <= 1e-12 * self.length) & (sign * _dot(l, lam) > 0)
             hit = beyond | pushing
-            r[hit, at.xi] = xi[hit] - end
+            r[hit, slot] = xi[hit] - end
             if J is not None:
                 J.unit_row("xi", hit)
 
@@ -600,65 +656,8 @@ class _Layout:
         ]
         self.own = [("xi", 1), ("lam", 3), ("mu", n_unknowns - 4)]
 
-    def jacobian(self, members: int, pattern: list[tuple[str, str]]) -> SlotJacobian:
+    def jacobian(self, members: int, pattern: Sequence[tuple[str, str]]) -> SlotJacobian:
         """A zero Jacobian of ``members`` on these slots with the blocks of ``pattern``
-        (:func:`_pattern`; the ``tangent`` slots are ``interp`` and ``beside``, the unknowns
-        ``xi``, ``lam`` and ``mu``)."""
+        (:attr:`SliderBatch.pattern`; the ``tangent`` slots are ``interp`` and ``beside``,
+        the unknowns ``xi``, ``lam`` and ``mu``)."""
         return SlotJacobian(members, self.groups, self.own, pattern)
-
-
-#: The blocks of the Jacobian every joint writes (module docstring table): the reaction on
-#: the body and the line, the ``xi`` equation and the position constraint.
-_BASE = [
-    ("body", "lam"),
-    ("turn", "lam"),
-    ("load", "xi"),
-    ("load", "lam"),
-    ("xi", "xi"),
-    ("xi", "lam"),
-    ("xi", "interp"),
-    ("xi", "beside"),
-    ("lam", "body"),
-    ("lam", "xi"),
-    ("lam", "interp"),
-]
-#: Added by a sliding point off the node (the lever arm ``f_b``).
-_LEVER = [("turn", "turn"), ("lam", "turn")]
-#: Added by the ``section`` orientation, and by the rotation dofs of a chain's section.
-_SECTION = [
-    ("turn", "xi"),
-    ("turn", "mu"),
-    ("xi", "turn"),
-    ("xi", "mu"),
-    ("mu", "turn"),
-    ("mu", "xi"),
-    ("mu", "mu"),
-]
-_SECTION_ROTATION = [("rotation", "xi"), ("rotation", "mu"), ("xi", "rotation"), ("mu", "rotation")]
-#: Added by the ``slope`` orientation (the couple on the line's gradient).
-_SLOPE = [
-    ("turn", "turn"),
-    ("turn", "xi"),
-    ("turn", "mu"),
-    ("turn", "interp"),
-    ("load", "turn"),
-    ("load", "mu"),
-    ("load", "interp"),
-    ("xi", "turn"),
-    ("xi", "mu"),
-    ("mu", "turn"),
-    ("mu", "xi"),
-    ("mu", "interp"),
-]
-
-
-def _pattern(kind: str, orientation: str, lever: bool, rotation: bool) -> list[tuple[str, str]]:
-    """The Jacobian blocks a joint may write: every joint's, the lever arm's (a sliding
-    point off the node), and its orientation's (``rotation``: on a chain's section
-    rotation dofs)."""
-    out = _BASE + (_LEVER if lever else [])
-    if kind == "spherical":
-        return out
-    if orientation == "slope":
-        return out + _SLOPE
-    return out + _SECTION + (_SECTION_ROTATION if rotation else [])

@@ -50,22 +50,32 @@ def memoised(method: Callable) -> Callable:
 
 
 class BeamChain:
-    """Beams ``beams`` (indices into ``structure``) joined end to start, as one line.
+    """Beams ``beams`` of ``structure`` joined end to start, as one line: a beam's name (as a
+    scene's ``line``), a list of names or indices (:meth:`fvbeam.structure.Structure.
+    beam_index`).  ``name`` (for messages) defaults to the beams' names joined by ``+``.
 
     Raises ``ValueError`` naming the pair of beams that are not joined.
     """
 
-    def __init__(self, structure: Structure, beams: Sequence[int], name: str = "chain") -> None:
-        self.structure, self.indices, self.name = structure, list(beams), name
+    def __init__(
+        self,
+        structure: Structure,
+        beams: str | int | Sequence[str | int],
+        name: str | None = None,
+    ) -> None:
+        given = [beams] if isinstance(beams, (str, int, np.integer)) else list(beams)
+        self.structure, self.indices = structure, [structure.beam_index(b) for b in given]
+        self.beams = [structure.beams[i] for i in self.indices]
+        self.name = "+".join(b.mesh.name for b in self.beams) if name is None else name
         if not self.indices:
-            raise ValueError(f"{name}: a chain needs at least one beam")
-        self.beams = [structure.beams[structure.beam_index(b)] for b in self.indices]
-        for (a, beam_a), (b, beam_b) in pairwise(zip(self.indices, self.beams, strict=True)):
-            end = structure.dof_maps[a][6 * beam_a.node_index("end")]
-            start = structure.dof_maps[b][6 * beam_b.node_index("start")]
+            raise ValueError(f"{self.name or 'chain'}: a chain needs at least one beam")
+        joined = zip(given, self.indices, self.beams, strict=True)
+        for (a, i, beam_a), (b, j, beam_b) in pairwise(joined):
+            end = structure.dof_maps[i][6 * beam_a.node_index("end")]
+            start = structure.dof_maps[j][6 * beam_b.node_index("start")]
             if end != start:
                 raise ValueError(
-                    f"{name}: beam {a} does not end where beam {b} starts "
+                    f"{self.name}: beam {a!r} does not end where beam {b!r} starts "
                     "(tie its end node to the next beam's start node)"
                 )
         self.offsets = np.concatenate([[0.0], np.cumsum([b.mesh.length for b in self.beams])])
