@@ -273,15 +273,15 @@ class Beam:
         if smearing == 0:
             s, w = np.array([xi]), np.array([1.0])
         else:
-            lo, hi = (0.0, self.mesh.length) if window is None else window
-            lo, hi = max(lo, xi - smearing), min(hi, xi + smearing)
-            vertices = self.mesh.vertex_s
-            touched = np.flatnonzero((vertices[:-1] < hi) & (vertices[1:] > lo))
-            if not touched.size:
+            start, end = (0.0, self.mesh.length) if window is None else window
+            lo, hi = max(start, xi - smearing), min(end, xi + smearing)
+            if hi <= lo:
                 raise ValueError(
                     f"{self.mesh.name}: the kernel at xi = {xi} of half-width {smearing} "
-                    f"does not reach [{lo}, {hi}] of the beam"
+                    f"does not reach [{start}, {end}] of the beam"
                 )
+            vertices = self.mesh.vertex_s
+            touched = np.flatnonzero((vertices[:-1] < hi) & (vertices[1:] > lo))
             local = self.mesh.abscissae(touched[:, None], self.formulation.breakpoints())
             breaks = np.concatenate([local.ravel(), kernel_breaks(xi, smearing)])
             s, w = composite_gauss(np.unique(np.clip(breaks, lo, hi)), 3)
