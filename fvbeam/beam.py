@@ -192,8 +192,8 @@ class Beam:
         (:mod:`fvbeam.smearing`) and integrated exactly against the test functions, on the
         elements it touches (:meth:`kernel_transfer`); a beam end cutting the kernel rescales
         it so the whole load stays on the beam.  Without smearing the test functions are read
-        at ``xi`` by the compiled :meth:`transfer`, the form's Dirac limit at a tenth of its
-        cost.
+        at ``xi`` by the compiled :meth:`transfer`: the form's Dirac limit (tested equal to
+        it) at a fifteenth of its cost, which matters to a moving load's every step.
         """
         smearing = check_smearing(smearing, kernel)
         load = wrench(force, moment)

@@ -21,6 +21,8 @@ import numba
 import numpy as np
 from numpy.polynomial import Polynomial
 
+from fvbeam.geometry import skew_matrices
+
 #: Distance (reference coordinate) within which a point counts as on a region boundary.
 TIE = 1e-12
 
@@ -229,17 +231,13 @@ def indicator_reference(X: float, regions: np.ndarray) -> np.ndarray:
     return chi
 
 
-def skew(v: np.ndarray) -> np.ndarray:
-    """The cross-product matrix: ``skew(v) @ F = v x F``."""
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
-
-
 def rigid_blocks_reference(
     nodes: np.ndarray, h: float, N: np.ndarray, dN: np.ndarray, chi: np.ndarray, dchi: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
     """:func:`rigid_blocks_at`: the fv test functions of eq. T4 at ``x = sum N_b x_b``.
 
-    Node ``a``'s block (rows ``6a .. 6a + 5``) is ``chi_a [[I, 0], [skew(x - x_a), I]]``: the
+    Node ``a``'s block (rows ``6a .. 6a + 5``) is ``chi_a [[I, 0], [skew(x - x_a), I]]``
+    (``skew(v) F = v x F``, :func:`fvbeam.geometry.skew_matrices`): the
     translations ``e_c chi_a`` and rotations ``(e_k x (x - x_a) chi_a, e_k chi_a)`` as rows,
     or the matrix carrying ``[F; M]`` at ``x`` to the node (eq. T6).  Its derivative in the
     abscissa is ``dchi_a [[I, 0], [skew(x - x_a), I]] + chi_a [[0, 0], [skew(x_/xi), 0]]``
@@ -247,10 +245,13 @@ def rigid_blocks_reference(
     """
     x, x_xi = N @ nodes, dN @ nodes / h
     eye, zero = np.eye(3), np.zeros((3, 3))
-    G = [c * np.block([[eye, zero], [skew(x - xa), eye]]) for c, xa in zip(chi, nodes, strict=True)]
+    G = [
+        c * np.block([[eye, zero], [skew_matrices(x - xa), eye]])
+        for c, xa in zip(chi, nodes, strict=True)
+    ]
     dG = [
-        dc * np.block([[eye, zero], [skew(x - xa), eye]])
-        + c * np.block([[zero, zero], [skew(x_xi), zero]])
+        dc * np.block([[eye, zero], [skew_matrices(x - xa), eye]])
+        + c * np.block([[zero, zero], [skew_matrices(x_xi), zero]])
         for c, dc, xa in zip(chi, dchi, nodes, strict=True)
     ]
     return np.vstack(G), np.vstack(dG)

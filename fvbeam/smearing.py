@@ -9,9 +9,9 @@ delta).  Two kernels ``K(r)`` of the offset ``r = s - xi`` (``docs/theory.md``, 
   continuous derivative, which Newton prefers.
 
 Near a beam end the kernel is cut at the end and rescaled so the whole load stays on the beam.
-The kernel is integrated against the test functions by one scikit-fem ``LinearForm`` on the
-rule of :meth:`fvbeam.beam.Beam.kernel_basis`; its derivative in ``xi`` (the chain's
-``dG/dxi``) by the same form, with :func:`slope` as the density, plus point evaluations at
+The kernel is integrated against the test functions by one scikit-fem ``LinearForm``
+(:meth:`fvbeam.beam.Beam.kernel_transfer`); its derivative in ``xi`` (the chain's
+``dG/dxi``) by the same form with :func:`slope` as the density, plus point evaluations at
 the kernel's :func:`steps`.
 """
 
@@ -35,15 +35,8 @@ def check_smearing(smearing: float, kernel: str) -> float:
 
 def density(r: np.ndarray, smearing: float, kernel: str) -> np.ndarray:
     """Kernel value ``K(r)`` at offsets ``r = s - xi`` (integrates to 1 over
-    [-smearing, smearing]).
-
-    With ``smearing`` 0 the kernel is the Dirac delta, whose unit mass is the weight of the
-    one-point rule at ``xi`` (:meth:`fvbeam.beam.Beam.kernel_basis`): its density with
-    respect to that rule is 1.
-    """
+    [-smearing, smearing], ``smearing > 0``)."""
     r = np.asarray(r, dtype=float)
-    if smearing == 0:
-        return np.ones_like(r)
     inside = np.abs(r) < smearing
     if kernel == "box":
         return inside / (2 * smearing)
