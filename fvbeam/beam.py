@@ -7,9 +7,9 @@ axes, node ``k`` of the :class:`~fvbeam.mesh.BeamMesh` owning dofs ``6k .. 6k + 
 from __future__ import annotations
 
 import copy
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cached_property, partial
 
 import numpy as np
 import scipy.sparse as sp
@@ -83,9 +83,9 @@ class Beam:
 
     def translated(self, offset: ArrayLike, name: str | None = None) -> "Beam":
         """The same beam moved rigidly by ``offset``, sharing everything a translation leaves
-        unchanged (bases, stiffness, transfer jumps): they are assembled here, once.  Its mesh
-        is named ``name`` (default: this beam's)."""
-        self.stiffness, self.transfer_jumps()
+        unchanged (bases, stiffness): they are assembled here, once.  Its mesh is named
+        ``name`` (default: this beam's)."""
+        _ = self.stiffness
         moved = copy.copy(self)
         moved.mesh = self.mesh.translated(vector3(offset, "offset"), name)
         return moved
@@ -155,8 +155,9 @@ class Beam:
         return self._mass[kind]
 
     # -- loads ----------------------------------------------------------------------------
-    def transfer(self, xi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Test functions at abscissae ``xi`` as load-transfer matrices (eq. T6).
+    def transfer(self, xi: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Test functions at abscissae ``xi`` as load-transfer matrices (eq. T6), compiled
+        (:func:`fvbeam.pointwise.transfer_at`).
 
         Returns
         -------
@@ -169,17 +170,6 @@ class Beam:
         H, dH = self.formulation.transfer(self.mesh, e, X)
         dofs = (6 * self.mesh.cells[e][:, :, None] + np.arange(6)).reshape(len(e), -1)
         return dofs, H, dH
-
-    @cached_property
-    def _transfer_jumps(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        e, X, J = self.formulation.transfer_jumps(self.mesh)
-        dofs = (6 * self.mesh.cells[e][:, :, None] + np.arange(6)).reshape(len(e), J.shape[1])
-        return self.mesh.abscissae(e, X), dofs, J
-
-    def transfer_jumps(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Abscissae (m,), dofs (m, 6 npe) and jumps ``H(xi+) - H(xi-)`` (m, 6 npe, 6) of the
-        transfer matrices inside the beam (fv: at the evaluation points; Galerkin: none)."""
-        return self._transfer_jumps
 
     def nodal_load(
         self,
@@ -203,35 +193,119 @@ class Beam:
         """Load vector of a force and couple at abscissa ``xi`` (eq. T6).
 
         With ``smearing > 0`` the load is spread by a kernel of half-width ``smearing``
-        (:mod:`fvbeam.smearing`) and integrated exactly against the test functions.
+        (:mod:`fvbeam.smearing`) and integrated exactly against the test functions, on the
+        elements it touches (:meth:`kernel_transfer`); a beam end cutting the kernel rescales
+        it so the whole load stays on the beam.  Without smearing the test functions are read
+        at ``xi`` by the compiled :meth:`transfer`: the form's Dirac limit (tested equal to
+        it) at a fifteenth of its cost, which matters to a moving load's every step.
         """
         smearing = check_smearing(smearing, kernel)
         load = wrench(force, moment)
         if smearing == 0:
-            points, weights = np.array([float(xi)]), np.array([1.0])
+            dofs, H, _ = self.transfer(xi)
+            dofs, H, mass = dofs[0], H[0], 1.0
         else:
             self.mesh.locate(xi)
-            points, weights = self._kernel_quadrature(float(xi), smearing, kernel)
-        dofs, values, _ = self.transfer(points)
+            kernels = (partial(density, smearing=smearing, kernel=kernel),)
+            dofs, (H,), (mass,) = self.kernel_transfer(float(xi), smearing, kernels)
         f = np.zeros(self.n_dofs)
-        np.add.at(f, dofs, np.einsum("n,nij,j->ni", weights, values, load))
+        f[dofs] = H @ load / mass
         return f
 
-    def _kernel_quadrature(
-        self, xi: float, smearing: float, kernel: str
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """Points and weights integrating kernel x test function exactly on the beam."""
-        e, _ = self.mesh.locate(np.clip([xi - smearing, xi + smearing], 0, self.mesh.length))
-        local = self.formulation.breakpoints()
-        elements = np.arange(e[0], e[1] + 1)
-        breaks = self.mesh.abscissae(elements[:, None], local).ravel()
-        breaks = np.concatenate([breaks, kernel_breaks(xi, smearing)])
-        breaks = np.unique(
-            np.clip(breaks, max(xi - smearing, 0.0), min(xi + smearing, self.mesh.length))
+    def kernel_transfer(
+        self,
+        xi: float,
+        smearing: float = 0.0,
+        kernels: Sequence[Callable[[np.ndarray], np.ndarray]] = (np.ones_like,),
+        window: tuple[float, float] | None = None,
+    ) -> tuple[np.ndarray, list[np.ndarray], list[float]]:
+        """A kernel at ``xi`` of half-width ``smearing`` integrated against the test functions
+        (eq. T6) by the scikit-fem form :func:`fvbeam.forms.distributed_load`.
+
+        For each function ``g`` of the offset ``r = s - xi`` in ``kernels`` (a kernel density,
+        its slope...): the load-transfer matrix ``int g(s - xi) H(s) ds`` (k, 6) -- the nodal
+        loads of the unit force and couple spread with density ``g`` -- and ``int g ds``.
+        It is the distributed load (eq. T5) of the densities ``g e_c``, ``c = 1..6``, measured
+        in the abscissa (metric 1), in which the kernel is a density; one assembly gives all
+        of them (:meth:`_kernel_basis`).
+
+        ``smearing`` 0 is the Dirac delta: the one-point rule at ``xi`` of weight 1 (a point on
+        a vertex is read in the element after it), where ``g`` should be 1.  ``smearing > 0``:
+        the part of ``[xi - smearing, xi + smearing]`` inside ``window`` (default the beam;
+        ``xi`` need not lie on it), on the elements it touches.
+
+        Returns
+        -------
+        dofs : (k,) -- the dofs of those elements
+        H : one (k, 6) matrix per kernel function
+        mass : ``int g ds`` per kernel function
+        """
+        basis = self._kernel_basis(xi, smearing, window, 6 * len(kernels))
+        n = len(basis.tind) // (6 * len(kernels))
+        r = np.asarray(basis.global_coordinates())[0, :n] - xi
+        values = np.stack([g(r) for g in kernels])
+        # copy 6 k + c of the elements carries the unit load e_c spread by kernel k
+        fields = np.einsum("cd,knq->dkcnq", np.eye(6), values).reshape(6, -1, r.shape[-1])
+        local = distributed_load.elemental(
+            basis, f=fields[:3], m=fields[3:], metric=np.ones(fields.shape[1:])
+        ).tolocal()
+        local = local.reshape(len(kernels), 6, n, -1)
+        element_dofs = basis.element_dofs[:, :n]
+        dofs, where = np.unique(element_dofs, return_inverse=True)
+        H = np.zeros((len(kernels), len(dofs), 6))
+        # numpy's stubs reject the slice in ufunc.at's index tuple, which numpy takes
+        index = (slice(None), where.reshape(element_dofs.shape).T)
+        np.add.at(H, index, np.moveaxis(local, 1, -1))  # type: ignore[arg-type]
+        return dofs, list(H), [float(np.sum(v * basis.dx[:n])) for v in values]
+
+    def _kernel_basis(
+        self, xi: float, smearing: float, window: tuple[float, float] | None, copies: int
+    ) -> CellBasis:
+        """The test basis on the elements a kernel at ``xi`` of half-width ``smearing``
+        touches, with a quadrature integrating the kernel against the test functions exactly,
+        the elements and their rules repeated ``copies`` times (copy-major) so that one
+        assembly integrates ``copies`` loads, one per copy.
+
+        ``smearing`` 0: the one-point rule at ``xi`` of weight 1.  ``smearing > 0``: composite
+        3-point Gauss rules on the part of ``[xi - smearing, xi + smearing]`` inside
+        ``window``, split at the element ends, the test functions' break points (fv
+        evaluation points) and the kernel's (``xi``, ``xi -+ smearing``): on each piece
+        kernel times test function is a polynomial of degree at most 3 in the abscissa.  The
+        weights measure the abscissa ``xi``, the affine element coordinate that scikit-fem
+        sees (``|det J| = h_e``).  Each element takes its own points (scikit-fem's points
+        (1, nel, nq) and weights (nel, nq)), padded with zero weights to a common count.
+        Raises ``ValueError`` if the kernel does not reach ``window``.
+        """
+        if smearing == 0:
+            s, w = np.array([xi]), np.array([1.0])
+        else:
+            start, end = (0.0, self.mesh.length) if window is None else window
+            lo, hi = max(start, xi - smearing), min(end, xi + smearing)
+            if hi <= lo:
+                raise ValueError(
+                    f"{self.mesh.name}: the kernel at xi = {xi} of half-width {smearing} "
+                    f"does not reach [{start}, {end}] of the beam"
+                )
+            vertices = self.mesh.vertex_s
+            touched = np.flatnonzero((vertices[:-1] < hi) & (vertices[1:] > lo))
+            local = self.mesh.abscissae(touched[:, None], self.formulation.breakpoints())
+            breaks = np.concatenate([local.ravel(), kernel_breaks(xi, smearing)])
+            s, w = composite_gauss(np.unique(np.clip(breaks, lo, hi)), 3)
+        e, X = self.mesh.locate(s)
+        elements, first, counts = np.unique(e, return_index=True, return_counts=True)
+        row = np.repeat(np.arange(len(elements)), counts)
+        column = np.arange(len(e)) - first[row]
+        points, weights = np.zeros((2, len(elements), counts.max()))
+        points[row, column] = X
+        weights[row, column] = w / self.mesh.element_length[e]
+        return CellBasis(
+            self.skfem_mesh,
+            self._test_element,
+            quadrature=(np.tile(points, (copies, 1))[None], np.tile(weights, (copies, 1))),
+            elements=np.tile(elements, copies),
+            dofs=self.test_basis.dofs,
+            disable_doflocs=True,
         )
-        s, w = composite_gauss(breaks, 3)
-        w = w * density(s - xi, smearing, kernel)
-        return s, w / w.sum()
 
     def distributed_load(
         self, force: Field = (0.0, 0.0, 0.0), moment: Field = (0.0, 0.0, 0.0)

@@ -17,32 +17,36 @@ galerkin-p2   P2 shape functions             reduced: 2 Gauss points; full: 3
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cache
 from typing import ClassVar
 
 import numpy as np
 from skfem.element import Element, ElementLineP1, ElementLineP2, ElementVector
 
-from fvbeam.elements import (
-    ElementBeamFV,
-    evaluation_points,
-    influence_regions,
-    jumps,
-    rigid_motions,
-)
+from fvbeam.elements import ElementBeamFV, influence_regions
 from fvbeam.mesh import BeamMesh
 from fvbeam.pointwise import transfer_many
 
 
+@cache
+def _legendre(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """n-point Gauss-Legendre rule on [-1, 1], computed once per ``n``."""
+    return np.polynomial.legendre.leggauss(n)
+
+
 def gauss(n: int, a: float = 0.0, b: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
     """n-point Gauss-Legendre rule on [a, b]."""
-    x, w = np.polynomial.legendre.leggauss(n)
+    x, w = _legendre(n)
     return a + (b - a) * (x + 1) / 2, w * (b - a) / 2
 
 
 def composite_gauss(breaks: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
-    """n-point Gauss rule on each interval between consecutive ``breaks``."""
-    parts = [gauss(n, a, b) for a, b in zip(breaks[:-1], breaks[1:], strict=True) if b > a]
-    return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
+    """n-point Gauss rule on each interval between consecutive increasing ``breaks``
+    (points and weights in order; empty intervals are skipped)."""
+    x, w = gauss(n)
+    a, h = breaks[:-1], np.diff(breaks)
+    a, h = a[h > 0, None], h[h > 0, None]
+    return (a + h * x).ravel(), (h * w).ravel()
 
 
 @dataclass(frozen=True)
@@ -104,11 +108,6 @@ class Formulation:
         """Reference coordinates where the test functions are not smooth (element ends...)."""
         return np.array([0.0, 1.0])
 
-    def transfer_jumps(self, mesh: BeamMesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Where the transfer matrices jump inside the beam: element, reference coordinate,
-        and the jump ``H(X+) - H(X-)``, shape ``(m, 6 npe, 6)``.  None for Galerkin."""
-        return np.zeros(0, int), np.zeros(0), np.zeros((0, 6 * self.nodes_per_element, 6))
-
     def check(self, mesh: BeamMesh) -> None:
         if mesh.nodes_per_element != self.nodes_per_element:
             raise ValueError(
@@ -132,13 +131,6 @@ class FiniteVolume(Formulation):
 
     def breakpoints(self) -> np.ndarray:
         return np.unique(influence_regions(self.nodes_per_element))
-
-    def transfer_jumps(self, mesh: BeamMesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        p = evaluation_points(self.nodes_per_element)
-        e = np.repeat(np.arange(mesh.n_elements), len(p))
-        X = np.tile(p, mesh.n_elements)
-        chi = np.tile(jumps(self.nodes_per_element), mesh.n_elements)
-        return e, X, rigid_motions(mesh, e, X, chi, np.zeros_like(chi))[0]
 
     def load_quadrature(self) -> tuple[np.ndarray, np.ndarray]:
         X, W = composite_gauss(self.breakpoints(), 4)

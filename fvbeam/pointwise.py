@@ -7,12 +7,21 @@ functions loop them over flat arrays of points for the numpy-facing wrappers of
 (:func:`~fvbeam.elements.indicator`, :func:`~fvbeam.elements.rigid_motions_at`) and
 :mod:`fvbeam.formulations` (``transfer_at``).  Reference coordinates ``X`` run over the
 element [0, 1], local nodes in meshio's order: end 0, end 1, then the mid node.
+
+Each kernel has a plain numpy reference at the end of the module (``*_reference``: the
+Lagrange shape functions, the region indicators with their half-and-half rule, the rigid
+motions of eq. T4 and the load-transfer block of eq. T6, written as the equations read); the
+tests hold kernels and references equal to roundoff.  They are for reading and testing: the
+code runs the kernels.
 """
 
 from __future__ import annotations
 
 import numba
 import numpy as np
+from numpy.polynomial import Polynomial
+
+from fvbeam.geometry import skew_matrices
 
 #: Distance (reference coordinate) within which a point counts as on a region boundary.
 TIE = 1e-12
@@ -187,3 +196,84 @@ def transfer_many(
     for p in range(P):
         transfer_at(fv, regions, nodes[p], h[p], X[p], N, dN, d2N, chi, dchi, G[p], dG[p])
     return G, dG
+
+
+# -- numpy reference of the kernels above ----------------------------------------------------
+
+#: Local node positions in the reference element: end 0, end 1, mid node.
+LOCAL_NODES = np.array([0.0, 1.0, 0.5])
+
+
+def shape_reference(X: float, npe: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`shape_at` as the Lagrange polynomials on the local nodes ``X_b``:
+    ``N_a = prod_(b != a) (X - X_b) / (X_a - X_b)``, with their first and second derivatives."""
+    nodes = LOCAL_NODES[:npe]
+    N = [
+        Polynomial.fromroots(np.delete(nodes, a)) / np.prod(nodes[a] - np.delete(nodes, a))
+        for a in range(npe)
+    ]
+    value, first, second = (np.array([p.deriv(k)(X) for p in N]) for k in range(3))
+    return value, first, second
+
+
+def indicator_reference(X: float, regions: np.ndarray) -> np.ndarray:
+    """:func:`indicator_at`: ``chi_a(X)`` is 1 inside node ``a``'s region ``[lo, hi]`` and 0
+    outside (eq. T4); on a bound (within :data:`TIE`) it is 1/2 where the bound is an
+    evaluation point, shared half and half with the next region (``docs/theory.md`` Sec. 4, "A
+    load on an evaluation point"), and 1 where it is the element's end."""
+    chi = np.zeros(len(regions))
+    for a, (lo, hi) in enumerate(regions):
+        if abs(X - lo) <= TIE:
+            chi[a] = 1.0 if lo == 0 else 0.5
+        elif abs(X - hi) <= TIE:
+            chi[a] = 1.0 if hi == 1 else 0.5
+        elif lo < X < hi:
+            chi[a] = 1.0
+    return chi
+
+
+def rigid_blocks_reference(
+    nodes: np.ndarray, h: float, N: np.ndarray, dN: np.ndarray, chi: np.ndarray, dchi: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`rigid_blocks_at`: the fv test functions of eq. T4 at ``x = sum N_b x_b``.
+
+    Node ``a``'s block (rows ``6a .. 6a + 5``) is ``chi_a [[I, 0], [skew(x - x_a), I]]``
+    (``skew(v) F = v x F``, :func:`fvbeam.geometry.skew_matrices`): the
+    translations ``e_c chi_a`` and rotations ``(e_k x (x - x_a) chi_a, e_k chi_a)`` as rows,
+    or the matrix carrying ``[F; M]`` at ``x`` to the node (eq. T6).  Its derivative in the
+    abscissa is ``dchi_a [[I, 0], [skew(x - x_a), I]] + chi_a [[0, 0], [skew(x_/xi), 0]]``
+    with ``x_/xi = sum dN_b x_b / h``.
+    """
+    x, x_xi = N @ nodes, dN @ nodes / h
+    eye, zero = np.eye(3), np.zeros((3, 3))
+    G = [
+        c * np.block([[eye, zero], [skew_matrices(x - xa), eye]])
+        for c, xa in zip(chi, nodes, strict=True)
+    ]
+    dG = [
+        dc * np.block([[eye, zero], [skew_matrices(x - xa), eye]])
+        + c * np.block([[zero, zero], [skew_matrices(x_xi), zero]])
+        for c, dc, xa in zip(chi, dchi, nodes, strict=True)
+    ]
+    return np.vstack(G), np.vstack(dG)
+
+
+def shape_blocks_reference(
+    h: float, N: np.ndarray, dN: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`shape_blocks_at`: the Galerkin test functions ``N_a I`` (6 x 6 blocks) and their
+    derivatives in the abscissa ``dN_a/dX / h I``."""
+    return np.kron(N[:, None], np.eye(6)), np.kron(dN[:, None] / h, np.eye(6))
+
+
+def transfer_reference(
+    fv: bool, regions: np.ndarray, nodes: np.ndarray, h: float, X: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`transfer_at`: the load-transfer matrix ``H`` (6 npe, 6) of a unit force and
+    couple at ``X`` (eq. T6) and ``dH/dxi``, for fv (rigid motions of the regions, with the
+    indicators' derivative 0 away from the jumps) or Galerkin (shape functions)."""
+    N, dN, _ = shape_reference(X, len(nodes))
+    if fv:
+        chi = indicator_reference(X, regions)
+        return rigid_blocks_reference(nodes, h, N, dN, chi, np.zeros_like(chi))
+    return shape_blocks_reference(h, N, dN)

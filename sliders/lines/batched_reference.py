@@ -28,12 +28,11 @@ reference pads the same way, so that the two compare entry by entry.
 from __future__ import annotations
 
 import numpy as np
-from numpy.polynomial import Polynomial
 
 from fvbeam.elements import influence_regions
 from fvbeam.formulations import FiniteVolume
-from fvbeam.geometry import locate_abscissa, skew_matrices
-from fvbeam.pointwise import TIE
+from fvbeam.geometry import locate_abscissa
+from fvbeam.pointwise import LOCAL_NODES, shape_reference, transfer_reference
 from sliders.lines.batched import (
     MID_NODE_LAG,
     Chain,
@@ -42,9 +41,6 @@ from sliders.lines.batched import (
     LineState,
 )
 from sliders.lines.rigid import curvature_rate, frame_and_curvature
-
-#: Reference coordinates of an element's nodes, in meshio's order: end 0, end 1, mid node.
-NODE_X = {2: np.array([0.0, 1.0]), 3: np.array([0.0, 1.0, 0.5])}
 
 
 def _first_elements(chain: Chain) -> np.ndarray:
@@ -97,14 +93,10 @@ def shape_functions(X: float, h: float, npe: int) -> tuple[np.ndarray, np.ndarra
         N_a(X) = prod_{b != a} (X - X_b) / (X_a - X_b),   dN_a/dxi = N_a'(X) / h,
         d2N_a/dxi^2 = N_a''(X) / h^2,
 
-    ``X_b`` the nodes' reference coordinates (:data:`NODE_X`)."""
-    nodes = NODE_X[npe]
-    N, dN, d2N = np.empty(npe), np.empty(npe), np.empty(npe)
-    for a in range(npe):
-        others = np.delete(nodes, a)
-        p = Polynomial.fromroots(others) / np.prod(nodes[a] - others)
-        N[a], dN[a], d2N[a] = p(X), p.deriv(1)(X) / h, p.deriv(2)(X) / h**2
-    return N, dN, d2N
+    ``X_b`` the nodes' reference coordinates (:data:`fvbeam.pointwise.LOCAL_NODES`;
+    :func:`fvbeam.pointwise.shape_reference`)."""
+    N, dN, d2N = shape_reference(X, npe)
+    return N, dN / h, d2N / h**2
 
 
 def tangent_coefficients(chain: Chain, element: int, X: float) -> np.ndarray:
@@ -185,18 +177,6 @@ def deformed(f: np.ndarray, points: np.ndarray, dofs: np.ndarray, q: np.ndarray)
     return f @ (points + q[dofs])
 
 
-def indicator(X: float, npe: int) -> np.ndarray:
-    """The fv influence-region indicators ``chi_a(X)`` (npe,) (eq. T4, ``docs/theory.md``):
-    1 inside node ``a``'s region; on a boundary (within :data:`fvbeam.pointwise.TIE`) 1/2
-    at an evaluation point, shared by the two regions there (the limit of a vanishing
-    symmetric smearing, T6), and 1 at the element's ends."""
-    regions = influence_regions(npe)
-    on = np.abs(X - regions) <= TIE
-    inside = (regions[:, 0] < X) & (X < regions[:, 1]) & ~on.any(axis=1)
-    share = np.where((regions == 0.0) | (regions == 1.0), 1.0, 0.5)
-    return inside + (on * share).sum(axis=1)
-
-
 def transfer(chain: Chain, xi: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """How a force and couple ``[F; M]`` at ``xi`` loads the element holding it (eq. T6 with
     no smearing: the test functions at ``xi``).
@@ -204,25 +184,20 @@ def transfer(chain: Chain, xi: float) -> tuple[np.ndarray, np.ndarray, np.ndarra
     fv (eq. T4): node ``a`` takes ``chi_a(X) [[I, 0], [skew(x - x_a), I]]``, the force and
     its moment about the node, ``x`` the reference line at ``xi``; Galerkin: ``N_a I6``.
     Returns the element's dofs (6 npe,), ``G`` (6 npe, 6) and ``dG/dxi`` (``chi_a`` is
-    piecewise constant: ``chi_a [[0, 0], [skew(x_/xi), 0]]``; Galerkin ``dN_a/dxi I6``).
+    piecewise constant: ``chi_a [[0, 0], [skew(x_/xi), 0]]``; Galerkin ``dN_a/dxi I6``):
+    :func:`fvbeam.pointwise.transfer_reference` on the element's nodes.
     """
     k, element, X = locate(chain, xi)
     beam = chain.beams[k]
     npe = beam.mesh.nodes_per_element
-    N, dN, _ = shape_functions(X, element_length(chain, element), npe)
     dofs, points = element_nodes(chain, element)
-    if not beam.formulation.rigid_test:
-        return dofs.ravel(), np.kron(N[:, None], np.eye(6)), np.kron(dN[:, None], np.eye(6))
-    chi = indicator(X, npe)
-    x, x_xi = N @ points, dN @ points
-    eye, zero = np.eye(3), np.zeros((3, 3))
-    G = np.concatenate(
-        [
-            c * np.block([[eye, zero], [skew_matrices(x - xa), eye]])
-            for c, xa in zip(chi, points, strict=True)
-        ]
+    G, dG = transfer_reference(
+        beam.formulation.rigid_test,
+        influence_regions(npe),
+        points,
+        element_length(chain, element),
+        X,
     )
-    dG = np.concatenate([c * np.block([[zero, zero], [skew_matrices(x_xi), zero]]) for c in chi])
     return dofs.ravel(), G, dG
 
 
@@ -244,7 +219,7 @@ def rotation(chain: Chain, xi: float) -> LineRotation:
     beam = chain.beams[k]
     npe, h = beam.mesh.nodes_per_element, element_length(chain, element)
     along = [0, 1] if npe == 2 else [0, 2, 1]  # local nodes in order along the element
-    at = NODE_X[npe][along]
+    at = LOCAL_NODES[along]
     i = int(np.clip(np.searchsorted(at, X, side="right") - 1, 0, len(at) - 2))
     pair, span = [along[i], along[i + 1]], (at[i + 1] - at[i]) * h
     t = (X - at[i]) / (at[i + 1] - at[i])

@@ -18,14 +18,13 @@ position, the load transfer and the constraints keep the interpolation itself.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from functools import cached_property, wraps
+from functools import cached_property, partial, wraps
 from itertools import pairwise
 
 import numpy as np
 
-from fvbeam.formulations import composite_gauss
 from fvbeam.geometry import locate_abscissa
-from fvbeam.smearing import check_smearing, density
+from fvbeam.smearing import check_smearing, density, slope, steps
 from fvbeam.structure import Structure
 from sliders.lines.batched import ChainStack, Interpolation, LineRotation
 
@@ -119,59 +118,49 @@ class BeamChain:
         """How a force and couple ``[F; M]`` at ``xi`` loads the chain (eq. T6).
 
         Returns global ``dofs`` (k,), ``G`` (k, 6) -- the nodal loads of a unit force and
-        couple -- and ``dG / dxi`` (k, 6).  With ``smearing > 0`` the load is spread by the
-        kernel over ``[xi - smearing, xi + smearing]``, across element and beam junctions, and
-        rescaled where the chain ends cut it.  The derivative is exact: writing
-        ``G = int K(r) H(xi + r) dr / int K(r) dr`` over the part of the kernel on the chain,
-        it is the kernel average of ``H'`` plus ``K(b - xi) [H](b)`` at every jump ``b`` of
-        the test functions (fv evaluation points, chain ends), minus ``G`` times the same
-        end terms of the normalisation.  Without smearing, :meth:`ChainStack.transfer`.
+        couple -- and ``dG / dxi`` (k, 6).  Without smearing, :meth:`ChainStack.transfer`
+        (compiled).  With ``smearing > 0`` the load is spread by the kernel ``K`` over
+        ``[xi - smearing, xi + smearing]``, across element and beam junctions, and rescaled
+        where the chain ends cut it: ``G = A / m`` with ``A = int K(s - xi) H(s) ds`` and
+        ``m = int K(s - xi) ds`` over the chain ``[0, L]``, each beam's part integrated by
+        its kernel form (:meth:`fvbeam.beam.Beam.kernel_transfer`).  The derivative is
+        exact: the chain ``[0, L]`` does not move with ``xi``, so
+        ``A' = -int K'(s - xi) H(s) ds``, with ``K'`` the kernel's
+        :func:`~fvbeam.smearing.slope` (the same form, in the same assembly) and the Dirac
+        parts of its :func:`~fvbeam.smearing.steps` (``H`` read at the kernel's edges inside
+        the chain, compiled as without smearing), likewise ``m'``, and
+        ``G' = (A' - G m') / m``.
         """
         smearing = check_smearing(smearing, kernel)
         if smearing == 0:
             touched, G, dG = self._stack.transfer(np.array([float(xi)]))
             return touched[0], G[0], dG[0]
         self.locate(xi)
-        lo, hi = max(xi - smearing, 0.0), min(xi + smearing, self.length)
-        dofs, N, dN, weight = [], [], [], 0.0
+        kernels = [partial(f, smearing=smearing, kernel=kernel) for f in (density, slope)]
+        dofs, A, dA, mass, dmass = [], [], [], 0.0, 0.0
         for k, beam in enumerate(self.beams):
-            a, b = max(lo, self.offsets[k]), min(hi, self.offsets[k + 1])
-            if b <= a:
+            lo, hi = max(xi - smearing, self.offsets[k]), min(xi + smearing, self.offsets[k + 1])
+            if hi <= lo:
                 continue
-            s, w = composite_gauss(self._breaks(k, a, b, xi), 3)
-            w = w * density(s - xi, smearing, kernel)
-            weight += w.sum()
-            local, H, dH = beam.transfer(s - self.offsets[k])
-            jump_xi, jump_dofs, J = beam.transfer_jumps()
-            jump_xi = jump_xi + self.offsets[k]
-            inside = (jump_xi > a) & (jump_xi < b)
-            to_global = self.structure.dof_maps[self.indices[k]]
-            dofs += [to_global[local], to_global[jump_dofs[inside]]]
-            N += [w[:, None, None] * H, np.zeros_like(J[inside])]
-            dN += [
-                w[:, None, None] * dH,
-                density(jump_xi[inside] - xi, smearing, kernel)[:, None, None] * J[inside],
-            ]
-        dweight = 0.0
-        for end, sign, k in ((0.0, 1.0, 0), (self.length, -1.0, len(self.beams) - 1)):
-            if abs(end - xi) < smearing:
-                cut = sign * density(np.array([end - xi]), smearing, kernel)
-                local, H, _ = self.beams[k].transfer(np.array([end - self.offsets[k]]))
-                dofs.append(self.structure.dof_maps[self.indices[k]][local])
-                N.append(np.zeros_like(H))
-                dN.append(cut[:, None, None] * H)
-                dweight += cut[0]
-        unique, where = np.unique(np.concatenate([d.ravel() for d in dofs]), return_inverse=True)
+            offset = self.offsets[k]
+            local, H, m = beam.kernel_transfer(
+                xi - offset, smearing, kernels, (lo - offset, hi - offset)
+            )
+            dofs.append(self.structure.dof_maps[self.indices[k]][local])
+            A.append(H[0])
+            dA.append(-H[1])
+            mass += m[0]
+            dmass -= m[1]
+        for r, jump in zip(*steps(smearing, kernel), strict=True):
+            if 0 < xi + r < self.length:
+                edge, H_edge, _ = self._stack.transfer(np.array([xi + r]))
+                dofs.append(edge[0])
+                A.append(np.zeros_like(H_edge[0]))
+                dA.append(-jump * H_edge[0])
+                dmass -= jump
+        unique, where = np.unique(np.concatenate(dofs), return_inverse=True)
         G, dG = np.zeros((len(unique), 6)), np.zeros((len(unique), 6))
-        np.add.at(G, where, np.concatenate([n.reshape(-1, 6) for n in N]))
-        np.add.at(dG, where, np.concatenate([n.reshape(-1, 6) for n in dN]))
-        return unique, G / weight, dG / weight - G * dweight / weight**2
-
-    def _breaks(self, k: int, a: float, b: float, xi: float) -> np.ndarray:
-        """Points in [a, b] of beam ``k`` (chain abscissae) where the integrand is not smooth:
-        element ends, fv region boundaries, the kernel's peak."""
-        mesh = self.beams[k].mesh
-        local = self.beams[k].formulation.breakpoints()
-        inner = self.offsets[k] + mesh.abscissae(np.arange(mesh.n_elements)[:, None], local)
-        points = np.concatenate([[a, b, xi], inner.ravel()])
-        return np.unique(points[(points >= a) & (points <= b)])
+        np.add.at(G, where, np.concatenate(A))
+        np.add.at(dG, where, np.concatenate(dA))
+        G /= mass
+        return unique, G, (dG - G * dmass) / mass
