@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cache
-from typing import ClassVar
+from typing import ClassVar, Literal, get_args
 
 import numpy as np
 from skfem.element import Element, ElementLineP1, ElementLineP2, ElementVector
@@ -162,7 +162,9 @@ class Galerkin(Formulation):
         return X[None, :], W
 
 
-FORMULATIONS = ("fv2", "fv3", "galerkin-p1", "galerkin-p2")
+#: The formulations by name (the scenes' ``formulation`` takes one of them).
+FormulationName = Literal["fv2", "fv3", "galerkin-p1", "galerkin-p2"]
+FORMULATIONS: tuple[str, ...] = get_args(FormulationName)
 
 
 def formulation(name: str, integration: str = "reduced") -> Formulation:

@@ -52,6 +52,7 @@ from sliders import (
     write_vtu,
 )
 from sliders.app.cli import main
+from sliders.app.state_tables import node_label
 from sliders.sliding_beams.model import PAPER, SlidingBeams
 
 EPS = np.finfo(float).eps
@@ -121,6 +122,23 @@ def named_structure() -> Structure:
     return Structure(
         [c, p], [("C.end", "P.start"), ("P.end", "hub")], [RigidBody("hub", (1, 1, 0))]
     )
+
+
+def test_a_support_is_labelled_as_a_scene_names_its_node():
+    """The reactions table names a support's node the scene's way whichever form the
+    support was given in (a node index of an end is the end's name; an inner node its
+    index, 1 of C's 3 elements being its first inner vertex)."""
+    structure = named_structure()
+    labels = {
+        "C.start": ["C.start", ("C", "start"), (0, "start"), ("C", 0), (0, 0)],
+        "P.end": ["P.end", ("P", 2), (1, "end")],
+        "C.1": [("C", 1), (0, 1)],
+        "hub": ["hub"],
+    }
+    for label, refs in labels.items():
+        for ref in refs:
+            support = Support(ref) if isinstance(ref, str) else Support(*ref)
+            assert node_label(structure, support) == label, ref
 
 
 def test_names_and_indices_give_the_same_dofs():

@@ -20,11 +20,10 @@ from pydantic import (
     ValidationInfo,
 )
 
+from fvbeam.formulations import FormulationName as Formulation
 from fvbeam.geometry import inertia3, orthonormal3
 
 NAME_PATTERN = r"^[A-Za-z_][A-Za-z0-9_\-]*$"
-Formulation = Literal["fv2", "fv3", "galerkin-p1", "galerkin-p2"]
-FORMULATIONS = get_args(Formulation)
 #: The CSV tables a run can write (:mod:`sliders.app.tables`).
 TableName = Literal["samples", "nodes", "sliders", "internal_forces", "reactions"]
 TABLES = get_args(TableName)

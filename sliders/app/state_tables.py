@@ -53,12 +53,12 @@ class Snapshot:
 def node_label(structure: Structure, support: Support) -> str:
     """A support's node as a scene names it: ``BEAM.start``, ``BEAM.end`` (``BEAM.k`` for
     an inner node ``k``) with ``BEAM`` the beam's mesh name, or the body's name."""
-    if isinstance(support.beam, str):
-        return support.beam
-    beam, node = structure.beams[support.beam], support.node
-    assert node is not None  # Support.__post_init__: a beam index comes with a node
+    resolved = structure.resolve_node(support.ref)
+    if isinstance(resolved, str):
+        return resolved
+    beam = structure.beams[resolved[0]]
     ends = {beam.node_index(end): end for end in ("start", "end")}
-    return f"{beam.mesh.name}.{ends.get(beam.node_index(node), node)}"
+    return f"{beam.mesh.name}.{ends.get(resolved[1], resolved[1])}"
 
 
 def _nodes_rows(state: Snapshot) -> Iterator[list]:
