@@ -10,6 +10,7 @@ import copy
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cached_property, partial
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -20,7 +21,7 @@ from fvbeam import mass as beam_mass
 from fvbeam.forms import distributed_load, generalised_strain, internal_work
 from fvbeam.formulations import Formulation, composite_gauss
 from fvbeam.formulations import formulation as get_formulation
-from fvbeam.geometry import vector3, wrench
+from fvbeam.geometry import sized, vector3, wrench
 from fvbeam.mesh import BeamMesh, shape_functions
 from fvbeam.section import Section
 from fvbeam.smearing import check_smearing, density, kernel_breaks
@@ -65,11 +66,12 @@ class Beam:
         formulation: str | Formulation = "fv3",
         integration: str = "reduced",
     ) -> None:
-        form = (
-            get_formulation(formulation, integration)
-            if isinstance(formulation, str)
-            else formulation
-        )
+        _check_type(mesh, BeamMesh, "mesh", "fvbeam.straight(...)")
+        _check_type(section, Section, "section", "Section.diagonal(EA=..., ...)")
+        if isinstance(formulation, str):
+            form = get_formulation(formulation, integration)
+        else:
+            form = _check_type(formulation, Formulation, "formulation", "'fv3'")
         form.check(mesh)
         self.mesh, self.section, self.formulation = mesh, section, form
         self.skfem_mesh = MeshLine1(mesh.vertex_s[None, :], mesh.cells[:, :2].T.copy())
@@ -137,9 +139,14 @@ class Beam:
         K = asm(internal_work, self.trial_basis, self.test_basis, **self._stiffness_geometry[0])
         return sp.csr_matrix(K)
 
-    def residual(self, q: np.ndarray) -> np.ndarray:
+    def dofs_of(self, q: ArrayLike) -> np.ndarray:
+        """``q`` as the beam's dof vector (six per node, :attr:`n_dofs`), or ``ValueError``
+        naming its size: the check of every method taking one."""
+        return sized(q, self.n_dofs, "q", f"the dofs of beam {self.mesh.name!r}: 6 per node")
+
+    def residual(self, q: ArrayLike) -> np.ndarray:
         """Internal force vector ``r(q)``; equilibrium is ``r(q) = f``. Linear: ``K q``."""
-        return self.stiffness @ q
+        return self.stiffness @ self.dofs_of(q)
 
     def tangent(self, q: np.ndarray) -> sp.csr_matrix:
         """d r / d q (constant for linear kinematics)."""
@@ -199,7 +206,7 @@ class Beam:
         at ``xi`` by the compiled :meth:`transfer`: the form's Dirac limit (tested equal to
         it) at a fifteenth of its cost, which matters to a moving load's every step.
         """
-        smearing = check_smearing(smearing, kernel)
+        smearing = check_smearing(smearing, kernel, self.mesh.length, f"beam {self.mesh.name!r}")
         load = wrench(force, moment)
         if smearing == 0:
             dofs, H, _ = self.transfer(xi)
@@ -324,10 +331,10 @@ class Beam:
         return asm(distributed_load, basis, metric=geometry["metric"], **fields)
 
     # -- recovery -------------------------------------------------------------------------
-    def internal_forces(self, q: np.ndarray) -> InternalForces:
+    def internal_forces(self, q: ArrayLike) -> InternalForces:
         """Internal forces at the recovery points, in section and global axes."""
         geometry, frames = self._stiffness_geometry
-        field = self.trial_basis.interpolate(q)
+        field = self.trial_basis.interpolate(self.dofs_of(q))
         strain = generalised_strain(field, geometry["t"], geometry["metric"])
         stress = np.einsum("ij...,j...->...i", geometry["C"], strain).reshape(-1, 6)
         RT = np.swapaxes(frames, -1, -2).reshape(-1, 3, 3)
@@ -341,11 +348,11 @@ class Beam:
             stress[:, 3:],
         )
 
-    def displacements(self, q: np.ndarray, xi: np.ndarray | float) -> np.ndarray:
+    def displacements(self, q: ArrayLike, xi: np.ndarray | float) -> np.ndarray:
         """Displacement and rotation ``(n, 6)`` at abscissae ``xi`` (trial interpolation)."""
         e, X = self.mesh.locate(np.atleast_1d(xi))
         N, _ = shape_functions(X, self.mesh.nodes_per_element)
-        nodal = q.reshape(-1, 6)[self.mesh.cells[e]]
+        nodal = self.dofs_of(q).reshape(-1, 6)[self.mesh.cells[e]]
         return np.einsum("an,nac->nc", N, nodal)
 
 
@@ -358,3 +365,14 @@ def _sample(value: Field, xi: np.ndarray, name: str) -> np.ndarray:
         return np.moveaxis(out.reshape(xi.shape + (3,)), -1, 0)
     v = vector3(value, f"distributed load {name!r}")
     return np.broadcast_to(v[:, None, None], (3,) + xi.shape).copy()
+
+
+def _check_type(value: object, kind: type, name: str, example: str) -> Any:
+    """``value`` if it is a ``kind``, else ``ValueError`` naming the argument ``name``, the
+    type found and an example of the right one."""
+    if not isinstance(value, kind):
+        raise ValueError(
+            f"{name} must be a {kind.__name__} (e.g. {example}), "
+            f"got {type(value).__name__} {value!r:.60}"
+        )
+    return value

@@ -1,10 +1,20 @@
-"""Small helpers: input 3-vectors, inertias and frames, abscissae, section frames from a tangent
-and a vector."""
+"""Small helpers: input numbers, vectors, inertias and frames, abscissae, section frames from a
+tangent and a vector ``up`` (and the check that ``up`` crosses the tangent)."""
 
 from __future__ import annotations
 
+from numbers import Real
+from typing import Literal, cast
+
 import numpy as np
 from numpy.typing import ArrayLike
+from scipy.interpolate import PPoly
+
+#: Smallest sine of the angle between a section frame's ``up`` and the tangent it is made
+#: orthogonal to (:func:`section_frames`).  ``e3`` is ``up``'s part across the tangent,
+#: ``sin(angle) |up|`` long, so its direction is known to ``eps / sin(angle)``: at ``1e-6`` to
+#: about ``2e-10`` rad.  Below, ``up`` points along the centreline and fixes no frame.
+UP_ANGLE = 1e-6
 
 
 def _floats(value: object) -> np.ndarray:
@@ -17,11 +27,32 @@ def _floats(value: object) -> np.ndarray:
         return np.full(1, np.nan)
 
 
+def number(value: object, name: str, bound: Literal["", "> 0", ">= 0"] = "") -> float:
+    """``value`` as a finite float, also ``> 0`` or ``>= 0`` when ``bound`` says so, or
+    ``ValueError`` naming ``name`` (a string or a bool is not a number)."""
+    real = isinstance(value, Real) and not isinstance(value, bool)
+    x = float(cast(Real, value)) if real else np.nan
+    if not (np.isfinite(x) and (x > 0 if bound == "> 0" else x >= 0 if bound else True)):
+        what = f"finite and {bound}" if bound else "a finite number"
+        raise ValueError(f"{name} must be {what}, got {value if real else repr(value)}")
+    return x
+
+
 def vector3(value: ArrayLike, name: str) -> np.ndarray:
     """``value`` as a finite 3-vector, or ``ValueError`` naming ``name``."""
     v = _floats(value)
     if v.shape != (3,) or not np.all(np.isfinite(v)):
         raise ValueError(f"{name} must be a finite 3-vector, got {value!r}")
+    return v
+
+
+def sized(value: ArrayLike, size: int, name: str, what: str) -> np.ndarray:
+    """``value`` as a float vector of ``size`` entries (``what`` they are, for the message),
+    or ``ValueError`` naming ``name`` and the shape found."""
+    v = _floats(value)
+    if v.shape != (size,):
+        found = "not numbers" if v.shape == (1,) and np.isnan(v[0]) else f"shape {v.shape}"
+        raise ValueError(f"{name} must hold {size} values ({what}), got {found}")
     return v
 
 
@@ -110,8 +141,8 @@ def section_frames(tangents: np.ndarray, up: np.ndarray) -> np.ndarray:
     """Orthonormal section frames ``R = [t, e2, e3]`` (as columns) from tangent vectors.
 
     ``e3`` is ``up`` with its tangential part removed and ``e2 = e3 x t``, so a beam along x
-    with ``up = z`` has the global frame.  Where ``up`` is (nearly) tangent, the global axis
-    least aligned with the tangent replaces it.
+    with ``up = z`` has the global frame.  ``up`` must cross every tangent: the objects that
+    hold an ``up`` check it once, with :func:`check_up`, where they are built.
 
     Parameters
     ----------
@@ -121,10 +152,60 @@ def section_frames(tangents: np.ndarray, up: np.ndarray) -> np.ndarray:
     t = tangents / np.linalg.norm(tangents, axis=-1, keepdims=True)
     up = np.broadcast_to(up, t.shape)
     e3 = up - np.sum(t * up, axis=-1, keepdims=True) * t
-    weak = np.linalg.norm(e3, axis=-1) < 1e-6
-    if np.any(weak):
-        axis = np.eye(3)[np.argmin(np.abs(t[weak]), axis=-1)]
-        e3[weak] = axis - np.sum(axis * t[weak], axis=-1, keepdims=True) * t[weak]
     e3 /= np.linalg.norm(e3, axis=-1, keepdims=True)
     e2 = cross(e3, t)
     return np.stack([t, e2, e3], axis=-1)
+
+
+def direction(value: ArrayLike, name: str) -> np.ndarray:
+    """``value`` as a unit vector: a finite non-zero 3-vector, normalised, or ``ValueError``
+    naming ``name``."""
+    v = vector3(value, name)
+    norm = float(np.linalg.norm(v))
+    if not norm > 0:
+        raise ValueError(f"{name} must be a non-zero 3-vector, got {value!r}")
+    return v / norm
+
+
+def check_up(up: np.ndarray, tangents: np.ndarray, xi: np.ndarray, name: str) -> None:
+    """``ValueError`` unless the unit vector ``up`` crosses every one of ``tangents`` (n, 3),
+    taken at the abscissae ``xi`` (n,) of the object ``name``, at an angle whose sine is at
+    least :data:`UP_ANGLE`; the message names the tangent closest to ``up`` and an axis that
+    would do.
+
+    A caller checks the tangents where ``up`` comes closest: a centreline's at the ends of
+    its pieces and where its part across ``up`` is shortest (:func:`closest_to_up`).
+    """
+    t = tangents / np.linalg.norm(tangents, axis=-1, keepdims=True)
+    sine = np.linalg.norm(cross(t, up), axis=-1)
+    k = int(np.argmin(sine))
+    if sine[k] < UP_ANGLE:
+        axis = np.eye(3)[np.argmin(np.abs(t[k]))]
+        raise ValueError(
+            f"{name}: up = {np.round(up, 9).tolist()} is along the tangent "
+            f"{np.round(t[k], 9).tolist()} at xi = {xi[k]:.6g}; the frame's axis e3 is up "
+            f"made orthogonal to the tangent, so up must cross it: give another, "
+            f"e.g. {axis.tolist()}"
+        )
+
+
+def closest_to_up(coefficients: np.ndarray, breaks: np.ndarray, up: np.ndarray) -> np.ndarray:
+    """Where ``up`` may come closest to a centreline whose tangent is a polynomial on each
+    piece: the ``breaks`` and the points where the tangent's part across the unit vector
+    ``up`` is stationary in length (shortest, zero where they are parallel, or longest).
+
+    ``coefficients`` (k, m, 3) and ``breaks`` (m + 1,) are the tangent as a
+    :class:`scipy.interpolate.PPoly` (highest power first, in the offset from each piece's
+    start): a spline's derivative, or ``[slope, start]`` for elements whose tangent is linear
+    in their reference coordinate, on ``breaks = 0, 1, ..., m``.  The square of the across
+    part is a polynomial of twice the degree on each piece, whose stationary points are the
+    real roots of its derivative.
+    """
+    across = coefficients - np.einsum("kmj,j->km", coefficients, up)[..., None] * up
+    k = len(across)
+    square = np.zeros((2 * k - 1, across.shape[1]))
+    for i in range(k):
+        for j in range(k):
+            square[i + j] += np.sum(across[i] * across[j], axis=-1)
+    stationary = PPoly(square, breaks).derivative().roots(discontinuity=False, extrapolate=False)
+    return np.concatenate([breaks, stationary[np.isfinite(stationary)]])

@@ -12,13 +12,22 @@ from __future__ import annotations
 import copy
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from numbers import Real
 from pathlib import Path
 from typing import Any
 
 import meshio
 import numpy as np
 
-from fvbeam.geometry import locate_abscissa, section_frames
+from fvbeam.geometry import (
+    check_up,
+    closest_to_up,
+    direction,
+    locate_abscissa,
+    number,
+    section_frames,
+    vector3,
+)
 from fvbeam.io import write_atomic
 from fvbeam.pointwise import shape_functions_many
 
@@ -89,12 +98,8 @@ class BeamMesh:
             )
         if cells.min() < 0 or cells.max() >= len(points):
             raise ValueError(f"{self.name}: a cell refers to a node outside 0..{len(points) - 1}")
-        up = np.array(self.up, dtype=float)
-        if up.shape != (3,) or not np.all(np.isfinite(up)) or np.linalg.norm(up) == 0:
-            raise ValueError(f"{self.name}: up must be a finite non-zero 3-vector, got {self.up}")
         object.__setattr__(self, "points", points)
         object.__setattr__(self, "cells", cells)
-        object.__setattr__(self, "up", up / np.linalg.norm(up))
         object.__setattr__(self, "point_ids", ids)
         self._check_chain()
         lengths = self._element_lengths()
@@ -120,6 +125,21 @@ class BeamMesh:
                     "(mid node outside its end nodes)"
                 )
         object.__setattr__(self, "vertex_s", np.concatenate([[0.0], np.cumsum(lengths)]))
+        object.__setattr__(self, "up", self._check_up())
+
+    def _check_up(self) -> np.ndarray:
+        """``up`` made a unit vector, checked to cross the centreline everywhere
+        (:func:`fvbeam.geometry.check_up`) at the points where it may come closest
+        (:func:`fvbeam.geometry.closest_to_up`: the tangent of an element is linear in its
+        reference coordinate)."""
+        up = direction(self.up, f"{self.name}: up")
+        n = self.n_elements
+        start = self.tangent_vectors(np.arange(n), np.zeros(n))
+        slope = self.tangent_vectors(np.arange(n), np.ones(n)) - start
+        s = closest_to_up(np.stack([slope, start]), np.arange(n + 1.0), up)
+        e = np.minimum(s.astype(np.int64), n - 1)
+        check_up(up, self.tangent_vectors(e, s - e), self.abscissae(e, s - e), self.name)
+        return up
 
     def _check_chain(self) -> None:
         n_el = len(self.cells)
@@ -369,11 +389,15 @@ def from_curve(
     up: Sequence[float] = (0.0, 0.0, 1.0),
     name: str = "beam",
 ) -> BeamMesh:
-    """Beam along a parametrised curve ``curve(u)`` (u in [0, 1], returns (n, 3)), uniform in u."""
-    if int(n_elements) != n_elements or n_elements < 1:
-        raise ValueError(f"{name}: n_elements must be a positive integer, got {n_elements}")
-    if nodes_per_element not in (2, 3):
-        raise ValueError(f"{name}: nodes_per_element must be 2 or 3, got {nodes_per_element}")
+    """Beam along a parametrised curve ``curve(u)`` (u in [0, 1], returns (n, 3)), uniform in u.
+
+    ``n_elements`` is a positive integer (an integral float too) and ``nodes_per_element`` 2 or
+    3, or ``ValueError`` naming them."""
+    whole = isinstance(n_elements, Real) and not isinstance(n_elements, bool)
+    if not (whole and float(n_elements).is_integer() and n_elements >= 1):
+        raise ValueError(f"{name}: n_elements must be a positive integer, got {n_elements!r}")
+    if nodes_per_element not in (2, 3) or isinstance(nodes_per_element, bool):
+        raise ValueError(f"{name}: nodes_per_element must be 2 or 3, got {nodes_per_element!r}")
     n = int(n_elements)
     u = np.linspace(0.0, 1.0, n + 1)
     if nodes_per_element == 3:
@@ -394,9 +418,10 @@ def straight(
 ) -> BeamMesh:
     """Straight beam from ``start`` to ``end`` with equal elements.
 
-    ``up`` defaults to the global z axis, or the y axis for a beam along z.
+    ``up`` defaults to the global z axis, or the y axis for a beam along z.  ``start`` and
+    ``end`` are finite 3-vectors, or ``ValueError`` naming them.
     """
-    a, b = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
+    a, b = vector3(start, f"{name}: start"), vector3(end, f"{name}: end")
     if up is None:
         d = b - a
         up = (0.0, 1.0, 0.0) if abs(d[2]) > 0.9 * np.linalg.norm(d) else (0.0, 0.0, 1.0)
@@ -412,8 +437,15 @@ def arc(
     nodes_per_element: int = 3,
     name: str = "beam",
 ) -> BeamMesh:
-    """Circular arc in the plane z = center[2], from ``angle0`` to ``angle1`` (radians)."""
-    c = np.asarray(center, dtype=float)
+    """Circular arc in the plane z = center[2], from ``angle0`` to ``angle1`` (radians).
+
+    ``center`` a finite 3-vector, ``radius`` > 0, the angles finite and distinct, or
+    ``ValueError`` naming them."""
+    c = vector3(center, f"{name}: center")
+    radius = number(radius, f"{name}: radius", "> 0")
+    angle0, angle1 = number(angle0, f"{name}: angle0"), number(angle1, f"{name}: angle1")
+    if angle0 == angle1:
+        raise ValueError(f"{name}: angle0 and angle1 are both {angle0}: the arc has no length")
 
     def circle(u: np.ndarray) -> np.ndarray:
         a = angle0 + (angle1 - angle0) * u

@@ -3,17 +3,21 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from numbers import Real
-from typing import cast
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from fvbeam.geometry import inertia3
+from fvbeam.geometry import inertia3, number
 
 #: Order of the generalised strains and stresses in the section frame (t, e2, e3):
 #: axial, two shears, twist, two bending curvatures.
 COMPONENTS = ("EA", "GAy", "GAz", "GJ", "EJy", "EJz")
+#: Smallest ratio of a section stiffness' smallest eigenvalue to its largest (its condition
+#: number at most ``1e14``).  ``numpy.linalg.eigvalsh`` is backward stable: the eigenvalues of
+#: a 6x6 matrix come out to about ``6 eps = 1.3e-15`` of the largest, so one below ``1e-14`` of
+#: it is within ten round-off units of zero, its sign unknown, and a solve with such a
+#: stiffness keeps none of the smallest one's digits.
+CONDITIONING = 1e-14
 
 
 @dataclass(frozen=True, eq=False)
@@ -48,13 +52,8 @@ class Section:
             raise ValueError(f"{self.name}: stiffness has a non-finite entry")
         if not np.allclose(K, K.T, rtol=1e-12, atol=1e-12 * np.abs(K).max()):
             raise ValueError(f"{self.name}: stiffness must be symmetric")
-        eig = np.linalg.eigvalsh(K)
-        if eig.min() <= 1e-14 * eig.max() or eig.max() <= 0:
-            diag = np.diag(K)
-            bad = [f"{n} = {v:g}" for n, v in zip(COMPONENTS, diag, strict=True) if not v > 0]
-            detail = ", ".join(bad) if bad else f"smallest eigenvalue {eig.min():g}"
-            raise ValueError(f"{self.name}: stiffness must be positive definite ({detail})")
-        m = _number(self.mass_per_length, f"{self.name}: mass_per_length", ">= 0")
+        _check_definite(K, self.name)
+        m = number(self.mass_per_length, f"{self.name}: mass_per_length", ">= 0")
         J = inertia3(self.inertia, f"{self.name}: inertia")
         object.__setattr__(self, "stiffness", K)
         object.__setattr__(self, "mass_per_length", m)
@@ -85,7 +84,7 @@ class Section:
         """
         values = dict(EA=EA, GAy=GAy, GAz=GAz, GJ=GJ, EJy=EJy, EJz=EJz)
         for key, value in values.items():
-            values[key] = _number(value, f"{name}: {key}", "> 0")
+            values[key] = number(value, f"{name}: {key}", "> 0")
         stiffness = np.diag([values[k] for k in COMPONENTS])
         return cls(stiffness, mass_per_length, inertia3(inertia, f"{name}: inertia"), name)
 
@@ -100,13 +99,28 @@ class Section:
         return R6 @ self.stiffness @ np.swapaxes(R6, -1, -2)
 
 
-def _number(value: object, label: str, bound: str) -> float:
-    """``value`` as a float that is finite and ``> 0`` or ``>= 0`` (``bound``), or
-    ``ValueError`` naming ``label`` (a string or a bool is not a number)."""
-    real = isinstance(value, Real) and not isinstance(value, bool)
-    number = float(cast(Real, value)) if real else np.nan
-    if not (np.isfinite(number) and (number > 0 if bound == "> 0" else number >= 0)):
+def _check_definite(K: np.ndarray, name: str) -> None:
+    """``ValueError`` unless the symmetric ``K`` is positive definite with its smallest
+    eigenvalue above :data:`CONDITIONING` times its largest; the message names the stiffnesses
+    (a diagonal ``K``) or the eigenvalues at fault and the rule."""
+    eig = np.linalg.eigvalsh(K)
+    diag = np.diag(K)
+    bad = [f"{n} = {v:g}" for n, v in zip(COMPONENTS, diag, strict=True) if not v > 0]
+    if bad or not eig.min() > 0:
+        detail = ", ".join(bad) if bad else f"smallest eigenvalue {eig.min():g}"
+        raise ValueError(f"{name}: stiffness must be positive definite ({detail})")
+    if eig.min() <= CONDITIONING * eig.max():
+        if np.count_nonzero(K - np.diag(diag)) == 0:
+            low, high = np.argmin(diag), np.argmax(diag)
+            small, large = (
+                f"{COMPONENTS[low]} = {diag[low]:g}",
+                f"{COMPONENTS[high]} = {diag[high]:g}",
+            )
+        else:
+            small, large = f"eigenvalue {eig.min():g}", f"eigenvalue {eig.max():g}"
         raise ValueError(
-            f"{label} must be finite and {bound}, got {value if real else repr(value)}"
+            f"{name}: stiffness is too ill-conditioned: its smallest {small} is "
+            f"{eig.min() / eig.max():.3g} of its largest {large}; a section's smallest "
+            f"eigenvalue must exceed {CONDITIONING:g} of its largest (double precision "
+            "resolves no digit of a smaller one)"
         )
-    return number

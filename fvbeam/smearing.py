@@ -19,17 +19,26 @@ from __future__ import annotations
 
 import numpy as np
 
+from fvbeam.geometry import number
+
 KERNELS = ("box", "hat")
 
 
-def check_smearing(smearing: float, kernel: str) -> float:
-    """``smearing`` as a float, or ``ValueError`` naming a negative or non-finite smearing or
-    an unknown kernel."""
-    smearing = float(smearing)
-    if not np.isfinite(smearing) or smearing < 0:
-        raise ValueError(f"smearing must be a finite length >= 0, got {smearing}")
+def check_smearing(
+    smearing: float, kernel: str, length: float | None = None, on: str = "the beam"
+) -> float:
+    """``smearing`` as a float, or ``ValueError`` naming a negative or non-finite smearing, an
+    unknown kernel or, given the ``length`` of the beam or line it spreads loads ``on``, a
+    smearing above half that length: the kernel, ``2 smearing`` wide, must fit on it (wider,
+    both ends cut it wherever the load is, and it no longer has the shape asked for)."""
+    smearing = number(smearing, "smearing", ">= 0")
     if kernel not in KERNELS:
         raise ValueError(f"unknown smearing kernel {kernel!r}; choose one of {', '.join(KERNELS)}")
+    if length is not None and smearing > length / 2:
+        raise ValueError(
+            f"smearing = {smearing:g} m is more than half the length of {on} "
+            f"({length:.6g} m): the kernel, 2 smearing wide, must fit on it"
+        )
     return smearing
 
 

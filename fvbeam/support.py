@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fvbeam.names import ENDS, NodeRef, is_index, parse_node
+from fvbeam.names import ENDS, NodeRef, is_index, parse_node, suggest
 
 #: Names of the six nodal dofs, in order.
 DOF_NAMES = ("ux", "uy", "uz", "rx", "ry", "rz")
@@ -59,15 +59,30 @@ class Support:
 
     def dofs(self) -> np.ndarray:
         """Local dof indices (0..5) the support holds."""
-        if self.kind == "clamp":
-            return np.arange(6)
-        if self.kind == "pin":
-            return np.arange(3)
-        names = self.kind.split("+")
-        unknown = [n for n in names if n not in DOF_NAMES]
-        if unknown or not names:
-            raise ValueError(
-                f"support kind must be 'clamp', 'pin' or dof names from "
-                f"{' '.join(DOF_NAMES)} joined by '+', got {self.kind!r}"
-            )
-        return np.array(sorted({DOF_NAMES.index(n) for n in names}))
+        try:
+            return held_dofs(self.kind)
+        except ValueError as exc:
+            raise ValueError(f"support kind {self.kind!r} at {self.ref!r} {exc}") from None
+
+
+def held_dofs(kind: str) -> np.ndarray:
+    """Local dof indices (0..5) a support of ``kind`` holds: ``clamp`` all six, ``pin`` the
+    translations, or the dof names joined by ``+``, each once.  Any other ``kind`` raises
+    ``ValueError`` saying what is allowed (a phrase to follow the kind: "must be ...")."""
+    if kind == "clamp":
+        return np.arange(6)
+    if kind == "pin":
+        return np.arange(3)
+    if not isinstance(kind, str):
+        raise ValueError(f"must be a string, got {type(kind).__name__}")
+    names = kind.split("+")
+    unknown = [n for n in names if n not in DOF_NAMES]
+    if unknown:
+        raise ValueError(
+            f"must be 'clamp', 'pin' or dof names from {' '.join(DOF_NAMES)} joined by "
+            f"'+'{suggest(unknown[0], ('clamp', 'pin') + DOF_NAMES)}"
+        )
+    repeated = sorted({n for n in names if names.count(n) > 1}, key=DOF_NAMES.index)
+    if repeated:
+        raise ValueError(f"names {', '.join(repeated)} more than once: name each dof once")
+    return np.array(sorted(DOF_NAMES.index(n) for n in names))

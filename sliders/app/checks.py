@@ -9,9 +9,10 @@ refer to something it can move.  Nothing is built here: the geometry is checked 
 from __future__ import annotations
 
 from collections.abc import Iterable
+from functools import partial
 
 from fvbeam.names import suggest
-from fvbeam.support import DOF_NAMES
+from fvbeam.support import DOF_NAMES, held_dofs
 from sliders.app.errors import Problem, Problems
 from sliders.app.schema import Abscissa, DynamicStudy, PointLoad, Scene, SweepStudy, Translation
 
@@ -109,7 +110,7 @@ def reference_problems(scene: Scene) -> list[Problem]:
         ties_ok = ties_ok and ok
     for i, support in enumerate(scene.support):
         names.node(f"support[{i}].node", support.node, problems)
-        _check_support_kind(f"support[{i}].kind", support.kind, problems)
+        problems.attempt(f"support[{i}].kind", partial(held_dofs, support.kind), support.kind)
     for i in range(len(scene.slider)):
         _check_slider(scene, i, names, problems, ties_ok)
     for i, load in enumerate(scene.load):
@@ -146,21 +147,6 @@ def _check_beams(scene: Scene, names: _Names, problems: Problems) -> None:
                 "an arc lies in a plane normal to z, which is its up: leave up out",
                 list(beam.up),
             )
-
-
-def _check_support_kind(path: str, kind: str, problems: Problems) -> None:
-    if kind in ("clamp", "pin"):
-        return
-    for part in kind.split("+"):
-        if part not in DOF_NAMES:
-            choices = ("clamp", "pin") + DOF_NAMES
-            problems.add(
-                path,
-                f"must be 'clamp', 'pin' or dof names from "
-                f"{' '.join(DOF_NAMES)} joined by '+'{suggest(part, choices)}",
-                kind,
-            )
-            return
 
 
 def _check_slider(scene: Scene, i: int, names: _Names, problems: Problems, ties_ok: bool) -> None:
@@ -303,8 +289,11 @@ def _check_dynamic(scene: Scene, study: DynamicStudy, names: _Names, problems: P
 
 
 def _holds(kind: str, dof: str) -> bool:
-    """Whether a support of ``kind`` holds ``dof``."""
-    return kind == "clamp" or (kind == "pin" and dof.startswith("u")) or dof in kind.split("+")
+    """Whether a support of ``kind`` holds ``dof`` (no: a wrong kind, reported where it is)."""
+    try:
+        return DOF_NAMES.index(dof) in held_dofs(kind)
+    except ValueError:
+        return False
 
 
 def _check_translation(

@@ -53,6 +53,7 @@ import numpy as np
 
 from fvbeam.geometry import orthonormal3, vector3
 from fvbeam.names import NodeRef, parse_node
+from fvbeam.smearing import check_smearing
 from fvbeam.structure import Structure
 from sliders.joints.blocks import SlotJacobian
 from sliders.joints.drives import Motion
@@ -135,6 +136,8 @@ class Slider:
                 f"(paper eq. 4); a {self.kind} slider needs 'section'"
             )
         parse_node(self.body, f"{self.name}: body")
+        on = f"line {self.line.name!r} of slider {self.name!r}"
+        self.smearing = check_smearing(self.smearing, self.kernel, self.line.length, on)
         self.offset = vector3(self.offset, f"{self.name}: offset")
         self.frame = orthonormal3(self.frame, f"{self.name}: frame")
         self._batch: SliderBatch | None = None

@@ -22,7 +22,15 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.interpolate import CubicSpline as _ScipyCubicSpline
 
-from fvbeam.geometry import cross, locate_abscissa, section_frames, vector3
+from fvbeam.geometry import (
+    check_up,
+    closest_to_up,
+    cross,
+    direction,
+    locate_abscissa,
+    section_frames,
+    vector3,
+)
 
 
 @dataclass(frozen=True)
@@ -189,6 +197,7 @@ class StraightLine(RigidLine):
         self.length = _check_positive(float(np.linalg.norm(d)), "length", name)
         self.t = d / self.length
         self.up = vector3(up, f"{name}: up")
+        check_up(direction(up, f"{name}: up"), self.t[None], np.zeros(1), name)
 
     def derivatives(self, xi: float) -> tuple[np.ndarray, ...]:
         zero = np.zeros(3)
@@ -276,6 +285,9 @@ class CubicSpline(RigidLine):
         self.spline = _ScipyCubicSpline(u, pts, bc_type="natural")
         self.length = float(u[-1])
         self.up = vector3(up, f"{name}: up")
+        unit, tangent = direction(up, f"{name}: up"), self.spline.derivative()
+        xi = closest_to_up(tangent.c, tangent.x, unit)
+        check_up(unit, tangent(xi), xi, name)
 
     def derivatives(self, xi: float) -> tuple[np.ndarray, ...]:
         return tuple(self.spline(xi, nu) for nu in range(4))
