@@ -10,6 +10,7 @@ kinds and names (:func:`fvbeam.names.suggest`).
 
 from __future__ import annotations
 
+import reprlib
 import types
 import typing
 from collections.abc import Callable, Sequence
@@ -31,9 +32,16 @@ class _NoValue:
 NO_VALUE: Any = _NoValue()
 
 
+#: ``repr`` that stops after a few entries and characters: a message shows at most 60
+#: characters of a value, however large the value (an array of millions of numbers).
+_SHORT = reprlib.Repr()
+_SHORT.maxlist = _SHORT.maxtuple = _SHORT.maxdict = _SHORT.maxset = 10
+_SHORT.maxstring = _SHORT.maxother = _SHORT.maxlong = 60
+
+
 def show(value: Any, limit: int = 60) -> str:
     """A value as the message shows it: ``repr``, shortened to ``limit`` characters."""
-    text = repr(value)
+    text = _SHORT.repr(value)
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
@@ -62,10 +70,12 @@ class SceneError(ValueError):
         What is wrong, in the order found.
     """
 
-    def __init__(self, source: str, problems: Sequence[Problem]) -> None:
+    def __init__(
+        self, source: str, problems: Sequence[Problem], what: str = "invalid scene"
+    ) -> None:
         self.source, self.problems = source, tuple(problems)
         count = len(self.problems)
-        head = f"{source}: invalid scene, {count} problem{'s' if count != 1 else ''}"
+        head = f"{source}: {what}, {count} problem{'s' if count != 1 else ''}"
         super().__init__("\n  ".join([head] + [str(p) for p in self.problems]))
 
 
@@ -83,9 +93,9 @@ class Problems(list):
             self.add(path, str(exc), value)
             return None
 
-    def raise_if_any(self, source: str) -> None:
+    def raise_if_any(self, source: str, what: str = "invalid scene") -> None:
         if self:
-            raise SceneError(source, self)
+            raise SceneError(source, self, what)
 
 
 # -- pydantic's errors in scene terms ---------------------------------------------------------

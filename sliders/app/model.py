@@ -21,8 +21,10 @@ from functools import partial
 import numpy as np
 
 from fvbeam import Beam, BeamMesh, RigidBody, Section, Structure, Support, arc, straight
+from fvbeam.smearing import check_smearing
 from sliders.app.checks import part_of, tied_parts
 from sliders.app.errors import Problems
+from sliders.app.limits import Limits, element_problems
 from sliders.app.schema import (
     Abscissa,
     BeamSpec,
@@ -151,6 +153,10 @@ class Model:
         A scene that passed :func:`sliders.app.scene.parse_scene`.
     source
         Name of the scene in error messages.
+    limits
+        The sizes the scene may ask for: the elements of the beams read from mesh files are
+        checked once read, before any beam is assembled (:mod:`sliders.app.limits`; default
+        from the environment).
 
     Raises
     ------
@@ -158,19 +164,29 @@ class Model:
         Listing every geometric problem (validation phase 3).
     """
 
-    def __init__(self, scene: Scene, source: str = "scene") -> None:
+    def __init__(self, scene: Scene, source: str = "scene", limits: Limits | None = None) -> None:
         self.scene = scene
         problems = Problems()
         sections = {
             s.name: problems.attempt(f"section[{i}]", partial(_section, s))
             for i, s in enumerate(scene.section)
         }
+        forms = [spec.formulation or scene.formulation for spec in scene.beam]
+        wheres = [
+            f"beam[{i}].mesh" if spec.mesh is not None else f"beam[{i}]"
+            for i, spec in enumerate(scene.beam)
+        ]
+        meshes = [
+            problems.attempt(where, partial(_mesh, spec, form))
+            for where, spec, form in zip(wheres, scene.beam, forms, strict=True)
+        ]
+        limits = Limits.from_environment() if limits is None else limits
+        counts = [(w, m.n_elements) for w, m in zip(wheres, meshes, strict=True) if m is not None]
+        too_many = element_problems(counts, limits)
+        problems += too_many
         self.beams: list[Beam] = []
-        for i, spec in enumerate(scene.beam):
-            form = spec.formulation or scene.formulation
-            where = f"beam[{i}].mesh" if spec.mesh is not None else f"beam[{i}]"
-            mesh = problems.attempt(where, partial(_mesh, spec, form))
-            if mesh is not None and sections[spec.section] is not None:
+        for where, spec, form, mesh in zip(wheres, scene.beam, forms, meshes, strict=True):
+            if mesh is not None and sections[spec.section] is not None and not too_many:
                 self.beams.append(
                     problems.attempt(
                         where,
@@ -244,6 +260,8 @@ class Model:
                 )
 
     def _check_point_loads(self, parts: Structure, problems: Problems) -> None:
+        """A point load on its beam, its kernel no wider than the beam
+        (:func:`fvbeam.smearing.check_smearing`)."""
         for i, load in enumerate(self.scene.load):
             if isinstance(load, PointLoad):
                 length = self.beams[parts.beam_index(load.beam)].mesh.length
@@ -253,6 +271,9 @@ class Model:
                         f"beyond the end of beam '{load.beam}' (length {length:.6g} m)",
                         load.at,
                     )
+                on = f"beam {load.beam!r}"
+                check = partial(check_smearing, load.smearing, load.kernel, length, on)
+                problems.attempt(f"load[{i}].smearing", check, load.smearing)
 
     def _check_on_lines(self, problems: Problems) -> None:
         """Every slider's body on its line, in the scene and at every sweep value."""
