@@ -13,8 +13,8 @@ Every limit but the nesting depth is raised by an environment variable,
 ``FVSLIDER_MAX_<NAME>`` (:data:`LIMITS`); :meth:`Limits.from_environment` reads them, and a
 :class:`Limits` can be passed to :func:`sliders.app.scene.load_scene` and
 :class:`sliders.app.model.Model` from Python.  The defaults leave every shipped scene a
-thousand times below them and keep the largest scene they admit within a few gigabytes and
-minutes (``docs/scenes.md``, Limits).
+long way below them and keep the largest scene they admit within a few gigabytes and minutes
+(``docs/scenes.md``, Limits, gives the measurements).
 """
 
 from __future__ import annotations
