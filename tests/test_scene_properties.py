@@ -77,18 +77,23 @@ def wrong_types(value):
     ]
 
 
+#: The mutations of :func:`mutations`; :data:`SIZES` also oversizes a count, a time step or an
+#: array (with ``entries`` at most), or nests a value deeper than a scene may, and
+#: ``perturbed`` scales a number (the scene may stay valid).
+KINDS = ("unknown key", "wrong type", "non-finite", "non-positive", "undefined name", "deleted")
+SIZES = ("huge", "deep", "perturbed")
+
+
 @st.composite
-def mutations(draw):
-    """A broken scene, what was done, the target path and whether the problems may instead
-    lie anywhere in the target's table (deletions)."""
-    scene = data(draw(st.sampled_from(BASES)))
+def mutations(draw, load=data, kinds=KINDS, entries=None):
+    """A broken scene (``load`` of a shipped scene's name), what was done, the target path and
+    whether the problems may instead lie anywhere in the target's table (deletions)."""
+    scene = load(draw(st.sampled_from(BASES)))
     spots = list(places(scene))
     tables = [("", scene, None)] + [s for s in spots if isinstance(s[1][s[2]], dict)]
-    kind = draw(
-        st.sampled_from(
-            ["unknown key", "wrong type", "non-finite", "non-positive", "undefined name", "deleted"]
-        )
-    )
+    kind = draw(st.sampled_from(kinds))
+    if kind in SIZES:
+        return sized(draw, scene, spots, kind, entries)
     if kind == "unknown key":
         path, container, key = draw(st.sampled_from(tables))
         table = container[key] if key is not None else container
@@ -130,6 +135,36 @@ def mutations(draw):
     del container[key]
     table = path.rpartition(".")[0] if "." in path and key != "name" else ""
     return scene, kind, table, True
+
+
+def sized(draw, scene, spots, kind, entries):
+    """The ``kind`` of :data:`SIZES` applied to ``scene``: a count (elements, samples) made
+    ten billion, a dynamic study's step a billionth of its end time, or an array given one
+    entry more than ``entries`` ("huge"); a value wrapped in 40 arrays, deeper than the 32
+    levels a scene may nest ("deep"); a number scaled by a factor in [1/2, 2] ("perturbed")."""
+    if kind == "huge":
+        counts = [s for s in spots if key_of(s[0]) in ("elements", "num")]
+        arrays = [s for s in spots if isinstance(s[1][s[2]], list) and s[1][s[2]]]
+        study = scene["study"]
+        steps = [("study.step", study, "step")] if study["kind"] == "dynamic" else []
+        path, container, key = draw(st.sampled_from(counts + steps + arrays))
+        value = container[key]
+        if key == "step":
+            container[key] = study["t_end"] * 1e-9
+        elif isinstance(value, list):
+            container[key] = value[:1] * (entries + 1)
+        else:
+            container[key] = 10**10
+        return scene, kind, path, False
+    if kind == "deep":
+        path, container, key = draw(st.sampled_from(spots))
+        for _ in range(40):
+            container[key] = [container[key]]
+        return scene, kind, path, False
+    numbers = [s for s in spots if type(s[1][s[2]]) is float]
+    path, container, key = draw(st.sampled_from(numbers))
+    container[key] *= draw(st.floats(0.5, 2.0))
+    return scene, kind, path, True
 
 
 def inside(path: str, target: str) -> bool:
