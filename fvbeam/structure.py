@@ -10,7 +10,7 @@ from numpy.typing import ArrayLike
 
 from fvbeam.beam import Beam
 from fvbeam.body import RigidBody
-from fvbeam.geometry import wrench
+from fvbeam.geometry import sized, wrench
 from fvbeam.names import NodeRef, is_index, known, parse_node, suggest
 from fvbeam.support import DOF_NAMES, Support
 
@@ -225,8 +225,14 @@ class Structure:
         f[self.node_dofs(ref)] = wrench(force, moment)
         return f
 
-    def residual(self, q: np.ndarray) -> np.ndarray:
+    def dofs_of(self, q: ArrayLike) -> np.ndarray:
+        """``q`` as a global dof vector (six per node, :attr:`n_dofs`), or ``ValueError``
+        naming its size: the check of every method taking one."""
+        return sized(q, self.n_dofs, "q", "the structure's dofs: 6 per node")
+
+    def residual(self, q: ArrayLike) -> np.ndarray:
         """Internal force vector: the beams' residuals gathered on the global dofs."""
+        q = self.dofs_of(q)
         r = np.zeros(self.n_dofs)
         for beam, dofs in zip(self.beams, self.dof_maps, strict=True):
             np.add.at(r, dofs, beam.residual(q[dofs]))
@@ -268,9 +274,9 @@ class Structure:
         np.add.at(f, self.dof_maps[self.beam_index(beam)], f_local)
         return f
 
-    def local(self, beam: int | str, q: np.ndarray) -> np.ndarray:
+    def local(self, beam: int | str, q: ArrayLike) -> np.ndarray:
         """A beam's (index or name) share of a global dof vector."""
-        return q[self.dof_maps[self.beam_index(beam)]]
+        return self.dofs_of(q)[self.dof_maps[self.beam_index(beam)]]
 
     def support_dofs(self, supports: Sequence[Support]) -> np.ndarray:
         """Global dofs held by ``supports``."""

@@ -9,7 +9,7 @@ import pytest
 from test_limits import FIG1, refused
 from test_scenes import SCENES
 
-from fvbeam import Beam, BeamMesh, Section, Support, arc, from_curve, straight
+from fvbeam import Beam, BeamMesh, Section, Structure, Support, arc, from_curve, straight
 from fvbeam.geometry import UP_ANGLE
 from fvbeam.section import CONDITIONING
 from fvbeam.support import held_dofs
@@ -139,6 +139,23 @@ def test_a_dof_vector_of_the_wrong_size_is_named(method):
     args = (np.ones(3), 0.5) if method == "displacements" else (np.ones(3),)
     with pytest.raises(ValueError, match=r"q must hold 30 values .* got shape \(3,\)"):
         getattr(beam, method)(*args)
+
+
+def test_a_global_dof_vector_of_the_wrong_size_is_named():
+    """Two beams of one fv3 element, not tied: 2 x 3 nodes, 36 dofs."""
+    beams = [
+        Beam(straight((0, y, 0), (1, y, 0), 1, name=n), SECTION) for y, n in ((0, "a"), (1, "b"))
+    ]
+    structure = Structure(beams)
+    for call in (lambda: structure.local("b", np.ones(18)), lambda: structure.residual([1.0])):
+        with pytest.raises(ValueError, match=r"q must hold 36 values .* got shape"):
+            call()
+    np.testing.assert_array_equal(structure.local("b", np.arange(36.0)), np.arange(18.0, 36.0))
+
+
+def test_section_diagonal_names_a_string_stiffness():
+    with pytest.raises(ValueError, match="section: EA must be finite and > 0, got '1e9'"):
+        Section.diagonal(EA="1e9", GAy=1, GAz=1, GJ=1, EJy=1, EJz=1)  # type: ignore[arg-type]
 
 
 @pytest.mark.parametrize(
