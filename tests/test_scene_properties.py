@@ -93,7 +93,7 @@ def mutations(draw, load=data, kinds=KINDS, entries=None):
     tables = [("", scene, None)] + [s for s in spots if isinstance(s[1][s[2]], dict)]
     kind = draw(st.sampled_from(kinds))
     if kind in SIZES:
-        return sized(draw, scene, spots, kind, entries)
+        return resized(draw, scene, spots, kind, entries)
     if kind == "unknown key":
         path, container, key = draw(st.sampled_from(tables))
         table = container[key] if key is not None else container
@@ -137,7 +137,7 @@ def mutations(draw, load=data, kinds=KINDS, entries=None):
     return scene, kind, table, True
 
 
-def sized(draw, scene, spots, kind, entries):
+def resized(draw, scene, spots, kind, entries):
     """The ``kind`` of :data:`SIZES` applied to ``scene``: a count (elements, samples) made
     ten billion, a dynamic study's step a billionth of its end time, or an array given one
     entry more than ``entries`` ("huge"); a value wrapped in 40 arrays, deeper than the 32
