@@ -13,6 +13,14 @@ Lagrange shape functions, the region indicators with their half-and-half rule, t
 motions of eq. T4 and the load-transfer block of eq. T6, written as the equations read); the
 tests hold kernels and references equal to roundoff.  They are for reading and testing: the
 code runs the kernels.
+
+A smeared load has its definition elsewhere: the kernels :func:`fvbeam.smearing.density` and
+:func:`~fvbeam.smearing.slope`, integrated against the test functions by the scikit-fem form
+of :meth:`fvbeam.beam.Beam.kernel_transfer`.  :func:`kernel_at` and :func:`smeared_element`
+are their compiled twins for the hot path (the smeared line state of
+:func:`sliders.lines.batched_kernel.smeared_transfer`): the kernel at one offset, and its
+integral against one element's test functions on the form's pieces by the form's rule
+(``tests/test_smeared_transfer.py`` holds them to the form).
 """
 
 from __future__ import annotations

@@ -350,8 +350,8 @@ class ChainStack:
         rigidly by ``shifts[b]`` ((B, n_beams, 3), one shift per beam of the structure), as
         :meth:`fvbeam.beam.Beam.translated` would move them (the node positions are this
         chain's plus the shift), without building the moved chains.  A translation changes
-        nothing but the node positions, so every member keeps this chain for the queries that
-        do not read them (the smeared transfer)."""
+        nothing but the node positions, so every member keeps this chain (its beams, offsets
+        and dof maps); every query reads the moved positions."""
         if len(self) != 1:
             raise ValueError(f"{self.name}: only a one-member stack is translated")
         chain = self.chains[0]

@@ -5,7 +5,9 @@ One call of :func:`line_state` answers every query of :class:`sliders.lines.batc
 (:func:`locate_one`), the element interpolation and the recovered tangent
 (``docs/sliders.md``, :func:`interpolation_one`), the deformed line (:func:`weighted`), the
 load transfer (eq. T6, :func:`fvbeam.pointwise.transfer_at`) and the section rotation with
-its kink correction (:func:`rotation_one`).  The stack's arrays are described in
+its kink correction (:func:`rotation_one`).  A smeared load transfer is one call of
+:func:`smeared_transfer`: the kernel form of :meth:`sliders.lines.chain.BeamChain.transfer`
+integrated by the same rule on the same pieces, compiled.  The stack's arrays are described in
 :class:`sliders.lines.batched.ChainStack`; the kernels expect them C-contiguous, float64 and int64.
 """
 
@@ -339,6 +341,27 @@ def node_slot(element: int, a: int, npe: int) -> int:
     return base + 1
 
 
+@numba.njit(cache=True, inline="never")
+def element_nodes(points: np.ndarray, cell: np.ndarray, nodes: np.ndarray) -> None:
+    """The positions (npe, 3) of an element's nodes ``cell`` (npe,) among ``points`` into
+    ``nodes``."""
+    for a in range(len(cell)):
+        for c in range(3):
+            nodes[a, c] = points[cell[a], c]
+
+
+@numba.njit(cache=True, inline="never")
+def add_block(block: np.ndarray, scale: float, element: int, out: np.ndarray) -> None:
+    """Add ``scale`` times an element's ``block`` (6 npe, 6), node by node, to the rows of its
+    nodes' slots in ``out`` (:func:`node_slot`)."""
+    npe = block.shape[0] // 6
+    for a in range(npe):
+        slot = 6 * node_slot(element, a, npe)
+        for r in range(6):
+            for c in range(6):
+                out[slot + r, c] += scale * block[6 * a + r, c]
+
+
 @numba.njit(cache=True)
 def smeared_transfer(
     xi: np.ndarray,
@@ -419,9 +442,7 @@ def smeared_transfer(
             start, end = vertex_s[b, e + k], vertex_s[b, e + k + 1]  # beam k's vertices
             if not (start < hi and end > lo):
                 continue
-            for a in range(npe):
-                for c in range(3):
-                    nodes[a, c] = points[b, cells[e, a], c]
+            element_nodes(points[b], cells[e], nodes)
             A[:] = 0.0
             dA[:] = 0.0
             m, dm = smeared_element(
@@ -450,20 +471,15 @@ def smeared_transfer(
             )
             mass += m
             dmass += dm
-            add_blocks(A, dA, e - first, npe, G[b], dG[b])
+            add_block(A, 1.0, e - first, G[b])
+            add_block(dA, 1.0, e - first, dG[b])
         for i in range(len(step_r)):
             at = x + step_r[i]
             if 0 < at < breaks[b, -1]:
                 k, e, X = locate_one(at, breaks[b], vertex_s[b], first_element, h[b])
-                for a in range(npe):
-                    for c in range(3):
-                        nodes[a, c] = points[b, cells[e, a], c]
+                element_nodes(points[b], cells[e], nodes)
                 transfer_at(rigid[k], regions, nodes, h[b, e], X, N, dN, d2N, chi, dchi, H, dH)
-                A[:] = 0.0
-                for r in range(6 * npe):
-                    for c in range(6):
-                        dA[r, c] = -step_jump[i] * H[r, c]
-                add_blocks(A, dA, e - first, npe, G[b], dG[b])
+                add_block(H, -step_jump[i], e - first, dG[b])
                 dmass -= step_jump[i]
         used = 6 * ((span[b, 1] - first + 1) * (npe - 1) + 1)
         dofs[b, used:] = dofs[b, used - 1]
@@ -472,17 +488,3 @@ def smeared_transfer(
                 G[b, r, c] = G[b, r, c] / mass
                 dG[b, r, c] = (dG[b, r, c] - G[b, r, c] * dmass) / mass
     return dofs, G, dG
-
-
-@numba.njit(cache=True, inline="never")
-def add_blocks(
-    A: np.ndarray, dA: np.ndarray, element: int, npe: int, G: np.ndarray, dG: np.ndarray
-) -> None:
-    """Add an element's blocks ``A``, ``dA`` (6 npe, 6) to the rows of its nodes' slots in
-    ``G``, ``dG`` (:func:`node_slot`)."""
-    for a in range(npe):
-        slot = 6 * node_slot(element, a, npe)
-        for r in range(6):
-            for c in range(6):
-                G[slot + r, c] += A[6 * a + r, c]
-                dG[slot + r, c] += dA[6 * a + r, c]
