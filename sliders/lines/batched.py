@@ -42,7 +42,7 @@ from fvbeam.elements import influence_regions
 from fvbeam.formulations import FiniteVolume, gauss
 from fvbeam.geometry import locate_abscissa
 from fvbeam.mesh import shape_functions
-from fvbeam.smearing import check_smearing, steps
+from fvbeam.smearing import KERNEL_GAUSS_POINTS, check_smearing, steps
 from fvbeam.structure import Structure
 from sliders.lines import batched_kernel as stack_kernel
 from sliders.lines.rigid import curvature_rate, frame_and_curvature, project
@@ -72,9 +72,8 @@ class Chain(Protocol):
 MID_NODE_LAG = {"fv": 0.25 - np.sqrt(3.0) / 8, "galerkin": 1.0 / 16}
 
 #: The rule on [0, 1] by which a smeared transfer integrates each piece of a kernel's support
-#: (:meth:`ChainStack.transfer`), the kernel form's (:meth:`fvbeam.beam.Beam.kernel_transfer`):
-#: 3-point Gauss, exact for the kernel (degree <= 1) times a test function (degree <= 2).
-KERNEL_RULE = gauss(3)
+#: (:meth:`ChainStack.transfer`), the kernel form's (:meth:`fvbeam.beam.Beam.kernel_transfer`).
+KERNEL_RULE = gauss(KERNEL_GAUSS_POINTS)
 
 #: Relative tolerance on the element lengths of the members: a rigid move recomputes them
 #: from the moved nodes (8-point Gauss rule on ``|dx/dX|``), with a roundoff of some ``eps``.
