@@ -3,6 +3,7 @@ tangent and a vector ``up`` (and the check that ``up`` crosses the tangent)."""
 
 from __future__ import annotations
 
+import math
 from numbers import Real
 from typing import Literal, cast
 
@@ -27,13 +28,16 @@ def _floats(value: object) -> np.ndarray:
         return np.full(1, np.nan)
 
 
-def number(value: object, name: str, bound: Literal["", "> 0", ">= 0"] = "") -> float:
+def number(
+    value: object, name: str, bound: Literal["", "> 0", ">= 0"] = "", what: str = ""
+) -> float:
     """``value`` as a finite float, also ``> 0`` or ``>= 0`` when ``bound`` says so, or
-    ``ValueError`` naming ``name`` (a string or a bool is not a number)."""
+    ``ValueError`` naming ``name`` and what it must be (``what``, by default "finite and
+    BOUND" or "a finite number"); a string or a bool is not a number."""
     real = isinstance(value, Real) and not isinstance(value, bool)
-    x = float(cast(Real, value)) if real else np.nan
-    if not (np.isfinite(x) and (x > 0 if bound == "> 0" else x >= 0 if bound else True)):
-        what = f"finite and {bound}" if bound else "a finite number"
+    x = float(cast(Real, value)) if real else math.nan
+    if not (math.isfinite(x) and (x > 0 if bound == "> 0" else x >= 0 if bound else True)):
+        what = what or (f"finite and {bound}" if bound else "a finite number")
         raise ValueError(f"{name} must be {what}, got {value if real else repr(value)}")
     return x
 

@@ -36,7 +36,7 @@ def check_smearing(
     unknown kernel or, given the ``length`` of the beam or line it spreads loads ``on``, a
     smearing above half that length: the kernel, ``2 smearing`` wide, must fit on it (wider,
     both ends cut it wherever the load is, and it no longer has the shape asked for)."""
-    smearing = number(smearing, "smearing", ">= 0")
+    smearing = number(smearing, "smearing", ">= 0", "a finite length >= 0")
     if kernel not in KERNELS:
         raise ValueError(f"unknown smearing kernel {kernel!r}; choose one of {', '.join(KERNELS)}")
     if length is not None and smearing > length / 2:

@@ -199,7 +199,7 @@ def test_a_slider_smearing_fits_on_its_line():
     assert Slider("spherical", chain, "cart", smearing=0.3).smearing == 0.3
     with pytest.raises(ValueError, match=r"more than half the length of line 'C' of slider 'A'"):
         Slider("spherical", chain, "cart", smearing=0.31, name="A")
-    with pytest.raises(ValueError, match="smearing must be finite and >= 0, got -1"):
+    with pytest.raises(ValueError, match="smearing must be a finite length >= 0, got -1"):
         Slider("spherical", chain, "cart", smearing=-1, name="A")
 
 
