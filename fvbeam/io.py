@@ -58,7 +58,7 @@ def _failure(path: Path, exc: OSError, tmp: Path | None = None) -> OutputError:
     return OutputError(f"cannot write {where}: {exc.strerror or exc}")
 
 
-def _short(text: str, limit: int = 60) -> str:
+def _short(text: str, limit: int = 160) -> str:
     """``text`` cut in the middle to at most ``limit`` characters."""
     if len(text) <= limit:
         return text
@@ -93,7 +93,7 @@ def _nearest_existing(path: Path, extra: int) -> tuple[Path, list[str]]:
         if size > longest - (extra if last else 0):
             room = f" ({longest} less {extra} for the temporary names)" if last and extra else ""
             raise OutputError(
-                f"{shown}: the name {_short(name, 30)!r} is {size} bytes long, at most "
+                f"{shown}: the name {_short(name, 40)!r} is {size} bytes long, at most "
                 f"{longest - (extra if last else 0)} here{room}"
             )
         try:
@@ -218,11 +218,13 @@ def remove_leftovers(path: str | Path, marker: str = OUTPUT_MARKER) -> list[Path
     Removed are the directories (not links) beside ``path`` named ``.NAME.XXXXXXXX`` or
     ``.NAME.old.XXXXXXXX`` (``NAME`` the name of ``path``) that hold the file ``marker``, or
     nothing, and that no live process locks: the temporary directories of runs that died.
-    Anything else is left alone."""
+    Anything else is left alone.  The list is in the order of the names."""
     path = Path(os.path.abspath(path))
     names = _temporary_names(path)
     try:
-        entries = [e for e in os.scandir(path.parent) if names.fullmatch(e.name)]
+        entries = sorted(
+            (e for e in os.scandir(path.parent) if names.fullmatch(e.name)), key=lambda e: e.name
+        )
     except (FileNotFoundError, NotADirectoryError):
         return []
     except OSError as exc:
