@@ -118,6 +118,36 @@ def test_an_over_long_output_path(tmp_path, capsys):
     assert listing(tmp_path) == []
 
 
+def test_a_bad_scene_and_a_bad_output_directory_are_both_reported(tmp_path, capsys):
+    scene = tmp_path / "bad.toml"
+    scene.write_text(Path(SCENE).read_text().replace('title = "', 'titel = "', 1))
+    (tmp_path / "notes.txt").write_text("mine")
+    out = tmp_path / "notes.txt" / "out"
+    for verb in ("check", "run"):
+        code, err = command(capsys, verb, str(scene), "--out", str(out))
+        assert code == 2
+        lines = err.splitlines()
+        assert lines[0] == f"{scene}: invalid scene, 1 problem"
+        assert (
+            lines[1].startswith("  titel = ") and "unknown key (did you mean 'title'?)" in lines[1]
+        )
+        assert lines[2:] == [
+            f"fvslider: cannot write {out}: {tmp_path / 'notes.txt'} is not a directory"
+        ]
+    assert listing(tmp_path) == ["bad.toml", "notes.txt"]
+
+
+def test_any_other_file_problem_is_one_line(capsys, monkeypatch):
+    """The command's last resort: an ``OSError`` from anywhere is its file and reason."""
+    import sliders.app.cli as cli
+
+    def denied(args):
+        raise PermissionError(errno.EACCES, os.strerror(errno.EACCES), "/some/file")
+
+    monkeypatch.setattr(cli, "_studies", denied)
+    assert command(capsys, "studies") == (2, f"fvslider: /some/file: {os.strerror(errno.EACCES)}\n")
+
+
 def test_check_probes_the_default_output_directory(tmp_path, capsys, monkeypatch):
     """Without --out, the directory run would write: results/SCENE, here a foreign one."""
     monkeypatch.chdir(tmp_path)
