@@ -206,14 +206,15 @@ def abscissa_drive(motion: dict) -> dict:
 
 
 OFF_THE_LINE = {
+    # (cosine ramps and tables: motions that start from rest, as the body does)
     # starts beyond the end of the 1 m cantilever
     "starts outside": (
-        {"kind": "linear", "start": 1.5, "velocity": 0.035},
+        {"kind": "ramp", "start": 1.5, "end": 0.9, "t0": 0.0, "t1": 1.0},
         "xi = 1.5 m at t = 0 s",
     ),
-    # 0.6 + 0.5 t leaves at t = 0.8 s; at t_end = 1 s it is at 1.1 m
-    "leaves at speed": (
-        {"kind": "linear", "start": 0.6, "velocity": 0.5},
+    # half way up a rise of 1 m from 0.6 m over 2 s at t_end = 1 s: 1.1 m
+    "leaves before t_end": (
+        {"kind": "ramp", "start": 0.6, "end": 1.6, "t0": 0.0, "t1": 2.0},
         "xi = 1.1 m at t = 1 s",
     ),
     # a ramp to 1.2 m done by t1 = 0.5 s, before t_end
