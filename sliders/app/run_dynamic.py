@@ -66,20 +66,13 @@ class DynamicRun:
 
 
 def integrate(model: Model, progress: bool = True) -> DynamicRun:
-    """Integrate ``model``'s dynamic study, every step recorded in memory (``ValueError`` if
-    the restart file is not a state of this scene)."""
+    """Integrate ``model``'s dynamic study, every step recorded in memory, from the static
+    equilibrium or from the restart state the model read and checked (``model.restart``)."""
     study, output = model.scene.study, model.scene.output
     if not isinstance(study, DynamicStudy):
         raise ValueError(f"a {study.kind} study: integrate runs dynamic studies")
     dynamics = model.dynamics()
-    start = None
-    if study.restart is not None:
-        start = State.load(study.restart)
-        if start.q.shape != (model.structure.n_dofs,) or len(start.unknowns) != len(model.sliders):
-            raise ValueError(
-                f"{study.restart}: a state of another model ({len(start.q)} "
-                f"dofs, {len(start.unknowns)} sliders)"
-            )
+    start = model.restart
     adaptive = None
     if study.adaptive is not None:
         spec = study.adaptive
