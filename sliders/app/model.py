@@ -4,7 +4,8 @@
 :class:`~sliders.app.schema.Scene` by name, and checks the geometry (phase 3 of validation): the
 library's own checks on every part, ties between coincident nodes, point loads on their
 beams, and every slider's body on its line, in the scene and at every value of a sweep that
-moves it.  Nothing is assembled or solved until :meth:`Model.problem` is called.
+moves it, and every rigid motion held (:meth:`Model._check_held`).  Nothing is assembled or
+solved until :meth:`Model.problem` is called.
 
 The body-on-line tolerance is ``1e-6`` of the line's size (the largest of its length and of
 the distances from the origin of its ends and of the sliding point): coordinates written with
@@ -21,6 +22,7 @@ from functools import partial
 import numpy as np
 
 from fvbeam import Beam, BeamMesh, RigidBody, Section, Structure, Support, arc, straight
+from fvbeam.mechanism import rigid_modes, unresisted
 from sliders.app.checks import part_of, tied_parts
 from sliders.app.errors import Problems
 from sliders.app.schema import (
@@ -46,6 +48,7 @@ from sliders.lines.rigid import (
     project_one,
 )
 from sliders.solve.dynamics import Dynamics
+from sliders.solve.mechanism import MASSLESS_REMEDY, REMEDY, free_motion, joint_parts
 from sliders.solve.statics import SliderStatics
 
 #: Body-on-line tolerance, relative to the line's size (module docstring).
@@ -54,6 +57,11 @@ ON_LINE = 1e-6
 #: for bodies).
 COINCIDENT = 1e-9
 TWO_NODE = ("fv2", "galerkin-p1")
+#: What holds a rigid motion left free at the static start of a dynamic study.
+START_REMEDY = (
+    "a dynamic study starts from the static equilibrium at t = 0, which needs it held: a "
+    "support, a slider or a drive; or start from a saved state, study.restart"
+)
 
 
 def _section(spec) -> Section:
@@ -202,6 +210,8 @@ class Model:
         problems.raise_if_any(source)
         self._check_on_lines(problems)
         problems.raise_if_any(source)
+        self._check_held(problems)
+        problems.raise_if_any(source)
         self._previous: SliderStatics | None = None
 
     def _slider(self, spec: SliderSpec, structure: Structure) -> Slider:
@@ -273,6 +283,34 @@ class Model:
         study = self.scene.study
         if not problems and isinstance(study, SweepStudy):
             self._check_sweep(study, problems)
+
+    def _check_held(self, problems: Problems) -> None:
+        """Every rigid motion held at the scene's placement, from rest: by the supports and
+        sliders (and the dof drives of a dynamic study), the check every solve makes at its
+        start (:func:`sliders.solve.mechanism.free_motion`).  A dynamic study starts from the
+        static equilibrium, unless it restarts from a saved state: then the masses hold a
+        part's motions and only the massless parts' must be held."""
+        study = self.scene.study
+        supports = list(self.supports)
+        remedy = REMEDY
+        if isinstance(study, DynamicStudy):
+            supports += [Support.at(d.node, d.dof) for d in self.scene.drive if d.kind == "dof"]
+            remedy = START_REMEDY if study.restart is None else MASSLESS_REMEDY
+        n = self.structure.n_dofs
+        free = np.setdiff1d(np.arange(n), self.structure.support_dofs(supports))
+        modes = rigid_modes(self.structure, free)
+        if isinstance(study, DynamicStudy) and study.restart is not None and modes.k:
+            modes = unresisted(modes, self.structure.mass(study.mass)[free][:, free])
+        if not modes.k:
+            return
+        position = np.full(n, -1)
+        position[free] = np.arange(len(free))
+        zero = np.zeros(n)
+        unknowns = [s.initial_unknowns(self.structure, zero) for s in self.sliders]
+        parts = joint_parts(self.structure, self.sliders, zero, unknowns)
+        found = free_motion(modes, position, parts, self.sliders, remedy)
+        if found:
+            problems.add("support", found)
 
     def _check_sweep(self, study: SweepStudy, problems: Problems) -> None:
         where = "study.values" if study.values is not None else "study.range"

@@ -15,8 +15,11 @@ equation (:class:`~sliders.joints.slider.Slider`).
 
 Failures (Newton not converging, a singular configuration, a slider leaving its line, an
 adaptive step falling below its minimum) raise :class:`DynamicsError`, one message with the
-time, carrying the last converged state; :meth:`Dynamics.run` closes its recorder first, so the
-steps computed so far stay on disk.
+time, carrying the last converged state; :meth:`Dynamics.run` closes its recorder first, so
+the steps computed so far stay on disk.  A rigid motion that nothing holds is named
+(:mod:`sliders.solve.mechanism`): at the static start, where only supports, sliders and
+drives hold it (masses hold it only once moving: start from a given state instead), and in a
+step, where a massless part's motions are free unless held.
 """
 
 from __future__ import annotations
@@ -31,12 +34,20 @@ import scipy.sparse.linalg as spla
 from tqdm.auto import tqdm
 
 from fvbeam.geometry import vector3
+from fvbeam.mechanism import rigid_modes, unresisted
 from fvbeam.structure import Structure
 from fvbeam.support import DOF_NAMES, Support
 from sliders.joints.drives import DofDrive
 from sliders.joints.slider import Slider
 from sliders.solve.integrator import GeneralizedAlpha, Prediction, State
+from sliders.solve.mechanism import MASSLESS_REMEDY, free_motion
 from sliders.solve.statics import SliderStatics, newton_many
+
+#: What holds a motion left free at the static start of a time integration.
+START_REMEDY = (
+    "a time integration starts from the static equilibrium, which needs it held: a support, "
+    "a slider or a drive; or start from a given state, Dynamics.state or State.load"
+)
 
 
 class Recorder(Protocol):
@@ -195,11 +206,19 @@ class Dynamics:
         return q
 
     def static_state(self, t: float = 0.0) -> State:
-        """Static equilibrium under the load at ``t``, at rest: the usual start."""
+        """Static equilibrium under the load at ``t``, at rest: the usual start.
+        :class:`DynamicsError` naming the rigid motions that the supports, sliders and drives
+        leave free, if any (the masses do not hold them at rest)."""
         zero = np.zeros(self.structure.n_dofs)
         start = self.prescribe(zero, t)
         unknowns = [s.initial_unknowns(self.structure, start) for s in self.sliders]
         at_rest = State(t, zero, zero, zero, zero, [])
+        if self.sliders:
+            solver = self._solver("static")
+            assert isinstance(solver, SliderStatics)  # the solver of a model with sliders
+            free = solver.free_motion(start, unknowns, START_REMEDY)
+            if free:
+                raise DynamicsError(f"t = {t:.6g}: {free}", at_rest)
         q, unknowns, iterations = self._solve(
             "static", self.load(t), start, unknowns, t, 1.0, at_rest
         )
@@ -252,13 +271,16 @@ class Dynamics:
                     operator=operator,
                 )
             else:
-                try:
-                    lu = spla.splu(operator[self.free][:, self.free].tocsc())
-                except RuntimeError as exc:
-                    raise ValueError(
-                        "the structure is not held: its operator is singular on the free dofs"
-                    ) from exc
-                self._operators[key] = (lu, operator)
+                A = operator[self.free][:, self.free].tocsc()
+                modes = rigid_modes(self.structure, self.free)
+                modes = modes if isinstance(key, str) else unresisted(modes, A)
+                position = np.full(self.structure.n_dofs, -1)
+                position[self.free] = np.arange(len(self.free))
+                remedy = START_REMEDY if isinstance(key, str) else MASSLESS_REMEDY
+                free = free_motion(modes, position, [], [], remedy)
+                if free:
+                    raise ValueError(free)
+                self._operators[key] = (spla.splu(A), operator)
         return self._operators[key]
 
     def _solve(
