@@ -4,8 +4,9 @@
 :class:`~sliders.app.schema.Scene` by name, and checks the geometry (phase 3 of validation): the
 library's own checks on every part, ties between coincident nodes, point loads on their
 beams, and every slider's body on its line, in the scene and at every value of a sweep that
-moves it, and every rigid motion held (:meth:`Model._check_held`).  Nothing is assembled or
-solved until :meth:`Model.problem` is called.
+moves it, every rigid motion held (:meth:`Model._check_held`), and no drive of a dynamic
+study setting a mass moving at once from the static start (:meth:`Model._check_drives`).
+Nothing is solved until :meth:`Model.problem` is called.
 
 The body-on-line tolerance is ``1e-6`` of the line's size (the largest of its length and of
 the distances from the origin of its ends and of the sliding point): coordinates written with
@@ -28,6 +29,7 @@ from sliders.app.errors import Problems
 from sliders.app.schema import (
     Abscissa,
     BeamSpec,
+    DofDriveSpec,
     DynamicStudy,
     LoadFactor,
     PointLoad,
@@ -36,7 +38,7 @@ from sliders.app.schema import (
     SweepStudy,
     Translation,
 )
-from sliders.joints.drives import DofDrive, Linear, Motion, Ramp, Tabulated
+from sliders.joints.drives import DofDrive, Linear, Motion, Ramp, Tabulated, initial_rate
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
 from sliders.lines.rigid import (
@@ -48,6 +50,8 @@ from sliders.lines.rigid import (
     project_one,
 )
 from sliders.solve.dynamics import Dynamics
+from sliders.solve.integrator import State
+from sliders.solve.jumps import velocity_jumps
 from sliders.solve.mechanism import MASSLESS_REMEDY, REMEDY, free_motion, joint_parts
 from sliders.solve.statics import SliderStatics
 
@@ -211,6 +215,7 @@ class Model:
         self._check_on_lines(problems)
         problems.raise_if_any(source)
         self._check_held(problems)
+        self._check_drives(problems)
         problems.raise_if_any(source)
         self._previous: SliderStatics | None = None
 
@@ -311,6 +316,42 @@ class Model:
         found = free_motion(modes, position, parts, self.sliders, remedy)
         if found:
             problems.add("support", found)
+
+    def _check_drives(self, problems: Problems) -> None:
+        """No drive of a dynamic study that starts from the static equilibrium (at rest) sets
+        a mass moving at once (:func:`sliders.solve.jumps.velocity_jumps`).  The message
+        offers a motion that starts at rest: a linear ramp's cosine shape, else the cosine
+        ramp over the study's time from the motion's value at ``t = 0`` to its value at
+        ``t_end``."""
+        study = self.scene.study
+        if not isinstance(study, DynamicStudy) or study.restart is not None:
+            return
+        motions = [_motion(d.motion) for d in self.scene.drive]
+        if not any(initial_rate(m, 0.0) for m in motions):
+            return
+        dof, drives = self._dof_drives()
+        zero = np.zeros(self.structure.n_dofs)
+        unknowns = [s.initial_unknowns(self.structure, zero) for s in self.sliders]
+        rest = State(0.0, zero, zero, zero, zero, unknowns)
+        M = self.structure.mass(study.mass)
+        for jump in velocity_jumps(self.structure, M, drives, self.sliders, rest):
+            if isinstance(jump.drive, DofDrive):
+                i = dof[drives.index(jump.drive)]
+            else:
+                i = next(
+                    k
+                    for k, d in enumerate(self.scene.drive)
+                    if d.kind == "abscissa" and d.slider == jump.drive.name
+                )
+            if self.scene.drive[i].motion.kind == "ramp":
+                instead = 'shape = "cosine" (the same ramp, at rest at both ends)'
+            else:
+                start, end = motions[i](0.0)[0], motions[i](study.t_end)[0]
+                instead = (
+                    f'motion = {{ kind = "ramp", start = {start:.6g}, end = {end:.6g}, '
+                    f"t0 = 0, t1 = {study.t_end:g} }} (a cosine ramp: at rest at both ends)"
+                )
+            problems.add(f"drive[{i}].motion", f"{jump}; start it at rest instead, e.g. {instead}")
 
     def _check_sweep(self, study: SweepStudy, problems: Problems) -> None:
         where = "study.values" if study.values is not None else "study.range"
@@ -420,9 +461,6 @@ class Model:
         study = self.scene.study
         if not isinstance(study, DynamicStudy):
             raise ValueError(f"a {study.kind} study has no time integration")
-        drives = [
-            DofDrive(d.node, d.dof, _motion(d.motion)) for d in self.scene.drive if d.kind == "dof"
-        ]
         return Dynamics(
             self.structure,
             self.supports,
@@ -431,12 +469,17 @@ class Model:
             mass=study.mass,
             damping=study.damping,
             gravity=study.gravity,
-            drives=drives,
+            drives=self._dof_drives()[1],
             rho_inf=study.rho_inf,
             method=study.method,
             tol=study.tol,
             max_iterations=study.max_iterations,
         )
+
+    def _dof_drives(self) -> tuple[list[int], list[DofDrive]]:
+        """The scene's dof drives: their indices in ``[[drive]]`` and the drives."""
+        specs = [(i, d) for i, d in enumerate(self.scene.drive) if isinstance(d, DofDriveSpec)]
+        return [i for i, _ in specs], [DofDrive(d.node, d.dof, _motion(d.motion)) for _, d in specs]
 
     def load_vector(self, structure: Structure, value: float | None) -> np.ndarray:
         """The scene's loads on ``structure`` at the study point ``value``."""

@@ -24,6 +24,7 @@ step, where a massless part's motions are free unless held.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Protocol
@@ -40,6 +41,7 @@ from fvbeam.support import DOF_NAMES, Support
 from sliders.joints.drives import DofDrive
 from sliders.joints.slider import Slider
 from sliders.solve.integrator import GeneralizedAlpha, Prediction, State
+from sliders.solve.jumps import VelocityJump, VelocityJumpWarning, velocity_jumps
 from sliders.solve.mechanism import MASSLESS_REMEDY, free_motion
 from sliders.solve.statics import SliderStatics, newton_many
 
@@ -344,6 +346,11 @@ class Dynamics:
         tolerance)."""
         return self.M @ state.qdd + self.C @ state.v + self.K @ state.q - self.load(state.t)
 
+    def velocity_jumps(self, state: State) -> list[VelocityJump]:
+        """The drives that set a mass moving at once from ``state`` at rest
+        (:func:`sliders.solve.jumps.velocity_jumps`)."""
+        return velocity_jumps(self.structure, self.M, self.drives, self.sliders, state)
+
     def joint_residuals(self, state: State) -> np.ndarray:
         """Largest position and orientation constraint violation of each slider at
         ``state`` (``|x_b - x(xi)|`` and ``|g_j|``)."""
@@ -371,11 +378,21 @@ class Dynamics:
         first step (:class:`Adaptive`).  Each accepted state goes to ``recorder``; with
         ``progress``, a bar shows simulated time on a terminal.  The recorder is closed on
         every exit (its files then hold the steps computed), and a failure raises
-        :class:`DynamicsError` with the last converged state.
+        :class:`DynamicsError` with the last converged state.  A drive that sets a mass
+        moving at once from ``state`` at rest is warned of
+        (:class:`~sliders.solve.jumps.VelocityJumpWarning`, :meth:`velocity_jumps`).
         """
         if not (np.isfinite(t_end) and t_end > state.t and np.isfinite(h) and h > 0):
             raise ValueError(
                 f"need t_end > t = {state.t} and a step h > 0, got t_end = {t_end}, h = {h}"
+            )
+        jumps = self.velocity_jumps(state)
+        if jumps:
+            warnings.warn(
+                "; ".join(map(str, jumps)) + ": start from rest instead, e.g. with a cosine "
+                "Ramp (sliders.joints.drives.Ramp)",
+                VelocityJumpWarning,
+                stacklevel=2,
             )
         steps = 0
         if adaptive is None:
