@@ -22,6 +22,12 @@ then it is the unit row that keeps ``d xi = 0``.)  The Newton matrix may also be
 with a null vector in the multipliers (joints that hold the same motion twice); the back
 ends' own tests catch that (:meth:`sliders.solve.statics.SliderStatics._singular`).
 
+A motion held only by the multipliers themselves (a bead at rest in a curved wire under a
+load: the ``xi`` row's ``-l_/xi . lambda``) has no stiffness at zero multipliers: from rest
+the Newton matrix is singular, and the check names it.  Such a solve starts from the
+multipliers instead (``start=``, as ``tests/test_rigid_line_sliders.py`` does); a warm start
+is not checked.
+
 The small matrix has a row per joint equation and a column per rigid motion and per slider.
 Its rows and columns are equilibrated (scaled by their largest entries) and its null space
 is spanned by the right singular vectors whose singular values fall below
