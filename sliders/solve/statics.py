@@ -364,7 +364,13 @@ class SliderStatics:
         ):
             joints = nf + np.flatnonzero(np.abs(V[nf:]).max(axis=1, initial=0.0) > 0.1)
             null = np.vstack([a, (V / cols[:, None])[joints]])
-            phrases = motion_phrases(self.rigid, null, [names[i] for i in joints])
+            carried = [
+                f"slider '{n.removesuffix('.xi')}' sliding along its line"
+                if n.endswith(".xi")
+                else n
+                for n in (names[i] for i in joints)
+            ]
+            phrases = motion_phrases(self.rigid, null, carried)
             return free_motion_message("supports and sliders", phrases, self.remedy)
         v = Vt[-1]
         top = np.argsort(-np.abs(v))[:3]
