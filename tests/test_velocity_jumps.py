@@ -124,6 +124,14 @@ LINEAR_RAMP = (
 )
 
 
+#: A cosine ramp that started before t = 0: it is moving at the start.
+MID = Ramp(0.6, 0.95, -1.0, 10.0)
+MID_RAMP = (
+    'motion = { kind = "linear", start = 0.6, velocity = 0.035 }',
+    'motion = { kind = "ramp", start = 0.6, end = 0.95, t0 = -1.0, t1 = 10.0 }',
+)
+
+
 def scene_with(tmp_path, *edits) -> str:
     text = (SCENES / "pushed_body.toml").read_text()
     for old, new in edits:
@@ -145,19 +153,26 @@ def scene_with(tmp_path, *edits) -> str:
             'motion = { kind = "ramp", start = 0.6, end = 0.6175, t0 = 0, t1 = 0.5 }',
         ),
         (
+            [HEAVY_CART, SHORT, MID_RAMP],
+            "drive[0].motion: the drive of the body of slider 'push' starts at "
+            f"{MID(0.0)[1]:.4g} m/s from rest on a mass of 2 kg",
+            f'motion = {{ kind = "ramp", start = {MID(0.0)[0]:.6g}, end = {MID(0.5)[0]:.6g}, '
+            "t0 = 0, t1 = 0.5 }",
+        ),
+        (
             [SHORT, LINEAR_RAMP],
             "drive[1].motion: the drive of cantilever.end uy starts at 0.01 m/s from rest",
             'shape = "cosine"',
         ),
     ],
-    ids=["linear push of a heavy cart", "linear ramp of a beam's tip"],
+    ids=["linear push of a heavy cart", "cosine ramp already moving", "linear ramp of a tip"],
 )
 def test_a_scene_refuses_a_jump_and_accepts_the_motion_it_offers(
     edits, where, instead, tmp_path, capsys
 ):
     """Exit 2 at check and run, nothing written; the motion the message offers (a cosine
-    ramp over the study's travel, 0.6 + 0.035 x 0.5 = 0.6175 at t_end = 0.5; a linear ramp's
-    cosine shape) validates and runs."""
+    ramp over the study's travel: 0.6 + 0.035 x 0.5 = 0.6175 at t_end = 0.5, or the moving
+    ramp's values at 0 and 0.5; a linear ramp's cosine shape) validates and runs."""
     text = scene_with(tmp_path, *edits)
     scene, out = tmp_path / "scene.toml", tmp_path / "out"
     for args in (["check", str(scene)], ["run", str(scene), "--out", str(out)]):
@@ -166,7 +181,7 @@ def test_a_scene_refuses_a_jump_and_accepts_the_motion_it_offers(
         assert f"\n  {where}" in err and f"start it at rest instead, e.g. {instead}" in err
         assert sorted(p.name for p in tmp_path.iterdir()) == ["scene.toml"]
     if instead.startswith("motion"):
-        fixed = re.sub(r"motion = \{ kind = \"linear\".*\}", instead, text, count=1)
+        fixed = re.sub(r"motion = \{.*\}", instead, text, count=1)
     else:
         fixed = text.replace('shape = "linear"', instead)
     assert fixed != text

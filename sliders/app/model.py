@@ -320,9 +320,9 @@ class Model:
     def _check_drives(self, problems: Problems) -> None:
         """No drive of a dynamic study that starts from the static equilibrium (at rest) sets
         a mass moving at once (:func:`sliders.solve.jumps.velocity_jumps`).  The message
-        offers a motion that starts at rest: a linear ramp's cosine shape, else the cosine
-        ramp over the study's time from the motion's value at ``t = 0`` to its value at
-        ``t_end``."""
+        offers a motion that starts at rest: the cosine shape of a linear ramp from
+        ``t0 = 0``, else the cosine ramp over the study's time from the motion's value at
+        ``t = 0`` to its value at ``t_end``."""
         study = self.scene.study
         if not isinstance(study, DynamicStudy) or study.restart is not None:
             return
@@ -343,7 +343,8 @@ class Model:
                     for k, d in enumerate(self.scene.drive)
                     if d.kind == "abscissa" and d.slider == jump.drive.name
                 )
-            if self.scene.drive[i].motion.kind == "ramp":
+            spec = self.scene.drive[i].motion
+            if spec.kind == "ramp" and spec.shape == "linear" and spec.t0 == 0:
                 instead = 'shape = "cosine" (the same ramp, at rest at both ends)'
             else:
                 start, end = motions[i](0.0)[0], motions[i](study.t_end)[0]
