@@ -8,6 +8,7 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 from fvbeam.beam import Beam
+from fvbeam.mechanism import free_motion_message, motion_phrases, rigid_modes
 from fvbeam.structure import Structure
 from fvbeam.support import Support
 
@@ -15,7 +16,8 @@ from fvbeam.support import Support
 class LinearStatics:
     """``K q = f`` with supports, factorised once; every further load case is one solve.
 
-    Raises ``ValueError`` naming the problem when the supports leave a rigid motion free.
+    Raises ``ValueError`` naming every rigid motion the supports leave free
+    (:mod:`fvbeam.mechanism`): the stiffness is singular then.
     """
 
     def __init__(self, structure: Structure | Beam, supports: Sequence[Support]) -> None:
@@ -24,21 +26,15 @@ class LinearStatics:
         self.structure = structure
         self.fixed = structure.support_dofs(supports)
         self.free = np.setdiff1d(np.arange(structure.n_dofs), self.fixed)
-        self.K = structure.tangent(np.zeros(structure.n_dofs))
-        Kff = self.K[self.free][:, self.free].tocsc()
-        try:
-            self.lu = spla.splu(Kff)
-        except RuntimeError as exc:
+        modes = rigid_modes(structure, self.free)
+        if modes.k:
             raise ValueError(
-                "the stiffness is singular: the supports leave a rigid-body "
-                "motion free (clamp or pin more nodes)"
-            ) from exc
-        diag = np.abs(self.lu.U.diagonal())
-        if diag.min() <= 1e-13 * diag.max():
-            raise ValueError(
-                "the stiffness is singular to working precision: the supports "
-                "leave a rigid-body motion free (clamp or pin more nodes)"
+                free_motion_message(
+                    "supports", motion_phrases(modes, np.eye(modes.k)), "support more dofs"
+                )
             )
+        self.K = structure.tangent(np.zeros(structure.n_dofs))
+        self.lu = spla.splu(self.K[self.free][:, self.free].tocsc())
 
     def solve(self, f: np.ndarray) -> np.ndarray:
         """Displacements for the load vector ``f`` (global dofs; zero at the supports)."""

@@ -33,6 +33,7 @@ import scipy.sparse as sp
 from test_sliders import L, sliding_beams_model
 
 from fvbeam import Beam, Section, Structure, Support, straight
+from fvbeam.mechanism import rigid_modes, unresisted
 from sliders.joints.blocks import SlotJacobian
 from sliders.solve import condensed
 from sliders.solve import condensed_reference as reference
@@ -96,8 +97,10 @@ class Problem:
             self.K = (A @ A.T + sp.diags(rng.uniform(1.0, 2.0, n))).tocsr()
         else:
             self.K = self.structure.tangent(np.zeros(self.structure.n_dofs)).tocsr()
-        self.operator = CondensedOperator(self.structure, self.K, self.free)
-        self.K_free = self.K[self.free][:, self.free].toarray()
+        self.K_free = self.K[self.free][:, self.free]
+        phi = unresisted(rigid_modes(self.structure, self.free), self.K_free).phi
+        self.operator = CondensedOperator(self.K, self.free, phi)
+        self.K_free = self.K_free.toarray()
         self.position = np.full(self.structure.n_dofs, -1)
         self.position[self.free] = np.arange(len(self.free))
         self.nodes = [dofs[::6] // 6 for dofs in self.structure.dof_maps]

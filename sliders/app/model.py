@@ -6,7 +6,10 @@ names (phase 3 of validation): the mesh files read, the library's own checks on 
 ties between coincident nodes, point loads on their beams, every slider's body on its line,
 in the scene and at every value of a sweep that moves it; a dynamic study's restart state
 read and matched to the model, and every abscissa drive on its line from the start to
-``t_end``.  Nothing is assembled or solved until :meth:`Model.problem` is called.
+``t_end``; every rigid motion held (:meth:`Model._check_held`), and no drive of a dynamic
+study setting a mass moving at once from the static start
+(:meth:`Model._check_velocity_jumps`).  Nothing is assembled or solved until
+:meth:`Model.problem` is called.
 
 The body-on-line tolerance is ``1e-6`` of the line's size (the largest of its length and of
 the distances from the origin of its ends and of the sliding point): coordinates written with
@@ -23,6 +26,7 @@ from functools import partial
 import numpy as np
 
 from fvbeam import Beam, BeamMesh, RigidBody, Section, Structure, Support, arc, straight
+from fvbeam.mechanism import rigid_modes, unresisted
 from fvbeam.smearing import check_smearing
 from sliders.app.checks import part_of, tied_parts
 from sliders.app.errors import Problems
@@ -30,6 +34,7 @@ from sliders.app.limits import Limits, element_problems
 from sliders.app.schema import (
     Abscissa,
     BeamSpec,
+    DofDriveSpec,
     DynamicStudy,
     LoadFactor,
     PointLoad,
@@ -38,7 +43,7 @@ from sliders.app.schema import (
     SweepStudy,
     Translation,
 )
-from sliders.joints.drives import DofDrive, Linear, Ramp, Tabulated
+from sliders.joints.drives import DofDrive, Linear, Ramp, Tabulated, initial_rate
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
 from sliders.lines.rigid import (
@@ -51,6 +56,8 @@ from sliders.lines.rigid import (
 )
 from sliders.solve.dynamics import Dynamics
 from sliders.solve.integrator import State
+from sliders.solve.jumps import velocity_jumps
+from sliders.solve.mechanism import MASSLESS_REMEDY, REMEDY, free_motion, joint_parts
 from sliders.solve.statics import SliderStatics
 
 #: Body-on-line tolerance, relative to the line's size (module docstring).
@@ -59,6 +66,11 @@ ON_LINE = 1e-6
 #: for bodies).
 COINCIDENT = 1e-9
 TWO_NODE = ("fv2", "galerkin-p1")
+#: What holds a rigid motion left free at the static start of a dynamic study.
+START_REMEDY = (
+    "a dynamic study starts from the static equilibrium at t = 0, which needs it held: a "
+    "support, a slider or a drive; or start from a saved state, study.restart"
+)
 
 
 def _inside(xi: float, length: float) -> bool:
@@ -228,7 +240,10 @@ class Model:
         self._check_on_lines(problems)
         #: The state a dynamic study starts from (``study.restart``), or None.
         self.restart = self._restart(problems)
-        self._check_drives(problems)
+        self._check_drives_on_lines(problems)
+        problems.raise_if_any(source)
+        self._check_held(problems)
+        self._check_velocity_jumps(problems)
         problems.raise_if_any(source)
         self._previous: SliderStatics | None = None
 
@@ -306,6 +321,71 @@ class Model:
         study = self.scene.study
         if not problems and isinstance(study, SweepStudy):
             self._check_sweep(study, problems)
+
+    def _check_held(self, problems: Problems) -> None:
+        """Every rigid motion held at the scene's placement, from rest: by the supports and
+        sliders (and the dof drives of a dynamic study), the check every solve makes at its
+        start (:func:`sliders.solve.mechanism.free_motion`).  A dynamic study starts from the
+        static equilibrium, unless it restarts from a saved state: then the masses hold a
+        part's motions and only the massless parts' must be held."""
+        study = self.scene.study
+        supports = list(self.supports)
+        remedy = REMEDY
+        if isinstance(study, DynamicStudy):
+            supports += [Support.at(d.node, d.dof) for d in self.scene.drive if d.kind == "dof"]
+            remedy = START_REMEDY if study.restart is None else MASSLESS_REMEDY
+        n = self.structure.n_dofs
+        free = np.setdiff1d(np.arange(n), self.structure.support_dofs(supports))
+        modes = rigid_modes(self.structure, free)
+        if isinstance(study, DynamicStudy) and study.restart is not None and modes.k:
+            modes = unresisted(modes, self.structure.mass(study.mass)[free][:, free])
+        if not modes.k:
+            return
+        position = np.full(n, -1)
+        position[free] = np.arange(len(free))
+        zero = np.zeros(n)
+        unknowns = [s.initial_unknowns(self.structure, zero) for s in self.sliders]
+        parts = joint_parts(self.structure, self.sliders, zero, unknowns)
+        found = free_motion(modes, position, parts, self.sliders, remedy)
+        if found:
+            problems.add("support", found)
+
+    def _check_velocity_jumps(self, problems: Problems) -> None:
+        """No drive of a dynamic study that starts from the static equilibrium (at rest) sets
+        a mass moving at once (:func:`sliders.solve.jumps.velocity_jumps`).  The message
+        offers a motion that starts at rest: the cosine shape of a linear ramp from
+        ``t0 = 0``, else the cosine ramp over the study's time from the motion's value at
+        ``t = 0`` to its value at ``t_end``."""
+        study = self.scene.study
+        if not isinstance(study, DynamicStudy) or study.restart is not None:
+            return
+        motions = [_motion(d.motion) for d in self.scene.drive]
+        if not any(initial_rate(m, 0.0) for m in motions):
+            return
+        dof, drives = self._dof_drives()
+        zero = np.zeros(self.structure.n_dofs)
+        unknowns = [s.initial_unknowns(self.structure, zero) for s in self.sliders]
+        rest = State(0.0, zero, zero, zero, zero, unknowns)
+        M = self.structure.mass(study.mass)
+        for jump in velocity_jumps(self.structure, M, drives, self.sliders, rest):
+            if isinstance(jump.drive, DofDrive):
+                i = dof[drives.index(jump.drive)]
+            else:
+                i = next(
+                    k
+                    for k, d in enumerate(self.scene.drive)
+                    if d.kind == "abscissa" and d.slider == jump.drive.name
+                )
+            spec = self.scene.drive[i].motion
+            if spec.kind == "ramp" and spec.shape == "linear" and spec.t0 == 0:
+                instead = 'shape = "cosine" (the same ramp, at rest at both ends)'
+            else:
+                start, end = motions[i](0.0)[0], motions[i](study.t_end)[0]
+                instead = (
+                    f'motion = {{ kind = "ramp", start = {start:.6g}, end = {end:.6g}, '
+                    f"t0 = 0, t1 = {study.t_end:g} }} (a cosine ramp: at rest at both ends)"
+                )
+            problems.add(f"drive[{i}].motion", f"{jump}; start it at rest instead, e.g. {instead}")
 
     def _check_sweep(self, study: SweepStudy, problems: Problems) -> None:
         where = "study.values" if study.values is not None else "study.range"
@@ -387,7 +467,7 @@ class Model:
             )
         return state if len(problems) == found else None
 
-    def _check_drives(self, problems: Problems) -> None:
+    def _check_drives_on_lines(self, problems: Problems) -> None:
         """Every abscissa drive keeps its slider on its line over the whole integration, from
         its start (``t = 0`` or the restart state's time) to ``t_end``: the motion is checked
         at every time it may be least or greatest (``turning_times``)."""
@@ -481,9 +561,6 @@ class Model:
         study = self.scene.study
         if not isinstance(study, DynamicStudy):
             raise ValueError(f"a {study.kind} study has no time integration")
-        drives = [
-            DofDrive(d.node, d.dof, _motion(d.motion)) for d in self.scene.drive if d.kind == "dof"
-        ]
         return Dynamics(
             self.structure,
             self.supports,
@@ -492,12 +569,17 @@ class Model:
             mass=study.mass,
             damping=study.damping,
             gravity=study.gravity,
-            drives=drives,
+            drives=self._dof_drives()[1],
             rho_inf=study.rho_inf,
             method=study.method,
             tol=study.tol,
             max_iterations=study.max_iterations,
         )
+
+    def _dof_drives(self) -> tuple[list[int], list[DofDrive]]:
+        """The scene's dof drives: their indices in ``[[drive]]`` and the drives."""
+        specs = [(i, d) for i, d in enumerate(self.scene.drive) if isinstance(d, DofDriveSpec)]
+        return [i for i, _ in specs], [DofDrive(d.node, d.dof, _motion(d.motion)) for _, d in specs]
 
     def load_vector(self, structure: Structure, value: float | None) -> np.ndarray:
         """The scene's loads on ``structure`` at the study point ``value``."""

@@ -20,6 +20,11 @@ A motion drives one of two things (:class:`sliders.solve.dynamics.Dynamics`):
   pushes the sliding point along the line;
 * a structure dof (:class:`DofDrive`): the dof is prescribed like a support with a moving
   value, and its reaction is the driving force.
+
+A motion that leaves a state at rest with a nonzero rate (:func:`initial_rate`: a ``Linear``
+motion, a linear ramp or a table that starts moving at once) jumps what it drives to that
+speed in the first step: with a mass there, an impulse and kinetic energy from nowhere
+(:meth:`sliders.solve.dynamics.Dynamics.velocity_jumps`).  A cosine ramp starts at rest.
 """
 
 from __future__ import annotations
@@ -68,6 +73,10 @@ class Linear:
         ends (the motion is monotone)."""
         return np.array([t0, t1], dtype=float)
 
+    def rate_after(self, t: float) -> float:
+        """The rate just after ``t``: the velocity, at every time."""
+        return self.velocity
+
 
 @dataclass(frozen=True)
 class Ramp:
@@ -105,6 +114,15 @@ class Ramp:
         """The times in ``[t0, t1]`` at which the value may be least or greatest there: the
         ends (either shape is monotone)."""
         return np.array([t0, t1], dtype=float)
+
+    def rate_after(self, t: float) -> float:
+        """The rate just after ``t``: from ``t0`` the linear ramp's ``(end - start) / (t1 -
+        t0)``, the cosine ramp's rate (zero at ``t0``)."""
+        if not self.t0 <= t < self.t1:
+            return 0.0
+        if self.shape == "linear":
+            return (self.end - self.start) / (self.t1 - self.t0)
+        return self(t)[1]
 
 
 @dataclass(frozen=True, eq=False)
@@ -155,6 +173,25 @@ class Tabulated:
         if self._spline is not None:
             inside += list(self._spline.derivative().roots(extrapolate=False))
         return np.array([t0, t1] + [t for t in inside if t0 < t < t1], dtype=float)
+
+    def rate_after(self, t: float) -> float:
+        """The rate just after ``t``: at a point of the table, that of the piece it starts
+        (the spline's one-sided derivative there); zero from the last time on."""
+        times = self.times
+        if not times[0] <= t < times[-1]:
+            return 0.0
+        if self._spline is not None:
+            return float(self._spline(t, 1))
+        k = int(np.searchsorted(times, t, side="right")) - 1
+        return float((self.values[k + 1] - self.values[k]) / (times[k + 1] - times[k]))
+
+
+def initial_rate(motion: Motion, t: float) -> float:
+    """The rate with which ``motion`` leaves ``t``: the right-hand limit of its rate (at the
+    first point of a linear ramp or of a table, the rate of the piece that starts there;
+    their ``rate_after``); for a motion of another kind, its rate at ``t``."""
+    after = getattr(motion, "rate_after", None)
+    return float(after(t)) if after is not None else float(motion(t)[1])
 
 
 @dataclass(frozen=True)

@@ -3,9 +3,10 @@
 The beams are linear, so their stiffness ``K`` (free dofs) is constant, and the sliders touch
 only a few dofs.  ``K`` may be singular: a part held only by sliders (the piston of the
 sliding-beams setup) keeps the rigid motions its supports leave free.  Their basis ``Phi``
-(:func:`rigid_modes`) spans both null spaces of ``K``: ``K Phi = 0`` (a rigid motion does not
-strain) and ``Phi^T K = 0`` (a rigid virtual motion does no internal work; the fv regions and
-the Galerkin shape functions both reproduce rigid motions).  The bordered operator
+(:func:`fvbeam.mechanism.rigid_modes`) spans both null spaces of ``K``: ``K Phi = 0`` (a
+rigid motion does not strain) and ``Phi^T K = 0`` (a rigid virtual motion does no internal
+work; the fv regions and the Galerkin shape functions both reproduce rigid motions).  The
+bordered operator
 
     B = [K, s Phi; s Phi^T, 0]          (s = max |K|, to balance the pivots)
 
@@ -37,12 +38,9 @@ problem).
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg as la
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
-from scipy.sparse.csgraph import connected_components
 
-from fvbeam.structure import Structure
 from sliders.joints.blocks import SlotJacobian
 from sliders.solve.condensed_kernel import condensed_step
 
@@ -58,73 +56,19 @@ SINGULAR_RCOND = 1e-12
 DENSE_LIMIT = 3000
 
 
-def node_positions(structure: Structure) -> np.ndarray:
-    """Reference position of every structure node, beam nodes and rigid bodies,
-    ``(n_nodes, 3)``."""
-    x = np.zeros((structure.n_nodes, 3))
-    for beam, dofs in zip(structure.beams, structure.dof_maps, strict=True):
-        x[dofs[::6] // 6] = beam.mesh.points
-    for body in structure.bodies:
-        x[structure.node_dofs(body.name)[0] // 6] = body.position
-    return x
-
-
-def rigid_modes(structure: Structure, K: sp.spmatrix, free: np.ndarray) -> np.ndarray:
-    """Orthonormal basis ``(len(free), k)`` of the rigid motions the supports leave free.
-
-    Every connected part of the structure (connected through the pattern of its global
-    stiffness ``K``) moves rigidly
-    with a translation and a rotation about its centroid (``u = t + w x (x - x_0)``,
-    ``theta = w``, rotations scaled by the part's size); the combinations that vanish on the
-    supported dofs are kept.
-    """
-    coo = K.tocoo()
-    graph = sp.coo_matrix(
-        (np.ones(coo.nnz), (coo.row // 6, coo.col // 6)),
-        shape=(structure.n_nodes, structure.n_nodes),
-    )
-    n_parts, part = connected_components(graph, directed=False)
-    x = node_positions(structure)
-    modes = np.zeros((structure.n_dofs, 6 * n_parts))
-    for p in range(n_parts):
-        nodes = np.flatnonzero(part == p)
-        lever = x[nodes] - x[nodes].mean(axis=0)
-        size = max(float(np.linalg.norm(lever, axis=1).max()), 1e-300)
-        for i in range(3):
-            e = np.eye(3)[i]
-            modes[6 * nodes[:, None] + np.arange(3), 6 * p + i] = e
-            modes[6 * nodes[:, None] + np.arange(3), 6 * p + 3 + i] = np.cross(e, lever) / size
-            modes[6 * nodes + 3 + i, 6 * p + 3 + i] = 1.0 / size
-    fixed = np.setdiff1d(np.arange(structure.n_dofs), free)
-    combos = la.null_space(modes[fixed]) if fixed.size else np.eye(modes.shape[1])
-    if combos.shape[1] == 0:
-        return np.zeros((len(free), 0))
-    return np.linalg.qr(modes[free] @ combos)[0]
-
-
-def unresisted(phi: np.ndarray, K_free: sp.spmatrix) -> np.ndarray:
-    """The combinations of the rigid motions ``phi`` that ``K_free`` does not resist
-    (``|K_free phi a| <= 1e-8 max|K_free|`` for unit ``a``).  A stiffness keeps them all; the
-    time integrator's operator ``M + c K`` (:mod:`sliders.solve.dynamics`) keeps only those of the
-    massless parts (a massless body held by its sliders alone)."""
-    if phi.shape[1] == 0:
-        return phi
-    _, sigma, Vt = np.linalg.svd(K_free @ phi, full_matrices=True)
-    sigma = np.concatenate([sigma, np.zeros(phi.shape[1] - len(sigma))])
-    return phi @ Vt[sigma <= 1e-8 * abs(K_free).max()].T
-
-
 class CondensedOperator:
     """``B`` factorised once, with the columns of ``B^{-1}`` cached per free dof; ``K`` is
-    the structure's global stiffness, ``free`` its unsupported dofs.
+    the structure's global stiffness (or the time integrator's operator), ``free`` its
+    unsupported dofs, ``phi`` the free rigid motions it does not resist
+    (:attr:`sliders.solve.statics.SliderStatics.rigid`).
 
     Raises ``ValueError`` when ``B`` is singular: the supports leave a mechanism that is not
     a rigid motion of a part (use the bordered back end, which lets the sliders hold it).
     """
 
-    def __init__(self, structure: Structure, K: sp.spmatrix, free: np.ndarray) -> None:
+    def __init__(self, K: sp.spmatrix, free: np.ndarray, phi: np.ndarray) -> None:
         K_free = sp.csr_matrix(K)[free][:, free]
-        self.phi = np.ascontiguousarray(unresisted(rigid_modes(structure, K, free), K_free))
+        self.phi = np.ascontiguousarray(phi)
         self.n_free, self.n_rigid = len(free), self.phi.shape[1]
         scale = np.abs(K_free).max()
         B = sp.bmat(

@@ -15,12 +15,16 @@ equation (:class:`~sliders.joints.slider.Slider`).
 
 Failures (Newton not converging, a singular configuration, a slider leaving its line, an
 adaptive step falling below its minimum) raise :class:`DynamicsError`, one message with the
-time, carrying the last converged state; :meth:`Dynamics.run` closes its recorder first, so the
-steps computed so far stay on disk.
+time, carrying the last converged state; :meth:`Dynamics.run` closes its recorder first, so
+the steps computed so far stay on disk.  A rigid motion that nothing holds is named
+(:mod:`sliders.solve.mechanism`): at the static start, where only supports, sliders and
+drives hold it (masses hold it only once moving: start from a given state instead), and in a
+step, where a massless part's motions are free unless held.
 """
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Protocol
@@ -31,12 +35,21 @@ import scipy.sparse.linalg as spla
 from tqdm.auto import tqdm
 
 from fvbeam.geometry import vector3
+from fvbeam.mechanism import rigid_modes, unresisted
 from fvbeam.structure import Structure
 from fvbeam.support import DOF_NAMES, Support
 from sliders.joints.drives import DofDrive
 from sliders.joints.slider import Slider
 from sliders.solve.integrator import GeneralizedAlpha, Prediction, State
+from sliders.solve.jumps import VelocityJump, VelocityJumpWarning, velocity_jumps
+from sliders.solve.mechanism import MASSLESS_REMEDY, free_motion
 from sliders.solve.statics import SliderStatics, newton_many
+
+#: What holds a motion left free at the static start of a time integration.
+START_REMEDY = (
+    "a time integration starts from the static equilibrium, which needs it held: a support, "
+    "a slider or a drive; or start from a given state, Dynamics.state or State.load"
+)
 
 
 class Recorder(Protocol):
@@ -195,11 +208,19 @@ class Dynamics:
         return q
 
     def static_state(self, t: float = 0.0) -> State:
-        """Static equilibrium under the load at ``t``, at rest: the usual start."""
+        """Static equilibrium under the load at ``t``, at rest: the usual start.
+        :class:`DynamicsError` naming the rigid motions that the supports, sliders and drives
+        leave free, if any (the masses do not hold them at rest)."""
         zero = np.zeros(self.structure.n_dofs)
         start = self.prescribe(zero, t)
         unknowns = [s.initial_unknowns(self.structure, start) for s in self.sliders]
         at_rest = State(t, zero, zero, zero, zero, [])
+        if self.sliders:
+            solver = self._solver("static")
+            assert isinstance(solver, SliderStatics)  # the solver of a model with sliders
+            free = solver.free_motion(start, unknowns, START_REMEDY)
+            if free:
+                raise DynamicsError(f"t = {t:.6g}: {free}", at_rest)
         q, unknowns, iterations = self._solve(
             "static", self.load(t), start, unknowns, t, 1.0, at_rest
         )
@@ -252,13 +273,16 @@ class Dynamics:
                     operator=operator,
                 )
             else:
-                try:
-                    lu = spla.splu(operator[self.free][:, self.free].tocsc())
-                except RuntimeError as exc:
-                    raise ValueError(
-                        "the structure is not held: its operator is singular on the free dofs"
-                    ) from exc
-                self._operators[key] = (lu, operator)
+                A = operator[self.free][:, self.free].tocsc()
+                modes = rigid_modes(self.structure, self.free)
+                modes = modes if isinstance(key, str) else unresisted(modes, A)
+                position = np.full(self.structure.n_dofs, -1)
+                position[self.free] = np.arange(len(self.free))
+                remedy = START_REMEDY if isinstance(key, str) else MASSLESS_REMEDY
+                free = free_motion(modes, position, [], [], remedy)
+                if free:
+                    raise ValueError(free)
+                self._operators[key] = (spla.splu(A), operator)
         return self._operators[key]
 
     def _solve(
@@ -322,6 +346,11 @@ class Dynamics:
         tolerance)."""
         return self.M @ state.qdd + self.C @ state.v + self.K @ state.q - self.load(state.t)
 
+    def velocity_jumps(self, state: State) -> list[VelocityJump]:
+        """The drives that set a mass moving at once from ``state`` at rest
+        (:func:`sliders.solve.jumps.velocity_jumps`)."""
+        return velocity_jumps(self.structure, self.M, self.drives, self.sliders, state)
+
     def joint_residuals(self, state: State) -> np.ndarray:
         """Largest position and orientation constraint violation of each slider at
         ``state`` (``|x_b - x(xi)|`` and ``|g_j|``)."""
@@ -349,11 +378,21 @@ class Dynamics:
         first step (:class:`Adaptive`).  Each accepted state goes to ``recorder``; with
         ``progress``, a bar shows simulated time on a terminal.  The recorder is closed on
         every exit (its files then hold the steps computed), and a failure raises
-        :class:`DynamicsError` with the last converged state.
+        :class:`DynamicsError` with the last converged state.  A drive that sets a mass
+        moving at once from ``state`` at rest is warned of
+        (:class:`~sliders.solve.jumps.VelocityJumpWarning`, :meth:`velocity_jumps`).
         """
         if not (np.isfinite(t_end) and t_end > state.t and np.isfinite(h) and h > 0):
             raise ValueError(
                 f"need t_end > t = {state.t} and a step h > 0, got t_end = {t_end}, h = {h}"
+            )
+        jumps = self.velocity_jumps(state)
+        if jumps:
+            warnings.warn(
+                "; ".join(map(str, jumps)) + ": start from rest instead, e.g. with a cosine "
+                "Ramp (sliders.joints.drives.Ramp)",
+                VelocityJumpWarning,
+                stacklevel=2,
             )
         steps = 0
         if adaptive is None:

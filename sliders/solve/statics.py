@@ -32,10 +32,25 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import ArrayLike
 
+from fvbeam.mechanism import (
+    RigidModes,
+    free_motion_message,
+    motion_phrases,
+    node_positions,
+    rigid_modes,
+    unresisted,
+)
 from fvbeam.structure import Structure
 from fvbeam.support import Support
 from sliders.joints.slider import Slider, SliderBatch
-from sliders.solve.condensed import CondensedOperator, node_positions
+from sliders.solve.condensed import SINGULAR_RCOND, CondensedOperator
+from sliders.solve.mechanism import (
+    MASSLESS_REMEDY,
+    REMEDY,
+    free_motion,
+    joint_parts,
+    member_parts,
+)
 
 METHODS = ("bordered", "condensed")
 
@@ -67,6 +82,11 @@ class SliderStatics:
     linear-algebra back end, ``bordered`` or ``condensed`` (module docstring).  ``operator``:
     a matrix that takes the place of the stiffness (the time integrator's
     ``M + c_v C + c_q K``, :mod:`sliders.solve.dynamics`); default the structure's stiffness.
+
+    A solve never returns a solution of a singular system: the rigid motions that the
+    supports leave free (:attr:`rigid`) must be held by the sliders, which every start with
+    zero multipliers checks (:mod:`sliders.solve.mechanism`), and a singular Newton step ends
+    the solve with the free motion named (:meth:`_diagnose`).
     """
 
     K: sp.csr_matrix
@@ -87,6 +107,8 @@ class SliderStatics:
         if method not in METHODS:
             raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
         self.structure, self.sliders, self.method = structure, list(sliders), method
+        self._stiffness = operator is None
+        self._rigid: RigidModes | None = None
         names = [s.name for s in self.sliders]
         if len(set(names)) != len(names):
             raise ValueError(f"slider names must be unique, got {names}")
@@ -104,7 +126,35 @@ class SliderStatics:
             self.K_free = self.K[self.free][:, self.free].tocoo()
             self._condensed = None
         if method == "condensed" and self._condensed is None:
-            self._condensed = CondensedOperator(structure, self.K, self.free)
+            self._condensed = CondensedOperator(self.K, self.free, self.rigid.phi)
+
+    @property
+    def rigid(self) -> RigidModes:
+        """The rigid motions that the supports leave free and the operator does not resist
+        (:func:`fvbeam.mechanism.rigid_modes`; of the time integrator's operator, those of
+        the massless parts, :func:`fvbeam.mechanism.unresisted`), computed when first
+        asked for."""
+        if self._rigid is None:
+            modes = rigid_modes(self.structure, self.free)
+            self._rigid = modes if self._stiffness else unresisted(modes, self.K_free)
+        return self._rigid
+
+    @property
+    def remedy(self) -> str:
+        """What would hold a free motion, in the messages: a support, a slider or a drive
+        (and on the time integrator's operator, whose free motions are the massless
+        parts', a mass)."""
+        return REMEDY if self._stiffness else MASSLESS_REMEDY
+
+    def free_motion(
+        self, q: np.ndarray, unknowns: Sequence[np.ndarray], remedy: str | None = None
+    ) -> str | None:
+        """The message naming the rigid motions that neither the supports nor the sliders
+        hold at the state ``q``, ``unknowns`` (multipliers zero: a start from rest), or None
+        (:func:`sliders.solve.mechanism.free_motion`; ``remedy``: what would hold them,
+        default :attr:`remedy`)."""
+        parts = joint_parts(self.structure, self.sliders, q, unknowns)
+        return free_motion(self.rigid, self._position, parts, self.sliders, remedy or self.remedy)
 
     def _same_operator(self, structure: Structure, fixed: np.ndarray) -> bool:
         old = self.structure
@@ -190,10 +240,11 @@ class SliderStatics:
 
     def _linear(self, f: np.ndarray) -> tuple[np.ndarray, list, list[float]]:
         """``K q = f`` on the free dofs (a structure without sliders: the bordered step with
-        no borders, from rest), with the residual history ``[1, |K q - f| / |f|]``."""
-        step = self._bordered_step(-f, [])
+        no borders, from rest), with the residual history ``[1, |K q - f| / |f|]``;
+        ``ValueError`` naming the rigid motions the supports leave free, if any."""
+        step = self._bordered_step(-f, [], cold=True)
         if step is None:
-            raise ValueError(self._diagnose([], "the stiffness has no finite solution"))
+            raise ValueError(self._diagnose([], "the stiffness has no finite solution", cold=True))
         q = step[0]
         scale = max(np.abs(f).max(), 1e-300)
         return q, [], [1.0, float(np.abs((self.K @ q - f)[self.free]).max() / scale)]
@@ -201,17 +252,7 @@ class SliderStatics:
     def jacobian(self, q: np.ndarray, unknowns: Sequence[np.ndarray]) -> sp.csc_matrix:
         """The Newton matrix at ``q`` and the sliders' ``unknowns``: rows and columns are the
         free dofs (in order) followed by each slider's unknowns."""
-        return self._bordered(self._parts(q, unknowns))[0]
-
-    def _parts(self, q: np.ndarray, unknowns: Sequence[np.ndarray]) -> list:
-        """Each slider's ``(dofs, r_q, r_y, J)`` on its slots (:meth:`SliderBatch.evaluate`)."""
-        return _member(
-            [
-                s.batch(self.structure).evaluate(q[None], np.asarray(y)[None])
-                for s, y in zip(self.sliders, unknowns, strict=True)
-            ],
-            0,
-        )
+        return self._bordered(joint_parts(self.structure, self.sliders, q, unknowns))[0]
 
     def _bordered(self, parts: list) -> tuple[sp.csc_matrix, list[np.ndarray]]:
         """The bordered matrix on the free dofs and slider unknowns (a dof held by several
@@ -234,8 +275,16 @@ class SliderStatics:
         )
         return S, r_y
 
-    def _bordered_step(self, r_q: np.ndarray, parts: list) -> tuple[np.ndarray, np.ndarray] | None:
-        """Newton increments from the factorised bordered system; None if it is singular."""
+    def _bordered_step(
+        self, r_q: np.ndarray, parts: list, cold: bool = False
+    ) -> tuple[np.ndarray, np.ndarray] | None:
+        """Newton increments from the factorised bordered system; None if it is singular: a
+        factor with a zero pivot, increments that are not finite, or, at a ``cold`` state
+        (multipliers zero), a rigid motion that the supports and sliders leave free
+        (:func:`sliders.solve.mechanism.free_motion`, which catches what roundoff hides from
+        the factorisation)."""
+        if cold and free_motion(self.rigid, self._position, parts, self.sliders, self.remedy):
+            return None
         S, r_y = self._bordered(parts)
         try:
             z = spla.splu(S).solve(-np.concatenate([r_q[self.free]] + r_y))
@@ -254,17 +303,20 @@ class SliderStatics:
         parts: list,
         r_y: np.ndarray,
         stacked: list,
+        cold: np.ndarray,
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Newton increments ``dq`` (B, n), ``dy`` (B, m) of ``members`` (this one's
         operator; their residuals ``R`` (B, n), ``r_y`` and the joints' slot arrays
         ``parts``, per slider, and ``stacked``, per evaluated batch, :func:`_evaluate`), and
-        which are regular."""
+        which are regular.  ``cold``: the members whose multipliers are zero (the bordered
+        step checks their free motions; the condensed one's test of its small system is
+        exact, :mod:`sliders.solve.condensed`)."""
         B = len(R)
         dq, dy = np.zeros_like(R), np.zeros_like(r_y)
         if self.method == "bordered":
             regular = np.zeros(B, dtype=bool)
             for b, member in enumerate(members):
-                step = member._bordered_step(R[b], _member(parts, b))
+                step = member._bordered_step(R[b], member_parts(parts, b), bool(cold[b]))
                 if step is not None:
                     (dq[b], dy[b]), regular[b] = step, True
             return dq, dy, regular
@@ -278,23 +330,48 @@ class SliderStatics:
         dq[:, self.free] = dq_free
         return dq, dy, regular
 
-    def _diagnose(self, parts: list, fallback: str) -> str:
-        """The singular-configuration message of the bordered matrix, or ``fallback``."""
-        return self._singular(self._bordered(parts)[0]) or fallback
+    def _diagnose(self, parts: list, fallback: str, cold: bool) -> str:
+        """Why the Newton matrix at ``parts`` is singular: at a ``cold`` state (multipliers
+        zero) the rigid motions that the supports and sliders leave free
+        (:func:`sliders.solve.mechanism.free_motion`), else the null vector of the bordered
+        matrix (:meth:`_singular`); ``fallback`` when neither finds it singular."""
+        found = cold and free_motion(self.rigid, self._position, parts, self.sliders, self.remedy)
+        return found or self._singular(self._bordered(parts)[0]) or fallback
 
     def _singular(self, S: sp.spmatrix) -> str | None:
         """If the bordered matrix is singular once its rows and columns are equilibrated
-        (smallest singular value below 1e-12 of the largest), name the unknowns that move
-        along its null vector; else None."""
+        (singular values below :data:`~sliders.solve.condensed.SINGULAR_RCOND` of the
+        largest), name what moves along its null space: when its displacements are free
+        rigid motions (:attr:`rigid`), those motions (:func:`fvbeam.mechanism.
+        motion_phrases`) with the joints' unknowns that move with them, else the unknowns
+        that its last vector mostly moves; None when it is regular."""
         A = S.toarray()
-        A = A / np.abs(A).max(axis=1, keepdims=True).clip(1e-300)
-        A = A / np.abs(A).max(axis=0, keepdims=True).clip(1e-300)
-        _, sigma, Vt = np.linalg.svd(A)
-        if sigma[-1] > 1e-12 * sigma[0]:
+        rows = np.abs(A).max(axis=1, keepdims=True)
+        rows[rows == 0] = 1.0
+        cols = np.abs(A / rows).max(axis=0)
+        cols[cols == 0] = 1.0  # an unknown nothing reads: any scale
+        _, sigma, Vt = np.linalg.svd(A / rows / cols)
+        if sigma[-1] > SINGULAR_RCOND * sigma[0]:
             return None
         names = [self.structure.dof_name(d) for d in self.free]
         for s in self.sliders:
             names += [f"{s.name}.{u}" for u in s.unknown_names]
+        V, nf = Vt[sigma <= SINGULAR_RCOND * sigma[0]].T, len(self.free)
+        dq = (V / cols[:, None])[:nf]
+        a = self.rigid.phi.T @ dq
+        if np.abs(V[:nf]).max() > 0.1 and np.all(
+            np.linalg.norm(dq - self.rigid.phi @ a, axis=0) <= 1e-6 * np.linalg.norm(dq, axis=0)
+        ):
+            joints = nf + np.flatnonzero(np.abs(V[nf:]).max(axis=1, initial=0.0) > 0.1)
+            null = np.vstack([a, (V / cols[:, None])[joints]])
+            carried = [
+                f"slider '{n.removesuffix('.xi')}' sliding along its line"
+                if n.endswith(".xi")
+                else n
+                for n in (names[i] for i in joints)
+            ]
+            phrases = motion_phrases(self.rigid, null, carried)
+            return free_motion_message("supports and sliders", phrases, self.remedy)
         v = Vt[-1]
         top = np.argsort(-np.abs(v))[:3]
         moving = ", ".join(f"{names[i]} ({v[i]:+.2f})" for i in top if abs(v[i]) > 0.1)
@@ -302,15 +379,6 @@ class SliderStatics:
             "singular configuration: the supports and sliders leave a free motion "
             f"(null vector mostly along {moving})"
         )
-
-
-def _member(parts: list, b: int) -> list:
-    """Member ``b``'s ``(dofs, r_q, r_y, J)`` per slider from the stacked slot arrays."""
-    out = []
-    for dofs, r, J in parts:
-        t = dofs.shape[1]
-        out.append((dofs[b], r[b, :t], r[b, t:], J.subset(np.array([b])).dense()[0]))
-    return out
 
 
 def converged(
@@ -445,11 +513,19 @@ def newton_many(
             break
         if not going.all():
             R, r_y = R[going], r_y[going]
-        dq, dy, regular = lead._steps([members[b] for b in active[going]], R, parts, r_y, whole)
+        stepping = active[going]
+        cold = (
+            ~np.any(Y[stepping][:, multipliers], axis=1)
+            if lead.method == "bordered"
+            else np.zeros(len(stepping), dtype=bool)
+        )
+        dq, dy, regular = lead._steps([members[b] for b in stepping], R, parts, r_y, whole, cold)
         for i in np.flatnonzero(~regular).tolist():
-            b = active[going][i]
+            b = stepping[i]
             outcome[b] = members[b]._diagnose(
-                _member(parts, i), f"the {lead.method} system has no finite solution"
+                member_parts(parts, i),
+                f"the {lead.method} system has no finite solution",
+                not np.any(Y[b, multipliers]),
             )
         active = active[going][regular]
         if not active.size:
@@ -467,7 +543,7 @@ def newton_many(
         if len(active) < len(view[0]) // len(spans[0]):
             view = [_pick(v, len(span), B, active) for v, span in zip(full, spans, strict=True)]
     for b in active.tolist():
-        first = _member(
+        first = member_parts(
             [
                 v.subset(np.array([b])).evaluate(Q0[b][None], Y0[b][None, i:j], time, scale)
                 for v, (i, j) in zip(batches, bounds, strict=True)
@@ -478,6 +554,7 @@ def newton_many(
             first,
             f"Newton did not converge in {max_iterations} iterations "
             f"(scaled residual {history[last[b], b]:.3g})",
+            not np.any(Y0[b, multipliers]),
         )
     finished = np.flatnonzero(ended)
     parts = [Y[finished, i:j] for i, j in bounds]
