@@ -24,6 +24,7 @@ EXAMPLES = """\
 examples:
   fvslider check studies/scenes/fig4_sliding_beams.toml
   fvslider run studies/scenes/fig4_sliding_beams.toml --out results/sliding_beams
+  fvslider run studies/scenes/pushed_body.toml --resume results/pushed_body   # after a kill
   fvslider studies
   fvslider reproduce fig1
   fvslider reproduce               # Figures 1, 4, 5 into results/ (under a minute)
@@ -75,7 +76,9 @@ def _run(args: argparse.Namespace) -> int:
     from sliders.app.tables import MARKER, write_results
 
     model = _load(args.scene)
-    out = args.out if args.out is not None else Path("results") / args.scene.stem
+    out = next(
+        (p for p in (args.resume, args.out) if p is not None), Path("results") / args.scene.stem
+    )
     try:
         check_replaceable(out, MARKER)
         if model.scene.output.png != "none" and importlib.util.find_spec("pyvista") is None:
@@ -84,7 +87,14 @@ def _run(args: argparse.Namespace) -> int:
         print(f"fvslider: {exc}", file=sys.stderr)
         return 2
     if model.scene.study.kind == "dynamic":
-        return _run_dynamic(model, out)
+        return _run_dynamic(model, out, resume=args.resume is not None)
+    if args.resume is not None:
+        print(
+            f"fvslider: --resume: a {model.scene.study.kind} study has no checkpoints "
+            "(only dynamic studies do)",
+            file=sys.stderr,
+        )
+        return 2
     results = run(model, progress=True)
     assert isinstance(results, Results)  # a dynamic study went to _run_dynamic
     write_results(results, out)
@@ -101,12 +111,16 @@ def _run(args: argparse.Namespace) -> int:
     return 1 if results.failures else 0
 
 
-def _run_dynamic(model, out: Path) -> int:
+def _run_dynamic(model, out: Path, resume: bool) -> int:
+    from sliders.app.checkpoint import Complete
     from sliders.app.run_dynamic import integrate, write_dynamic
 
     try:
-        outcome = integrate(model, progress=True)
+        outcome = integrate(model, progress=True, out=out, resume=resume)
         write_dynamic(outcome, out)
+    except Complete as done:
+        print(done)
+        return 0
     except ValueError as exc:
         print(f"fvslider: {exc}", file=sys.stderr)
         return 2
@@ -117,7 +131,10 @@ def _run_dynamic(model, out: Path) -> int:
         print(f"  failed: {outcome.error}", file=sys.stderr)
         return 1
     if outcome.interrupted:
-        print("interrupted: the steps computed are written", file=sys.stderr)
+        print(
+            f"interrupted: the steps computed are written; --resume {out} goes on",
+            file=sys.stderr,
+        )
         return 130
     return 0
 
@@ -205,8 +222,15 @@ def _parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     run.add_argument("scene", type=Path, metavar="SCENE.toml")
-    run.add_argument(
+    where = run.add_mutually_exclusive_group()
+    where.add_argument(
         "--out", type=Path, help="output directory, replaced whole (default results/SCENE)"
+    )
+    where.add_argument(
+        "--resume",
+        type=Path,
+        metavar="DIR",
+        help="go on with the dynamic run into DIR from its last checkpoint (DIR.checkpoint)",
     )
     run.set_defaults(command=_run)
     check = commands.add_parser("check", help="validate a scene without solving it")
