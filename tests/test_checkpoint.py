@@ -23,7 +23,7 @@ import tomli_w
 from test_scenes import ROOT, data
 
 from fvbeam import Beam, Section, Structure, straight
-from sliders.app.checkpoint import COMMIT, checkpoint_directory
+from sliders.app.checkpoint import COMMIT, Checkpoints, checkpoint_directory
 from sliders.app.cli import main
 from sliders.app.history import Recorder
 from sliders.app.model import Model
@@ -184,6 +184,27 @@ def test_ctrl_c_writes_the_steps_and_a_checkpoint_to_resume_from(tmp_path, monke
     assert len((out / "history.csv").read_text().splitlines()) == 1 + 18
     assert (checkpoint_directory(out) / "cursor_000016.npz").is_file()
     assert run(scene, "--resume", str(out)) == 0
+    assert_same_files(out, whole)
+    assert not checkpoint_directory(out).exists()
+
+
+def test_a_checkpoint_that_cannot_be_written_warns_and_the_run_goes_on(tmp_path, monkeypatch):
+    """A full disk at the first checkpoint: one warning naming the directory and the
+    reason, no more checkpoints, and the run's outputs as those of any run."""
+    scene = scene_file(tmp_path, checkpoint={"steps": 4})
+    whole = whole_run(tmp_path, scene)
+
+    def full(self, directory):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(Checkpoints, "_write", full)
+    out = tmp_path / "out"
+    with pytest.warns(RuntimeWarning) as caught:
+        assert run(scene, "--out", str(out)) == 0
+    assert [str(w.message) for w in caught] == [
+        f"{checkpoint_directory(out)}: cannot write a checkpoint (No space left on device); "
+        "the run goes on without checkpoints"
+    ]
     assert_same_files(out, whole)
     assert not checkpoint_directory(out).exists()
 

@@ -36,6 +36,7 @@ import shutil
 import tempfile
 import time
 import tomllib
+import warnings
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -128,15 +129,29 @@ class Checkpoints:
             self.save()
 
     def save(self) -> None:
-        """Write a checkpoint of the last step noted (none before the first step)."""
-        if self._pending is None:
+        """Write a checkpoint of the last step noted (none before the first step).  One that
+        cannot be written (a full disk, the place taken) warns (``RuntimeWarning``) and ends
+        the checkpoints: the run goes on, and the last checkpoint written stays whole."""
+        if self._pending is None or not self.enabled:
             return
-        if self._saved is None:
-            written: list[_Saved] = []
-            replace_directory(self.directory, lambda tmp: written.append(self._write(tmp)), MARKER)
-            self._saved = written[0]
-        else:
-            self._saved = self._write(self.directory)
+        try:
+            if self._saved is None:
+                written: list[_Saved] = []
+                replace_directory(
+                    self.directory, lambda tmp: written.append(self._write(tmp)), MARKER
+                )
+                self._saved = written[0]
+            else:
+                self._saved = self._write(self.directory)
+        except (OSError, ValueError) as exc:
+            self.steps, self.seconds = 0, 0.0
+            reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else exc
+            warnings.warn(
+                f"{self.directory}: cannot write a checkpoint ({reason}); the run goes on "
+                "without checkpoints",
+                RuntimeWarning,
+                stacklevel=2,
+            )
         self._clock = time.monotonic()
 
     def remove(self) -> None:
@@ -311,7 +326,9 @@ def _difference(there: Any, here: Any, path: str = "") -> str | None:
             if found is not None:
                 return found
         return None
-    if isinstance(there, list) and isinstance(here, list) and len(there) == len(here):
+    if isinstance(there, list) and isinstance(here, list):
+        if len(there) != len(here):
+            return f"{path} has {len(there)} entries there, {len(here)} here"
         for i, (a, b) in enumerate(zip(there, here, strict=True)):
             found = _difference(a, b, f"{path}[{i}]")
             if found is not None:

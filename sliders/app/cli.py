@@ -2,7 +2,9 @@
 
 Exit codes: 0 success; 1 a run that did not fully succeed (a solve failed, a sweep point
 failed; what was computed is written); 2 an invalid scene or command line (the message on
-stderr); 130 interrupted by Ctrl-C (a sweep writes the points it completed).
+stderr); 130 interrupted by Ctrl-C (a sweep writes the points it completed).  A dynamic run
+keeps a checkpoint beside its output directory, from which ``run --resume DIR`` goes on
+(:mod:`sliders.app.checkpoint`; 0 and "nothing to resume" when ``DIR`` holds the finished run).
 
 The command's own modules are imported when a command needs them, and ``fvslider --help`` and
 ``fvslider check`` never import matplotlib or pyvista; the package ``sliders`` itself imports

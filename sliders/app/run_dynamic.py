@@ -102,21 +102,8 @@ def integrate(
     if resume and out is None:
         raise ValueError("resume needs the output directory out whose checkpoint to go on from")
     dynamics = model.dynamics()
-    recorder = Recorder(
-        None,
-        [name for name in output.csv if name in STEP_COLUMNS],
-        every=study.every if (output.vtu or output.png == "all") else 0,
-    )
-    period = study.checkpoint or CheckpointSpec()
-    checkpoints, cursor = None, None
-    if out is not None and resume:
-        checkpoints, cursor = Checkpoints.resume(
-            out, model.scene, dynamics, recorder, period.steps, period.seconds
-        )
-    elif out is not None:
-        checkpoints = Checkpoints(out, model.scene, recorder, period.steps, period.seconds)
     start = None
-    if study.restart is not None and cursor is None:
+    if study.restart is not None:
         start = State.load(study.restart)
         if start.q.shape != (model.structure.n_dofs,) or len(start.unknowns) != len(model.sliders):
             raise ValueError(
@@ -129,9 +116,22 @@ def integrate(
         adaptive = Adaptive(
             spec.rtol, spec.atol, spec.h_min, spec.h_max if spec.h_max is not None else float("inf")
         )
+    recorder = Recorder(
+        None,
+        [name for name in output.csv if name in STEP_COLUMNS],
+        every=study.every if (output.vtu or output.png == "all") else 0,
+    )
     held = np.setdiff1d(np.arange(model.structure.n_dofs), dynamics.free)
-    outcome = DynamicRun(model, recorder, held, checkpoints=checkpoints)
-    save = checkpoints if checkpoints is not None and checkpoints.enabled else None
+    outcome = DynamicRun(model, recorder, held)
+    period = study.checkpoint or CheckpointSpec()
+    cursor = None
+    if out is not None and resume:
+        outcome.checkpoints, cursor = Checkpoints.resume(
+            out, model.scene, dynamics, recorder, period.steps, period.seconds
+        )
+    elif out is not None:
+        outcome.checkpoints = Checkpoints(out, model.scene, recorder, period.steps, period.seconds)
+    save = outcome.checkpoints if outcome.checkpoints and outcome.checkpoints.enabled else None
     clock = time.perf_counter()
     try:
         if cursor is not None:
