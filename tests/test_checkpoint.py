@@ -30,7 +30,7 @@ from sliders.app.model import Model
 from sliders.app.scene import load_scene
 from sliders.solve import condensed
 from sliders.solve.condensed import CondensedOperator
-from sliders.solve.dynamics import Adaptive, Cursor, Dynamics
+from sliders.solve.dynamics import Adaptive, Cursor, Dynamics, DynamicsError
 from sliders.solve.integrator import State
 
 unit = Section.diagonal(1.0, 1.0, 1.0, 1.0, 1.0, 1.0)
@@ -206,6 +206,27 @@ def test_a_checkpoint_that_cannot_be_written_warns_and_the_run_goes_on(tmp_path,
         "the run goes on without checkpoints"
     ]
     assert_same_files(out, whole)
+    assert not checkpoint_directory(out).exists()
+
+
+def test_a_failed_run_writes_its_steps_and_removes_its_checkpoint(tmp_path, monkeypatch, capsys):
+    """A step failing after step 9, checkpoints every 2 steps (one of step 8 is there when
+    it fails): exit 1, the 10 rows written, and no checkpoint left (the run is over;
+    resuming would fail again)."""
+    scene = scene_file(tmp_path, checkpoint={"steps": 2})
+    out = tmp_path / "out"
+    record = Recorder.record
+
+    def fail(self: Recorder, dynamics: Dynamics, new: State, old: State) -> None:
+        record(self, dynamics, new, old)
+        if self.count("history") - 1 == 9:
+            assert committed_step(checkpoint_directory(out)) == 8
+            raise DynamicsError("t = 0.5: no convergence", old)
+
+    monkeypatch.setattr(Recorder, "record", fail)
+    assert run(scene, "--out", str(out)) == 1
+    assert "failed: t = 0.5: no convergence" in capsys.readouterr().err
+    assert len((out / "history.csv").read_text().splitlines()) == 1 + 10
     assert not checkpoint_directory(out).exists()
 
 

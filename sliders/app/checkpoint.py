@@ -91,8 +91,9 @@ class Checkpoints:
     Called after every step with its cursor (the ``checkpoint`` of
     :meth:`sliders.solve.dynamics.Dynamics.run`), it writes a checkpoint every ``steps``
     steps or ``seconds`` of wall time, whichever comes first (0: not by that rule);
-    :meth:`save` writes one of the last step at once.  ``ValueError`` if ``OUT.checkpoint``
-    exists and is not a checkpoint.
+    :meth:`save` writes one of the last step at once.  ``toml``: the scene, as every
+    checkpoint keeps it.  ``ValueError`` if ``OUT.checkpoint`` exists and is not a
+    checkpoint.
     """
 
     def __init__(
@@ -106,7 +107,7 @@ class Checkpoints:
         self.out = Path(out)
         self.directory = checkpoint_directory(self.out)
         check_replaceable(self.directory, MARKER)
-        self.scene, self.recorder = dump_scene(scene), recorder
+        self.toml, self.recorder = dump_scene(scene), recorder
         self.steps, self.seconds = steps, seconds
         self._pending: tuple[Cursor, dict[str, int], int, dict[str, np.ndarray]] | None = None
         self._saved: _Saved | None = None
@@ -190,7 +191,7 @@ class Checkpoints:
         cursor.state.save(directory / name)
 
         arrays: dict[str, Any] = {
-            "scene": np.array(self.scene),
+            "scene": np.array(self.toml),
             "cursor": np.array(name),
             "h": np.array(cursor.h),
             "steps": np.array(-1 if cursor.steps is None else cursor.steps),
@@ -242,7 +243,7 @@ class Checkpoints:
             text = str(fields["scene"])
         except _UNREADABLE as exc:
             raise ValueError(f"{commit}: not a checkpoint ({exc})") from exc
-        difference = _difference(_results_of(text), _results_of(self.scene))
+        difference = _difference(_results_of(text), _results_of(self.toml))
         if difference is not None:
             raise ValueError(
                 f"{self.directory}: the checkpoint of another scene ({difference}); run "
@@ -295,7 +296,7 @@ class Checkpoints:
             written = _results_of((self.out / "scene.toml").read_text())
         except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
             return None
-        if _difference(written, _results_of(self.scene)) is not None:
+        if _difference(written, _results_of(self.toml)) is not None:
             return None
         try:
             reached = f" to t = {State.load(self.out / 'state.npz').t:.6g} s"

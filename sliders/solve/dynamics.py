@@ -407,7 +407,10 @@ class Dynamics:
                 "a cursor of fixed steps resumes without adaptive, one of adaptive steps with it"
             )
         if not (np.isfinite(cursor.h) and cursor.h > 0 and (cursor.steps or 0) >= 0):
-            raise ValueError(f"a cursor needs a step h > 0 and steps >= 0, got {cursor}")
+            raise ValueError(
+                f"a cursor needs a step h > 0 and steps >= 0, got h = {cursor.h}, "
+                f"steps = {cursor.steps}"
+            )
         state, h, steps = cursor.state, cursor.h, cursor.steps
         try:
             with tqdm(
