@@ -23,6 +23,7 @@ import tomli_w
 from test_scenes import ROOT, data
 
 from fvbeam import Beam, Section, Structure, straight
+from sliders.app import run_dynamic
 from sliders.app.checkpoint import COMMIT, Checkpoints, checkpoint_directory
 from sliders.app.cli import main
 from sliders.app.history import Recorder
@@ -146,6 +147,25 @@ def test_the_lazy_columns_of_a_large_condensed_operator_resume_bit_for_bit(tmp_p
     scene = scene_file(tmp_path, elements=100, checkpoint={"steps": 4})
     whole = whole_run(tmp_path, scene)
     out = killed_run(tmp_path, scene, 17, monkeypatch)
+    assert run(scene, "--resume", str(out)) == 0
+    assert_same_files(out, whole)
+
+
+def test_a_run_killed_after_its_last_step_resumes_to_its_outputs(tmp_path, monkeypatch):
+    """Killed after the checkpoint of its last step (42, a kept VTU state: ``every = 3``)
+    but before its outputs: the resume takes no step and writes the same files."""
+    scene = scene_file(tmp_path, t_end=2.1, checkpoint={"steps": 1})
+    whole = whole_run(tmp_path, scene)
+    out = tmp_path / "killed"
+
+    def killed(outcome, directory):
+        raise Killed
+
+    with monkeypatch.context() as patch:
+        patch.setattr(run_dynamic, "write_dynamic", killed)
+        with pytest.raises(Killed):
+            run(scene, "--out", str(out))
+    assert committed_step(checkpoint_directory(out)) == 42 and not out.exists()
     assert run(scene, "--resume", str(out)) == 0
     assert_same_files(out, whole)
 

@@ -157,13 +157,24 @@ class Checkpoints:
 
     def remove(self) -> None:
         """Remove the checkpoint (the run's outputs are written): renamed aside, then
-        deleted, so that it is either whole or gone."""
+        deleted, so that it is either whole or gone.  One that cannot be removed warns
+        (``RuntimeWarning``)."""
         self._saved = None
         if not (self.directory / MARKER).is_file():
             return
-        aside = tempfile.mkdtemp(prefix=f".{self.directory.name}.old.", dir=self.directory.parent)
-        os.replace(self.directory, aside)
-        shutil.rmtree(aside)
+        try:
+            aside = tempfile.mkdtemp(
+                prefix=f".{self.directory.name}.old.", dir=self.directory.parent
+            )
+            os.replace(self.directory, aside)
+            shutil.rmtree(aside)
+        except OSError as exc:
+            warnings.warn(
+                f"{self.directory}: cannot remove the checkpoint of the finished run "
+                f"({exc.strerror or exc})",
+                RuntimeWarning,
+                stacklevel=2,
+            )
 
     def _write(self, directory: Path) -> _Saved:
         """Append to ``directory``'s files what the last checkpoint lacks, then commit."""
