@@ -23,7 +23,7 @@ from fvbeam.formulations import formulation as get_formulation
 from fvbeam.geometry import vector3, wrench
 from fvbeam.mesh import BeamMesh, shape_functions
 from fvbeam.section import Section
-from fvbeam.smearing import check_smearing, density, kernel_breaks
+from fvbeam.smearing import KERNEL_GAUSS_POINTS, check_smearing, density, kernel_breaks
 
 Field = ArrayLike | Callable[[np.ndarray], np.ndarray]
 
@@ -290,7 +290,7 @@ class Beam:
             touched = np.flatnonzero((vertices[:-1] < hi) & (vertices[1:] > lo))
             local = self.mesh.abscissae(touched[:, None], self.formulation.breakpoints())
             breaks = np.concatenate([local.ravel(), kernel_breaks(xi, smearing)])
-            s, w = composite_gauss(np.unique(np.clip(breaks, lo, hi)), 3)
+            s, w = composite_gauss(np.unique(np.clip(breaks, lo, hi)), KERNEL_GAUSS_POINTS)
         e, X = self.mesh.locate(s)
         elements, first, counts = np.unique(e, return_index=True, return_counts=True)
         row = np.repeat(np.arange(len(elements)), counts)

@@ -13,6 +13,14 @@ Lagrange shape functions, the region indicators with their half-and-half rule, t
 motions of eq. T4 and the load-transfer block of eq. T6, written as the equations read); the
 tests hold kernels and references equal to roundoff.  They are for reading and testing: the
 code runs the kernels.
+
+A smeared load has its definition elsewhere: the kernels :func:`fvbeam.smearing.density` and
+:func:`~fvbeam.smearing.slope`, integrated against the test functions by the scikit-fem form
+of :meth:`fvbeam.beam.Beam.kernel_transfer`.  :func:`kernel_at` and :func:`smeared_element`
+are their compiled twins for the hot path (the smeared line state of
+:func:`sliders.lines.batched_kernel.smeared_transfer`): the kernel at one offset, and its
+integral against one element's test functions on the form's pieces by the form's rule
+(``tests/test_smeared_transfer.py`` holds them to the form).
 """
 
 from __future__ import annotations
@@ -145,6 +153,93 @@ def transfer_at(
         rigid_blocks_at(nodes, h, N, dN, chi, dchi, G, dG)
     else:
         shape_blocks_at(h, N, dN, G, dG)
+
+
+@numba.njit(cache=True, inline="never")
+def kernel_at(r: float, smearing: float, box: bool) -> tuple[float, float]:
+    """The smearing kernel ``K(r)`` of half-width ``smearing > 0`` at the offset ``r = s - xi``
+    and ``dK/dr`` away from its steps (:func:`fvbeam.smearing.density` and
+    :func:`~fvbeam.smearing.slope`, eq. T6): the box ``1 / (2 smearing)`` (``box``) or the
+    hat ``(1 - |r| / smearing) / smearing`` with slope ``-sign(r) / smearing^2`` inside
+    ``|r| < smearing``, 0 outside."""
+    if not abs(r) < smearing:
+        return 0.0, 0.0
+    if box:
+        return 1 / (2 * smearing), 0.0
+    return (1 - abs(r) / smearing) / smearing, -np.sign(r) / smearing**2
+
+
+@numba.njit(cache=True, inline="never")
+def smeared_element(
+    fv: bool,
+    regions: np.ndarray,
+    nodes: np.ndarray,
+    start: float,
+    h: float,
+    lo: float,
+    hi: float,
+    xi: float,
+    smearing: float,
+    box: bool,
+    rule_x: np.ndarray,
+    rule_w: np.ndarray,
+    breaks: np.ndarray,
+    N: np.ndarray,
+    dN: np.ndarray,
+    d2N: np.ndarray,
+    chi: np.ndarray,
+    dchi: np.ndarray,
+    H: np.ndarray,
+    dH: np.ndarray,
+    A: np.ndarray,
+    dA: np.ndarray,
+) -> tuple[float, float]:
+    """A smearing kernel integrated against the test functions (eq. T6) over the part
+    ``[lo, hi]`` of one element, as :meth:`fvbeam.beam.Beam.kernel_transfer` integrates it.
+
+    The element has node positions ``nodes`` (npe, 3), starts at the abscissa ``start`` and
+    has length ``h``; the kernel :func:`kernel_at` sits at ``xi`` with half-width
+    ``smearing``.  ``[lo, hi]`` is split at the fv evaluation points (bounds of ``regions``,
+    when ``fv``) and the kernel's break points ``xi``, ``xi -+ smearing``; on each piece the
+    kernel times the test functions is a polynomial of degree at most 3 in the abscissa,
+    integrated exactly by the rule ``rule_x``, ``rule_w`` on [0, 1] (3-point Gauss).  Adds
+    ``int K(s - xi) H(s) ds`` to ``A`` and ``-int K'(s - xi) H(s) ds`` to ``dA``
+    (6 npe, 6), ``H`` the compiled transfer :func:`transfer_at`; returns ``int K ds`` and
+    ``-int K' ds``.  ``breaks`` (at least ``2 npe + 5``), ``N``, ``dN``, ``d2N``, ``chi``,
+    ``dchi`` (npe,), ``H`` and ``dH`` (6 npe, 6) are scratch."""
+    n = 0
+    for value in (lo, hi, xi - smearing, xi, xi + smearing):
+        breaks[n] = value
+        n += 1
+    if fv:
+        for a in range(regions.shape[0]):
+            for side in range(2):
+                breaks[n] = start + h * regions[a, side]
+                n += 1
+    for i in range(n):  # clip to [lo, hi] and sort (insertion: a handful of points)
+        value = min(max(breaks[i], lo), hi)
+        j = i
+        while j > 0 and breaks[j - 1] > value:
+            breaks[j] = breaks[j - 1]
+            j -= 1
+        breaks[j] = value
+    mass = dmass = 0.0
+    for i in range(n - 1):
+        a, length = breaks[i], breaks[i + 1] - breaks[i]
+        if length <= 0:
+            continue
+        for g in range(len(rule_x)):
+            s, w = a + length * rule_x[g], length * rule_w[g]
+            K, dK = kernel_at(s - xi, smearing, box)
+            X = min(max((s - start) / h, 0.0), 1.0)
+            transfer_at(fv, regions, nodes, h, X, N, dN, d2N, chi, dchi, H, dH)
+            for r in range(H.shape[0]):
+                for c in range(6):
+                    A[r, c] += (w * K) * H[r, c]
+                    dA[r, c] -= (w * dK) * H[r, c]
+            mass += w * K
+            dmass -= w * dK
+    return mass, dmass
 
 
 @numba.njit(cache=True)

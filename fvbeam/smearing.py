@@ -20,6 +20,11 @@ from __future__ import annotations
 import numpy as np
 
 KERNELS = ("box", "hat")
+#: Gauss points per piece of a kernel's support, between the element ends, the evaluation
+#: points and the kernel's break points: exact for the kernel (degree <= 1) times a test
+#: function (degree <= 2).  The form (:meth:`fvbeam.beam.Beam.kernel_transfer`) and its
+#: compiled copy (:meth:`sliders.lines.batched.ChainStack.transfer`) both use it.
+KERNEL_GAUSS_POINTS = 3
 
 
 def check_smearing(smearing: float, kernel: str) -> float:

@@ -66,9 +66,9 @@ def test_sliding_beams_sweep_equals_per_point_solves(kind, name, smearing):
 def test_translated_template_equals_the_built_members(kind, name, smearing):
     """The sweep from one template moved (``solve_translated``) and from a statics built per
     position (``solve_many``): failures with the same message, the same iterations and,
-    without smearing, the same numbers (the moved node positions are the same sums).  The
-    smeared transfer is the template's: equal to roundoff (the rotation test functions
-    read node positions relative to far-off absolute ones)."""
+    without smearing, the same numbers (the moved node positions are the same sums); with
+    smearing, equal to roundoff (the compiled smeared transfer reads the same moved node
+    positions; measured equal exactly)."""
     model = SlidingBeams(name, 3, kind, smearing)
     built = [model.problem(s) for s in STATIONS]
     for (statics, f), a, b in zip(

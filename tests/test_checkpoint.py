@@ -208,23 +208,32 @@ def test_ctrl_c_writes_the_steps_and_a_checkpoint_to_resume_from(tmp_path, monke
     assert not checkpoint_directory(out).exists()
 
 
-def test_a_checkpoint_that_cannot_be_written_warns_and_the_run_goes_on(tmp_path, monkeypatch):
-    """A full disk at the first checkpoint: one warning naming the directory and the
-    reason, no more checkpoints, and the run's outputs as those of any run."""
+@pytest.mark.parametrize("failing", [1, 3], ids=["first", "third"])
+def test_a_checkpoint_that_cannot_be_written_warns_and_the_run_goes_on(
+    tmp_path, monkeypatch, failing
+):
+    """The disk full at the first checkpoint (written as a new directory) or at the third
+    (appended): one warning naming the directory and the reason, no more checkpoints, and
+    the run's outputs as those of any run."""
     scene = scene_file(tmp_path, checkpoint={"steps": 4})
     whole = whole_run(tmp_path, scene)
+    write, calls = Checkpoints._write, []
 
     def full(self, directory):
-        raise OSError(28, "No space left on device")
+        calls.append(directory)
+        if len(calls) == failing:
+            raise OSError(28, "No space left on device")
+        return write(self, directory)
 
     monkeypatch.setattr(Checkpoints, "_write", full)
     out = tmp_path / "out"
     with pytest.warns(RuntimeWarning) as caught:
         assert run(scene, "--out", str(out)) == 0
     assert [str(w.message) for w in caught] == [
-        f"{checkpoint_directory(out)}: cannot write a checkpoint (No space left on device); "
-        "the run goes on without checkpoints"
+        f"cannot write {checkpoint_directory(out)}: No space left on device; the run goes on "
+        "without checkpoints"
     ]
+    assert len(calls) == failing
     assert_same_files(out, whole)
     assert not checkpoint_directory(out).exists()
 

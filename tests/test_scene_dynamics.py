@@ -139,7 +139,17 @@ def test_the_command_runs_a_dynamic_scene_and_keeps_the_steps_of_a_failure(tmp_p
     path.write_text(text.replace("t_end = 10.0", "t_end = 0.5"))
     assert main(["run", str(path), "--out", str(tmp_path / "ok")]) == 0
     assert "10 steps to t = 0.5 s" in capsys.readouterr().out
-    path.write_text(text.replace("velocity = 0.035", "velocity = 0.5"))
+    # the cart's ux driven instead of its abscissa, from 0 to 1 m in 2 s: it leaves the beam
+    # (0.4 m from its start) at t = 0.87 s, which only the integration finds (check cannot
+    # follow a slider that a dof drive moves; an abscissa drive off its line fails check)
+    path.write_text(
+        text.replace(
+            'kind = "abscissa"\nslider = "push"\n'
+            'motion = { kind = "linear", start = 0.6, velocity = 0.035 }',
+            'kind = "dof"\nnode = "cart"\ndof = "ux"\n'
+            'motion = { kind = "ramp", start = 0.0, end = 1.0, t0 = 0.0, t1 = 2.0 }',
+        )
+    )
     assert main(["run", str(path), "--out", str(tmp_path / "fails")]) == 1
     message = capsys.readouterr().err
     assert "failed: t = " in message and "push" in message

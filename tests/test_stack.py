@@ -43,6 +43,11 @@ is positive definite, the trace invariant).  ``k0_/xi`` is a central difference 
 ``+-d = 1e-4 / |l0_/xi|`` of ``k0`` (:func:`sliders.lines.rigid.curvature_rate`): to the
 first order it moves with ``k0``'s sensitivity times ``|l0_/xi| / |l0|``, and the rounding
 of its two ends, ``2 gamma_16 |k0|`` each, is divided by ``2 d``.
+
+With smearing, the load transfer is the kernel form's integral compiled
+(:func:`sliders.lines.batched_kernel.smeared_transfer`): the same rule on the same pieces by
+other operations, compared with the reference's (the form) on the structure's dofs within the
+roundoff bound of :meth:`Bounds.smeared`, and exactly zero on the other dofs it lists.
 """
 
 import numpy as np
@@ -155,6 +160,7 @@ class Bounds:
     """The kernel-against-reference tolerances of one member at ``xi`` (module docstring)."""
 
     def __init__(self, chain, xi, q):
+        self.chain, self.xi = chain, xi
         _, element, X = reference.locate(chain, xi)
         elements, _, _ = reference.recovered_tangent(chain, element, X)
         self.h = min(reference.element_length(chain, e) for e in elements)
@@ -175,6 +181,96 @@ class Bounds:
         """A line quantity of order ``k`` on nodes of coordinates up to ``Y``."""
         return self.coefficient(k) * 3 * self.npe * Y
 
+    def smeared(self, smearing, kernel):
+        """Bounds on ``|G - G_form|`` and ``|G' - G'_form|`` (entrywise) of the compiled smeared
+        transfer (:func:`sliders.lines.batched_kernel.smeared_transfer`) against the kernel
+        form (:meth:`sliders.lines.chain.BeamChain.transfer`), and on each one's distance
+        from the exact integral.
+
+        Both integrate ``A = int K(s - xi) H(s) ds`` and ``m = int K ds`` over the chain by
+        the same 3-point Gauss rule on the same pieces (split at the vertices, the fv
+        evaluation points and the kernel's breaks ``xi``, ``xi -+ smearing``), computed by
+        different operations, and ``G = A / m``.  Sizes, with ``h_min``, ``h_max`` the
+        chain's element lengths: ``|H| <= Hmax = max(1, 8 h_max)`` (``|N_a| <= 1`` on
+        [0, 1]; an fv moment arm is at most the arc length, ``max |x_/X| <= 8`` times the
+        spread of the nodes, which is at most ``h``), ``|H'| <= H1 = max(8, 4 / h_min)``
+        (``|dN/dX| <= 4``), ``K <= K0`` and ``|K'| <= K1`` (box ``1 / (2 smearing)`` and 0,
+        hat ``1 / smearing`` and ``1 / smearing^2``), ``int K = m <= 1`` (``m`` in closed
+        form), and ``int |K'|`` plus the box's edge jumps at most ``S = 2 / smearing``.
+
+        * Placement: every Gauss point and offset comes out of at most 16 roundings of
+          abscissae at most ``L`` (the chain's length) in either computation, so the two
+          read a point at most ``delta = 8 EPS L`` apart.  Where the integrand ``f`` is
+          smooth that moves it by ``delta max|f'|``, ``2 smearing delta max|f'|`` over the
+          rule (weights sum to at most ``2 smearing``).  A piece shorter than ``9 delta``
+          (the rule's points lie 0.11 of a piece inside it) beside a jump of ``f`` may be
+          read on the other side: at most ``2 max|f|`` over at most ``10 delta`` in each,
+          ``40 delta max|f|`` per such jump (``J`` of them: jumps with another break, or
+          the same one twice, within ``9 delta``).  Jumps of ``K H``: fv evaluation
+          points, the box's edges; of ``K' H``: fv evaluation points, the hat's peak and
+          edges.
+        * Sums: each of ``n`` terms (``n`` Gauss points and the box's two edge terms)
+          carries at most 8 roundings (the weight scaled by ``h`` and back, products), so
+          each sum is within ``gamma_(n+8)`` of its magnitudes' sum (Higham, Sec. 3.1), for
+          both ``2 gamma_(n+8)``; the Galerkin test functions (scikit-fem's against
+          :func:`fvbeam.pointwise.shape_at`) differ by ``128 EPS`` per value
+          (``tests/test_pointwise.py``), the fv ones are the same compiled code.
+
+        Then ``|dA| <= 2 gamma Hmax + 128 EPS Hmax + 2 smearing delta (K1 Hmax + K0 H1) +
+        40 delta J K0 Hmax``, ``|dm|`` the same with ``H = 1``, ``H1 = 0``, and
+        ``|dG| <= (|dA| + Hmax |dm|) / m + EPS Hmax``.  For the derivative
+        ``A' = -int K' H - sum jump H(xi + r)``: ``|dA'| <= 2 gamma S Hmax + S (128 EPS
+        Hmax + delta H1) + 40 delta J' K1 Hmax`` (``K'`` is constant on each piece, the
+        edge terms are the same compiled point transfer at the same abscissae), ``|dm'|``
+        the same with ``H = 1``, ``H1 = 0``, and ``G' = (A' - G m') / m`` within
+        ``(|dA'| + |dG| S + Hmax |dm'|) / m`` plus its own 3 roundings of
+        ``(S Hmax + Hmax S) / m``.
+        """
+        chain, xi = self.chain, self.xi
+        lengths = np.concatenate([beam.mesh.element_length for beam in chain.beams])
+        H0, H1 = max(1.0, 8 * lengths.max()), max(8.0, 4 / lengths.min())
+        box = kernel == "box"
+        K0, K1 = (1 / (2 * smearing), 0.0) if box else (1 / smearing, 1 / smearing**2)
+        S, L = 2 / smearing, chain.length
+        delta = 8 * EPS * L
+        lo, hi = max(xi - smearing, 0.0), min(xi + smearing, L)
+        vertices, jumps = [], []
+        for offset, beam in zip(chain.offsets[:-1], chain.beams, strict=True):
+            mesh = beam.mesh
+            vertices.append(offset + mesh.vertex_s)
+            if beam.formulation.rigid_test:
+                p = evaluation_points(mesh.nodes_per_element)
+                jumps.append(offset + mesh.abscissae(np.arange(mesh.n_elements)[:, None], p))
+        jumps = np.concatenate([j.ravel() for j in jumps] + [np.zeros(0)])
+        peak = xi + smearing * np.array([-1.0, 0.0, 1.0])
+        candidates = np.concatenate([*vertices, jumps, peak, [lo, hi]])
+        candidates = candidates[(candidates >= lo) & (candidates <= hi)]
+        n = 3 * (len(np.unique(candidates)) - 1) + 2
+        gamma = (n + 8) * EPS / (1 - (n + 8) * EPS)
+
+        def near(points):
+            """How many of ``points`` on the kernel's part have another break (or the same
+            one twice) within ``9 delta``; the part's ends, where the kernel's edge is cut,
+            count once."""
+            inside = points[(points >= lo) & (points <= hi)]
+            ends = np.isin(inside, [lo, hi])
+            return sum(
+                np.sum(np.abs(candidates - p) < 9 * delta) >= 2 + end
+                for p, end in zip(inside, ends, strict=True)
+            )
+
+        J = near(np.concatenate([jumps, peak[[0, 2]]]) if box else jumps)
+        J1 = 0 if box else near(np.concatenate([jumps, peak]))
+        mass = kernel_mass(kernel, smearing, lo - xi, hi - xi)
+        dA = 2 * gamma * H0 + 128 * EPS * H0 + 2 * smearing * delta * (K1 * H0 + K0 * H1)
+        dA += 40 * delta * J * K0 * H0
+        dm = 2 * gamma + 2 * smearing * delta * K1 + 40 * delta * J * K0
+        tol_G = (dA + H0 * dm) / mass + EPS * H0
+        dA1 = 2 * gamma * S * H0 + S * (128 * EPS * H0 + delta * H1) + 40 * delta * J1 * K1 * H0
+        dm1 = 2 * gamma * S + 40 * delta * J1 * K1
+        tol_dG = (dA1 + tol_G * S + H0 * dm1) / mass + 3 * EPS * 2 * S * H0 / mass
+        return tol_G, tol_dG
+
     def frame(self, rotation, up):
         """``R0``, ``k0``, ``k0_/xi`` and the compliance, of the reference's ``rotation``."""
         t = rotation.R0[:, 0]
@@ -186,6 +282,29 @@ class Bounds:
         dk_xi = dk * self.l0_xi / self.l0 + ROUNDING * k0 * self.l0_xi * 1e4
         dC = 9 * np.trace(rotation.compliance) * (2 * dR + ROUNDING)
         return {"R0": dR, "k0": dk, "k0_xi": dk_xi, "compliance": dC}
+
+
+def kernel_mass(kernel, smearing, a, b):
+    """``int K(r) dr`` over ``[a, b]`` inside ``[-smearing, smearing]``, in closed form: the
+    box's length over ``2 smearing``; the hat's difference of its distribution function
+    ``(r + smearing)^2 / (2 smearing^2)`` (``r <= 0``), ``1 - (smearing - r)^2 / (2
+    smearing^2)`` (``r >= 0``)."""
+    if kernel == "box":
+        return (b - a) / (2 * smearing)
+
+    def F(r):
+        if r <= 0:
+            return (r + smearing) ** 2 / (2 * smearing**2)
+        return 1 - (smearing - r) ** 2 / (2 * smearing**2)
+
+    return F(b) - F(a)
+
+
+def scattered(dofs, G, n):
+    """A transfer's rows ``G`` (k, 6) summed onto the ``n`` dofs of the structure."""
+    out = np.zeros((n, 6))
+    np.add.at(out, dofs, G)
+    return out
 
 
 def agree(kernel, mine, atol):
@@ -214,12 +333,14 @@ def check_member(state, interp, rotation, transfer, b, chain, xi, q, smearing, k
             np.testing.assert_array_equal(dofs[b], mine.load_dofs)
             agree(G[b], mine.G, bound.line(0, bound.Y0))
             agree(dG[b], mine.dG, bound.line(1, bound.Y0))
-        else:  # the smeared transfer is the chain's own, padded with zero rows
-            size = len(mine.load_dofs)
-            np.testing.assert_array_equal(dofs[b, :size], mine.load_dofs)
-            np.testing.assert_array_equal(G[b, :size], mine.G)
-            np.testing.assert_array_equal(dG[b, :size], mine.dG)
-            assert not np.any(G[b, size:]) and not np.any(dG[b, size:])
+        else:  # the kernel form's integral, compiled: on the chain's dofs, zero elsewhere
+            tol_G, tol_dG = bound.smeared(smearing, kernel)
+            assert np.isin(mine.load_dofs, dofs[b]).all()
+            extra = ~np.isin(dofs[b], mine.load_dofs)
+            assert not np.any(G[b, extra]) and not np.any(dG[b, extra])
+            n = chain.structure.n_dofs
+            for compiled, form, tol in ((G, mine.G, tol_G), (dG, mine.dG, tol_dG)):
+                agree(scattered(dofs[b], compiled[b], n), scattered(mine.load_dofs, form, n), tol)
     k_beam = reference.locate(chain, xi)[0]
     frame = bound.frame(mine.rotation, chain.beams[k_beam].mesh.up)
     for answer in (state.rotation.member(b), rotation.member(b)):

@@ -146,12 +146,12 @@ class Checkpoints:
                 self._saved = self._write(self.directory)
         except (OSError, ValueError) as exc:
             self.steps, self.seconds = 0, 0.0
-            reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else exc
+            if isinstance(exc, ValueError):  # fvbeam.io's OutputError names its path
+                text = str(exc)
+            else:
+                text = f"cannot write {self.directory}: {exc.strerror or exc}"
             warnings.warn(
-                f"{self.directory}: cannot write a checkpoint ({reason}); the run goes on "
-                "without checkpoints",
-                RuntimeWarning,
-                stacklevel=2,
+                f"{text}; the run goes on without checkpoints", RuntimeWarning, stacklevel=2
             )
         self._clock = time.monotonic()
 

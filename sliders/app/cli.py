@@ -1,9 +1,16 @@
 """The ``fvslider`` command: check and run scenes, list and reproduce the paper's studies.
 
 Exit codes: 0 success; 1 a run that did not fully succeed (a solve failed, a sweep point
-failed; what was computed is written); 2 an invalid scene or command line (the message on
-stderr); 130 interrupted by Ctrl-C (a sweep writes the points it completed).  A dynamic run
-keeps a checkpoint beside its output directory, from which ``run --resume DIR`` goes on
+failed; what was computed is written); 2 an invalid scene or command line, or a file or
+directory that cannot be read or written (one message per problem on stderr, nothing
+written); 130 interrupted by Ctrl-C (a sweep writes the points it completed).
+
+``check`` does everything ``run`` does but solve: the scene's three validation phases (with
+the mesh and restart files it names opened and matched to the model, and its drives on their
+lines), the output directory (``--out`` or the default; created and removed again to be
+sure), and the renderer ``output.png`` needs.  ``run`` first removes what interrupted runs
+left beside its output directory (:func:`fvbeam.io.remove_leftovers`), and says so.  A dynamic
+run keeps a checkpoint beside its output directory, from which ``run --resume DIR`` goes on
 (:mod:`sliders.app.checkpoint`; 0 and "nothing to resume" when ``DIR`` holds the finished run).
 
 The command's own modules are imported when a command needs them, and ``fvslider --help`` and
@@ -21,6 +28,10 @@ import importlib.util
 import sys
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from sliders.app.model import Model
 
 EXAMPLES = """\
 examples:
@@ -34,7 +45,8 @@ examples:
   fvslider compile                 # compile the numba kernels once (make does it)
 
 scenes are documented in docs/scenes.md; exit codes: 0 ok, 1 a solve failed,
-2 invalid scene or arguments, 130 interrupted (Ctrl-C keeps what was computed)
+2 invalid scene or arguments, or a file that cannot be read or written (nothing is
+written), 130 interrupted (Ctrl-C keeps what was computed)
 """
 
 #: Entry-point group in which the figure studies register their modules (``pyproject.toml``):
@@ -46,7 +58,7 @@ LONG = ("fig2",)
 ALIASES = {"fig5": "fig4"}
 
 
-def _load(path: Path):
+def _load(path: Path) -> Model:
     """The scene at ``path`` validated and built (raises ``SceneError``)."""
     from sliders.app.model import Model
     from sliders.app.scene import load_scene
@@ -54,40 +66,78 @@ def _load(path: Path):
     return Model(load_scene(path), source=str(path))
 
 
+def _out(args: argparse.Namespace) -> Path:
+    """The output directory of ``run`` (``--out`` or ``--resume``, default
+    ``results/SCENE``)."""
+    given = args.out if args.out is not None else getattr(args, "resume", None)
+    return given if given is not None else Path("results") / args.scene.stem
+
+
+def _validated(args: argparse.Namespace) -> Model | None:
+    """Everything ``run`` checks before solving: the scene (its three phases, the files it
+    points to included), the output location and the renderer ``output.png`` needs.  Every
+    problem is printed on stderr; ``None`` if there is any."""
+    from fvbeam.io import OUTPUT_MARKER, OutputError, check_replaceable
+    from sliders.app.errors import SceneError
+
+    messages, model = [], None
+    try:
+        model = _load(args.scene)
+    except SceneError as exc:
+        messages.append(str(exc))
+    try:
+        check_replaceable(_out(args), OUTPUT_MARKER)
+    except OutputError as exc:
+        messages.append(f"fvslider: {exc}")
+    if (
+        model is not None
+        and model.scene.output.png != "none"
+        and importlib.util.find_spec("pyvista") is None
+    ):
+        messages.append("fvslider: output.png needs pyvista: pip install 'fvslider[render]'")
+    for message in messages:
+        print(message, file=sys.stderr)
+    return None if messages else model
+
+
 def _check(args: argparse.Namespace) -> int:
-    model = _load(args.scene)
-    scene = model.scene
-    study = scene.study.kind
-    if study == "sweep":
-        study += f" over {scene.study.parameter.kind}, {len(scene.study.sweep_values())} values"
-    if study == "dynamic":
-        study += (
-            f" to t = {scene.study.t_end:g} s, step {scene.study.step:g} s, "
-            f"{len(scene.drive)} drives"
-        )
+    model = _validated(args)
+    if model is None:
+        return 2
+    from sliders.app.schema import DynamicStudy, SweepStudy
+
+    scene, spec = model.scene, model.scene.study
+    study: str = spec.kind
+    if isinstance(spec, SweepStudy):
+        study += f" over {spec.parameter.kind}, {len(spec.sweep_values())} values"
+    if isinstance(spec, DynamicStudy):
+        study += f" to t = {spec.t_end:g} s, step {spec.step:g} s, {len(scene.drive)} drives"
     print(
         f"{args.scene}: valid ({len(scene.beam)} beams, {len(scene.body)} bodies, "
-        f"{len(scene.slider)} sliders; {study})"
+        f"{len(scene.slider)} sliders; {study}; output {_out(args)})"
     )
     return 0
 
 
 def _run(args: argparse.Namespace) -> int:
-    from fvbeam.io import check_replaceable
+    from fvbeam.io import OUTPUT_MARKER, remove_leftovers
+    from sliders.app import checkpoint
     from sliders.app.run import Results, run
-    from sliders.app.tables import MARKER, write_results
+    from sliders.app.tables import write_results
 
-    model = _load(args.scene)
-    out = next(
-        (p for p in (args.resume, args.out) if p is not None), Path("results") / args.scene.stem
-    )
-    try:
-        check_replaceable(out, MARKER)
-        if model.scene.output.png != "none" and importlib.util.find_spec("pyvista") is None:
-            raise ValueError("output.png needs pyvista: pip install 'fvslider[render]'")
-    except ValueError as exc:
-        print(f"fvslider: {exc}", file=sys.stderr)
+    model = _validated(args)
+    if model is None:
         return 2
+    out = _out(args)
+    removed = remove_leftovers(out, OUTPUT_MARKER) + remove_leftovers(
+        checkpoint.checkpoint_directory(out), checkpoint.MARKER
+    )
+    if removed:
+        print(
+            f"removed {len(removed)} temporary director{'y' if len(removed) == 1 else 'ies'} "
+            f"left beside {out} by interrupted runs: {', '.join(p.name for p in removed)}",
+            file=sys.stderr,
+        )
     if model.scene.study.kind == "dynamic":
         return _run_dynamic(model, out, resume=args.resume is not None)
     if args.resume is not None:
@@ -113,7 +163,7 @@ def _run(args: argparse.Namespace) -> int:
     return 1 if results.failures else 0
 
 
-def _run_dynamic(model, out: Path, resume: bool) -> int:
+def _run_dynamic(model: Model, out: Path, resume: bool) -> int:
     from sliders.app.checkpoint import Complete
     from sliders.app.run_dynamic import integrate, write_dynamic
 
@@ -166,6 +216,9 @@ def _studies(args: argparse.Namespace) -> int:
 
 
 def _reproduce(args: argparse.Namespace) -> int:
+    from fvbeam.io import check_writable
+
+    check_writable(args.out)
     registered = registered_studies()
     keys = list(dict.fromkeys(args.figures or [k for k in registered if k not in LONG]))
     plot = importlib.util.find_spec("matplotlib") is not None
@@ -235,8 +288,15 @@ def _parser() -> argparse.ArgumentParser:
         help="go on with the dynamic run into DIR from its last checkpoint (DIR.checkpoint)",
     )
     run.set_defaults(command=_run)
-    check = commands.add_parser("check", help="validate a scene without solving it")
+    check = commands.add_parser(
+        "check",
+        help="everything run does but solving: validate the scene, open the files it "
+        "names, check the output directory",
+    )
     check.add_argument("scene", type=Path, metavar="SCENE.toml")
+    check.add_argument(
+        "--out", type=Path, help="the output directory run would write (default results/SCENE)"
+    )
     check.set_defaults(command=_check)
     studies = commands.add_parser("studies", help="list the paper's figure studies")
     studies.set_defaults(command=_studies)
@@ -269,12 +329,20 @@ def _parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Run the command line ``argv`` (default ``sys.argv[1:]``); return the exit code."""
     args = _parser().parse_args(argv)
+    from fvbeam.io import OutputError
     from sliders.app.errors import SceneError
 
     try:
         return args.command(args)
     except SceneError as exc:
         print(exc, file=sys.stderr)
+        return 2
+    except OutputError as exc:
+        print(f"fvslider: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:  # any other file problem: one line, no traceback
+        where = f"{exc.filename}: " if exc.filename is not None else ""
+        print(f"fvslider: {where}{exc.strerror or exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)

@@ -1,10 +1,12 @@
 """A validated scene as fvbeam and sliders objects, and the problem of each study point.
 
 :class:`Model` builds the sections, beams, bodies, rigid lines, supports and sliders of a
-:class:`~sliders.app.schema.Scene` by name, and checks the geometry (phase 3 of validation): the
-library's own checks on every part, ties between coincident nodes, point loads on their
-beams, and every slider's body on its line, in the scene and at every value of a sweep that
-moves it.  Nothing is assembled or solved until :meth:`Model.problem` is called.
+:class:`~sliders.app.schema.Scene` by name, and checks the geometry and the files the scene
+names (phase 3 of validation): the mesh files read, the library's own checks on every part,
+ties between coincident nodes, point loads on their beams, every slider's body on its line,
+in the scene and at every value of a sweep that moves it; a dynamic study's restart state
+read and matched to the model, and every abscissa drive on its line from the start to
+``t_end``.  Nothing is assembled or solved until :meth:`Model.problem` is called.
 
 The body-on-line tolerance is ``1e-6`` of the line's size (the largest of its length and of
 the distances from the origin of its ends and of the sliding point): coordinates written with
@@ -34,7 +36,7 @@ from sliders.app.schema import (
     SweepStudy,
     Translation,
 )
-from sliders.joints.drives import DofDrive, Linear, Motion, Ramp, Tabulated
+from sliders.joints.drives import DofDrive, Linear, Ramp, Tabulated
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
 from sliders.lines.rigid import (
@@ -46,6 +48,7 @@ from sliders.lines.rigid import (
     project_one,
 )
 from sliders.solve.dynamics import Dynamics
+from sliders.solve.integrator import State
 from sliders.solve.statics import SliderStatics
 
 #: Body-on-line tolerance, relative to the line's size (module docstring).
@@ -54,6 +57,12 @@ ON_LINE = 1e-6
 #: for bodies).
 COINCIDENT = 1e-9
 TWO_NODE = ("fv2", "galerkin-p1")
+
+
+def _inside(xi: float, length: float) -> bool:
+    """Whether the abscissa ``xi`` lies on a line of ``length``, to the ``1e-12`` of its length
+    that :func:`fvbeam.geometry.locate_abscissa` allows."""
+    return -1e-12 * length <= xi <= length * (1 + 1e-12)
 
 
 def _section(spec) -> Section:
@@ -94,7 +103,7 @@ def _body(spec) -> RigidBody:
     )
 
 
-def _motion(spec) -> Motion:
+def _motion(spec) -> Linear | Ramp | Tabulated:
     if spec.kind == "linear":
         return Linear(spec.start, spec.velocity, spec.t0)
     if spec.kind == "ramp":
@@ -201,6 +210,9 @@ class Model:
         ]
         problems.raise_if_any(source)
         self._check_on_lines(problems)
+        #: The state a dynamic study starts from (``study.restart``), or None.
+        self.restart = self._restart(problems)
+        self._check_drives(problems)
         problems.raise_if_any(source)
         self._previous: SliderStatics | None = None
 
@@ -280,7 +292,7 @@ class Model:
         parameter = study.parameter
         if isinstance(parameter, Abscissa):
             length = self._abscissa_length(parameter.of)
-            outside = [v for v in values if not -1e-12 * length <= v <= length * (1 + 1e-12)]
+            outside = [v for v in values if not _inside(v, length)]
             if outside:
                 problems.add(
                     where,
@@ -310,6 +322,72 @@ class Model:
                     f"(allowed {t:.3g} m)",
                     float(v),
                 )
+
+    def _restart(self, problems: Problems) -> State | None:
+        """The state ``study.restart`` names, read and matched to the model: its dofs, its
+        sliders and the unknowns of each kind, every slider on its line, a time before
+        ``t_end`` (None, with the problems recorded, when it is not one)."""
+        study = self.scene.study
+        if not isinstance(study, DynamicStudy) or study.restart is None:
+            return None
+        state = problems.attempt("study.restart", partial(State.load, study.restart))
+        if state is None:
+            return None
+        found = len(problems)
+        other = f"{study.restart} is a state of another model:"
+        if len(state.q) != self.structure.n_dofs:
+            problems.add(
+                "study.restart",
+                f"{other} {len(state.q)} dofs, where this scene has {self.structure.n_dofs}",
+            )
+        if len(state.unknowns) != len(self.sliders):
+            problems.add(
+                "study.restart",
+                f"{other} {len(state.unknowns)} sliders, where this scene has {len(self.sliders)}",
+            )
+        for slider, y in zip(self.sliders, state.unknowns, strict=False):
+            if len(y) != slider.n_unknowns:
+                problems.add(
+                    "study.restart",
+                    f"{other} {len(y)} unknowns for slider '{slider.name}', a {slider.kind} "
+                    f"slider with {slider.n_unknowns} here",
+                )
+            elif not _inside(float(y[0]), slider.line.length):
+                problems.add(
+                    "study.restart",
+                    f"puts slider '{slider.name}' at xi = {y[0]:.6g} m, outside its line "
+                    f"'{slider.line.name}' [0, {slider.line.length:.6g}] m",
+                )
+        if state.t >= study.t_end:
+            problems.add(
+                "study.t_end",
+                f"must be after the restart state's time, t = {state.t:.6g} s",
+                study.t_end,
+            )
+        return state if len(problems) == found else None
+
+    def _check_drives(self, problems: Problems) -> None:
+        """Every abscissa drive keeps its slider on its line over the whole integration, from
+        its start (``t = 0`` or the restart state's time) to ``t_end``: the motion is checked
+        at every time it may be least or greatest (``turning_times``)."""
+        study = self.scene.study
+        if not isinstance(study, DynamicStudy):
+            return
+        start = self.restart.t if self.restart is not None else 0.0
+        for i, spec in enumerate(self.scene.drive):
+            if spec.kind != "abscissa":
+                continue
+            line = self.sliders[self._slider_names().index(spec.slider)].line
+            motion = self.slider_drives[spec.slider]
+            for t in motion.turning_times(start, study.t_end):
+                xi = motion(t)[0]
+                if not _inside(xi, line.length):
+                    problems.add(
+                        f"drive[{i}].motion",
+                        f"takes slider '{spec.slider}' to xi = {xi:.6g} m at t = {t:.6g} s, "
+                        f"outside its line '{line.name}' [0, {line.length:.6g}] m",
+                    )
+                    break
 
     def _slider_names(self) -> list[str]:
         return [s.name for s in self.scene.slider]

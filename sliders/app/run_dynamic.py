@@ -73,7 +73,8 @@ class DynamicRun:
 def integrate(
     model: Model, progress: bool = True, out: str | Path | None = None, resume: bool = False
 ) -> DynamicRun:
-    """Integrate ``model``'s dynamic study, every step recorded in memory.
+    """Integrate ``model``'s dynamic study, every step recorded in memory, from the static
+    equilibrium or from the restart state the model read and checked (``model.restart``).
 
     Parameters
     ----------
@@ -91,8 +92,7 @@ def integrate(
     Raises
     ------
     ValueError
-        The restart file is not a state of this scene; ``out``'s checkpoint is missing,
-        another scene's or damaged.
+        ``out``'s checkpoint is missing, another scene's or damaged.
     sliders.app.checkpoint.Complete
         ``resume`` and ``out`` holds the scene's finished run (nothing to do).
     """
@@ -102,14 +102,7 @@ def integrate(
     if resume and out is None:
         raise ValueError("resume needs the output directory out whose checkpoint to go on from")
     dynamics = model.dynamics()
-    start = None
-    if study.restart is not None:
-        start = State.load(study.restart)
-        if start.q.shape != (model.structure.n_dofs,) or len(start.unknowns) != len(model.sliders):
-            raise ValueError(
-                f"{study.restart}: a state of another model ({len(start.q)} "
-                f"dofs, {len(start.unknowns)} sliders)"
-            )
+    start = model.restart
     adaptive = None
     if study.adaptive is not None:
         spec = study.adaptive

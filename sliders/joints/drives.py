@@ -63,6 +63,11 @@ class Linear:
     def __call__(self, t: float) -> tuple[float, float, float]:
         return self.start + self.velocity * (t - self.t0), self.velocity, 0.0
 
+    def turning_times(self, t0: float, t1: float) -> np.ndarray:
+        """The times in ``[t0, t1]`` at which the value may be least or greatest there: the
+        ends (the motion is monotone)."""
+        return np.array([t0, t1], dtype=float)
+
 
 @dataclass(frozen=True)
 class Ramp:
@@ -95,6 +100,11 @@ class Ramp:
             rise * w * np.sin(np.pi * s) / 2,
             rise * w * w * np.cos(np.pi * s) / 2,
         )
+
+    def turning_times(self, t0: float, t1: float) -> np.ndarray:
+        """The times in ``[t0, t1]`` at which the value may be least or greatest there: the
+        ends (either shape is monotone)."""
+        return np.array([t0, t1], dtype=float)
 
 
 @dataclass(frozen=True, eq=False)
@@ -137,6 +147,14 @@ class Tabulated:
         k = int(np.searchsorted(times, t, side="right")) - 1
         rate = (values[k + 1] - values[k]) / (times[k + 1] - times[k])
         return float(values[k] + rate * (t - times[k])), float(rate), 0.0
+
+    def turning_times(self, t0: float, t1: float) -> np.ndarray:
+        """The times in ``[t0, t1]`` at which the value may be least or greatest there: the
+        ends, the table's times, and where the cubic spline's rate vanishes."""
+        inside = list(self.times)
+        if self._spline is not None:
+            inside += list(self._spline.derivative().roots(extrapolate=False))
+        return np.array([t0, t1] + [t for t in inside if t0 < t < t1], dtype=float)
 
 
 @dataclass(frozen=True)

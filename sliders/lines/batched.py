@@ -14,13 +14,16 @@ dimension ``B``:
 * :meth:`ChainStack.rotation`: the section rotation interpolated between the two nodes around
   ``xi``, the kink correction ``kappa = w0 w1 l + lag h w_mid^2`` and the reference frame;
 * :meth:`ChainStack.transfer`: the test functions at ``xi`` read as load-transfer matrices
-  ``G(xi)`` (eq. T6) and ``dG/dxi``; with smearing, each member's
-  :meth:`~sliders.lines.chain.BeamChain.transfer` padded to a common size with zero rows;
+  ``G(xi)`` (eq. T6) and ``dG/dxi``; with smearing, the kernel integrated against them as
+  :meth:`~sliders.lines.chain.BeamChain.transfer` integrates it by the kernel form
+  (:func:`sliders.lines.batched_kernel.smeared_transfer`), padded to a common size with zero
+  rows;
 * :meth:`ChainStack.project`: the initial ``xi`` by projection;
 * :meth:`ChainStack.line_state`: all a joint needs at once on the states ``q`` (the deformed
   line, the recovered tangent, the load transfer and the section rotation).
 
-Every query is one call of the compiled kernel :func:`sliders.lines.batched_kernel.line_state`.
+Every query is one call of the compiled kernel :func:`sliders.lines.batched_kernel.line_state`
+(and, for a smeared load, one of :func:`~sliders.lines.batched_kernel.smeared_transfer`).
 The single-point queries of :class:`~sliders.lines.chain.BeamChain` are the ``B = 1`` case.  The
 chain's beams must all have the same number of nodes per element (fixed-size slots).
 """
@@ -36,9 +39,10 @@ import numpy as np
 
 from fvbeam.beam import Beam
 from fvbeam.elements import influence_regions
-from fvbeam.formulations import FiniteVolume
+from fvbeam.formulations import FiniteVolume, gauss
 from fvbeam.geometry import locate_abscissa
 from fvbeam.mesh import shape_functions
+from fvbeam.smearing import KERNEL_GAUSS_POINTS, check_smearing, steps
 from fvbeam.structure import Structure
 from sliders.lines import batched_kernel as stack_kernel
 from sliders.lines.rigid import curvature_rate, frame_and_curvature, project
@@ -66,6 +70,10 @@ class Chain(Protocol):
 #: where the exact step gives ``h C M / 2``; Galerkin P2, ``1/16``: the quadratic minimising
 #: the energy with the couple at the mid-node reaches ``7/16 h C M`` there.
 MID_NODE_LAG = {"fv": 0.25 - np.sqrt(3.0) / 8, "galerkin": 1.0 / 16}
+
+#: The rule on [0, 1] by which a smeared transfer integrates each piece of a kernel's support
+#: (:meth:`ChainStack.transfer`), the kernel form's (:meth:`fvbeam.beam.Beam.kernel_transfer`).
+KERNEL_RULE = gauss(KERNEL_GAUSS_POINTS)
 
 #: Relative tolerance on the element lengths of the members: a rigid move recomputes them
 #: from the moved nodes (8-point Gauss rule on ``|dx/dX|``), with a roundoff of some ``eps``.
@@ -343,8 +351,8 @@ class ChainStack:
         rigidly by ``shifts[b]`` ((B, n_beams, 3), one shift per beam of the structure), as
         :meth:`fvbeam.beam.Beam.translated` would move them (the node positions are this
         chain's plus the shift), without building the moved chains.  A translation changes
-        nothing but the node positions, so every member keeps this chain for the queries that
-        do not read them (the smeared transfer)."""
+        nothing but the node positions, so every member keeps this chain (its beams, offsets
+        and dof maps); every query reads the moved positions."""
         if len(self) != 1:
             raise ValueError(f"{self.name}: only a one-member stack is translated")
         chain = self.chains[0]
@@ -522,21 +530,33 @@ class ChainStack:
         """How a force and couple ``[F; M]`` at each member's ``xi`` loads its chain (T6).
 
         Returns global ``dofs`` (B, k), ``G`` (B, k, 6) and ``dG/dxi`` (B, k, 6) as
-        :meth:`sliders.lines.chain.BeamChain.transfer` (which gives the smeared loads, padded here
-        to a common ``k`` with zero rows on the member's first dof).
+        :meth:`sliders.lines.chain.BeamChain.transfer` gives them, compiled: without smearing
+        the test functions at ``xi`` (:func:`sliders.lines.batched_kernel.line_state`); with
+        ``smearing > 0`` the kernel integrated against them over the chain and normalised by
+        its mass there, with the exact derivative
+        (:func:`sliders.lines.batched_kernel.smeared_transfer`, the kernel form's quadrature
+        :data:`KERNEL_RULE` on the same pieces): the dofs of the nodes of the elements the
+        kernel reaches, padded to a common ``k`` with zero rows on the member's last dof.
         """
+        smearing = check_smearing(smearing, kernel)
         if smearing > 0:
-            parts = [
-                chain.transfer(float(x), smearing, kernel)
-                for chain, x in zip(self.chains, xi, strict=True)
-            ]
-            size = max(len(p[0]) for p in parts)
-            dofs = np.array([np.pad(d, (0, size - len(d)), mode="edge") for d, _, _ in parts])
-            G, dG = (
-                np.array([np.pad(p[i], ((0, size - len(p[0])), (0, 0))) for p in parts])
-                for i in (1, 2)
+            return stack_kernel.smeared_transfer(
+                self._checked(xi),
+                smearing,
+                kernel == "box",
+                *steps(smearing, kernel),
+                *KERNEL_RULE,
+                self.map,
+                self.maps,
+                self.cells,
+                self.points,
+                self.breaks,
+                self.vertex_s,
+                self.first_element,
+                self.h,
+                self.rigid,
+                self.regions,
             )
-            return dofs, G, dG
         a = self._query(xi, None, True, False)
         return a.load_dofs, a.G, a.dG
 

@@ -5,7 +5,9 @@ One call of :func:`line_state` answers every query of :class:`sliders.lines.batc
 (:func:`locate_one`), the element interpolation and the recovered tangent
 (``docs/sliders.md``, :func:`interpolation_one`), the deformed line (:func:`weighted`), the
 load transfer (eq. T6, :func:`fvbeam.pointwise.transfer_at`) and the section rotation with
-its kink correction (:func:`rotation_one`).  The stack's arrays are described in
+its kink correction (:func:`rotation_one`).  A smeared load transfer is one call of
+:func:`smeared_transfer`: the kernel form of :meth:`sliders.lines.chain.BeamChain.transfer`
+integrated by the same rule on the same pieces, compiled.  The stack's arrays are described in
 :class:`sliders.lines.batched.ChainStack`; the kernels expect them C-contiguous, float64 and int64.
 """
 
@@ -14,7 +16,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from fvbeam.pointwise import shape_at, transfer_at
+from fvbeam.pointwise import shape_at, smeared_element, transfer_at
 
 
 @numba.njit(cache=True, inline="never")
@@ -315,3 +317,174 @@ def reference_line(
         weighted(dN, nodes[p], l0[p])
         weighted(d2N, nodes[p], l0_xi[p])
     return l0, l0_xi
+
+
+@numba.njit(cache=True, inline="never")
+def beam_of(first_element: np.ndarray, element: int) -> int:
+    """The beam (position in the chain) holding the chain's ``element``."""
+    k = 0
+    while first_element[k + 1] <= element:
+        k += 1
+    return k
+
+
+@numba.njit(cache=True, inline="never")
+def node_slot(element: int, a: int, npe: int) -> int:
+    """The slot of local node ``a`` of the ``element``-th element of a run of consecutive
+    elements: the run's nodes in order along the chain, each element's start vertex, its mid
+    node, then the next vertex (shared with the next element, across beam junctions too)."""
+    base = element * (npe - 1)
+    if a == 0:
+        return base
+    if a == 1:
+        return base + npe - 1
+    return base + 1
+
+
+@numba.njit(cache=True, inline="never")
+def element_nodes(points: np.ndarray, cell: np.ndarray, nodes: np.ndarray) -> None:
+    """The positions (npe, 3) of an element's nodes ``cell`` (npe,) among ``points`` into
+    ``nodes``."""
+    for a in range(len(cell)):
+        for c in range(3):
+            nodes[a, c] = points[cell[a], c]
+
+
+@numba.njit(cache=True, inline="never")
+def add_block(block: np.ndarray, scale: float, element: int, out: np.ndarray) -> None:
+    """Add ``scale`` times an element's ``block`` (6 npe, 6), node by node, to the rows of its
+    nodes' slots in ``out`` (:func:`node_slot`)."""
+    npe = block.shape[0] // 6
+    for a in range(npe):
+        slot = 6 * node_slot(element, a, npe)
+        for r in range(6):
+            for c in range(6):
+                out[slot + r, c] += scale * block[6 * a + r, c]
+
+
+@numba.njit(cache=True)
+def smeared_transfer(
+    xi: np.ndarray,
+    smearing: float,
+    box: bool,
+    step_r: np.ndarray,
+    step_jump: np.ndarray,
+    rule_x: np.ndarray,
+    rule_w: np.ndarray,
+    member_map: np.ndarray,
+    maps: np.ndarray,
+    cells: np.ndarray,
+    points: np.ndarray,
+    breaks: np.ndarray,
+    vertex_s: np.ndarray,
+    first_element: np.ndarray,
+    h: np.ndarray,
+    rigid: np.ndarray,
+    regions: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The smeared load transfer of each member at ``xi`` (B,) on the stack's arrays (as
+    :func:`line_state`), as :meth:`sliders.lines.chain.BeamChain.transfer` gives it from the
+    kernel form: ``G = A / m`` and ``G' = (A' - G m') / m`` with ``A = int K(s - xi) H(s) ds``
+    and ``m = int K(s - xi) ds`` over the chain ``[0, L]``, ``A' = -int K' H ds`` (eq. T6).
+
+    The kernel (box if ``box``, else hat; half-width ``smearing > 0``) is integrated on each
+    element of each beam it touches, over its part inside the beam and the kernel
+    (:func:`fvbeam.pointwise.smeared_element`, composite rule ``rule_x``, ``rule_w``); the
+    Dirac parts of ``K'`` (the jumps ``step_jump`` at the offsets ``step_r``,
+    :func:`fvbeam.smearing.steps`) add ``-jump H`` at ``xi + r`` inside the chain to ``A'``
+    (and ``-jump`` to ``m'``), ``H`` the point transfer there (:func:`locate_one`,
+    :func:`fvbeam.pointwise.transfer_at`).
+
+    Returns ``dofs`` (B, k), ``G`` and ``dG/dxi`` (B, k, 6): the dofs of the nodes of the
+    elements from the one holding ``max(xi - smearing, 0)`` to the one holding
+    ``min(xi + smearing, L)`` (:func:`node_slot`), padded to the common ``k`` with the
+    member's last dof and zero rows.
+    """
+    B, npe = len(xi), cells.shape[1]
+    span = np.empty((B, 2), np.int64)
+    slots = 1
+    for b in range(B):
+        length = breaks[b, -1]
+        span[b, 0] = locate_one(
+            max(xi[b] - smearing, 0.0), breaks[b], vertex_s[b], first_element, h[b]
+        )[1]
+        span[b, 1] = locate_one(
+            min(xi[b] + smearing, length), breaks[b], vertex_s[b], first_element, h[b]
+        )[1]
+        slots = max(slots, (span[b, 1] - span[b, 0] + 1) * (npe - 1) + 1)
+    dofs = np.empty((B, 6 * slots), np.int64)
+    G, dG = np.zeros((B, 6 * slots, 6)), np.zeros((B, 6 * slots, 6))
+    N, dN, d2N, chi, dchi = (
+        np.empty(npe),
+        np.empty(npe),
+        np.empty(npe),
+        np.empty(npe),
+        np.empty(npe),
+    )
+    H, dH = np.empty((6 * npe, 6)), np.empty((6 * npe, 6))
+    A, dA = np.empty((6 * npe, 6)), np.empty((6 * npe, 6))
+    nodes, scratch = np.empty((npe, 3)), np.empty(2 * npe + 5)
+    for b in range(B):
+        x, dof_map, first = xi[b], maps[member_map[b]], span[b, 0]
+        mass = dmass = 0.0
+        for e in range(first, span[b, 1] + 1):
+            for a in range(npe):
+                slot = 6 * node_slot(e - first, a, npe)
+                for c in range(6):
+                    dofs[b, slot + c] = dof_map[e, a, c]
+            k = beam_of(first_element, e)
+            offset = breaks[b, k]
+            lo, hi = max(x - smearing, offset), min(x + smearing, breaks[b, k + 1])
+            if hi <= lo:
+                continue
+            local = x - offset  # the beam's own abscissae, as the beam's form reads them
+            lo, hi = max(lo - offset, local - smearing), min(hi - offset, local + smearing)
+            start, end = vertex_s[b, e + k], vertex_s[b, e + k + 1]  # beam k's vertices
+            if not (start < hi and end > lo):
+                continue
+            element_nodes(points[b], cells[e], nodes)
+            A[:] = 0.0
+            dA[:] = 0.0
+            m, dm = smeared_element(
+                rigid[k],
+                regions,
+                nodes,
+                start,
+                h[b, e],
+                max(lo, start),
+                min(hi, end),
+                local,
+                smearing,
+                box,
+                rule_x,
+                rule_w,
+                scratch,
+                N,
+                dN,
+                d2N,
+                chi,
+                dchi,
+                H,
+                dH,
+                A,
+                dA,
+            )
+            mass += m
+            dmass += dm
+            add_block(A, 1.0, e - first, G[b])
+            add_block(dA, 1.0, e - first, dG[b])
+        for i in range(len(step_r)):
+            at = x + step_r[i]
+            if 0 < at < breaks[b, -1]:
+                k, e, X = locate_one(at, breaks[b], vertex_s[b], first_element, h[b])
+                element_nodes(points[b], cells[e], nodes)
+                transfer_at(rigid[k], regions, nodes, h[b, e], X, N, dN, d2N, chi, dchi, H, dH)
+                add_block(H, -step_jump[i], e - first, dG[b])
+                dmass -= step_jump[i]
+        used = 6 * ((span[b, 1] - first + 1) * (npe - 1) + 1)
+        dofs[b, used:] = dofs[b, used - 1]
+        for r in range(used):
+            for c in range(6):
+                G[b, r, c] = G[b, r, c] / mass
+                dG[b, r, c] = (dG[b, r, c] - G[b, r, c] * dmass) / mass
+    return dofs, G, dG

@@ -32,10 +32,13 @@ independent of ``h``.
 
 from __future__ import annotations
 
+import zipfile
+import zlib
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import numpy.lib.format as npy
 
 from fvbeam.io import write_atomic
 
@@ -158,19 +161,81 @@ class State:
 
     @classmethod
     def load(cls, path: str | Path) -> "State":
-        """A state written by :meth:`save`; ``ValueError`` naming the file if it is not one."""
+        """A state written by :meth:`save`.
+
+        ``ValueError`` naming the file and what is wrong if it is not one: missing or
+        unreadable, not an ``.npz`` archive, an array missing or of the wrong shape or type
+        (:data:`SAVED`), a value not finite, or slider sizes that do not add up.  Every array's
+        header is read, and its size checked against the archive's, before it is read."""
         try:
-            with np.load(path) as data:
-                sizes = data["sizes"]
-                unknowns = np.split(data["unknowns"], np.cumsum(sizes)[:-1]) if sizes.size else []
-                return cls(
-                    float(data["t"]),
-                    data["q"],
-                    data["v"],
-                    data["a"],
-                    data["qdd"],
-                    [np.array(y) for y in unknowns],
-                    float(data["h"]),
+            arrays = _saved_arrays(Path(path))
+        except FileNotFoundError:
+            raise ValueError(f"{path}: no such file") from None
+        except IsADirectoryError:
+            raise ValueError(f"{path}: a directory, not a saved integrator state") from None
+        except OSError as exc:
+            raise ValueError(f"{path}: cannot read the file ({exc.strerror or exc})") from None
+        except DAMAGED as exc:
+            raise ValueError(f"{path}: not a saved integrator state ({exc})") from None
+        sizes, unknowns = arrays["sizes"], arrays["unknowns"]
+        if sizes.dtype.kind not in "iu" or np.any(sizes < 0) or sizes.sum() != len(unknowns):
+            raise ValueError(
+                f"{path}: not a saved integrator state (its slider sizes {sizes.tolist()} "
+                f"do not add up to its {len(unknowns)} unknowns)"
+            )
+        lengths = {key: len(arrays[key]) for key in ("q", "v", "a", "qdd")}
+        if len(set(lengths.values())) > 1:
+            raise ValueError(
+                f"{path}: not a saved integrator state (q, v, a, qdd of lengths "
+                f"{list(lengths.values())})"
+            )
+        for key, value in arrays.items():
+            if key != "sizes" and not np.all(np.isfinite(value)):
+                raise ValueError(f"{path}: not a saved integrator state ({key} is not finite)")
+        split = np.split(unknowns, np.cumsum(sizes)[:-1]) if sizes.size else []
+        return cls(
+            float(arrays["t"]),
+            arrays["q"].astype(float),
+            arrays["v"].astype(float),
+            arrays["a"].astype(float),
+            arrays["qdd"].astype(float),
+            [np.array(y, dtype=float) for y in split],
+            float(arrays["h"]),
+        )
+
+
+#: What :mod:`zipfile` and numpy's ``.npy`` reader raise for a damaged archive (besides
+#: ``ValueError``: ``RuntimeError`` for a member flagged encrypted, ``NotImplementedError`` for
+#: an unknown compression, ``EOFError`` and ``zlib.error`` for cut or garbled data).
+DAMAGED = (zipfile.BadZipFile, zlib.error, EOFError, ValueError, NotImplementedError, RuntimeError)
+#: The arrays :meth:`State.save` writes: name and number of dimensions.
+SAVED = {"t": 0, "q": 1, "v": 1, "a": 1, "qdd": 1, "h": 0, "sizes": 1, "unknowns": 1}
+
+
+def _saved_arrays(path: Path) -> dict[str, np.ndarray]:
+    """The arrays of :data:`SAVED` in the ``.npz`` archive ``path``, real numbers each, of its
+    number of dimensions (``ValueError`` otherwise); every header is checked before the data
+    is read, so that a header claiming more data than the archive holds allocates nothing."""
+    arrays = {}
+    with zipfile.ZipFile(path) as archive:
+        for name, ndim in SAVED.items():
+            try:
+                info = archive.getinfo(f"{name}.npy")
+            except KeyError:
+                raise ValueError(f"no array {name!r}") from None
+            with archive.open(info) as member:
+                version = npy.read_magic(member)
+                header = (
+                    npy.read_array_header_1_0 if version == (1, 0) else npy.read_array_header_2_0
                 )
-        except (OSError, KeyError, ValueError) as exc:
-            raise ValueError(f"{path}: not a saved integrator state ({exc})") from exc
+                shape, _, dtype = header(member)
+            if len(shape) != ndim or dtype.kind not in "fiu":
+                raise ValueError(
+                    f"{name!r} is an array of {dtype} and shape {shape}; "
+                    f"a saved state's is real and {ndim}-dimensional"
+                )
+            if int(np.prod(shape)) * dtype.itemsize > info.file_size:
+                raise ValueError(f"{name!r} claims more data than the archive holds")
+            with archive.open(info) as member:
+                arrays[name] = npy.read_array(member, allow_pickle=False)
+    return arrays
