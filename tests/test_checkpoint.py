@@ -23,7 +23,7 @@ import tomli_w
 from test_scenes import ROOT, data
 
 from fvbeam import Beam, Section, Structure, straight
-from sliders.app import run_dynamic
+from sliders.app import checkpoint, run_dynamic
 from sliders.app.checkpoint import COMMIT, Checkpoints, checkpoint_directory
 from sliders.app.cli import main
 from sliders.app.history import Recorder
@@ -331,6 +331,21 @@ def test_a_foreign_directory_in_the_checkpoints_place_is_left_alone(tmp_path, ca
     assert run(scene, "--out", str(tmp_path / "out")) == 2
     assert "was not written by this program" in capsys.readouterr().err
     assert not (tmp_path / "out").exists() and (foreign / "notes.txt").read_text() == "mine"
+
+
+def test_the_next_run_removes_what_a_killed_checkpoint_left(tmp_path, capsys):
+    """A kill inside a checkpoint's first writing or its removal leaves a temporary
+    directory beside ``DIR.checkpoint``, holding the checkpoint's marker: the next run
+    removes it and says so; a look-alike without the marker stays."""
+    scene = scene_file(tmp_path, t_end=0.5)
+    left, alike = tmp_path / ".out.checkpoint.k1l2m3n4", tmp_path / ".out.checkpoint.old.abcdefgh"
+    for directory in (left, alike):
+        directory.mkdir()
+    (left / checkpoint.MARKER).write_text("")
+    (alike / "notes.txt").write_text("mine")
+    assert run(scene, "--out", str(tmp_path / "out")) == 0
+    assert "removed 1 temporary directory" in capsys.readouterr().err
+    assert not left.exists() and (alike / "notes.txt").is_file()
 
 
 def test_resume_is_for_dynamic_studies_and_replaces_out(tmp_path, capsys):
