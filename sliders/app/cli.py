@@ -9,7 +9,9 @@ written); 130 interrupted by Ctrl-C (a sweep writes the points it completed).
 the mesh and restart files it names opened and matched to the model, and its drives on their
 lines), the output directory (``--out`` or the default; created and removed again to be
 sure), and the renderer ``output.png`` needs.  ``run`` first removes what interrupted runs
-left beside its output directory (:func:`fvbeam.io.remove_leftovers`), and says so.
+left beside its output directory (:func:`fvbeam.io.remove_leftovers`), and says so.  A dynamic
+run keeps a checkpoint beside its output directory, from which ``run --resume DIR`` goes on
+(:mod:`sliders.app.checkpoint`; 0 and "nothing to resume" when ``DIR`` holds the finished run).
 
 The command's own modules are imported when a command needs them, and ``fvslider --help`` and
 ``fvslider check`` never import matplotlib or pyvista; the package ``sliders`` itself imports
@@ -35,6 +37,7 @@ EXAMPLES = """\
 examples:
   fvslider check studies/scenes/fig4_sliding_beams.toml
   fvslider run studies/scenes/fig4_sliding_beams.toml --out results/sliding_beams
+  fvslider run studies/scenes/pushed_body.toml --resume results/pushed_body   # after a kill
   fvslider studies
   fvslider reproduce fig1
   fvslider reproduce               # Figures 1, 4, 5 into results/ (under a minute)
@@ -64,8 +67,10 @@ def _load(path: Path) -> Model:
 
 
 def _out(args: argparse.Namespace) -> Path:
-    """The output directory of ``run`` (``--out``, default ``results/SCENE``)."""
-    return args.out if args.out is not None else Path("results") / args.scene.stem
+    """The output directory of ``run`` (``--out`` or ``--resume``, default
+    ``results/SCENE``)."""
+    given = args.out if args.out is not None else getattr(args, "resume", None)
+    return given if given is not None else Path("results") / args.scene.stem
 
 
 def _validated(args: argparse.Namespace) -> Model | None:
@@ -116,6 +121,7 @@ def _check(args: argparse.Namespace) -> int:
 
 def _run(args: argparse.Namespace) -> int:
     from fvbeam.io import OUTPUT_MARKER, remove_leftovers
+    from sliders.app import checkpoint
     from sliders.app.run import Results, run
     from sliders.app.tables import write_results
 
@@ -123,7 +129,9 @@ def _run(args: argparse.Namespace) -> int:
     if model is None:
         return 2
     out = _out(args)
-    removed = remove_leftovers(out, OUTPUT_MARKER)
+    removed = remove_leftovers(out, OUTPUT_MARKER) + remove_leftovers(
+        checkpoint.checkpoint_directory(out), checkpoint.MARKER
+    )
     if removed:
         print(
             f"removed {len(removed)} temporary director{'y' if len(removed) == 1 else 'ies'} "
@@ -131,7 +139,14 @@ def _run(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
     if model.scene.study.kind == "dynamic":
-        return _run_dynamic(model, out)
+        return _run_dynamic(model, out, resume=args.resume is not None)
+    if args.resume is not None:
+        print(
+            f"fvslider: --resume: a {model.scene.study.kind} study has no checkpoints "
+            "(only dynamic studies do)",
+            file=sys.stderr,
+        )
+        return 2
     results = run(model, progress=True)
     assert isinstance(results, Results)  # a dynamic study went to _run_dynamic
     write_results(results, out)
@@ -148,12 +163,16 @@ def _run(args: argparse.Namespace) -> int:
     return 1 if results.failures else 0
 
 
-def _run_dynamic(model: Model, out: Path) -> int:
+def _run_dynamic(model: Model, out: Path, resume: bool) -> int:
+    from sliders.app.checkpoint import Complete
     from sliders.app.run_dynamic import integrate, write_dynamic
 
     try:
-        outcome = integrate(model, progress=True)
+        outcome = integrate(model, progress=True, out=out, resume=resume)
         write_dynamic(outcome, out)
+    except Complete as done:
+        print(done)
+        return 0
     except ValueError as exc:
         print(f"fvslider: {exc}", file=sys.stderr)
         return 2
@@ -164,7 +183,10 @@ def _run_dynamic(model: Model, out: Path) -> int:
         print(f"  failed: {outcome.error}", file=sys.stderr)
         return 1
     if outcome.interrupted:
-        print("interrupted: the steps computed are written", file=sys.stderr)
+        print(
+            f"interrupted: the steps computed are written; --resume {out} goes on",
+            file=sys.stderr,
+        )
         return 130
     return 0
 
@@ -255,8 +277,15 @@ def _parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     run.add_argument("scene", type=Path, metavar="SCENE.toml")
-    run.add_argument(
+    where = run.add_mutually_exclusive_group()
+    where.add_argument(
         "--out", type=Path, help="output directory, replaced whole (default results/SCENE)"
+    )
+    where.add_argument(
+        "--resume",
+        type=Path,
+        metavar="DIR",
+        help="go on with the dynamic run into DIR from its last checkpoint (DIR.checkpoint)",
     )
     run.set_defaults(command=_run)
     check = commands.add_parser(

@@ -24,13 +24,18 @@ on the dofs they hold, less the forces the joints exert there, as in statics.
 Rows are written as they come into ``NAME.csv.part`` files and flushed; :meth:`Recorder.close`
 renames them to ``NAME.csv``.  :meth:`sliders.solve.dynamics.Dynamics.run` closes the recorder on
 every exit, so an interrupted or failed integration leaves whole rows of what it computed.
+
+A recorder in memory can be checkpointed (:mod:`sliders.app.checkpoint`): its rows as CSV
+cells (:meth:`Recorder.cells`), what its next record builds on (:meth:`Recorder.carry`: the
+work integrals) and its kept states; :meth:`Recorder.resume` takes them back, and the records
+that follow are those of the uninterrupted run.
 """
 
 from __future__ import annotations
 
 import csv
 import os
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, TextIO
 
@@ -106,16 +111,10 @@ class Recorder:
 
     def start(self, dynamics: "Dynamics", state: State) -> None:
         """Name the columns, open the files and record the start."""
-        self.columns = ["step", "t", "h", "iterations", *ENERGIES]
-        for s in dynamics.sliders:
-            self.columns += [f"{s.name}.{u}" for u in s.unknown_names] + [f"{s.name}.residual"]
-        self.columns += list(self.probes)
+        self._name(dynamics)
         self.rows, self.states = [], []
         self._work = np.zeros(3)
         self._reference = None
-        self.headers = {"history": self.columns} | {
-            name: STEP_COLUMNS[name] for name in self.tables
-        }
         self.kept = {name: [] for name in self.tables}
         if self.directory is not None:
             self.directory.mkdir(parents=True, exist_ok=True)
@@ -131,11 +130,89 @@ class Recorder:
         """Write the tables recorded in memory (``directory=None``) into ``directory`` (which
         must exist): the same files a recorder streaming there would have left."""
         for name, header in self.headers.items():
-            rows = ([cell(x) for x in row] for row in self.rows) if name == "history" else None
             with open(Path(directory) / f"{name}.csv", "w", newline="") as stream:
                 writer = csv.writer(stream)
                 writer.writerow(header)
-                writer.writerows(rows if rows is not None else self.kept[name])
+                writer.writerows(self.cells(name))
+
+    def cells(self, name: str, start: int = 0, stop: int | None = None) -> Iterator[list[str]]:
+        """Rows ``start:stop`` of table ``name`` (``history`` or a per-step table) kept in
+        memory, as the CSV cells :meth:`write` writes."""
+        if name == "history":
+            return ([cell(x) for x in row] for row in self.rows[start:stop])
+        return iter(self.kept[name][start:stop])
+
+    def count(self, name: str) -> int:
+        """How many rows table ``name`` holds in memory."""
+        return len(self.rows) if name == "history" else len(self.kept[name])
+
+    def carry(self) -> dict[str, np.ndarray]:
+        """What the next record builds on, as arrays (a checkpoint saves them; :meth:`resume`
+        takes them back): the work integrals so far, the energy balance at the start, and
+        the last state's load, constraint forces and damping power."""
+        if self._reference is None:
+            raise ValueError("the recorder has not started: nothing to carry")
+        return {
+            "work": self._work.copy(),
+            "reference": np.array(self._reference),
+            "f": self._f,
+            "reaction": self._reaction,
+            "power": np.array(self._power),
+        }
+
+    def resume(
+        self,
+        dynamics: "Dynamics",
+        cells: dict[str, list[list[str]]],
+        carry: dict[str, np.ndarray],
+        states: Sequence[State],
+        last: State,
+    ) -> None:
+        """Take back a recording that stopped at the state ``last``, in memory
+        (``directory=None``): ``cells``, every table's rows (``history`` and the per-step
+        tables, without headers) as :meth:`cells` gave them, ``carry`` as :meth:`carry` gave
+        it after the last of them, and the kept ``states``.  The records that follow are
+        those of the uninterrupted recording (:meth:`sliders.solve.dynamics.Dynamics.resume`);
+        ``ValueError`` if the pieces do not fit this recorder."""
+        if self.directory is not None:
+            raise ValueError("a recorder resumes in memory only (directory=None)")
+        self._name(dynamics)
+        if set(cells) != set(self.headers):
+            raise ValueError(
+                f"tables {', '.join(sorted(cells))} given, {', '.join(self.headers)} recorded"
+            )
+        history = cells["history"]
+        widths = {len(row) for row in history}
+        if not history or widths != {len(self.columns)}:
+            raise ValueError(
+                f"history rows of {len(self.columns)} cells needed, got {len(history)} rows "
+                f"of {sorted(widths)}"
+            )
+        kept = (len(history) - 1) // self.every + 1 if self.every else 0
+        if len(states) != kept:
+            raise ValueError(
+                f"{kept} kept states needed for {len(history)} rows, got {len(states)}"
+            )
+        self.rows = [[_number(x) for x in row] for row in history]
+        self.kept = {name: [list(row) for row in cells[name]] for name in self.tables}
+        self._work = np.array(carry["work"], dtype=float)
+        self._reference = float(carry["reference"])
+        self._f, self._reaction = carry["f"], carry["reaction"]
+        self._power = float(carry["power"])
+        self.states = list(states)
+        if kept and (len(history) - 1) % self.every == 0:
+            self.states[-1] = last  # the last row's state is kept: the same object, as recorded
+        self.last = last
+
+    def _name(self, dynamics: "Dynamics") -> None:
+        """The columns of ``history`` and the headers of every table."""
+        self.columns = ["step", "t", "h", "iterations", *ENERGIES]
+        for s in dynamics.sliders:
+            self.columns += [f"{s.name}.{u}" for u in s.unknown_names] + [f"{s.name}.residual"]
+        self.columns += list(self.probes)
+        self.headers = {"history": self.columns} | {
+            name: STEP_COLUMNS[name] for name in self.tables
+        }
 
     def close(self) -> None:
         """Flush the files and give them their final names."""
@@ -213,3 +290,12 @@ class Recorder:
             head = [row[0], state.t]
             for name in self.tables:
                 self._write(name, [head + r for r in STATE_ROWS[name](snapshot)])
+
+
+def _number(text: str) -> int | float:
+    """A ``history.csv`` cell back as the number :func:`sliders.app.state_tables.cell` wrote:
+    an integer from its digits, a float from its ``repr`` (exactly)."""
+    try:
+        return int(text)
+    except ValueError:
+        return float(text)

@@ -4,8 +4,10 @@
 integration (:class:`sliders.solve.dynamics.Dynamics`) from the static equilibrium at ``t = 0``
 or from the saved state ``study.restart`` and records every step in memory
 (:class:`sliders.app.history.Recorder`); a failed step or Ctrl-C ends it with everything up to
-the last converged step.  :func:`write_dynamic` then writes a new directory, which replaces the
-output directory whole:
+the last converged step.  Given the output directory, it keeps checkpoints beside it
+(:mod:`sliders.app.checkpoint`) and can resume from the last one instead of starting.
+:func:`write_dynamic` then writes a new directory, which replaces the output directory whole
+(and removes the checkpoint of a run that ended):
 
 * ``history.csv`` always (in place of ``samples``); ``nodes.csv``, ``sliders.csv``,
   ``internal_forces.csv``, ``reactions.csv`` when ``output.csv`` lists them: the static
@@ -24,10 +26,11 @@ from pathlib import Path
 import numpy as np
 
 from fvbeam.io import OUTPUT_MARKER, replace_directory
+from sliders.app.checkpoint import Checkpoints
 from sliders.app.history import Recorder
 from sliders.app.model import Model
 from sliders.app.scene import dump_scene
-from sliders.app.schema import DynamicStudy, Scene
+from sliders.app.schema import CheckpointSpec, DynamicStudy, Scene
 from sliders.app.state_tables import STEP_COLUMNS
 from sliders.app.vtu import Frame, write_series
 from sliders.solve.dynamics import Adaptive, DynamicsError
@@ -39,9 +42,10 @@ class DynamicRun:
     """What a dynamic study did: the ``model``, the ``recorder`` with every step in memory
     (:meth:`~sliders.app.history.Recorder.table` is ``history.csv``), the last converged
     ``state`` (None when even the start failed), the ``error`` message of a failure,
-    ``interrupted`` by Ctrl-C, the wall-clock ``seconds``, and the ``held`` dofs (supports
+    ``interrupted`` by Ctrl-C, the wall-clock ``seconds``, the ``held`` dofs (supports
     and dof drives: what the rigid part of the drawn motion keeps in place,
-    :func:`sliders.app.motion.rigid_motion`)."""
+    :func:`sliders.app.motion.rigid_motion`), and its ``checkpoints`` (None without an
+    output directory)."""
 
     model: Model
     recorder: Recorder
@@ -50,6 +54,7 @@ class DynamicRun:
     error: str | None = None
     interrupted: bool = False
     seconds: float = 0.0
+    checkpoints: Checkpoints | None = None
 
     @property
     def scene(self) -> Scene:
@@ -65,12 +70,37 @@ class DynamicRun:
         return [Frame.of(self.model, state, held=self.held) for state in kept]
 
 
-def integrate(model: Model, progress: bool = True) -> DynamicRun:
+def integrate(
+    model: Model, progress: bool = True, out: str | Path | None = None, resume: bool = False
+) -> DynamicRun:
     """Integrate ``model``'s dynamic study, every step recorded in memory, from the static
-    equilibrium or from the restart state the model read and checked (``model.restart``)."""
+    equilibrium or from the restart state the model read and checked (``model.restart``).
+
+    Parameters
+    ----------
+    model
+        The built scene.
+    progress
+        A progress bar of simulated time (on a terminal).
+    out
+        The output directory the run is for (:func:`write_dynamic`): its checkpoints go
+        beside it, as ``study.checkpoint`` asks (:mod:`sliders.app.checkpoint`), and one on
+        Ctrl-C.  None: none.
+    resume
+        Go on from the last checkpoint of the run into ``out`` instead of starting.
+
+    Raises
+    ------
+    ValueError
+        ``out``'s checkpoint is missing, another scene's or damaged.
+    sliders.app.checkpoint.Complete
+        ``resume`` and ``out`` holds the scene's finished run (nothing to do).
+    """
     study, output = model.scene.study, model.scene.output
     if not isinstance(study, DynamicStudy):
         raise ValueError(f"a {study.kind} study: integrate runs dynamic studies")
+    if resume and out is None:
+        raise ValueError("resume needs the output directory out whose checkpoint to go on from")
     dynamics = model.dynamics()
     start = model.restart
     adaptive = None
@@ -86,21 +116,38 @@ def integrate(model: Model, progress: bool = True) -> DynamicRun:
     )
     held = np.setdiff1d(np.arange(model.structure.n_dofs), dynamics.free)
     outcome = DynamicRun(model, recorder, held)
+    period = study.checkpoint or CheckpointSpec()
+    cursor = None
+    if out is not None and resume:
+        outcome.checkpoints, cursor = Checkpoints.resume(
+            out, model.scene, dynamics, recorder, period.steps, period.seconds
+        )
+    elif out is not None:
+        outcome.checkpoints = Checkpoints(out, model.scene, recorder, period.steps, period.seconds)
+    save = outcome.checkpoints if outcome.checkpoints and outcome.checkpoints.enabled else None
     clock = time.perf_counter()
     try:
-        first = start if start is not None else dynamics.static_state()
-        outcome.state = dynamics.run(first, study.t_end, study.step, adaptive, recorder, progress)
+        if cursor is not None:
+            outcome.state = dynamics.resume(cursor, study.t_end, adaptive, recorder, progress, save)
+        else:
+            first = start if start is not None else dynamics.static_state()
+            outcome.state = dynamics.run(
+                first, study.t_end, study.step, adaptive, recorder, progress, save
+            )
     except DynamicsError as exc:
         outcome.error, outcome.state = str(exc), recorder.last
     except KeyboardInterrupt:
         outcome.interrupted, outcome.state = True, recorder.last
+        if save is not None:
+            save.save()  # the last whole step, to resume from
     outcome.seconds = time.perf_counter() - clock
     return outcome
 
 
 def write_dynamic(outcome: DynamicRun, out: str | Path) -> None:
     """Write ``outcome`` into a new directory that replaces ``out`` whole (module docstring;
-    ``ValueError`` if ``out`` is not a directory ``fvslider`` wrote)."""
+    ``ValueError`` if ``out`` is not a directory ``fvslider`` wrote); then, unless Ctrl-C
+    interrupted it, remove the run's checkpoint: the run is over."""
     model = outcome.model
     output = model.scene.output
 
@@ -119,6 +166,8 @@ def write_dynamic(outcome: DynamicRun, out: str | Path) -> None:
             _render(model, frame, directory / f"render_{k:06d}.png")
 
     replace_directory(out, fill, OUTPUT_MARKER)
+    if outcome.checkpoints is not None and not outcome.interrupted:
+        outcome.checkpoints.remove()
 
 
 def _render(model: Model, frame: Frame, path: Path) -> None:

@@ -432,11 +432,22 @@ class AdaptiveSpec(Table):
     h_max: Positive | None = None
 
 
+class CheckpointSpec(Table):
+    """Checkpoints of a run of the command (:mod:`sliders.app.checkpoint`): one every
+    ``steps`` time steps or ``seconds`` of wall time, whichever comes first (0: not by that
+    rule; both 0: none)."""
+
+    steps: Annotated[int, Strict(), Field(ge=0, description="an integer >= 0")] = 0
+    seconds: NonNegative = 60.0
+
+
 class DynamicStudy(Newton):
     """Time integration from the static equilibrium at ``t = 0`` (or a saved ``restart``
     state) to ``t_end`` (:class:`sliders.solve.dynamics.Dynamics`): steps of ``step`` seconds, or
     ``adaptive`` ones starting there; ``damping`` is the stiffness-proportional coefficient
-    (s); ``every``: keep one state in that many for the VTU series and renders."""
+    (s); ``every``: keep one state in that many for the VTU series and renders;
+    ``checkpoint``: how often ``fvslider run`` saves what ``--resume`` needs (None: the
+    defaults of :class:`CheckpointSpec`, every minute)."""
 
     kind: Literal["dynamic"]
     t_end: Positive
@@ -450,6 +461,7 @@ class DynamicStudy(Newton):
     adaptive: AdaptiveSpec | None = None
     restart: FilePath | None = None
     every: Count = 1
+    checkpoint: CheckpointSpec | None = None
 
 
 Study = Annotated[StaticStudy | SweepStudy | DynamicStudy, Field(discriminator="kind")]

@@ -111,8 +111,16 @@ class CondensedOperator:
             return
         unit = np.zeros((self.n_free + self.n_rigid, missing.size), order="F")
         unit[missing, np.arange(missing.size)] = 1.0
+        if self._dense:  # every column, once, at construction
+            solved = self.lu.solve(unit)
+        else:
+            # one at a time: SuperLU solves several right-hand sides in blocks whose roundoff
+            # depends on the block, and a column's bits must not depend on the columns missing
+            # with it (a time integration resumed from a checkpoint asks for them in other
+            # groups, and repeats the uninterrupted run's arithmetic)
+            solved = np.column_stack([self.lu.solve(unit[:, [k]]) for k in range(missing.size)])
         self._slot[missing] = len(self._store) + np.arange(missing.size)
-        self._store = np.vstack([self._store, self.lu.solve(unit).T])
+        self._store = np.vstack([self._store, solved.T])
 
     def step(
         self,

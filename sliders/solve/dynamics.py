@@ -20,6 +20,11 @@ the steps computed so far stay on disk.  A rigid motion that nothing holds is na
 (:mod:`sliders.solve.mechanism`): at the static start, where only supports, sliders and
 drives hold it (masses hold it only once moving: start from a given state instead), and in a
 step, where a massless part's motions are free unless held.
+
+Resuming: after every accepted step :meth:`Dynamics.run` hands its :class:`Cursor` (the state,
+the next step size, the fixed steps left) to an optional checkpoint writer;
+:meth:`Dynamics.resume` continues from such a cursor with the arithmetic of the uninterrupted
+run (``docs/dynamics.md``, Checkpoints and resume).
 """
 
 from __future__ import annotations
@@ -62,6 +67,23 @@ class Recorder(Protocol):
 
     def close(self) -> None: ...
 
+
+@dataclass(frozen=True)
+class Cursor:
+    """Where an integration stands after an accepted step: its ``state``, the size ``h`` of
+    the next step, and with fixed steps the number of ``steps`` left (None: adaptive steps,
+    which go on to ``t_end``).  With the recorder's rows, all a checkpoint needs to continue
+    (:meth:`Dynamics.resume`): the scheme is one-step (its ``a`` is in the state), and the
+    adaptive control keeps nothing but the next step size."""
+
+    state: State
+    h: float
+    steps: int | None = None
+
+
+#: What :meth:`Dynamics.run` calls after every accepted and recorded step, with its cursor
+#: (:class:`sliders.app.checkpoint.Checkpoints` writes one every so often).
+Checkpoint = Callable[[Cursor], None]
 
 #: A load: a fixed global vector, or a function of time returning one.
 Load = np.ndarray | Callable[[float], np.ndarray]
@@ -370,16 +392,17 @@ class Dynamics:
         adaptive: Adaptive | None = None,
         recorder: "Recorder | None" = None,
         progress: bool = True,
+        checkpoint: "Checkpoint | None" = None,
     ) -> State:
         """Integrate from ``state`` to ``t_end``.
 
         Fixed step (``adaptive`` None): ``h`` is shortened so that a whole number ``n`` of
         steps ends at ``t_end``, and exactly ``n`` steps are taken.  Adaptive: ``h`` is the
-        first step (:class:`Adaptive`).  Each accepted state goes to ``recorder``; with
-        ``progress``, a bar shows simulated time on a terminal.  The recorder is closed on
-        every exit (its files then hold the steps computed), and a failure raises
-        :class:`DynamicsError` with the last converged state.  A drive that sets a mass
-        moving at once from ``state`` at rest is warned of
+        first step (:class:`Adaptive`).  Each accepted state goes to ``recorder``, then its
+        :class:`Cursor` to ``checkpoint``; with ``progress``, a bar shows simulated time on
+        a terminal.  The recorder is closed on every exit (its files then hold the steps
+        computed), and a failure raises :class:`DynamicsError` with the last converged
+        state.  A drive that sets a mass moving at once from ``state`` at rest is warned of
         (:class:`~sliders.solve.jumps.VelocityJumpWarning`, :meth:`velocity_jumps`).
         """
         if not (np.isfinite(t_end) and t_end > state.t and np.isfinite(h) and h > 0):
@@ -394,31 +417,61 @@ class Dynamics:
                 VelocityJumpWarning,
                 stacklevel=2,
             )
-        steps = 0
+        steps = None
         if adaptive is None:
             steps = int(np.ceil((t_end - state.t) / h * (1 - 1e-12)))
             h = (t_end - state.t) / steps
         if recorder is not None:
             recorder.start(self, state)
+        return self.resume(Cursor(state, h, steps), t_end, adaptive, recorder, progress, checkpoint)
+
+    def resume(
+        self,
+        cursor: "Cursor",
+        t_end: float,
+        adaptive: Adaptive | None = None,
+        recorder: "Recorder | None" = None,
+        progress: bool = True,
+        checkpoint: "Checkpoint | None" = None,
+    ) -> State:
+        """Continue an integration to ``t_end`` from ``cursor``, as :meth:`run` goes on
+        after the step that gave it: the same steps, the same arithmetic, bit for bit.
+        ``recorder`` already holds the steps up to ``cursor.state``
+        (:meth:`sliders.app.history.Recorder.resume`); ``adaptive`` is the run's (None
+        exactly when ``cursor.steps`` counts fixed steps).  A cursor at the end returns its
+        state."""
+        if (cursor.steps is None) == (adaptive is None):
+            raise ValueError(
+                "a cursor of fixed steps resumes without adaptive, one of adaptive steps with it"
+            )
+        if not (np.isfinite(cursor.h) and cursor.h > 0 and (cursor.steps or 0) >= 0):
+            raise ValueError(
+                f"a cursor needs a step h > 0 and steps >= 0, got h = {cursor.h}, "
+                f"steps = {cursor.steps}"
+            )
+        state, h, steps = cursor.state, cursor.h, cursor.steps
         try:
             with tqdm(
-                total=t_end - state.t,
+                total=max(t_end - state.t, 0.0),
                 disable=None if progress else True,
                 unit="s",
                 desc="time",
                 bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}]",
             ) as bar:
                 while (
-                    steps > 0 if adaptive is None else t_end - state.t > 1e-12 * max(abs(t_end), h)
+                    steps > 0 if steps is not None else t_end - state.t > 1e-12 * max(abs(t_end), h)
                 ):
                     new, h = self._advance(
                         state, h if adaptive is None else min(h, t_end - state.t), adaptive
                     )
-                    steps -= 1
+                    if steps is not None:
+                        steps -= 1
                     if recorder is not None:
                         recorder.record(self, new, state)
                     bar.update(new.t - state.t)
                     state = new
+                    if checkpoint is not None:
+                        checkpoint(Cursor(state, h, steps))
         finally:
             if recorder is not None:
                 recorder.close()
