@@ -373,6 +373,22 @@ class ChainStack:
         xi = self._checked(xi)
         return stack_kernel.locate(xi, self.breaks, self.vertex_s, self.first_element, self.h)
 
+    @property
+    def _chain_arrays(self) -> tuple[np.ndarray, ...]:
+        """The chains' layout as the compiled kernels take it, in their argument order: each
+        member's map, the dof maps, cells, node positions, beam breaks, vertex abscissae,
+        each beam's first element and the element lengths."""
+        return (
+            self.map,
+            self.maps,
+            self.cells,
+            self.points,
+            self.breaks,
+            self.vertex_s,
+            self.first_element,
+            self.h,
+        )
+
     def _checked(self, xi: np.ndarray) -> np.ndarray:
         """``xi`` (B,) as contiguous floats; raises ``ValueError`` for an abscissa off the
         chain (:func:`fvbeam.geometry.locate_abscissa`)."""
@@ -393,14 +409,7 @@ class ChainStack:
             *stack_kernel.line_state(
                 xi,
                 np.zeros((len(xi), 0)) if q is None else np.ascontiguousarray(q, dtype=float),
-                self.map,
-                self.maps,
-                self.cells,
-                self.points,
-                self.breaks,
-                self.vertex_s,
-                self.first_element,
-                self.h,
+                *self._chain_arrays,
                 self.lag,
                 self.rigid,
                 self.regions,
@@ -546,14 +555,7 @@ class ChainStack:
                 kernel == "box",
                 *steps(smearing, kernel),
                 *KERNEL_RULE,
-                self.map,
-                self.maps,
-                self.cells,
-                self.points,
-                self.breaks,
-                self.vertex_s,
-                self.first_element,
-                self.h,
+                *self._chain_arrays,
                 self.rigid,
                 self.regions,
             )
