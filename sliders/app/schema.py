@@ -471,7 +471,7 @@ class Output(Table):
     """``[output]``: the CSV tables to write (:mod:`sliders.app.tables`); ``vtu``: a VTU per
     converged sample and their ``.pvd`` index (:mod:`sliders.app.vtu`); ``png``: pyvista
     renders of the deformed configuration, of the ``last`` converged sample or of ``all``
-    (:mod:`studies.render`, needs the ``render`` extra)."""
+    (:mod:`sliders.app.render`, needs the ``render`` extra)."""
 
     csv: tuple[TableName, ...] = TABLES
     vtu: bool = False
