@@ -209,6 +209,12 @@ class Slider:
         return unique, r[:t], r[t:], P.T @ J @ P
 
 
+def _equations(joint: Slider | SliderBatch) -> tuple:
+    """What selects a joint's equations: kind, orientation, smearing, kernel and end stops
+    (joints alike in these, placed alike, are evaluated by one batch)."""
+    return joint.kind, joint.orientation, joint.smearing, joint.kernel, joint.end_stops
+
+
 class SliderBatch:
     """``B`` sliders alike (kind, orientation, smearing, offset, frame, end stops), one per
     member of a batch of structures of one topology, on lines of one topology
@@ -226,11 +232,7 @@ class SliderBatch:
         ) & np.all(np.stack([s.frame for s in self.sliders]) == first.frame, axis=(1, 2))
         for b, s in enumerate(self.sliders[1:], start=1):
             if not (
-                s.kind == first.kind
-                and s.orientation == first.orientation
-                and s.smearing == first.smearing
-                and s.kernel == first.kernel
-                and s.end_stops == first.end_stops
+                _equations(s) == _equations(first)
                 and placed[b]
                 and (s.drive is None) == (first.drive is None)
                 and isinstance(s.line, BeamChain) == isinstance(first.line, BeamChain)
@@ -304,11 +306,7 @@ class SliderBatch:
         first = batches[0]
         for other in batches[1:]:
             if not (
-                other.kind == first.kind
-                and other.orientation == first.orientation
-                and other.smearing == first.smearing
-                and other.kernel == first.kernel
-                and other.end_stops == first.end_stops
+                _equations(other) == _equations(first)
                 and other.n_unknowns == first.n_unknowns
                 and other.length == first.length
                 and np.array_equal(other.offset, first.offset)

@@ -28,6 +28,7 @@ from fvbeam.geometry import (
     cross,
     direction,
     locate_abscissa,
+    number,
     section_frames,
     vector3,
 )
@@ -174,13 +175,6 @@ class RigidLine:
         )
 
 
-def _check_positive(value: float, what: str, name: str) -> float:
-    value = float(value)
-    if not (np.isfinite(value) and value > 0):
-        raise ValueError(f"{name}: {what} must be finite and > 0, got {value}")
-    return value
-
-
 class StraightLine(RigidLine):
     """Segment from ``start`` to ``end``, arc-length parametrised."""
 
@@ -194,7 +188,7 @@ class StraightLine(RigidLine):
         self.name = name
         self.start = vector3(start, f"{name}: start")
         d = vector3(end, f"{name}: end") - self.start
-        self.length = _check_positive(float(np.linalg.norm(d)), "length", name)
+        self.length = number(float(np.linalg.norm(d)), f"{name}: length", "> 0")
         self.t = d / self.length
         self.up = vector3(up, f"{name}: up")
         check_up(direction(up, f"{name}: up"), self.t[None], np.zeros(1), name)
@@ -218,9 +212,9 @@ class CircularArc(RigidLine):
     ) -> None:
         self.name = name
         self.center = vector3(center, f"{name}: center")
-        self.radius = _check_positive(radius, "radius", name)
+        self.radius = number(radius, f"{name}: radius", "> 0")
         self.angle0, self.sense = float(angle0), float(np.sign(angle1 - angle0))
-        self.length = _check_positive(self.radius * abs(angle1 - angle0), "angle span", name)
+        self.length = number(self.radius * abs(angle1 - angle0), f"{name}: angle span", "> 0")
         self.up = np.array([0.0, 0.0, 1.0])
 
     def derivatives(self, xi: float) -> tuple[np.ndarray, ...]:
@@ -244,12 +238,12 @@ class Helix(RigidLine):
     ) -> None:
         self.name = name
         self.center = vector3(center, f"{name}: center")
-        self.radius = _check_positive(radius, "radius", name)
+        self.radius = number(radius, f"{name}: radius", "> 0")
         self.rise = float(pitch) / (2 * np.pi)
         if not np.isfinite(self.rise):
             raise ValueError(f"{name}: pitch must be finite, got {pitch}")
         speed = np.hypot(self.radius, self.rise)
-        self.length = _check_positive(2 * np.pi * float(turns) * speed, "turns", name)
+        self.length = number(2 * np.pi * float(turns) * speed, f"{name}: turns", "> 0")
         self.w = 1.0 / speed
         self.up = np.array([0.0, 0.0, 1.0])
 
