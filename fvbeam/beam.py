@@ -22,7 +22,7 @@ from fvbeam.forms import distributed_load, generalised_strain, internal_work
 from fvbeam.formulations import Formulation, composite_gauss
 from fvbeam.formulations import formulation as get_formulation
 from fvbeam.geometry import sized, vector3, wrench
-from fvbeam.mesh import BeamMesh, shape_functions
+from fvbeam.mesh import BeamMesh
 from fvbeam.section import Section
 from fvbeam.smearing import KERNEL_GAUSS_POINTS, check_smearing, density, kernel_breaks
 
@@ -54,9 +54,10 @@ class Beam:
     section
         Section properties (uniform along the beam).
     formulation
-        ``fv2``, ``fv3``, ``galerkin-p1``, ``galerkin-p2`` or a :class:`Formulation`.
+        ``fv2``, ``fv3``, ``galerkin-p1``, ``galerkin-p2``, ``cubic`` or a
+        :class:`Formulation`.
     integration
-        ``reduced`` or ``full``; Galerkin formulations only.
+        ``reduced`` or ``full``; Lagrange Galerkin formulations only.
     """
 
     def __init__(
@@ -75,9 +76,14 @@ class Beam:
         form.check(mesh)
         self.mesh, self.section, self.formulation = mesh, section, form
         self.skfem_mesh = MeshLine1(mesh.vertex_s[None, :], mesh.cells[:, :2].T.copy())
-        self._test_element = form.test_element(mesh)
+        self._test_element = form.test_element(mesh, section)
         quadrature = form.stiffness_quadrature(self._test_element)
-        self.trial_basis = CellBasis(self.skfem_mesh, form.trial_element(), quadrature=quadrature)
+        self.trial_basis = CellBasis(
+            self.skfem_mesh,
+            form.trial_element(mesh, section),
+            quadrature=quadrature,
+            disable_doflocs=True,
+        )
         self.test_basis = CellBasis(
             self.skfem_mesh, self._test_element, quadrature=quadrature, disable_doflocs=True
         )
@@ -174,7 +180,7 @@ class Beam:
             evaluation points, across which H jumps)
         """
         e, X = self.mesh.locate(np.atleast_1d(xi))
-        H, dH = self.formulation.transfer(self.mesh, e, X)
+        H, dH = self.formulation.transfer(self.mesh, self.section, e, X)
         dofs = (6 * self.mesh.cells[e][:, :, None] + np.arange(6)).reshape(len(e), -1)
         return dofs, H, dH
 
@@ -349,11 +355,12 @@ class Beam:
         )
 
     def displacements(self, q: ArrayLike, xi: np.ndarray | float) -> np.ndarray:
-        """Displacement and rotation ``(n, 6)`` at abscissae ``xi`` (trial interpolation)."""
+        """Displacement and rotation ``(n, 6)`` at abscissae ``xi`` (trial interpolation,
+        :meth:`Formulation.interpolation`)."""
         e, X = self.mesh.locate(np.atleast_1d(xi))
-        N, _ = shape_functions(X, self.mesh.nodes_per_element)
-        nodal = self.dofs_of(q).reshape(-1, 6)[self.mesh.cells[e]]
-        return np.einsum("an,nac->nc", N, nodal)
+        trial = self.formulation.interpolation(self.mesh, self.section, e, X)
+        nodal = self.dofs_of(q).reshape(-1, 6)[self.mesh.cells[e]].reshape(len(e), -1)
+        return np.einsum("nkc,nk->nc", trial, nodal)
 
 
 def _sample(value: Field, xi: np.ndarray, name: str) -> np.ndarray:

@@ -1,4 +1,5 @@
-"""Finite-volume test functions as a custom scikit-fem element.
+"""Finite-volume test functions, and the cubic element's functions, as custom scikit-fem
+elements.
 
 Each node owns an *influence region* bounded by the evaluation points (or a beam end).  Its six
 test functions are the rigid motions of that region (``docs/theory.md``, eq. T4):
@@ -12,6 +13,10 @@ evaluation points: the region's force and moment balance about its node, with th
 ``x(evaluation point) - x_a`` of the internal shear.  The element reproduces those spikes on a
 quadrature made of the evaluation points alone: there ``chi' = jump / (W detJ)``, so that the
 scikit-fem sum ``sum f chi' W detJ`` returns ``jump * f`` exactly.
+
+:class:`ElementBeamCubic` is the cubic element's (``docs/theory.md`` Sec. 9): its trial and
+test functions are the interdependent interpolation of eq. T11, which depends on the element's
+section frame and length and on the section, so the element holds the mesh and the section.
 """
 
 from __future__ import annotations
@@ -22,7 +27,8 @@ from skfem.mapping import Mapping
 from skfem.refdom import RefLine
 
 from fvbeam.mesh import BeamMesh
-from fvbeam.pointwise import indicator_many, rigid_motions_many
+from fvbeam.pointwise import cubic_many, indicator_many, rigid_motions_many
+from fvbeam.section import Section
 
 
 def evaluation_points(nodes_per_element: int) -> np.ndarray:
@@ -175,3 +181,54 @@ class ElementBeamFV(Element):
             on = np.isclose(Xe, p, rtol=0, atol=1e-14)
             dchi[:, on] = self.jumps[:, k : k + 1] / (self.weight * detJ[on])
         return rigid_motions(self.mesh, e, Xe, chi, dchi)
+
+
+class ElementBeamCubic(Element):
+    """The cubic beam element's functions (eq. T11) on one :class:`~fvbeam.mesh.BeamMesh` of
+    2-node (straight) elements with one :class:`~fvbeam.section.Section`: trial and test
+    basis alike (a Galerkin element).
+
+    Six dofs per node, numbered as ``ElementVector(ElementLineP1(), 6)`` numbers them (local
+    dof ``6a + c``, node ``a``'s component ``c``).  Each function is a 6-component field
+    ``(u, theta)`` in global axes; its gradient is the derivative in the abscissa (the affine
+    coordinate scikit-fem sees: the elements are straight, metric 1).
+    """
+
+    refdom = RefLine
+    maxdeg = 3
+
+    def __init__(self, mesh: BeamMesh, section: Section) -> None:
+        self.mesh, self.section = mesh, section
+        self.nodal_dofs = 6
+        self.dofnames = ["u"] * 6
+        self.frames = mesh.frames(np.arange(mesh.n_elements), np.full(mesh.n_elements, 0.5))
+        self.stiffness = np.ascontiguousarray(np.diag(section.stiffness))
+        self._cache: tuple | None = None
+
+    def gbasis(
+        self, mapping: Mapping, X: np.ndarray, i: int, tind: np.ndarray | None = None
+    ) -> tuple[DiscreteField]:
+        if not 0 <= i < 12:
+            self._index_error()
+        if tind is None:
+            tind = np.arange(mapping.mesh.t.shape[1])
+        tind = np.asarray(tind)
+        key = (id(mapping), X.shape, X.tobytes(), tind.tobytes())
+        if self._cache is None or self._cache[0] != key:
+            self._cache = (key, *self._all_functions(X, tind))
+        _, value, grad = self._cache
+        return (DiscreteField(value=value[i], grad=grad[i][:, None]),)
+
+    def _all_functions(self, X: np.ndarray, tind: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """All twelve functions and their derivatives at once, (12, 6, nel, nqp) each
+        (:func:`fvbeam.pointwise.cubic_many`), kept for scikit-fem's next request."""
+        Xe = np.broadcast_to(X[0], (len(tind),) + X.shape[-1:]) if X.ndim == 2 else X[0]
+        e = np.broadcast_to(tind[:, None], Xe.shape).ravel()
+        frames = np.ascontiguousarray(self.frames[e])
+        h = np.ascontiguousarray(self.mesh.element_length[e])
+        points = np.ascontiguousarray(Xe, dtype=float).ravel()
+        shape = Xe.shape + (12, 6)
+        value, grad = (
+            cubic_many(frames, self.stiffness, h, points, order).reshape(shape) for order in (0, 1)
+        )
+        return np.moveaxis(value, (-2, -1), (0, 1)), np.moveaxis(grad, (-2, -1), (0, 1))

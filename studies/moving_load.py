@@ -32,6 +32,7 @@ import scipy.linalg as sla
 
 from fvbeam import Beam, Section, Structure, Support, straight
 from fvbeam.closed_forms import moving_load_simply_supported
+from fvbeam.formulations import formulation as get_formulation
 from sliders.solve.dynamics import Dynamics
 from sliders.solve.integrator import State
 
@@ -92,7 +93,7 @@ def model(formulation: str, n_elements: int, smearing: float = 0.0) -> Model:
         mass_per_length=M_PER_LENGTH,
         name="moving-load",
     )
-    npe = 2 if formulation in ("fv2", "galerkin-p1") else 3
+    npe = get_formulation(formulation).nodes_per_element
     beam = Beam(straight((0, 0, 0), (L, 0, 0), n_elements, npe), section, formulation)
     supports = [Support(0, "start", "ux+uy+uz+rx"), Support(0, "end", "uy+uz")]
     return Model(formulation, n_elements, beam, Structure([beam]), supports, smearing)

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from test_sliders import SECTION, check_jacobian
 
-from fvbeam import Beam, Section, Structure, Support, straight
+from fvbeam import Beam, Section, Structure, Support, formulation, straight
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
 from sliders.lines.rigid import Helix, StraightLine
@@ -21,7 +21,7 @@ def line_with_body(name, n, a, T, formulation_body="fv3"):
     """Line beam on [0, 1] along x, clamped at 0; a body beam along y from (a, 0, 0), its
     start node sliding on the line with a spline slider, its axial position held (``ux``) so
     that it does not slide; a torque ``T`` about x at the body beam's free end."""
-    npe = 2 if name in ("fv2", "galerkin-p1") else 3
+    npe = formulation(name).nodes_per_element
     line = Beam(straight((0, 0, 0), (1, 0, 0), n, npe), TWIST_SECTION, name)
     body = Beam(straight((a, 0, 0), (a, 0.1, 0), 1, 3), TWIST_SECTION, formulation_body)
     structure = Structure([line, body])

@@ -54,7 +54,7 @@ import numpy as np
 import pytest
 from test_chain import SECTION, chain_of_three
 
-from fvbeam import Beam, Section, Structure, straight
+from fvbeam import Beam, Section, Structure, formulation, straight
 from fvbeam.elements import evaluation_points
 from fvbeam.mesh import arc
 from fvbeam.pointwise import TIE
@@ -100,7 +100,7 @@ def random_beams(spec, rng):
     """Beams joined end to start, one per ``(formulation, shape)`` of ``spec``: straight
     (random direction and length) or a circular arc in a plane z = const (random radius,
     start angle and sweep), 1 to 3 elements each, each with its own random section."""
-    npe = 2 if spec[0][0] in ("fv2", "galerkin-p1") else 3
+    npe = formulation(spec[0][0]).nodes_per_element
     start, beams = rng.uniform(-1, 1, 3), []
     for name, shape in spec:
         n = int(rng.integers(1, 4))
