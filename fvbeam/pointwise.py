@@ -145,10 +145,10 @@ def cubic_plane_at(
     X: float, h: float, EJ: float, GA: float, order: int
 ) -> tuple[float, float, float, float, float, float, float, float]:
     """The cubic element's functions of one bending plane (eq. T11), or their ``order``-th
-    derivative in the abscissa (``order`` 0 to 3), at ``X`` of an element of length ``h``: the deflection
-    ``v`` and the rotation ``psi`` (``v' - psi`` the shear strain) of the nodal values
-    ``v_0, psi_0, v_1, psi_1`` in turn, ``(v of v_0, psi of v_0, v of psi_0, psi of psi_0,
-    ...)``, with ``phi = 12 EJ / (GA h^2)`` and ``mu = 1 / (1 + phi)``::
+    derivative in the abscissa (``order`` 0 to 3), at ``X`` of an element of length ``h``:
+    the deflection ``v`` and the rotation ``psi`` (``v' - psi`` the shear strain) of the nodal
+    values ``v_0, psi_0, v_1, psi_1`` in turn, ``(v of v_0, psi of v_0, v of psi_0, psi of
+    psi_0, ...)``, with ``phi = 12 EJ / (GA h^2)`` and ``mu = 1 / (1 + phi)``::
 
         v:   mu (1 - 3X^2 + 2X^3 + phi (1 - X)),  mu h (X - 2X^2 + X^3 + phi (X - X^2) / 2),
              mu (3X^2 - 2X^3 + phi X),           mu h (-X^2 + X^3 - phi (X - X^2) / 2)

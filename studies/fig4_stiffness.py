@@ -142,6 +142,18 @@ def write_csv(rows: list[dict], path: Path) -> None:
     write_atomic(path, write)
 
 
+def unsmeared(rows: list[dict], kind: str, formulation: str, n: int) -> list[dict]:
+    """The rows of a slider kind, formulation and mesh without smearing."""
+    return [
+        r
+        for r in rows
+        if r["slider"] == kind
+        and r["formulation"] == formulation
+        and r["n_elements"] == n
+        and r["smearing"] == 0.0
+    ]
+
+
 def plot(rows: list[dict], out: Path) -> None:
     """Figure 4 (stiffness) and Figure 5 (relative error), fv3 with 1, 3, 5 elements, and
     the cubic element with 3 when the rows hold it."""
@@ -151,14 +163,7 @@ def plot(rows: list[dict], out: Path) -> None:
     import matplotlib.pyplot as plt
 
     def series(kind, formulation, n):
-        pick = [
-            r
-            for r in rows
-            if r["slider"] == kind
-            and r["formulation"] == formulation
-            and r["n_elements"] == n
-            and r["smearing"] == 0.0
-        ]
+        pick = unsmeared(rows, kind, formulation, n)
         return (
             np.array([r["s_over_L"] for r in pick]),
             np.array([r["k_norm"] for r in pick]),
@@ -200,14 +205,7 @@ def max_errors(rows: list[dict]) -> list[tuple[str, float, str]]:
     cubic element's on [0, 0.95] against issue 13's target (when the rows hold it)."""
 
     def errors(kind: str, formulation: str, n: int) -> tuple[np.ndarray, np.ndarray]:
-        pick = [
-            r
-            for r in rows
-            if r["slider"] == kind
-            and r["formulation"] == formulation
-            and r["n_elements"] == n
-            and r["smearing"] == 0.0
-        ]
+        pick = unsmeared(rows, kind, formulation, n)
         return np.array([abs(r["rel_error"]) for r in pick]), np.array(
             [r["s_over_L"] for r in pick]
         )

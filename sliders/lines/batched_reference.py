@@ -221,10 +221,13 @@ def interpolation(chain: Chain, xi: float) -> Interpolation:
     _, points = element_nodes(chain, element)
     elements, T, T_xi, D, D_xi = recovered_tangent(chain, element, X)
     positions = np.concatenate([element_nodes(chain, e)[1] for e in elements])
+    matrix, rate, curvature = (displacement(chain, element, X, k) for k in range(3))
     return Interpolation(
         element_dofs(chain, element),
         np.stack([N @ points, dN @ points, d2N @ points]),
-        *(displacement(chain, element, X, k) for k in range(3)),
+        matrix,
+        rate,
+        curvature,
         np.concatenate([element_dofs(chain, e) for e in elements]),
         np.stack([T @ positions, T_xi @ positions]),
         D,
