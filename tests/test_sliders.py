@@ -79,7 +79,7 @@ def check_jacobian(slider, structure, seed, shift=0.0):
 @pytest.mark.parametrize(
     "kind,orientation", [("spherical", "section"), ("classical", "section"), ("classical", "slope")]
 )
-@pytest.mark.parametrize("name", ["fv2", "fv3", "galerkin-p1", "galerkin-p2"])
+@pytest.mark.parametrize("name", ["fv2", "fv3", "galerkin-p1", "galerkin-p2", "cubic"])
 @pytest.mark.parametrize("smearing,kernel", [(0.0, "box"), (0.02, "box"), (0.02, "hat")])
 @pytest.mark.parametrize("where", [0.013, 0.0])
 def test_joint_jacobian_matches_finite_differences(

@@ -31,7 +31,7 @@ def line_with_body(name, n, a, T, formulation_body="fv3"):
     return structure, supports, slider, f
 
 
-@pytest.mark.parametrize("name", ["fv2", "fv3", "galerkin-p2"])
+@pytest.mark.parametrize("name", ["fv2", "fv3", "galerkin-p2", "cubic"])
 @pytest.mark.parametrize("smearing", [0.0, 0.03])
 @pytest.mark.parametrize("a", [0.37, 0.5, 0.625])
 def test_spline_jacobian_matches_finite_differences(name, smearing, a):
@@ -42,14 +42,15 @@ def test_spline_jacobian_matches_finite_differences(name, smearing, a):
     check_jacobian(slider, structure, 2)
 
 
-@pytest.mark.parametrize("name", ["fv2", "fv3", "galerkin-p2"])
+@pytest.mark.parametrize("name", ["fv2", "fv3", "galerkin-p2", "cubic"])
 @pytest.mark.parametrize("a", [0.37, 0.5, 0.625])
 def test_twist_at_the_body_is_T_a_over_GJ(name, a):
     """The issue's twist test: the line's twist at the contact is T a / GJ (closed form of a
     shaft clamped at 0 under a torque at a), the body turns with the section, the clamp
     returns the torque.  Exact for every formulation: the torque is shared by the two nodes
-    around a, the nodal twists are exact for nodal torques, and the kink correction restores
-    the exact twist between them (relative tolerance 1e-9: roundoff of K ~ 1e10 against
+    around a, the nodal twists are exact for nodal torques, and the kink correction (the
+    cubic element's compliance, ``a b / (h GJ)`` in twist) restores the exact twist between
+    them (relative tolerance 1e-9: roundoff of K ~ 1e10 against
     rotations ~1e-5)."""
     T = 100.0
     structure, supports, slider, f = line_with_body(name, 4, a, T)
