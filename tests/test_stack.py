@@ -25,8 +25,18 @@ one-sided tangents, at most doubling it.  With ``h`` the shortest of the element
 ``Y`` the largest coordinate of the nodes read (reference or deformed; at least 1, for the
 Galerkin ``G`` which is the coefficients themselves): a coefficient of
 order ``k`` within ``2 gamma_16 2 TERMS / h^k``; a line quantity within that times
-``3 npe Y``.  The integers (dofs, beam, element) and the copied node positions are equal
-exactly, and so is ``X`` (both take ``xi`` off the same breaks by the same operations).
+``3 (3 npe + m) Y``, the reference line's sum over the nodes read and the displacement's
+over its ``m`` dofs (``Y`` then also bounds the dofs read).  The integers (dofs, beam,
+element) are equal exactly, and so is ``X`` (both take ``xi`` off the same breaks by the same
+operations).
+
+On cubic elements (chains with cubic beams, alone or beside galerkin-p1 ones) the
+coefficients are the element's functions (eq. T11) and its compliance (eq. T13): the bounds
+of ``tests/test_pointwise.py`` (the reference's 4x4 and 6x6 solves, ``(128 kappa + 64) EPS``
+and ``(192 kappa + 64) EPS`` of four times the largest entry), doubled for the recovered
+tangent's combination, plus the difference of the two sides' element frames (the stack's
+from the reference line at the element's middle, the reference's from the mesh), which
+moves each entry by at most ``2 dR`` of the largest, ``dR`` the frame's bound below.
 
 The frame ``R0``, its curvature ``k0`` and ``k0_/xi`` are functions of the reference line's
 ``l0`` and ``l0_/xi`` (the same numpy functions on both sides, on ``l0`` from the kernel or

@@ -18,7 +18,11 @@ per layout (a block written outside the pattern would land at offset -1).
 
 Slot groups, in this order (their first slot ``start`` and ``size``): ``body`` (3), ``turn``
 (3, the body's rotations), ``load``, ``rotation``, ``interp``, ``beside``, then the joint's
-unknowns ``xi`` (1), ``lam`` (3), ``mu``.
+unknowns ``xi`` (1), ``lam`` (3), ``mu``.  The line's interpolation, recovered tangent and
+section rotation are matrices on their slots (``N``, ``T``, ``W``: the Lagrange ``N_a I`` on the
+translations, or a cubic element's functions on all six dofs of its nodes); on a cubic chain
+the constraint rows read the line's compliance at the contact too (``contact``, theory T13,
+the blocks ``(lam, lam)``, ``(lam, mu)``, ``(mu, lam)``).
 """
 
 from __future__ import annotations

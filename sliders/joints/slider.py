@@ -16,7 +16,7 @@ body moment            ``+ f_b x lambda + m``, ``f_b = theta_b x offset``   eqs.
 line beams             ``- G(xi) lambda`` (test functions, smeared; T6)     Sec. 4
                        and ``- m`` shared by the nodes (below)
 xi                     ``- l . lambda + sum_j mu_j d g_j / d xi``           eqs. 3-5
-position               ``x_b - x(xi)``                                      eq. 1
+position               ``x_b - x(xi)`` (plus a compliance: cubic chain)     eq. 1
 orientation            ``g_j``                                              Secs. 3.2-3.3
 =====================  ==================================================  =============
 
@@ -24,9 +24,11 @@ Two orientation models (``docs/sliders.md`` compares them):
 
 * ``section`` (default; classical and spline): the constraints hold the body's axes to the
   line's *section frame*, the reference frame turned by the section rotation ``theta_L(xi)``
-  interpolated linearly between the two nodes around ``xi``; the couple goes to those two
-  nodes with the same weights (consistent virtual work).  A correction for the kink that the
-  couple itself puts in the rotation makes the constraint second-order accurate.
+  interpolated linearly between the two nodes around ``xi`` (on a cubic chain: the element's
+  own rotation); the couple goes to those nodes with the same weights (consistent virtual
+  work).  A correction for the kink that the couple itself puts in the rotation makes the
+  constraint second-order accurate (on a cubic chain, exact: ``docs/sliders.md``, "The cubic
+  chain").
 * ``slope`` (classical only): the paper's eq. (4) on the gradient ``l`` of the interpolated
   centreline, the couple ``m = sum_j mu_j e_bj x l`` carried to the rotation dofs by the
   test functions, as the reference implementation does; first-order accurate, and singular

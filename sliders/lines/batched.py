@@ -515,18 +515,21 @@ class ChainStack:
     def rotation(self, xi: np.ndarray) -> LineRotation:
         """The section rotation at ``xi`` and its reference frame, per member.
 
-        The rotation is interpolated linearly between the two consecutive nodes that bracket
-        ``xi`` (the element's vertices, and its mid-node for 3-node elements), whatever the
-        beam formulation: the weights are continuous along the chain, so a couple carried by
-        them never jumps.  ``kink`` is how far the exact rotation at a couple ``M`` lies off
-        that interpolation, per unit ``C M``: ``w0 w1 span`` for exact nodal rotations, plus
-        ``MID_NODE_LAG h w_mid^2`` on a 3-node element, whose mid-node rotation lags by that
-        much under the share ``w_mid M`` it carries (``docs/sliders.md``).  The reference
-        frame ``R0``, its curvature ``k0`` and ``k0_/xi`` come from the element's reference
-        interpolation and the mesh's ``up``.  ``C`` is the section's bending-and-torsion
-        compliance (the rotational block of the inverse section stiffness) in global axes,
-        taken in the element's reference frame at ``xi``.  When every member's element is
-        straight, both are read from :meth:`element_frames` (``k0 = k0_/xi = 0``).
+        On a Lagrange element (fv, Galerkin) the rotation is interpolated linearly between the
+        two consecutive nodes that bracket ``xi`` (the element's vertices, and its mid-node
+        for 3-node elements): the weights are continuous along the chain, so a couple carried
+        by them never jumps.  Its compliance ``flex = kink C``: ``kink`` is how far the exact
+        rotation at a couple ``M`` lies off that interpolation, per unit ``C M``:
+        ``w0 w1 span`` for exact nodal rotations, plus ``MID_NODE_LAG h w_mid^2`` on a 3-node
+        element, whose mid-node rotation lags by that much under the share ``w_mid M`` it
+        carries (``docs/sliders.md``); ``C`` is the section's bending-and-torsion compliance
+        (the rotational block of the inverse section stiffness) in global axes, taken in the
+        element's reference frame at ``xi``.  On a cubic element the rotation is the
+        element's own (eq. T11, on its nodes' six dofs) and ``flex`` the rotational block of
+        its compliance (eq. T13), exact.  The reference frame ``R0``, its curvature ``k0``
+        and ``k0_/xi`` come from the element's reference interpolation and the mesh's
+        ``up``.  When every member's element is straight, ``R0`` and ``C`` are read from
+        :meth:`element_frames` (``k0 = k0_/xi = 0``).
         """
         return self._rotation(self._query(xi, None, False, True))
 
