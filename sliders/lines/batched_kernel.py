@@ -212,6 +212,33 @@ def displacement_one(
 
 
 @numba.njit(cache=True, inline="never")
+def lagrange_matrices(
+    shape: np.ndarray,
+    T_scalar: np.ndarray,
+    T_scalar_xi: np.ndarray,
+    N: np.ndarray,
+    dN: np.ndarray,
+    d2N: np.ndarray,
+    T: np.ndarray,
+    T_xi: np.ndarray,
+) -> None:
+    """On a chain of Lagrange elements (``width`` 3), the displacement's matrices from the
+    shape functions ``shape`` (3, npe) and the recovered tangent's coefficients ``T_scalar``,
+    ``T_scalar_xi`` (3 npe,) of :func:`interpolation_one`: ``N_a I`` on each node's
+    translations (:func:`displacement_one`'s matrices for these elements, without
+    evaluating them again), written into zero matrices on their nonzero entries."""
+    for a in range(shape.shape[1]):
+        for c in range(3):
+            N[c, 3 * a + c] = shape[0, a]
+            dN[c, 3 * a + c] = shape[1, a]
+            d2N[c, 3 * a + c] = shape[2, a]
+    for a in range(len(T_scalar)):
+        for c in range(3):
+            T[c, 3 * a + c] = T_scalar[a]
+            T_xi[c, 3 * a + c] = T_scalar_xi[a]
+
+
+@numba.njit(cache=True, inline="never")
 def current(nodes: np.ndarray, q: np.ndarray, dofs: np.ndarray, out: np.ndarray) -> None:
     """Deformed node positions ``nodes + q[dofs]`` (m, 3) into ``out``."""
     for a in range(nodes.shape[0]):
@@ -345,8 +372,9 @@ def line_state(
     beam, element, X = np.empty(B, np.int64), np.empty(B, np.int64), np.empty(B)
     dofs, tangent_dofs = np.empty((B, m), np.int64), np.empty((B, 3 * m), np.int64)
     reference, tangent_reference = np.empty((B, 3, 3)), np.empty((B, 2, 3))
-    N, dN, d2N = np.empty((B, 3, m)), np.empty((B, 3, m)), np.empty((B, 3, m))
-    T, T_xi = np.empty((B, 3, 3 * m)), np.empty((B, 3, 3 * m))
+    # zero: the Lagrange elements' matrices are written on their nonzero entries only
+    N, dN, d2N = np.zeros((B, 3, m)), np.zeros((B, 3, m)), np.zeros((B, 3, m))
+    T, T_xi = np.zeros((B, 3, 3 * m)), np.zeros((B, 3, 3 * m))
     geometry = np.empty((nb, 6, 3))
     contact, contact_xi = np.zeros((nb, nc, 6)), np.zeros((nb, nc, 6))
     load_dofs, G, dG = (
@@ -369,7 +397,8 @@ def line_state(
         np.empty(npe),
     )
     Ns, Ts, Ts_xi = np.empty((3, npe)), np.empty(3 * npe), np.empty(3 * npe)
-    nodes = np.empty((3 * npe, 3))
+    nodes, moved = np.empty((3 * npe, 3)), np.empty((3 * npe, 3))
+    translations = np.empty((3 * npe, 3), np.int64)
     end, shape, block = np.empty((3, m)), np.empty((3, npe)), np.empty((12, 6))
     G_b = np.empty((12, 6))
     compliance6, compliance6_xi = np.empty((6, 6)), np.empty((6, 6))
@@ -396,28 +425,42 @@ def line_state(
         weighted(Ns[2], nodes[:npe], reference[b, 2])
         weighted(Ts, nodes, tangent_reference[b, 0])
         weighted(Ts_xi, nodes, tangent_reference[b, 1])
-        displacement_one(
-            three,
-            Xb,
-            kinds,
-            first_element,
-            R0_of[b],
-            stiffness,
-            h[b],
-            N[b],
-            dN[b],
-            d2N[b],
-            T[b],
-            T_xi[b],
-            end,
-            shape,
-            block,
-        )
-        if state:
+        if width == 3:  # Lagrange elements only: N_a I on the translations
+            lagrange_matrices(Ns, Ts, Ts_xi, N[b], dN[b], d2N[b], T[b], T_xi[b])
+        else:
+            displacement_one(
+                three,
+                Xb,
+                kinds,
+                first_element,
+                R0_of[b],
+                stiffness,
+                h[b],
+                N[b],
+                dN[b],
+                d2N[b],
+                T[b],
+                T_xi[b],
+                end,
+                shape,
+                block,
+            )
+        if state and width == 3:  # x = sum N_a (X_a + u_a): the scalar coefficients
+            for j in range(3 * npe):
+                for c in range(3):
+                    translations[j, c] = tangent_dofs[b, 3 * j + c]
+            current(nodes, q[b], translations, moved)
+            weighted(Ns[0], moved[:npe], geometry[b, 0])
+            weighted(Ns[1], moved[:npe], geometry[b, 1])
+            weighted(Ns[2], moved[:npe], geometry[b, 2])
+            geometry[b, 3] = 0.0  # degree at most 2
+            weighted(Ts, moved, geometry[b, 4])
+            weighted(Ts_xi, moved, geometry[b, 5])
+        elif state:
             displaced(reference[b, 0], N[b], q[b], dofs[b], geometry[b, 0])
             displaced(reference[b, 1], dN[b], q[b], dofs[b], geometry[b, 1])
             displaced(reference[b, 2], d2N[b], q[b], dofs[b], geometry[b, 2])
-            # l_/xixi: the reference line's third derivative is zero (degree at most 2)
+            # l_/xixi: zero on Lagrange elements (degree at most 2), the reference line's too
             element_line(kind, frame, stiffness[e], h[b, e], Xb, 3, end, shape, block)
             displaced(zero, end, q[b], dofs[b], geometry[b, 3])
             displaced(tangent_reference[b, 0], T[b], q[b], tangent_dofs[b], geometry[b, 4])
