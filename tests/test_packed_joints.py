@@ -20,7 +20,7 @@ import pytest
 from test_joint_reference import JOINTS, LINES, OFFSETS, batch_of, random_state
 from test_sliders import SECTION
 
-from fvbeam import Beam, Structure, Support, arc
+from fvbeam import Beam, Structure, arc
 from sliders.joints.drives import Linear
 from sliders.joints.packed import JointPack
 from sliders.joints.slider import Slider, SliderBatch

@@ -457,7 +457,12 @@ def evaluate_joint(
     else:
         derivatives = np.empty((4, 3))
         line_at(hd[SHAPE], _f1(F, d[LINE_PARAMS]), _f1(F, d[LINE_BREAKS]), xi, derivatives)
-        x[0], l[0], l_xi[0], l_xixi[0] = derivatives[0], derivatives[1], derivatives[2], derivatives[3]
+        x[0], l[0], l_xi[0], l_xixi[0] = (
+            derivatives[0],
+            derivatives[1],
+            derivatives[2],
+            derivatives[3],
+        )
         tangent[0], tangent_xi[0] = l[0], l_xi[0]
         up = _f1(F, d[UP])
         frame_at(l[0], l_xi[0], up, R0[0], k0[0])

@@ -27,9 +27,7 @@ POLYNOMIAL, HELICAL = 0, 1
 
 
 @numba.njit(cache=True, inline="never")
-def line_at(
-    shape: int, params: np.ndarray, breaks: np.ndarray, xi: float, out: np.ndarray
-) -> None:
+def line_at(shape: int, params: np.ndarray, breaks: np.ndarray, xi: float, out: np.ndarray) -> None:
     """``x, x', x'', x'''`` (4, 3) of a rigid line at ``xi`` into ``out``.
 
     ``POLYNOMIAL``: ``breaks`` (P + 1,) the pieces' starts and the end, ``params`` (P, 4, 3)
@@ -53,7 +51,11 @@ def line_at(
     r, rise, a0, w = params[3], params[4], params[5], params[6]
     a = a0 + w * xi
     co, si = np.cos(a), np.sin(a)
-    out[0, 0], out[0, 1], out[0, 2] = params[0] + r * co, params[1] + r * si, params[2] + rise * (a - a0)
+    out[0, 0], out[0, 1], out[0, 2] = (
+        params[0] + r * co,
+        params[1] + r * si,
+        params[2] + rise * (a - a0),
+    )
     out[1, 0], out[1, 1], out[1, 2] = -w * r * si, w * r * co, w * rise
     out[2, 0], out[2, 1], out[2, 2] = -w * w * r * co, -w * w * r * si, 0.0
     out[3, 0], out[3, 1], out[3, 2] = w**3 * r * si, -(w**3) * r * co, 0.0
@@ -67,9 +69,7 @@ def _cross(a: np.ndarray, b: np.ndarray, out: np.ndarray) -> None:
 
 
 @numba.njit(cache=True, inline="never")
-def frame_at(
-    l: np.ndarray, l_xi: np.ndarray, up: np.ndarray, R: np.ndarray, k: np.ndarray
-) -> None:
+def frame_at(l: np.ndarray, l_xi: np.ndarray, up: np.ndarray, R: np.ndarray, k: np.ndarray) -> None:
     """The frame ``R = [t, e2, e3]`` (columns) from the direction ``l`` and ``up``, and its
     curvature ``k = ax(R_/xi R^T)`` from ``l_/xi`` (:func:`sliders.lines.rigid.
     frame_and_curvature`): ``t = l/|l|``, ``e3 = n/|n|`` with ``n = up - (up . t) t``,

@@ -45,10 +45,14 @@ from fvbeam.structure import Structure
 from fvbeam.support import DOF_NAMES, Support
 from sliders.joints.drives import DofDrive
 from sliders.joints.slider import Slider
+from sliders.solve.dynamics_kernel import advance
+from sliders.solve.factor import Factor
 from sliders.solve.integrator import GeneralizedAlpha, Prediction, State
 from sliders.solve.jumps import VelocityJump, VelocityJumpWarning, velocity_jumps
 from sliders.solve.mechanism import MASSLESS_REMEDY, free_motion
-from sliders.solve.statics import SliderStatics, newton_many
+from sliders.solve.newton import CompiledNewton
+from sliders.solve.newton_kernel import CONVERGED
+from sliders.solve.statics import SliderStatics
 
 #: What holds a motion left free at the static start of a time integration.
 START_REMEDY = (
@@ -84,6 +88,11 @@ class Cursor:
 #: What :meth:`Dynamics.run` calls after every accepted and recorded step, with its cursor
 #: (:class:`sliders.app.checkpoint.Checkpoints` writes one every so often).
 Checkpoint = Callable[[Cursor], None]
+
+#: The most state entries (4 n + m per step) a compiled chunk of steps holds before its steps
+#: are recorded, and the most steps in a chunk (:meth:`Dynamics._chunks`).
+CHUNK_ENTRIES = 4_000_000
+MAX_CHUNK = 500
 
 #: A load: a fixed global vector, or a function of time returning one.
 Load = np.ndarray | Callable[[float], np.ndarray]
@@ -180,6 +189,7 @@ class Dynamics:
             raise ValueError(f"{name} is driven twice, or driven and supported")
         self.free = np.setdiff1d(np.arange(n), np.union1d(fixed, self.driven))
         self._operators: dict = {}
+        self._linear: dict[float, tuple] = {}  # the compiled problems without sliders, per h
         self._last_load: tuple[float, np.ndarray] | None = None
 
     def _damping(self, damping: float | sp.spmatrix) -> sp.csr_matrix:
@@ -198,6 +208,7 @@ class Dynamics:
 
     def _check_load(self, load: Load | None) -> Callable[[float], np.ndarray]:
         n = self.structure.n_dofs
+        self._constant = not callable(load)
         if load is None:
             return lambda t: np.zeros(n)
         if callable(load):
@@ -280,7 +291,7 @@ class Dynamics:
         beta_rate, gamma_rate = self.scheme.rates(h)
         return (self.M + (gamma_rate / beta_rate) * self.C + self.K / beta_rate).tocsr()
 
-    def _solver(self, key: float | str) -> SliderStatics | tuple[spla.SuperLU, sp.csr_matrix]:
+    def _solver(self, key: float | str) -> SliderStatics | tuple[Factor, sp.csr_matrix]:
         """The cached solver of the operator ``key`` (a step size, or ``static``): the
         statics of the sliders on it, or without sliders its factor on the free dofs and the
         operator itself."""
@@ -304,7 +315,7 @@ class Dynamics:
                 free = free_motion(modes, position, [], [], remedy)
                 if free:
                     raise ValueError(free)
-                self._operators[key] = (spla.splu(A), operator)
+                self._operators[key] = (Factor(A), operator.tocsr())
         return self._operators[key]
 
     def _solve(
@@ -322,21 +333,13 @@ class Dynamics:
         try:
             solver = self._solver(key)
             if isinstance(solver, tuple):
-                lu, operator = solver
+                factor, operator = solver
                 q = start.copy()
-                q[self.free] += lu.solve((f - operator @ start)[self.free])
+                q[self.free] += factor.solve((f - operator @ start)[self.free])
                 return q, [], 1
-            batches = [s.batch(self.structure) for s in self.sliders]
-            outcome = newton_many(
-                [solver],
-                batches,
-                f[None],
-                [(start, unknowns)],
-                self.tol,
-                self.max_iterations,
-                time=t,
-                scale=scale,
-            )[0]
+            outcome = solver.newton(
+                f, (start, unknowns), self.tol, self.max_iterations, time=t, scale=scale
+            )
         except ValueError as exc:
             raise DynamicsError(f"t = {t:.6g}: {exc}", last) from exc
         if isinstance(outcome, str):
@@ -458,6 +461,8 @@ class Dynamics:
                 desc="time",
                 bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}]",
             ) as bar:
+                if steps is not None and self._compiled(h):
+                    return self._chunks(state, h, steps, recorder, bar, checkpoint)
                 while (
                     steps > 0 if steps is not None else t_end - state.t > 1e-12 * max(abs(t_end), h)
                 ):
@@ -476,6 +481,137 @@ class Dynamics:
             if recorder is not None:
                 recorder.close()
         return state
+
+    def _compiled(self, h: float) -> bool:
+        """Whether steps of size ``h`` run compiled (:mod:`sliders.solve.dynamics_kernel`):
+        without sliders, or with the condensed back end."""
+        try:
+            solver = self._solver(h)
+        except ValueError:
+            return False  # the Python step names what is wrong
+        return isinstance(solver, tuple) or solver.method == "condensed"
+
+    def _chunks(
+        self,
+        state: State,
+        h: float,
+        steps: int,
+        recorder: "Recorder | None",
+        bar: tqdm,
+        checkpoint: "Checkpoint | None",
+    ) -> State:
+        """``steps`` fixed steps of size ``h`` from ``state``, compiled a chunk at a time
+        (:func:`sliders.solve.dynamics_kernel.advance`, the arithmetic of :meth:`step`); each
+        step's state is then recorded, shown and handed to ``checkpoint`` as :meth:`resume`
+        does.  A step that fails is taken again by :meth:`step`, which raises its
+        :class:`DynamicsError`."""
+        solver = self._solver(h)
+        beta_rate, gamma_rate = self.scheme.rates(h)
+        scheme = (
+            self.scheme.alpha_m,
+            self.scheme.alpha_f,
+            self.scheme.beta,
+            self.scheme.gamma,
+            h,
+            beta_rate,
+            gamma_rate,
+        )
+        if isinstance(solver, tuple):
+            if h not in self._linear:
+                factor, operator = solver
+                self._linear[h] = CompiledNewton(
+                    self.structure, [], operator, self.free, factor, np.zeros((len(self.free), 0))
+                ).problem
+            problem, joints = self._linear[h], 0
+        else:
+            problem, joints = solver.compiled.problem, len(self.sliders)
+        sizes = [s.n_unknowns for s in self.sliders]
+        first = np.cumsum([0] + sizes[:-1]).astype(np.int64)[: len(sizes)]
+        n, m = self.structure.n_dofs, sum(sizes)
+        chunk = int(np.clip(CHUNK_ENTRIES // (4 * n + m + 1), 1, MAX_CHUNK))
+        mass, damping = _rows(self.M), _rows(self.C)
+        q, v, a, qdd = (np.array(x, dtype=float) for x in (state.q, state.v, state.a, state.qdd))
+        y = _joined(state.unknowns)
+        while steps > 0:
+            size = min(steps, chunk)
+            times = np.cumsum(np.concatenate([[state.t], np.full(size, h)]))[1:]
+            loads = self._loads(times)
+            driven = np.array([[d.motion(t)[0] for d in self.drives] for t in times])
+            drives = np.array([[_abscissa(s, t) for s in self.sliders] for t in times])
+            Q, V, A, QDD = (np.empty((size, n)) for _ in range(4))
+            Y, iterations = np.empty((size, m)), np.zeros(size, dtype=np.int64)
+            status, done, _ = advance(
+                scheme,
+                mass,
+                damping,
+                problem,
+                joints,
+                times,
+                loads,
+                self.driven.astype(np.int64),
+                driven.reshape(size, len(self.drives)),
+                drives.reshape(size, len(self.sliders)),
+                first,
+                q,
+                v,
+                a,
+                qdd,
+                y,
+                float(self.tol),
+                int(self.max_iterations),
+                Q,
+                V,
+                A,
+                QDD,
+                Y,
+                iterations,
+            )
+            for i in range(done):
+                unknowns = np.split(Y[i].copy(), np.cumsum(sizes)[:-1]) if sizes else []
+                new = State(
+                    float(times[i]),
+                    Q[i].copy(),
+                    V[i].copy(),
+                    A[i].copy(),
+                    QDD[i].copy(),
+                    unknowns,
+                    h,
+                    int(iterations[i]),
+                )
+                state = self._accepted(new, state, h, steps - 1 - i, recorder, bar, checkpoint)
+            steps -= done
+            if status != CONVERGED:
+                new = self.step(state, h)  # raises the step's DynamicsError
+                state = self._accepted(new, state, h, steps - 1, recorder, bar, checkpoint)
+                steps -= 1
+                q, v, a, qdd = (np.array(x) for x in (new.q, new.v, new.a, new.qdd))
+                y = _joined(new.unknowns)
+        return state
+
+    def _accepted(
+        self,
+        new: State,
+        old: State,
+        h: float,
+        steps: int,
+        recorder: "Recorder | None",
+        bar: tqdm,
+        checkpoint: "Checkpoint | None",
+    ) -> State:
+        """An accepted step recorded, shown and checkpointed (``steps``: those left)."""
+        if recorder is not None:
+            recorder.record(self, new, old)
+        bar.update(new.t - old.t)
+        if checkpoint is not None:
+            checkpoint(Cursor(new, h, steps))
+        return new
+
+    def _loads(self, times: np.ndarray) -> np.ndarray:
+        """The external load at each of ``times`` (gravity included), one row each; one row
+        for all when it does not depend on time."""
+        if self._constant:
+            return self.load(float(times[0]))[None]
+        return np.array([self.load(float(t)) for t in times])
 
     def _advance(self, state: State, h: float, adaptive: Adaptive | None) -> tuple[State, float]:
         """One accepted step and the next step size."""
@@ -502,6 +638,23 @@ class Dynamics:
                 state,
             )
         return h / 2
+
+
+def _abscissa(slider: Slider, t: float) -> float:
+    """A slider's driven abscissa at ``t`` (0 when it is not driven)."""
+    return slider.drive(t)[0] if slider.drive is not None else 0.0
+
+
+def _joined(unknowns: Sequence[np.ndarray]) -> np.ndarray:
+    """The joints' unknowns side by side."""
+    return np.concatenate([np.asarray(u, dtype=float) for u in unknowns] + [np.zeros(0)])
+
+
+def _rows(A: sp.spmatrix) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``A`` in compressed rows, as the compiled kernels take it: row pointers, column
+    indices (int64) and values."""
+    A = sp.csr_matrix(A)
+    return A.indptr.astype(np.int64), A.indices.astype(np.int64), A.data.astype(float)
 
 
 def _scale_multipliers(y: np.ndarray, factor: float) -> np.ndarray:

@@ -51,6 +51,7 @@ from sliders.solve.mechanism import (
     joint_parts,
     member_parts,
 )
+from sliders.solve.newton import CompiledNewton
 
 METHODS = ("bordered", "condensed")
 
@@ -109,6 +110,7 @@ class SliderStatics:
         self.structure, self.sliders, self.method = structure, list(sliders), method
         self._stiffness = operator is None
         self._rigid: RigidModes | None = None
+        self._compiled: CompiledNewton | None = None
         names = [s.name for s in self.sliders]
         if len(set(names)) != len(names):
             raise ValueError(f"slider names must be unique, got {names}")
@@ -232,11 +234,41 @@ class SliderStatics:
         sliders the problem is linear: one solve on the free dofs."""
         if not self.sliders:
             return self._linear(f)
-        batches = [s.batch(self.structure) for s in self.sliders]
-        outcome = newton_many([self], batches, f[None], [start], tol, max_iterations)[0]
+        outcome = self.newton(f, start, tol, max_iterations)
         if isinstance(outcome, str):
             raise ValueError(outcome)
         return outcome
+
+    def newton(
+        self,
+        f: np.ndarray,
+        start: tuple[np.ndarray, list[np.ndarray]] | None,
+        tol: float,
+        max_iterations: int,
+        time: float = 0.0,
+        scale: float = 1.0,
+    ) -> tuple[np.ndarray, list, list[float]] | str:
+        """One Newton solve under the load ``f`` from ``start`` (default: no displacement,
+        projected ``xi``), drives read at ``time``, multipliers scaled by ``scale``: the
+        converged ``q``, slider unknowns and scaled residual history, or the message of the
+        failure.  The condensed back end runs the compiled loop
+        (:class:`sliders.solve.newton.CompiledNewton`), the bordered one
+        :func:`newton_many` (for one member)."""
+        if self.method == "condensed":
+            if start is None:
+                q = np.zeros(self.structure.n_dofs)
+                start = (q, self.initial_unknowns(q))
+            return self.compiled.solve(f, *start, tol, max_iterations, time, scale)
+        batches = [s.batch(self.structure) for s in self.sliders]
+        return newton_many([self], batches, f[None], [start], tol, max_iterations, time, scale)[0]
+
+    @property
+    def compiled(self) -> CompiledNewton:
+        """The compiled Newton loop of this problem (condensed back end), built when first
+        asked for."""
+        if self._compiled is None:
+            self._compiled = CompiledNewton.of(self)
+        return self._compiled
 
     def _linear(self, f: np.ndarray) -> tuple[np.ndarray, list, list[float]]:
         """``K q = f`` on the free dofs (a structure without sliders: the bordered step with

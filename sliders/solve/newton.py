@@ -1,0 +1,222 @@
+"""The compiled Newton step of one problem: what every solve path runs.
+
+:class:`CompiledNewton` prepares, once per problem (structure, supports, joints and operator),
+what :func:`sliders.solve.newton_kernel.newton` reads: the operator in compressed rows, the
+factors of the bordered operator (:class:`sliders.solve.condensed.CondensedOperator`), the
+joints packed (:class:`sliders.joints.packed.JointPack`) with their layout for the condensed
+step, and a cache of columns of the inverse that lives as long as the problem.  A solve is
+then one compiled call: the whole Newton loop (residual, joints, small system, increments,
+convergence) runs without returning to Python.
+
+It is the condensed back end of :func:`sliders.solve.statics.newton_many` for one member, the
+same equations in the same order (``tests/test_compiled_newton.py`` holds the two equal to
+the Newton tolerance); failures are reported as ``newton_many`` reports them (the free
+motion named, the joint whose abscissa left its line, the last residual), by the same
+Python code on the state where the loop stopped.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+import scipy.sparse as sp
+
+from fvbeam.mechanism import node_positions
+from fvbeam.structure import Structure
+from sliders.joints.packed import JointPack
+from sliders.joints.slider import Slider
+from sliders.solve.condensed import DENSE_LIMIT, SINGULAR_RCOND
+from sliders.solve.factor import Factor
+from sliders.solve.mechanism import joint_parts
+from sliders.solve.newton_kernel import (
+    CONVERGED,
+    NOT_CONVERGED,
+    OFF_LINE,
+    OVERFLOW,
+    SINGULAR,
+    newton,
+)
+
+if TYPE_CHECKING:
+    from sliders.solve.statics import SliderStatics
+
+#: Columns of the inverse kept beyond what one iteration needs, on problems too large to
+#: keep every column (above :data:`sliders.solve.condensed.DENSE_LIMIT` unknowns).
+SPARE_COLUMNS = 64
+
+
+class CompiledNewton:
+    """The Newton loop of a problem, compiled (module docstring): ``sliders`` on
+    ``structure``, the operator ``K`` (n, n) with its ``free`` dofs, the ``factor`` of the
+    bordered operator on them and the rigid modes ``phi`` that border it.  ``statics``: the
+    problem's :class:`~sliders.solve.statics.SliderStatics`, whose Python code names what
+    makes a solve fail (:meth:`of` builds both from it); without it, only :attr:`problem` is
+    of use (a structure without sliders, :mod:`sliders.solve.dynamics_kernel`)."""
+
+    def __init__(
+        self,
+        structure: Structure,
+        sliders: Sequence[Slider],
+        K: sp.spmatrix,
+        free: np.ndarray,
+        factor: Factor,
+        phi: np.ndarray,
+        statics: SliderStatics | None = None,
+    ) -> None:
+        self.statics = statics
+        K = sp.csr_matrix(K)
+        K.sort_indices()
+        self.operator = (K.indptr.astype(np.int64), K.indices.astype(np.int64), K.data)
+        self.free = np.asarray(free, dtype=np.int64)
+        self.position = np.full(structure.n_dofs, -1, dtype=np.int64)
+        self.position[self.free] = np.arange(len(self.free))
+        self.factor = factor.arrays
+        self.phi = np.ascontiguousarray(phi, dtype=float).reshape(len(self.free), -1)
+        self.pack = JointPack(sliders, structure)
+        tables, c_of, rows, forces = [], [], [], []
+        at = np.zeros(4, dtype=np.int64)
+        nc = 0
+        for (_, jacobian), t, m, width in zip(
+            self.pack.layouts,
+            self.pack.slots,
+            self.pack.unknowns,
+            self.pack.widths,
+            strict=True,
+        ):
+            c, carry, index = jacobian.coupling()
+            rows.append(
+                [1, t, m, width, at[0], at[1], at[2], at[2] + len(jacobian.table), at[3], len(c)]
+            )
+            tables.append(jacobian.table)
+            c_of.append(index)
+            forces.append(at[0] + carry)
+            at += [t, width, len(jacobian.table), t]
+            nc += len(c)
+        J = len(rows)
+        self.tables = np.concatenate(tables) if J else np.zeros((0, 5), dtype=np.int64)
+        self.c_of = np.concatenate(c_of).astype(np.int64) if J else np.zeros(0, dtype=np.int64)
+        self.batches = np.array(rows, dtype=np.int64).reshape(J, 10)
+        self.force_slots = (
+            np.concatenate(forces).astype(np.int64) if J else np.zeros(0, dtype=np.int64)
+        )
+        self.nc = nc
+        n_free, k = len(self.free), self.phi.shape[1]
+        capacity = n_free if n_free + k <= DENSE_LIMIT else len(self.force_slots) + SPARE_COLUMNS
+        self.store = np.zeros((max(capacity, 1), n_free + k))
+        self.column = np.full(n_free, -1, dtype=np.int64)
+        self.count = np.zeros(1, dtype=np.int64)
+        positions = node_positions(structure)
+        self.resolution = 4 * np.finfo(float).eps * max(1.0, np.abs(positions).max())
+        self.sizes = [s.n_unknowns for s in sliders]
+        #: What :func:`sliders.solve.newton_kernel.newton` reads of the problem, in its order.
+        self.problem = (
+            *self.operator,
+            self.free,
+            self.position,
+            self.factor,
+            self.phi,
+            self.store,
+            self.column,
+            self.count,
+            self.pack.head,
+            self.pack.values,
+            self.pack.fields,
+            self.pack.floats,
+            self.pack.ints,
+            self.tables,
+            self.c_of,
+            self.batches,
+            self.force_slots,
+            self.nc,
+            SINGULAR_RCOND,
+            self.resolution,
+        )
+
+    @classmethod
+    def of(cls, statics: SliderStatics) -> CompiledNewton:
+        """The compiled loop of ``statics`` on its condensed back end."""
+        condensed = statics._condensed
+        if condensed is None:
+            raise ValueError("the compiled Newton step runs on the condensed back end")
+        return cls(
+            statics.structure,
+            statics.sliders,
+            statics.K,
+            statics.free,
+            condensed.factor,
+            condensed.phi,
+            statics,
+        )
+
+    def solve(
+        self,
+        f: np.ndarray,
+        q: np.ndarray,
+        unknowns: Sequence[np.ndarray],
+        tol: float,
+        max_iterations: int,
+        time: float = 0.0,
+        scale: float = 1.0,
+    ) -> tuple[np.ndarray, list[np.ndarray], list[float]] | str:
+        """Newton from ``q`` and the joints' ``unknowns`` under the load ``f``: the
+        converged ``q``, unknowns and scaled residual history, or the message of the
+        failure (as :func:`sliders.solve.statics.newton_many` gives them for one member).
+        ``ValueError`` (the joint named) when an abscissa leaves its line."""
+        statics = self.statics
+        if statics is None:
+            raise ValueError("a compiled Newton loop without its statics does not solve")
+        q = np.array(q, dtype=float)
+        y = np.concatenate([np.asarray(u, dtype=float) for u in unknowns] + [np.zeros(0)])
+        q0, y0 = q.copy(), y.copy()
+        drives = np.array(
+            [s.drive(time)[0] if s.drive is not None else 0.0 for s in statics.sliders]
+        )
+        history = np.zeros(max_iterations + 1)
+        status, evaluations, joint = newton(
+            self.problem,
+            np.ascontiguousarray(f, dtype=float),
+            q,
+            y,
+            drives,
+            float(scale),
+            float(tol),
+            int(max_iterations),
+            history,
+        )
+        split = np.split(y, np.cumsum(self.sizes)[:-1]) if self.sizes else []
+        if status == CONVERGED:
+            return q, split, history[:evaluations].tolist()
+        if status in (OFF_LINE, OVERFLOW):
+            # the Python evaluation of the joint raises the reference's error
+            slider = statics.sliders[joint]
+            at = int(np.cumsum([0] + self.sizes)[joint])
+            slider.batch(statics.structure).evaluate(
+                q[None], y[None, at : at + self.sizes[joint]], time, scale
+            )
+            raise RuntimeError(f"slider {slider.name!r}: the compiled joint failed ({status})")
+        multipliers = np.ones(len(y), dtype=bool)
+        multipliers[np.cumsum([0] + self.sizes[:-1]).astype(int)] = False
+        if status == SINGULAR:
+            parts = joint_parts(statics.structure, statics.sliders, q, split, time, scale)
+            return statics._diagnose(
+                parts,
+                "the condensed system has no finite solution",
+                not np.any(y[multipliers]),
+            )
+        assert status == NOT_CONVERGED
+        first = joint_parts(
+            statics.structure,
+            statics.sliders,
+            q0,
+            np.split(y0, np.cumsum(self.sizes)[:-1]) if self.sizes else [],
+            time,
+            scale,
+        )
+        return statics._diagnose(
+            first,
+            f"Newton did not converge in {max_iterations} iterations "
+            f"(scaled residual {history[max_iterations]:.3g})",
+            not np.any(y0[multipliers]),
+        )
