@@ -32,7 +32,7 @@ from __future__ import annotations
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 import scipy.sparse as sp
@@ -59,6 +59,14 @@ START_REMEDY = (
     "a time integration starts from the static equilibrium, which needs it held: a support, "
     "a slider or a drive; or start from a given state, Dynamics.state or State.load"
 )
+
+
+@runtime_checkable
+class Tabulable(Protocol):
+    """A load that gives its vectors at many times at once, one row per time
+    (:class:`sliders.forces.moving_load.MovingLoad`)."""
+
+    def at(self, times: np.ndarray) -> np.ndarray: ...
 
 
 class Recorder(Protocol):
@@ -536,6 +544,10 @@ class Dynamics:
             size = min(steps, chunk)
             times = np.cumsum(np.concatenate([[state.t], np.full(size, h)]))[1:]
             loads = self._loads(times)
+            finite = np.isfinite(loads).all(axis=1)
+            if not finite.all():  # up to the first bad load; its step raises below
+                size = int(np.argmin(finite)) if len(loads) > 1 else 0
+                times, loads = times[:size], loads[:size]
             driven = np.array([[d.motion(t)[0] for d in self.drives] for t in times])
             drives = np.array([[_abscissa(s, t) for s in self.sliders] for t in times])
             Q, V, A, QDD = (np.empty((size, n)) for _ in range(4))
@@ -611,6 +623,8 @@ class Dynamics:
         for all when it does not depend on time."""
         if self._constant:
             return self.load(float(times[0]))[None]
+        if isinstance(self._load, Tabulable):
+            return self._load.at(times) + self.f_gravity
         return np.array([self.load(float(t)) for t in times])
 
     def _advance(self, state: State, h: float, adaptive: Adaptive | None) -> tuple[State, float]:

@@ -1,0 +1,1 @@
+"""Loads and force elements that act on a structure's dofs beside the joints."""
