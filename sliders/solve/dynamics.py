@@ -170,7 +170,7 @@ class Dynamics:
         gravity: Sequence[float] | None = None,
         drives: Sequence[DofDrive] = (),
         rho_inf: float = 0.8,
-        method: str = "bordered",
+        method: str = "auto",
         tol: float = 1e-8,
         max_iterations: int = 25,
     ) -> None:

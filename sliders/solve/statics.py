@@ -53,7 +53,7 @@ from sliders.solve.mechanism import (
 )
 from sliders.solve.newton import CompiledNewton
 
-METHODS = ("bordered", "condensed")
+METHODS = ("auto", "bordered", "condensed")
 
 
 @dataclass
@@ -80,7 +80,9 @@ class SliderStatics:
     supports (e.g. the same beams translated, :meth:`fvbeam.beam.Beam.translated`), whose
     assembled stiffness (and, for the condensed back end, factorisation and cached columns)
     is then taken as it is; a sweep over positions builds it once.  ``method``: the
-    linear-algebra back end, ``bordered`` or ``condensed`` (module docstring).  ``operator``:
+    linear-algebra back end, ``bordered`` or ``condensed`` (module docstring), or ``auto``
+    (the default: ``condensed`` where it applies, :meth:`_automatic`); :attr:`method` is the
+    one taken.  ``operator``:
     a matrix that takes the place of the stiffness (the time integrator's
     ``M + c_v C + c_q K``, :mod:`sliders.solve.dynamics`); default the structure's stiffness.
 
@@ -102,7 +104,7 @@ class SliderStatics:
         supports: Sequence[Support],
         sliders: Sequence[Slider],
         reuse: "SliderStatics | None" = None,
-        method: str = "bordered",
+        method: str = "auto",
         operator: sp.spmatrix | None = None,
     ) -> None:
         if method not in METHODS:
@@ -127,8 +129,25 @@ class SliderStatics:
             self._position[self.free] = np.arange(len(self.free))
             self.K_free = self.K[self.free][:, self.free].tocoo()
             self._condensed = None
+        if method == "auto":
+            method = self.method = self._automatic()
         if method == "condensed" and self._condensed is None:
             self._condensed = CondensedOperator(self.K, self.free, self.rigid.phi)
+
+    def _automatic(self) -> str:
+        """The back end ``auto`` takes: ``condensed`` (the compiled Newton loop on a
+        factorisation kept for the problem's life) when the operator bordered by the free
+        parts' rigid motions is regular, else ``bordered``, which lets the sliders hold a
+        mechanism that is no rigid motion of a part; ``bordered`` without sliders (one linear
+        solve)."""
+        if not self.sliders:
+            return "bordered"
+        if self._condensed is None:
+            try:
+                self._condensed = CondensedOperator(self.K, self.free, self.rigid.phi)
+            except ValueError:
+                return "bordered"
+        return "condensed"
 
     @property
     def rigid(self) -> RigidModes:
