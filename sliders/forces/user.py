@@ -53,9 +53,9 @@ class UserLaw:
     ...     points=[[-0.05], [0.0], [0.1]],
     ...     scales=[0.1],
     ... )
-    >>> force, stiffness = law(0.2)
+    >>> force, stiffness = law(0.5)
     >>> float(force), float(stiffness)
-    (10000.0, 130000.0)
+    (130000.0, 760000.0)
     """
 
     name: str
