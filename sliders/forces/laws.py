@@ -151,17 +151,20 @@ def gas_spring_energy(
                    = \\frac{p_0 V_0^n}{n - 1}\\left[(V_0 - A S)^{1-n} - V_0^{1-n}\\right]
                      - p_{atm} A S \\qquad (n \\ne 1),
 
-    and ``p0 V0 ln(V0 / (V0 - A S)) - p_atm A S`` for ``n = 1``.  Same parameters and errors as
-    :func:`gas_spring`; returns the energy [J].
+    and ``p0 V0 ln(V0 / (V0 - A S)) - p_atm A S`` for ``n = 1``, evaluated as
+    ``p0 V0 expm1((n - 1) L) / (n - 1)`` with ``L = -log1p(-A S / V0)`` so that small strokes
+    lose no digits to cancellation.  Same parameters and errors as :func:`gas_spring`; returns
+    the energy [J].
     """
     # gas_spring checks every input and the gas volume; its force is not needed here.
     gas_spring(stroke, area=area, pressure=pressure, volume=volume, exponent=exponent)
     A, p0, V0, n = float(area), float(pressure), float(volume), float(exponent)
     S = np.asarray(stroke, dtype=float)
-    gas = V0 - A * S
+    # -log(1 - A S / V0) and (1 - A S / V0)^(1-n) - 1 without the cancellation at small S
+    log_ratio = -np.log1p(-A * S / V0)
     if n == 1.0:
-        return p0 * V0 * np.log(V0 / gas) - float(ambient) * A * S
-    return p0 * V0**n / (n - 1.0) * (gas ** (1.0 - n) - V0 ** (1.0 - n)) - float(ambient) * A * S
+        return p0 * V0 * log_ratio - float(ambient) * A * S
+    return p0 * V0 / (n - 1.0) * np.expm1((n - 1.0) * log_ratio) - float(ambient) * A * S
 
 
 def orifice_damper(rate: ArrayLike, *, compression: float, rebound: float) -> Law:
@@ -278,8 +281,9 @@ class Strut:
     ambient: float = P_ATM
 
     def __post_init__(self) -> None:
-        # Each law checks its own parameters: evaluate them once at full extension.
-        self(self.stroke_min, 0.0)
+        # Each law checks its own parameters: evaluate them once at both stops (the gas spring
+        # refuses a bottoming stop beyond its gas column).
+        self([self.stroke_min, self.stroke_max], 0.0)
 
     def gas(self, stroke: ArrayLike) -> Law:
         """:func:`gas_spring` with this strut's parameters."""
