@@ -45,7 +45,7 @@ def state(value: ArrayLike, law: str, name: str) -> np.ndarray:
         x = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
         raise ValueError(f"{law}: {name} must be finite numbers, got {value!r}") from None
-    if not np.all(np.isfinite(x)):
+    if not np.isfinite(x).all():
         bad = x[~np.isfinite(x)].ravel()[0]
         raise ValueError(f"{law}: {name} must be finite, got {bad}")
     return x
@@ -56,8 +56,12 @@ Law = tuple[np.ndarray, ...]
 
 
 def broadcast(*arrays: np.ndarray) -> Law:
-    """The arrays broadcast to one shape, as new arrays (a law's value and partials)."""
-    return tuple(np.array(a) for a in np.broadcast_arrays(*arrays))
+    """The arrays (each a law's own result, not an input) broadcast to one shape."""
+    shapes = [np.shape(a) for a in arrays]
+    if all(shape == shapes[0] for shape in shapes):
+        return tuple(np.asarray(a, dtype=float) for a in arrays)
+    shape = np.broadcast_shapes(*shapes)
+    return tuple(np.array(np.broadcast_to(a, shape), dtype=float) for a in arrays)
 
 
 def gas_spring(

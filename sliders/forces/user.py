@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from sliders.forces.differences import central_difference
-from sliders.forces.laws import Law, broadcast, state
+from sliders.forces.laws import Law, state
 
 #: The stencil's largest offset as a fraction of a state's scale.
 STEP = 1e-2
@@ -99,7 +99,8 @@ class UserLaw:
                 f"{law}: derivative must return {self.arity} partials, got {len(partials)}"
             )
         checked = [state(p, law, f"partial {i + 1}") for i, p in enumerate(partials)]
-        return broadcast(value, *checked, *x)[: 1 + self.arity]
+        shape = np.broadcast_shapes(*(np.shape(a) for a in (value, *checked, *x)))
+        return tuple(np.array(np.broadcast_to(a, shape)) for a in (value, *checked))
 
     def _check(self) -> None:
         law = f"user law '{self.name}'"
