@@ -8,9 +8,10 @@ The equations, the bearing reactions and the initial state are derived in
 
 States ``y`` (SI units)::
 
-    x, z_a     airframe position (x forward, z up; z_a is the attachment, the cylinder top)
-    S          stroke, positive in compression; the axle is at z_u = z_a - s_ext - L + S
-    u, v_a     airframe (and, the leg being rigid, axle) forward speed; airframe sink rate
+    x, z_u     airframe position forward, axle height (z up, ground at 0); the airframe's
+               attachment (the cylinder top) is at z_a = z_u + s_ext + L - S
+    S          stroke, positive in compression
+    u, v_u     forward speed of airframe and axle (one, the leg being rigid); axle's z rate
     S'         stroke rate
     omega      wheel spin, positive rolling forward
     W_*        work dissipated so far by the orifice, the tyre's radial damping, the tyre's
@@ -19,7 +20,7 @@ States ``y`` (SI units)::
 Equations (``M = m_a + m_u``, lift ``M g`` on the airframe)::
 
     M u'        = F_x
-    m_a v_a'    = F_s - F_f + m_u g
+    m_a v_a'    = F_s - F_f + m_u g,               v_a = v_u - S'
     m_u v_u'    = F_z - F_s + F_f - m_u g,         S'' = v_u' - v_a'
     I_w omega'  = -F_x R0
 
@@ -73,10 +74,10 @@ COLUMNS = (
 #: State names, in the order of ``y``.
 STATES = (
     "x",
-    "z_a",
+    "z_u",
     "S",
     "u",
-    "v_a",
+    "v_u",
     "S_rate",
     "omega",
     "W_damper",
@@ -165,15 +166,13 @@ def forces(y: np.ndarray, gear: Gear, friction: bool) -> Forces:
     """The forces at state ``y`` (``docs/landing_gear.md``): strut, tyre, attachment load
     ``P = m_a F_x / M`` (the piston's transverse load, ground force less the unsprung mass's
     inertia), the bearing reactions and the bearing friction on the piston."""
-    _, _, S, u, v_a, S_rate, omega = y[:7]
+    _, z_u, S, u, v_u, S_rate, omega = y[:7]
     strut, _, _ = gear.strut(S, S_rate)
     damper, _ = orifice_damper(
         S_rate, compression=gear.strut.compression, rebound=gear.strut.rebound
     )
-    z_u = y[1] - gear.extension - gear.length + S
-    deflection = gear.radius - z_u
     vertical, _, _ = tyre_radial(
-        deflection, -(v_a + S_rate), stiffness=gear.tyre_stiffness, damping=gear.tyre_damping
+        gear.radius - z_u, -v_u, stiffness=gear.tyre_stiffness, damping=gear.tyre_damping
     )
     longitudinal, _, _, _ = tyre_longitudinal(
         u,
@@ -197,26 +196,33 @@ def forces(y: np.ndarray, gear: Gear, friction: bool) -> Forces:
 
 
 def rates(t: float, y: np.ndarray, gear: Gear, friction: bool) -> np.ndarray:
-    """``dy/dt`` (module docstring)."""
+    """``dy/dt`` (module docstring), for one state or (columns) several.
+
+    A state whose stroke leaves no gas (``S >= V0 / A``) is no solution but can be a trial
+    iterate of the implicit solver's Newton loop (a large first step over the touchdown's
+    jump, say): it gets NaN rates, which Radau and BDF answer by rejecting the step and
+    halving it, where the gas law's error would end the integration.
+    """
+    if np.any(y[2] >= gear.strut.volume / gear.strut.area):
+        return np.full(np.shape(y), np.nan)
     f = forces(y, gear, friction)
     m_a, m_u, g = gear.airframe_mass, gear.unsprung_mass, gear.gravity
     a_a = (f.strut - f.bearing + m_u * g) / m_a
     a_u = (f.vertical - f.strut + f.bearing - m_u * g) / m_u
-    u, v_a, S_rate, omega = y[3], y[4], y[5], y[6]
-    z_u = y[1] - gear.extension - gear.length + y[2]
-    deflection = gear.radius - z_u
+    u, v_u, S_rate, omega = y[3], y[4], y[5], y[6]
+    deflection = gear.radius - y[1]
     spring = np.where(deflection > 0, gear.tyre_stiffness * deflection, 0.0)
     return np.array(
         [
             u,
-            v_a,
+            v_u,
             S_rate,
             f.longitudinal / gear.mass,
-            a_a,
+            a_u,
             a_u - a_a,
             -f.longitudinal * gear.radius / gear.spin_inertia,
             f.damper * S_rate,
-            -(f.vertical - spring) * (v_a + S_rate),
+            -(f.vertical - spring) * v_u,
             -f.longitudinal * (u - omega * gear.radius),
             -f.bearing * S_rate,
         ]
@@ -243,23 +249,22 @@ def initial_state(gear: Gear) -> np.ndarray:
     at ``sink`` and moving forward at ``forward``, the wheel still, the strut on its
     extension stop in static balance (:func:`initial_stroke`)."""
     S0 = initial_stroke(gear)
-    z_a = gear.radius + gear.extension + gear.length - S0
-    return np.array([0.0, z_a, S0, gear.forward, -gear.sink, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
+    return np.array([0.0, gear.radius, S0, gear.forward, -gear.sink, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
 
 
 def energy(y: np.ndarray, gear: Gear) -> np.ndarray:
     """Mechanical energy (kinetic, gravity less lift, strut, tyre spring) plus the work
     dissipated so far: constant along an exact solution (``docs/landing_gear.md``)."""
-    _, z_a, S, u, v_a, S_rate, omega = y[:7]
-    z_u = z_a - gear.extension - gear.length + S
+    _, z_u, S, u, v_u, S_rate, omega = y[:7]
+    v_a = v_u - S_rate
     kinetic = 0.5 * (
         gear.mass * u * u
         + gear.airframe_mass * v_a * v_a
-        + gear.unsprung_mass * (v_a + S_rate) ** 2
+        + gear.unsprung_mass * v_u * v_u
         + gear.spin_inertia * omega * omega
     )
-    # gravity on both masses, lift (m_a + m_u) g on the airframe
-    potential = gear.unsprung_mass * gear.gravity * (z_u - z_a)
+    # gravity on both masses, lift (m_a + m_u) g on the airframe: m_u g (z_u - z_a)
+    potential = -gear.unsprung_mass * gear.gravity * (gear.extension + gear.length - S)
     stored = gear.strut.energy(S) + tyre_energy(gear.radius - z_u, stiffness=gear.tyre_stiffness)
     return kinetic + potential + stored + np.sum(y[7:11], axis=0)
 
@@ -311,7 +316,7 @@ spin_up.direction = 1.0  # type: ignore[attr-defined]
 
 def contact(t: float, y: np.ndarray, gear: Gear, friction: bool) -> float:
     """The tyre's deflection ``d = R0 - z_u``: zero when it touches the ground or leaves it."""
-    return float(gear.radius - (y[1] - gear.extension - gear.length + y[2]))
+    return float(gear.radius - y[1])
 
 
 def simulate(
@@ -385,7 +390,7 @@ def summary(run: Run) -> dict[str, float]:
     spin_up_times = run.solution.t_events[0]
     out["spin_up_time"] = float(spin_up_times[0]) if len(spin_up_times) else math.nan
     touching = zip(run.solution.t_events[1], run.solution.y_events[1], strict=True)
-    leaving = [t for t, y in touching if t > 0 and y[4] + y[5] > 0]
+    leaving = [t for t, y in touching if t > 0 and y[4] > 0]
     out["lift_off_time"] = float(leaving[0]) if leaving else math.nan
     t = np.linspace(0.0, run.solution.t[-1], 30001)
     outputs = run.outputs(t)
