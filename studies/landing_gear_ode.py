@@ -380,11 +380,14 @@ PEAKS = (
 def summary(run: Run) -> dict[str, float]:
     """Derived events of one run (``docs/landing_gear.md``, "Measured"): peaks with their
     times, spin-up time, lift-off, the largest forward attachment load after spin-up (the
-    spring-back a rigid leg lacks), the friction fractions, the bearing friction's work, the
-    energy at touchdown and the energy balance's largest error [J]."""
+    spring-back a rigid leg lacks), the friction fractions (NaN for the friction in the
+    dynamics of a run without it), the bearing friction's work, the energy at touchdown and
+    the energy balance's largest error [J]."""
     out: dict[str, float] = {}
     for name in PEAKS:
-        out[name], out[f"{name}_time"] = peak(run, name)
+        out[name], out[f"{name}_time"] = (
+            peak(run, name) if run.friction or name != "friction_dynamic" else (math.nan,) * 2
+        )
     for name in ("friction_post", "friction_dynamic"):
         out[f"{name}_fraction"] = out[name] / out["ground_vertical"]
     spin_up_times = run.solution.t_events[0]

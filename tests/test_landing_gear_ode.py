@@ -150,7 +150,7 @@ def test_friction_in_the_dynamics():
     assert friction["friction_dynamic"] == pytest.approx(friction["friction_post"], rel=1e-6)
     plain = ode.summary(ode.simulate(GEAR, rtol=1e-7))
     assert friction["ground_vertical"] > plain["ground_vertical"]
-    assert plain["friction_dynamic"] == 0.0 and plain["bearing_work"] == 0.0
+    assert np.isnan(plain["friction_dynamic"]) and plain["bearing_work"] == 0.0
 
 
 def test_command_writes_the_tables(tmp_path):
