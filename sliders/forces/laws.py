@@ -592,11 +592,11 @@ def stribeck_friction(
     if mu_s < mu_k:
         raise ValueError(f"{law}: mu_static ({mu_s}) must be >= mu_kinetic ({mu_k})")
     v_s = number(v_stribeck, f"{law}: v_stribeck", "> 0")
-    eps = number(v_eps, f"{law}: v_eps", "> 0")
     v = state(velocity, law, "velocity")
     N = _normal(normal, law)
     drop = (mu_s - mu_k) * np.exp(-((v / v_s) ** 2))
     g = mu_k + drop
+    # Coulomb's law with mu = 1 on the normal force N g(v), whose own rate is N g'(v)
+    force, d_velocity, d_normal = coulomb_friction(v, N * g, mu=1.0, v_eps=v_eps)
     g_v = -2.0 * v * drop / (v_s * v_s)
-    t = np.tanh(v / eps)
-    return broadcast(-N * g * t, -N * (g_v * t + g * (1.0 - t * t) / eps), -g * t)
+    return broadcast(force, d_velocity + d_normal * N * g_v, d_normal * g)
