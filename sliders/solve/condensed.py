@@ -70,7 +70,9 @@ class CondensedOperator:
         K_free = sp.csr_matrix(K)[free][:, free]
         self.phi = np.ascontiguousarray(phi)
         self.n_free, self.n_rigid = len(free), self.phi.shape[1]
-        scale = np.abs(K_free).max()
+        largest = np.abs(K_free).max()
+        # a structure held by force elements alone has no stiffness: any scale then
+        scale = largest if largest > 0 else 1.0
         B = sp.bmat(
             [[K_free, scale * sp.csr_matrix(self.phi)], [scale * sp.csr_matrix(self.phi.T), None]],
             format="csc",

@@ -43,6 +43,7 @@ from fvbeam.geometry import vector3
 from fvbeam.mechanism import rigid_modes, unresisted
 from fvbeam.structure import Structure
 from fvbeam.support import DOF_NAMES, Support
+from sliders.forces.elements import ForceElement
 from sliders.joints.drives import DofDrive
 from sliders.joints.slider import Slider
 from sliders.solve.dynamics_kernel import advance
@@ -165,6 +166,7 @@ class Dynamics:
         sliders: Sequence[Slider] = (),
         load: Load | None = None,
         *,
+        forces: Sequence[ForceElement] = (),
         mass: str = "lumped",
         damping: float | sp.spmatrix = 0.0,
         gravity: Sequence[float] | None = None,
@@ -175,6 +177,9 @@ class Dynamics:
         max_iterations: int = 25,
     ) -> None:
         self.structure, self.sliders, self.drives = structure, list(sliders), list(drives)
+        self.forces = list(forces)
+        #: Whether a step is a Newton loop (sliders or force elements) rather than one solve.
+        self.nonlinear = bool(self.sliders or self.forces)
         self.scheme = GeneralizedAlpha(rho_inf)
         self.method, self.tol, self.max_iterations = method, tol, max_iterations
         n = structure.n_dofs
@@ -256,31 +261,53 @@ class Dynamics:
         start = self.prescribe(zero, t)
         unknowns = [s.initial_unknowns(self.structure, start) for s in self.sliders]
         at_rest = State(t, zero, zero, zero, zero, [])
-        if self.sliders:
+        if self.sliders and not self.forces:  # force elements may hold what sliders do not
             solver = self._solver("static")
             assert isinstance(solver, SliderStatics)  # the solver of a model with sliders
             free = solver.free_motion(start, unknowns, START_REMEDY)
             if free:
                 raise DynamicsError(f"t = {t:.6g}: {free}", at_rest)
         q, unknowns, iterations = self._solve(
-            "static", self.load(t), start, unknowns, t, 1.0, at_rest
+            "static", self.load(t), start, unknowns, t, 1.0, at_rest, None
         )
         return State(t, q, zero.copy(), zero.copy(), zero.copy(), unknowns, 0.0, iterations)
 
-    def state(self, q: np.ndarray, v: np.ndarray | None = None, t: float = 0.0) -> State:
-        """A start from displacements ``q`` and velocities ``v`` (default 0) without sliders:
-        the accelerations solve ``M qdd = f - K q - C v`` on the free dofs (``ValueError`` if
-        the mass is singular there)."""
-        if self.sliders:
-            raise ValueError(
-                "a start with sliders is a static state (static_state) or a "
-                "saved one (State.load): their multipliers need an equilibrium"
-            )
+    def state(
+        self,
+        q: np.ndarray,
+        v: np.ndarray | None = None,
+        t: float = 0.0,
+        unknowns: Sequence[np.ndarray] | None = None,
+        qdd: np.ndarray | None = None,
+    ) -> State:
+        """A start from displacements ``q`` and velocities ``v`` (default 0) rather than from
+        the static equilibrium (a touchdown, a release).
+
+        Without sliders and force elements, the accelerations solve ``M qdd = f - K q - C v``
+        on the free dofs (``ValueError`` if the mass is singular there).  With them, the
+        joints' ``unknowns`` default to the projected abscissae and zero multipliers (the
+        first step solves the multipliers: they are no state of the scheme), and the
+        accelerations ``qdd`` to zero: a start in balance (a touchdown with the weight carried
+        by the lift); give ``qdd`` otherwise."""
         n = self.structure.n_dofs
         q = np.asarray(q, dtype=float)
         v = np.zeros(n) if v is None else np.asarray(v, dtype=float)
         if q.shape != (n,) or v.shape != (n,) or not np.all(np.isfinite(q) & np.isfinite(v)):
             raise ValueError(f"q and v must be finite vectors of {n} rows")
+        if self.nonlinear:
+            if unknowns is None:
+                unknowns = [s.initial_unknowns(self.structure, q) for s in self.sliders]
+            unknowns = [np.array(y, dtype=float) for y in unknowns]
+            sizes = [len(y) for y in unknowns]
+            if sizes != [s.n_unknowns for s in self.sliders]:
+                raise ValueError(
+                    f"unknowns of sizes {sizes} given, the sliders have "
+                    f"{[s.n_unknowns for s in self.sliders]}"
+                )
+            qdd = np.zeros(n) if qdd is None else np.asarray(qdd, dtype=float)
+            if qdd.shape != (n,) or not np.all(np.isfinite(qdd)):
+                raise ValueError(f"qdd must be a finite vector of {n} rows")
+            return State(t, q.copy(), v.copy(), qdd.copy(), qdd.copy(), unknowns)
         f = self.load(t) - self.K @ q - self.C @ v
         M = self.M[self.free][:, self.free].tocsc()
         try:
@@ -305,13 +332,14 @@ class Dynamics:
         operator itself."""
         if key not in self._operators:
             operator = self.K if isinstance(key, str) else self.operator(key)
-            if self.sliders:
+            if self.nonlinear:
                 self._operators[key] = SliderStatics(
                     self.structure,
                     self.supports,
                     self.sliders,
                     method=self.method,
                     operator=operator,
+                    forces=self.forces,
                 )
             else:
                 A = operator[self.free][:, self.free].tocsc()
@@ -335,9 +363,11 @@ class Dynamics:
         t: float,
         scale: float,
         last: State,
+        velocity: tuple[np.ndarray, np.ndarray, float] | None,
     ) -> tuple[np.ndarray, list, int]:
         """Solve the (scaled) step problem: displacements, physical joint unknowns and
-        Newton iterations; :class:`DynamicsError` on failure."""
+        Newton iterations; ``velocity``: ``(v_hat, q_hat, gamma')`` of the step (None: at
+        rest); :class:`DynamicsError` on failure."""
         try:
             solver = self._solver(key)
             if isinstance(solver, tuple):
@@ -346,7 +376,13 @@ class Dynamics:
                 q[self.free] += factor.solve((f - operator @ start)[self.free])
                 return q, [], 1
             outcome = solver.newton(
-                f, (start, unknowns), self.tol, self.max_iterations, time=t, scale=scale
+                f,
+                (start, unknowns),
+                self.tol,
+                self.max_iterations,
+                time=t,
+                scale=scale,
+                velocity=velocity,
             )
         except ValueError as exc:
             raise DynamicsError(f"t = {t:.6g}: {exc}", last) from exc
@@ -370,7 +406,10 @@ class Dynamics:
         )
         start = self.prescribe(p.q_hat + self.scheme.beta * h * h * state.a, t)
         unknowns = [_scale_multipliers(y, scale) for y in state.unknowns]
-        q, unknowns, iterations = self._solve(h, scale * f_eff, start, unknowns, t, scale, state)
+        velocity = (p.v_hat, p.q_hat, p.gamma_rate)
+        q, unknowns, iterations = self._solve(
+            h, scale * f_eff, start, unknowns, t, scale, state, velocity
+        )
         return p.complete(t, q, unknowns, self.scheme.beta, iterations)
 
     def constraint_forces(self, state: State) -> np.ndarray:
@@ -530,9 +569,9 @@ class Dynamics:
                 self._linear[h] = CompiledNewton(
                     self.structure, [], operator, self.free, factor, np.zeros((len(self.free), 0))
                 ).problem
-            problem, joints = self._linear[h], 0
+            problem, nonlinear = self._linear[h], False
         else:
-            problem, joints = solver.compiled.problem, len(self.sliders)
+            problem, nonlinear = solver.compiled.problem, True
         sizes = [s.n_unknowns for s in self.sliders]
         first = np.cumsum([0] + sizes[:-1]).astype(np.int64)[: len(sizes)]
         n, m = self.structure.n_dofs, sum(sizes)
@@ -557,7 +596,7 @@ class Dynamics:
                 mass,
                 damping,
                 problem,
-                joints,
+                nonlinear,
                 times,
                 loads,
                 self.driven.astype(np.int64),

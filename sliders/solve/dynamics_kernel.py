@@ -46,7 +46,7 @@ def advance(
     mass: tuple,
     damping: tuple,
     problem: tuple,
-    joints: int,
+    nonlinear: bool,
     times: np.ndarray,
     loads: np.ndarray,
     driven: np.ndarray,
@@ -78,8 +78,8 @@ def advance(
         ``M`` and ``C`` in compressed rows (``ptr, col, val``).
     problem
         The Newton problem on ``K'`` (:attr:`sliders.solve.newton.CompiledNewton.problem`);
-        without joints (``joints`` 0) its first six entries are read: ``K'`` and the free
-        dofs and the factors of ``K'`` on them.
+        without joints and force elements (not ``nonlinear``) its first six entries are
+        read: ``K'`` and the free dofs and the factors of ``K'`` on them.
     times, loads
         The time at the end of each step, and the external load there (one row per step,
         or one row for all).
@@ -130,9 +130,18 @@ def advance(
             start[driven[d]] = driven_values[step, d]
         for c in range(m):
             ys[c] = y[c] * s if multiplier[c] else y[c]
-        if joints:
+        if nonlinear:
             status, evaluations, joint = newton(
-                problem, f, start, ys, drives[step], s, tol, max_iterations, history
+                problem,
+                f,
+                start,
+                ys,
+                drives[step],
+                s,
+                tol,
+                max_iterations,
+                history,
+                (v_hat, q_hat, gamma_rate),
             )
             if status != CONVERGED:
                 return status, step, joint

@@ -25,6 +25,7 @@ import scipy.sparse as sp
 
 from fvbeam.mechanism import node_positions
 from fvbeam.structure import Structure
+from sliders.forces.elements import ForceElement
 from sliders.joints.packed import JointPack
 from sliders.joints.slider import Slider
 from sliders.solve.condensed import DENSE_LIMIT, SINGULAR_RCOND
@@ -64,6 +65,7 @@ class CompiledNewton:
         factor: Factor,
         phi: np.ndarray,
         statics: SliderStatics | None = None,
+        forces: Sequence[ForceElement] = (),
     ) -> None:
         self.statics = statics
         K = sp.csr_matrix(K)
@@ -75,7 +77,7 @@ class CompiledNewton:
         self.factor = factor.arrays
         self.phi = np.ascontiguousarray(phi, dtype=float).reshape(len(self.free), -1)
         self.pack = JointPack(sliders, structure)
-        tables, c_of, rows, forces = [], [], [], []
+        tables, c_of, rows, forces_at = [], [], [], []
         at = np.zeros(4, dtype=np.int64)
         nc = 0
         for (_, jacobian), t, m, width in zip(
@@ -91,16 +93,29 @@ class CompiledNewton:
             )
             tables.append(jacobian.table)
             c_of.append(index)
-            forces.append(at[0] + carry)
+            forces_at.append(at[0] + carry)
             at += [t, width, len(jacobian.table), t]
             nc += len(c)
-        J = len(rows)
-        self.tables = np.concatenate(tables) if J else np.zeros((0, 5), dtype=np.int64)
-        self.c_of = np.concatenate(c_of).astype(np.int64) if J else np.zeros(0, dtype=np.int64)
-        self.batches = np.array(rows, dtype=np.int64).reshape(J, 10)
-        self.force_slots = (
-            np.concatenate(forces).astype(np.int64) if J else np.zeros(0, dtype=np.int64)
+        # each force element: one dense 6 x 6 block on its six slots, all of them read
+        element = np.array([[0, 6, 0, 6, 0]], dtype=np.int64)
+        packed = [e.packed(structure) for e in forces]
+        self.elements = (
+            np.array([e.kind for e in forces], dtype=np.int64),
+            np.array([e.slots(structure) for e in forces], dtype=np.int64).reshape(-1, 6),
+            np.concatenate([np.zeros(0)] + packed),
+            np.cumsum([0] + [len(p) for p in packed]).astype(np.int64),
         )
+        for _ in forces:
+            rows.append([1, 6, 0, 36, at[0], at[1], at[2], at[2] + 1, at[3], 6])
+            tables.append(element)
+            c_of.append(np.arange(6))
+            forces_at.append(at[0] + np.arange(6))
+            at += [6, 36, 1, 6]
+            nc += 6
+        self.tables = np.concatenate(tables + [np.zeros((0, 5), dtype=np.int64)])
+        self.c_of = np.concatenate(c_of + [np.zeros(0)]).astype(np.int64)
+        self.batches = np.array(rows, dtype=np.int64).reshape(len(rows), 10)
+        self.force_slots = np.concatenate(forces_at + [np.zeros(0)]).astype(np.int64)
         self.nc = nc
         n_free, k = len(self.free), self.phi.shape[1]
         capacity = n_free if n_free + k <= DENSE_LIMIT else len(self.force_slots) + SPARE_COLUMNS
@@ -125,6 +140,7 @@ class CompiledNewton:
             self.pack.fields,
             self.pack.floats,
             self.pack.ints,
+            *self.elements,
             self.tables,
             self.c_of,
             self.batches,
@@ -148,6 +164,7 @@ class CompiledNewton:
             condensed.factor,
             condensed.phi,
             statics,
+            statics.forces,
         )
 
     def solve(
@@ -159,11 +176,14 @@ class CompiledNewton:
         max_iterations: int,
         time: float = 0.0,
         scale: float = 1.0,
+        velocity: tuple[np.ndarray, np.ndarray, float] | None = None,
     ) -> tuple[np.ndarray, list[np.ndarray], list[float]] | str:
         """Newton from ``q`` and the joints' ``unknowns`` under the load ``f``: the
         converged ``q``, unknowns and scaled residual history, or the message of the
         failure (as :func:`sliders.solve.statics.newton_many` gives them for one member).
-        ``ValueError`` (the joint named) when an abscissa leaves its line."""
+        ``velocity``: ``(v_hat, q_hat, c_v)``, the velocities ``v_hat + c_v (q - q_hat)``
+        the force elements read (default: at rest).  ``ValueError`` (the joint named) when an
+        abscissa leaves its line."""
         statics = self.statics
         if statics is None:
             raise ValueError("a compiled Newton loop without its statics does not solve")
@@ -184,6 +204,7 @@ class CompiledNewton:
             float(tol),
             int(max_iterations),
             history,
+            velocity if velocity is not None else (np.zeros(len(q)), q0, 0.0),
         )
         split = np.split(y, np.cumsum(self.sizes)[:-1]) if self.sizes else []
         if status == CONVERGED:
@@ -197,7 +218,7 @@ class CompiledNewton:
             )
             raise RuntimeError(f"slider {slider.name!r}: the compiled joint failed ({status})")
         multipliers = np.ones(len(y), dtype=bool)
-        multipliers[np.cumsum([0] + self.sizes[:-1]).astype(int)] = False
+        multipliers[np.cumsum([0] + self.sizes)[:-1].astype(int)] = False
         if status == SINGULAR:
             parts = joint_parts(statics.structure, statics.sliders, q, split, time, scale)
             return statics._diagnose(

@@ -26,6 +26,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from sliders.forces.kernel import evaluate_element
 from sliders.joints.packed import evaluate_joint
 from sliders.solve.condensed_kernel import condensed_step
 from sliders.solve.factor import factor_solve
@@ -97,6 +98,7 @@ def newton(
     tol: float,
     max_iterations: int,
     history: np.ndarray,
+    velocity: tuple,
 ) -> tuple[int, int, int]:
     """Newton on one member from ``q``, ``y`` (updated in place) under the load ``f``.
 
@@ -120,10 +122,15 @@ def newton(
             calls;
         ``head, joint_values, fields, F, I``
             the joints (:class:`sliders.joints.packed.JointPack`);
+        ``element_kind, element_slots, element_values, element_offsets``
+            the force elements (:mod:`sliders.forces.elements`): their kinds, slots (E, 6)
+            and packed constants (element ``e``'s from ``element_offsets[e]`` to
+            ``element_offsets[e + 1]``), evaluated by
+            :func:`sliders.forces.kernel.evaluate_element`;
         ``tables, c_of, batches, force_slots, nc``
-            the joints' layout for the condensed step (one batch per joint,
-            :func:`sliders.solve.condensed_kernel.condensed_step`), and the slots (into the
-            joints' slots side by side) that carry forces;
+            the layout for the condensed step of the joints and then the elements (one batch
+            each, :func:`sliders.solve.condensed_kernel.condensed_step`), and the slots (into
+            their slots side by side) that carry forces;
         ``threshold``
             the reciprocal condition number below which a small system is singular;
         ``resolution``
@@ -137,6 +144,9 @@ def newton(
         :func:`sliders.solve.statics.converged`'s rule.
     history
         (max_iterations + 1,): the scaled residual of each evaluation.
+    velocity
+        ``(v_hat, q_hat, c_v)``: the velocities ``v = v_hat + c_v (q - q_hat)`` the force
+        elements read (the integrator's prediction and ``gamma'``; zeros and 0 in statics).
 
     Returns
     -------
@@ -159,6 +169,10 @@ def newton(
         fields,
         F,
         I,
+        element_kind,
+        element_slots,
+        element_values,
+        element_offsets,
         tables,
         c_of,
         batches,
@@ -167,12 +181,13 @@ def newton(
         threshold,
         resolution,
     ) = problem
+    v_hat, q_hat, c_v = velocity
     n, nf, k = len(q), len(free), phi.shape[1]
-    J = len(head)
+    J, E = len(head), len(element_kind)
     m = len(y)
     t_all = 0
     width = 0
-    for j in range(J):
+    for j in range(J + E):
         t_all += batches[j, 1]
         width += batches[j, 3]
     dofs = np.zeros(t_all, np.int64)
@@ -183,6 +198,7 @@ def newton(
     r_free = np.zeros((1, nf))
     r_y = np.zeros((1, m))
     rhs, solution, scratch = np.zeros(nf + k), np.zeros((1, nf + k)), np.zeros(nf + k)
+    q_e, v_e, r_e, J_e = np.zeros(6), np.zeros(6), np.zeros(6), np.zeros((6, 6))
     L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c = factor
     first = np.zeros(J, np.int64)
     at = 0
@@ -227,6 +243,28 @@ def newton(
             s0 += t
             v0 += wj
             y0 += mj
+        for e in range(E):
+            for c in range(6):
+                dof = element_slots[e, c]
+                dofs[s0 + c] = dof
+                q_e[c] = q[dof]
+                v_e[c] = v_hat[dof] + c_v * (q[dof] - q_hat[dof])
+            evaluate_element(
+                element_kind[e],
+                element_values[element_offsets[e] : element_offsets[e + 1]],
+                q_e,
+                v_e,
+                c_v,
+                scale,
+                r_e,
+                J_e,
+            )
+            for c in range(6):
+                R[dofs[s0 + c]] += r_e[c]
+                for d in range(6):
+                    values[v0 + 6 * c + d] = J_e[c, d]
+            s0 += 6
+            v0 += 36
         measure = 0.0
         for i in range(nf):
             r_free[0, i] = R[free[i]]

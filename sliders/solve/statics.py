@@ -42,6 +42,7 @@ from fvbeam.mechanism import (
 )
 from fvbeam.structure import Structure
 from fvbeam.support import Support
+from sliders.forces.elements import ForceElement
 from sliders.joints.slider import Slider, SliderBatch
 from sliders.solve.condensed import SINGULAR_RCOND, CondensedOperator
 from sliders.solve.mechanism import (
@@ -106,10 +107,12 @@ class SliderStatics:
         reuse: "SliderStatics | None" = None,
         method: str = "auto",
         operator: sp.spmatrix | None = None,
+        forces: Sequence[ForceElement] = (),
     ) -> None:
         if method not in METHODS:
             raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
         self.structure, self.sliders, self.method = structure, list(sliders), method
+        self.forces = list(forces)
         self._stiffness = operator is None
         self._rigid: RigidModes | None = None
         self._compiled: CompiledNewton | None = None
@@ -140,7 +143,7 @@ class SliderStatics:
         parts' rigid motions is regular, else ``bordered``, which lets the sliders hold a
         mechanism that is no rigid motion of a part; ``bordered`` without sliders (one linear
         solve)."""
-        if not self.sliders:
+        if not (self.sliders or self.forces):
             return "bordered"
         if self._condensed is None:
             try:
@@ -251,7 +254,7 @@ class SliderStatics:
         """One Newton solve: converged ``q``, slider unknowns and residual history (the
         ``B = 1`` case of :func:`newton_many`); ``ValueError`` with its diagnostic.  Without
         sliders the problem is linear: one solve on the free dofs."""
-        if not self.sliders:
+        if not (self.sliders or self.forces):
             return self._linear(f)
         outcome = self.newton(f, start, tol, max_iterations)
         if isinstance(outcome, str):
@@ -266,18 +269,24 @@ class SliderStatics:
         max_iterations: int,
         time: float = 0.0,
         scale: float = 1.0,
+        velocity: tuple[np.ndarray, np.ndarray, float] | None = None,
     ) -> tuple[np.ndarray, list, list[float]] | str:
         """One Newton solve under the load ``f`` from ``start`` (default: no displacement,
         projected ``xi``), drives read at ``time``, multipliers scaled by ``scale``: the
         converged ``q``, slider unknowns and scaled residual history, or the message of the
-        failure.  The condensed back end runs the compiled loop
+        failure.  ``velocity``: ``(v_hat, q_hat, c_v)``, the velocities the force elements
+        read (None: at rest).  The condensed back end runs the compiled loop
         (:class:`sliders.solve.newton.CompiledNewton`), the bordered one
         :func:`newton_many` (for one member)."""
         if self.method == "condensed":
             if start is None:
                 q = np.zeros(self.structure.n_dofs)
                 start = (q, self.initial_unknowns(q))
-            return self.compiled.solve(f, *start, tol, max_iterations, time, scale)
+            return self.compiled.solve(f, *start, tol, max_iterations, time, scale, velocity)
+        if self.forces:
+            raise ValueError(
+                "force elements run on the condensed back end (method 'condensed' or 'auto')"
+            )
         batches = [s.batch(self.structure) for s in self.sliders]
         return newton_many([self], batches, f[None], [start], tol, max_iterations, time, scale)[0]
 
