@@ -615,7 +615,7 @@ class Model:
     def selections(self) -> dict[str, Selection]:
         """The rows and columns ``[output]`` asks of each table it lists but ``samples``."""
         output = self.scene.output
-        out = {}
+        out: dict[str, Selection] = {}
         for name in output.csv:
             if name in SELECTED:
                 spec = getattr(output, name)

@@ -10,12 +10,14 @@ array operations (the nodes' dofs gathered by one index, the internal forces of 
 recovery point by one product with the beams' recovery maps,
 :attr:`fvbeam.beam.Beam.recovery`).  A static study writes its rows after ``sample, value``
 (:mod:`sliders.app.tables`), a dynamic one after ``step, t`` (:data:`STEP_COLUMNS`,
-:class:`sliders.app.history.Recorder`), and :func:`cells` turns a block of rows into CSV
-cells at once.
+:class:`sliders.app.history.Recorder`), and :func:`lines` turns a block of rows into CSV
+lines at once.
 """
 
 from __future__ import annotations
 
+import csv
+import io
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -73,7 +75,8 @@ class Snapshot:
 
     ``residual`` is the structure's own equations without the supports and joints: ``K q -
     f`` in statics, ``M qdd + C v + K q - f`` in dynamics.  On a held dof, that less the
-    force the joints exert there is the support's reaction.
+    force the joints exert there is the support's reaction (None: not computed, no
+    ``reactions`` table).
     """
 
     structure: Structure
@@ -81,7 +84,7 @@ class Snapshot:
     sliders: Sequence[Slider]
     unknowns: Sequence[np.ndarray]
     supports: Sequence[Support]
-    residual: np.ndarray
+    residual: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -287,6 +290,7 @@ def _reactions(structure, sliders, supports, wanted, chosen) -> Built:
 
     def values(state: Snapshot) -> np.ndarray:
         residual = state.residual
+        assert residual is not None, "the reactions need the residual"
         if touching:
             residual = residual.copy()
             for j in touching:
@@ -306,24 +310,32 @@ def _reach(structure: Structure, slider: Slider) -> np.ndarray:
     return np.concatenate([slider.body_dofs(structure), *(structure.dof_maps[b] for b in beams)])
 
 
-def cells(
+def lines(
     values: np.ndarray, blank: np.ndarray | None = None, integers: Sequence[int] = ()
-) -> list[list[str]]:
-    """A block of numbers as table cells: floats in full precision (their ``repr``, which
-    reads back to the same float), the ``integers`` columns as integers, ``blank`` cells
-    empty.  The whole block is turned into text by one ``repr`` of its list."""
+) -> list[str]:
+    """A block of numbers as CSV lines (without their ends): floats in full precision (their
+    ``repr``, which reads back to the same float), the ``integers`` columns as integers,
+    ``blank`` cells empty.  The whole block is turned into text by one ``repr`` of its
+    list, as :func:`cell` writes each number."""
     rows, width = values.shape
     if rows == 0 or width == 0:
-        return [[] for _ in range(rows)]
-    text = repr(values.tolist())[2:-2].split("], [")
-    out = [line.split(", ") for line in text]
-    for c in integers:
-        for row, value in zip(out, values[:, c].tolist(), strict=True):
-            row[c] = str(int(value))
-    if blank is not None and blank.any():
+        return [""] * rows
+    table = values.tolist()
+    if integers:
+        for row in table:
+            for c in integers:
+                row[c] = int(row[c])
+    if blank is not None:
         for r, c in zip(*np.nonzero(blank), strict=True):
-            out[r][c] = ""
-    return out
+            table[r][c] = None
+    return repr(table)[2:-2].replace(", ", ",").replace("None", "").split("],[")
+
+
+def quote(text: str) -> str:
+    """``text`` as one CSV cell (quoted if it needs to be, as :mod:`csv` writes it)."""
+    buffer = io.StringIO()
+    csv.writer(buffer).writerow([text])
+    return buffer.getvalue()[:-2]
 
 
 def cell(value) -> str:

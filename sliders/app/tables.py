@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import csv
 import importlib.util
+import io
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
@@ -41,7 +42,15 @@ from fvbeam.io import OUTPUT_MARKER as MARKER
 from fvbeam.io import replace_directory
 from sliders.app.run import Results, Sample
 from sliders.app.scene import dump_scene
-from sliders.app.state_tables import STATE_COLUMNS, Selection, Snapshot, cell, cells, state_table
+from sliders.app.state_tables import (
+    STATE_COLUMNS,
+    Selection,
+    Snapshot,
+    cell,
+    lines,
+    quote,
+    state_table,
+)
 from sliders.app.vtu import Frame, write_series
 from sliders.solve.statics import SliderSolution, SliderStatics
 
@@ -76,21 +85,24 @@ def _snapshot(results: Results, sample: Sample) -> Snapshot:
     )
 
 
-def _rows(results: Results, name: str, selection: Selection | None) -> Iterator[list[str]]:
-    """The cells of table ``name``'s rows, sample by sample."""
+def _lines(results: Results, name: str, selection: Selection | None) -> Iterator[str]:
+    """The CSV lines of table ``name``'s rows, sample by sample."""
     if name == "samples":
-        yield from ([cell(v) for v in row] for row in _samples_rows(results))
+        for row in _samples_rows(results):
+            buffer = io.StringIO()
+            csv.writer(buffer).writerow([cell(v) for v in row])
+            yield buffer.getvalue()[:-2]
         return
     for sample in _converged(results):
         snapshot = _snapshot(results, sample)
         table = state_table(
             name, snapshot.structure, snapshot.sliders, snapshot.supports, selection
         )
-        head = [str(sample.index), cell(sample.value)]
-        for label, row in zip(
-            table.labels, cells(table.values(snapshot), table.blank), strict=True
-        ):
-            yield [*head, label, *row]
+        head = f"{sample.index},{cell(sample.value)}"
+        labels = [quote(label) for label in table.labels]
+        body = lines(table.values(snapshot), table.blank)
+        for label, line in zip(labels, body, strict=True):
+            yield f"{head},{label},{line}" if table.blank.shape[1] else f"{head},{label}"
 
 
 def _converged(results: Results) -> Iterator[Sample]:
@@ -115,9 +127,8 @@ def write_table(
         else state_table(name, model.structure, model.sliders, model.held(), selection).columns
     )
     with open(path, "w", newline="") as handle:
-        writer = csv.writer(handle)
-        writer.writerow(header)
-        writer.writerows(_rows(results, name, selection))
+        csv.writer(handle).writerow(header)
+        handle.writelines(line + "\r\n" for line in _lines(results, name, selection))
 
 
 def write_results(results: Results, out: str | Path, tables: Sequence[str] | None = None) -> None:
