@@ -48,7 +48,6 @@ from sliders.app.schema import (
     Translation,
 )
 from sliders.app.state_tables import CHOICES, FORCE_NAMES, KEY_COLUMNS, Selection, items
-from sliders.app.vtu import FIELDS
 from sliders.joints.drives import DofDrive, Linear, Ramp, Tabulated, initial_rate
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
@@ -647,6 +646,8 @@ class Model:
         if output.history is not None:
             choose("output.history", output.history, columns)
         if output.vtu_fields is not None:
+            from sliders.app.vtu import FIELDS  # meshio: only for a scene that names fields
+
             choose("output.vtu_fields", output.vtu_fields, FIELDS)
         for table, key in SELECTED.items():
             spec = getattr(output, table)

@@ -27,8 +27,8 @@ import scipy.sparse as sp
 from fvbeam.names import suggest
 from fvbeam.structure import Structure
 from fvbeam.support import DOF_NAMES, Support
-from sliders.app.vtu import contact_point
 from sliders.joints.slider import UNKNOWNS, Slider
+from sliders.lines.chain import BeamChain
 
 #: Internal forces in the section frame ``(t, e2, e3)``: axial force, shears along e2 and
 #: e3, twisting moment, bending moments about e2 and e3 (static and dynamic tables alike).
@@ -102,6 +102,16 @@ class StateTable:
     @property
     def n_rows(self) -> int:
         return len(self.labels)
+
+
+def contact_point(slider: Slider, q: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Reference point and displacement of the line at the slider's ``xi``; their sum is
+    the deformed contact point ``x(xi)``."""
+    xi = float(y[0])
+    if isinstance(slider.line, BeamChain):
+        interp = slider.line.interpolation(xi)
+        return interp.N @ interp.X, interp.N @ q[interp.dofs]
+    return slider.line.at(xi).x, np.zeros(3)
 
 
 def node_label(structure: Structure, support: Support) -> str:

@@ -61,6 +61,7 @@ from fvbeam.io import replace_directory, write_atomic
 from fvbeam.names import suggest
 from fvbeam.structure import Structure
 from sliders.app.motion import rigid_motion
+from sliders.app.state_tables import contact_point
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
 
@@ -173,16 +174,6 @@ def check_solution(
             )
         ys.append(y)
     return q, ys
-
-
-def contact_point(slider: Slider, q: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Reference point and displacement of the line at the slider's ``xi``; their sum is
-    the deformed contact point ``x(xi)``."""
-    xi = float(y[0])
-    if isinstance(slider.line, BeamChain):
-        interp = slider.line.interpolation(xi)
-        return interp.N @ interp.X, interp.N @ q[interp.dofs]
-    return slider.line.at(xi).x, np.zeros(3)
 
 
 def slider_couple(slider: Slider, structure: Structure, q: np.ndarray, y: np.ndarray) -> np.ndarray:
