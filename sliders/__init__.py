@@ -22,8 +22,9 @@ The subpackages: :mod:`sliders.lines` (rigid lines, beam chains), :mod:`sliders.
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from fvbeam.lazy import lazy_names
 
 if TYPE_CHECKING:
     from sliders.app.errors import SceneError
@@ -116,14 +117,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
-    """A public name, imported from its module on first use (then kept here)."""
-    if name not in _MODULES:
-        raise AttributeError(f"module 'sliders' has no attribute {name!r}")
-    value = getattr(importlib.import_module(_MODULES[name]), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *__all__})
+__getattr__, __dir__ = lazy_names(__name__, _MODULES, globals())
