@@ -407,6 +407,20 @@ class Beam:
         return np.einsum("an,nac->nc", N, nodal)
 
 
+def internal_forces_reference(beam: Beam, q: ArrayLike) -> np.ndarray:
+    """Section forces ``[N, V2, V3, T, M2, M3]`` at the recovery points, ``(n, 6)``, through
+    scikit-fem's interpolation of the trial field: eq. (T1) on the interpolated field, then
+    (T2) and the rotation to the section frame, point by point.  The definition
+    :attr:`Beam.recovery` is held to (``tests/test_recovery.py``), a product with it cheaper
+    by far for a state's every step."""
+    geometry, frames = beam._stiffness_geometry
+    field = beam.trial_basis.interpolate(beam.dofs_of(q))
+    strain = generalised_strain(field, geometry["t"], geometry["metric"])
+    stress = np.einsum("ij...,j...->...i", geometry["C"], strain).reshape(-1, 2, 3)
+    RT = np.swapaxes(frames, -1, -2).reshape(-1, 1, 3, 3)
+    return (RT @ stress[..., None]).reshape(-1, 6)
+
+
 def _sample(value: Field, xi: np.ndarray, name: str) -> np.ndarray:
     """A constant 3-vector or a function of xi, as a (3, nel, nqp) field."""
     if callable(value):

@@ -1,8 +1,9 @@
 """The recovery map (``Beam.recovery``): internal forces at the recovery points as one sparse
 matrix built once, held to the scikit-fem field path it replaces.
 
-Source of truth: the field path, eqs. (T1) and (T2) evaluated on the trial field that
-scikit-fem interpolates from ``q`` (``basis.interpolate``): ``[F; M] = R^T C [nu; kappa]``.
+Source of truth: the field path (``fvbeam.beam.internal_forces_reference``), eqs. (T1) and
+(T2) evaluated on the trial field that scikit-fem interpolates from ``q``
+(``basis.interpolate``): ``[F; M] = R^T C [nu; kappa]``.
 Both paths sum the same products in another order, so they agree to round-off: an entry is
 a sum of at most ``m = 3 x 6 x 6 npe`` products (frame row, section stiffness row, strain
 terms of ``npe`` nodes), and a sum of ``m`` products is off by at most ``m eps`` times the
@@ -15,23 +16,9 @@ import numpy as np
 import pytest
 
 from fvbeam import FORMULATIONS, Beam, Section, arc, formulation, from_curve, straight
-from fvbeam.forms import generalised_strain
+from fvbeam.beam import internal_forces_reference
 
 EPS = np.finfo(float).eps
-
-
-def field_path(beam: Beam, q: np.ndarray) -> np.ndarray:
-    """Section forces ``(n, 6)`` at the recovery points through scikit-fem's interpolation
-    of the trial field (the path before the recovery map)."""
-    geometry, frames = beam._stiffness_geometry
-    field = beam.trial_basis.interpolate(q)
-    strain = generalised_strain(field, geometry["t"], geometry["metric"])
-    stress = np.einsum("ij...,j...->...i", geometry["C"], strain).reshape(-1, 6)
-    RT = np.swapaxes(frames, -1, -2).reshape(-1, 3, 3)
-    return np.concatenate(
-        [np.einsum("nij,nj->ni", RT, stress[:, :3]), np.einsum("nij,nj->ni", RT, stress[:, 3:])],
-        axis=1,
-    )
 
 
 def section() -> Section:
@@ -62,7 +49,7 @@ def test_the_recovery_map_is_the_field_path_for_every_formulation(name, integrat
         beam = Beam(mesh, section(), name, integration)
         q = rng.standard_normal(beam.n_dofs)
         forces = beam.internal_forces(q)
-        reference = field_path(beam, q)
+        reference = internal_forces_reference(beam, q)
         scale = (abs(beam.recovery) @ np.abs(q)).max()
         tol = 3 * 6 * 6 * npe * EPS * scale
         assert np.abs(np.hstack([forces.force, forces.moment]) - reference).max() <= tol
