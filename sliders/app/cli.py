@@ -178,7 +178,7 @@ def _run_dynamic(model: Model, out: Path, resume: bool) -> int:
     except ValueError as exc:
         print(f"fvslider: {exc}", file=sys.stderr)
         return 2
-    steps = len(outcome.recorder.rows) - 1
+    steps = outcome.recorder.count("history") - 1
     reached = "" if outcome.state is None else f" to t = {outcome.state.t:.6g} s"
     print(f"{max(steps, 0)} steps{reached} in {outcome.seconds:.2f} s, written to {out}")
     if outcome.error:

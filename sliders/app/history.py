@@ -307,7 +307,9 @@ class Recorder:
         return self._history(0, self.count("history")).tolist() if self._records else []
 
     def count(self, name: str) -> int:
-        """How many rows table ``name`` holds (recorded so far)."""
+        """How many rows table ``name`` holds (recorded so far; none before the start)."""
+        if name not in self._records:
+            return 0
         if name == "history":
             return self._records["history"].count
         return self._records[name].count * self._layouts[name].n_rows
