@@ -46,6 +46,7 @@ from __future__ import annotations
 
 import bisect
 import csv
+import operator
 import os
 import time
 from collections.abc import Mapping, Sequence
@@ -491,7 +492,7 @@ class Recorder:
         # a step's row: the kept columns but the energies, then the callable probes;
         # _Balance's: the kept energies' block (all six), then the linear probes
         stepwise = [i for i, c in enumerate(every) if c in keep and c not in ENERGIES]
-        self._stepwise = stepwise
+        self._stepwise = operator.itemgetter(*stepwise)  # step and t: at least two
         self._calls = [
             (name, p) for name, p in self.probes.items() if not isinstance(p, LinearProbe)
         ]
@@ -540,10 +541,10 @@ class Recorder:
         for y, residual in zip(state.unknowns, residuals, strict=True):
             row += y.tolist()
             row.append(residual)
-        row = [row[i] for i in self._stepwise]
-        for _, probe in self._calls:
-            row.append(probe(state, dynamics))
-        history.append(row)
+        kept = self._stepwise(row)
+        if self._calls:
+            kept += tuple(probe(state, dynamics) for _, probe in self._calls)
+        history.append(kept)
         balance = self._balance
         if balance.energies or balance.weights is not None:
             balance.add(state, dynamics.load(state.t) if balance.energies else None, old)
