@@ -69,27 +69,11 @@ SCENE = Path(__file__).parent / "scenes" / "pushed_body.toml"
 HEAVY = ("numba", "scipy", "skfem", "pydantic", "matplotlib", "pyvista")
 
 
-class _Keep:
-    """A recorder that only keeps the states."""
-
-    def __init__(self) -> None:
-        self.states: list = []
-
-    def start(self, dynamics, state) -> None:
-        self.states = [state]
-
-    def record(self, dynamics, new, old) -> None:
-        self.states.append(new)
-
-    def close(self) -> None:
-        pass
-
-
 def recording(repeats: int = 5, periods: float = 10) -> dict[str, Any]:
     """Seconds per recorded step and per formatted row of each recorder set-up."""
     crossing = fig2.Crossing(0.01, periods=periods)
     d = crossing.dynamics
-    keep = _Keep()
+    keep = Recorder(history=["t"], every=1)  # every state
     d.run(
         d.static_state(),
         crossing.t_end,

@@ -36,22 +36,6 @@ EPS = np.finfo(float).eps
 TABLES = ["nodes", "sliders", "internal_forces", "reactions"]
 
 
-class Keep:
-    """A recorder that keeps the states (the reference's input)."""
-
-    def __init__(self) -> None:
-        self.states: list = []
-
-    def start(self, dynamics, state) -> None:
-        self.states = [state]
-
-    def record(self, dynamics, new, old) -> None:
-        self.states.append(new)
-
-    def close(self) -> None:
-        pass
-
-
 @pytest.fixture(scope="module")
 def pushed():
     """The pushed body (a driven slider, damping: every energy term at work) for 40
@@ -60,7 +44,7 @@ def pushed():
     scene["study"].update(t_end=2.0)
     model = Model(parse_scene(scene))
     dynamics = model.dynamics()
-    keep = Keep()
+    keep = Recorder(history=["t"], every=1)  # every state
     dynamics.run(dynamics.static_state(), 2.0, 0.05, recorder=keep, progress=False)
     return model, dynamics, keep.states
 
