@@ -29,6 +29,7 @@ run (``docs/dynamics.md``, Checkpoints and resume).
 
 from __future__ import annotations
 
+import itertools
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -45,6 +46,7 @@ from fvbeam.structure import Structure
 from fvbeam.support import DOF_NAMES, Support
 from sliders.forces.elements import ForceElement
 from sliders.joints.drives import DofDrive
+from sliders.joints.packed import JointPack
 from sliders.joints.slider import Slider
 from sliders.solve.dynamics_kernel import advance
 from sliders.solve.factor import Factor
@@ -203,6 +205,7 @@ class Dynamics:
         self.free = np.setdiff1d(np.arange(n), np.union1d(fixed, self.driven))
         self._operators: dict = {}
         self._linear: dict[float, tuple] = {}  # the compiled problems without sliders, per h
+        self._pack: JointPack | None = None  # the joints, packed (joint_residuals)
         self._last_load: tuple[float, np.ndarray] | None = None
 
     def _damping(self, damping: float | sp.spmatrix) -> sp.csr_matrix:
@@ -233,9 +236,9 @@ class Dynamics:
 
     def load(self, t: float) -> np.ndarray:
         """External load at ``t``, gravity included (read-only; the last one is kept, as a
-        step and its recorder ask for the same ``t``); ``ValueError`` if it is not
-        finite."""
-        if self._last_load is not None and self._last_load[0] == t:
+        step and its recorder ask for the same ``t``, and a load that does not depend on time
+        is built once); ``ValueError`` if it is not finite."""
+        if self._last_load is not None and (self._constant or self._last_load[0] == t):
             return self._last_load[1]
         f = np.asarray(self._load(t), dtype=float) + self.f_gravity
         if f.shape != (self.structure.n_dofs,) or not np.all(np.isfinite(f)):
@@ -426,13 +429,11 @@ class Dynamics:
     def joint_residuals(self, state: State) -> np.ndarray:
         """Largest position and orientation constraint violation of each slider at
         ``state`` (``|x_b - x(xi)|`` and ``|g_j|``)."""
-        out = []
-        for s, y in zip(self.sliders, state.unknowns, strict=True):
-            dofs, r, _ = s.batch(self.structure).evaluate(
-                state.q[None], np.asarray(y)[None], state.t, jacobian=False
-            )
-            out.append(float(np.abs(r[0, dofs.shape[1] + 1 :]).max()))
-        return np.array(out)
+        if state.violations is not None:
+            return state.violations
+        if self._pack is None:
+            self._pack = JointPack(self.sliders, self.structure)
+        return self._pack.violations(np.asarray(state.q, dtype=float), state.unknowns, state.t)
 
     def run(
         self,
@@ -575,6 +576,7 @@ class Dynamics:
         sizes = [s.n_unknowns for s in self.sliders]
         first = np.cumsum([0] + sizes[:-1]).astype(np.int64)[: len(sizes)]
         n, m = self.structure.n_dofs, sum(sizes)
+        bounds = list(itertools.pairwise(np.cumsum([0] + sizes).tolist()))
         chunk = int(np.clip(CHUNK_ENTRIES // (4 * n + m + 1), 1, MAX_CHUNK))
         mass, damping = _rows(self.M), _rows(self.C)
         q, v, a, qdd = (np.array(x, dtype=float) for x in (state.q, state.v, state.a, state.qdd))
@@ -591,6 +593,7 @@ class Dynamics:
             drives = np.array([[_abscissa(s, t) for s in self.sliders] for t in times])
             Q, V, A, QDD = (np.empty((size, n)) for _ in range(4))
             Y, iterations = np.empty((size, m)), np.zeros(size, dtype=np.int64)
+            violations = np.zeros((size, len(self.sliders)))
             status, done, _ = advance(
                 scheme,
                 mass,
@@ -616,9 +619,10 @@ class Dynamics:
                 QDD,
                 Y,
                 iterations,
+                violations,
             )
             for i in range(done):
-                unknowns = np.split(Y[i].copy(), np.cumsum(sizes)[:-1]) if sizes else []
+                unknowns = [Y[i, a:b].copy() for a, b in bounds]
                 new = State(
                     float(times[i]),
                     Q[i].copy(),
@@ -628,6 +632,7 @@ class Dynamics:
                     unknowns,
                     h,
                     int(iterations[i]),
+                    violations[i],
                 )
                 state = self._accepted(new, state, h, steps - 1 - i, recorder, bar, checkpoint)
             steps -= done

@@ -66,6 +66,7 @@ def advance(
     QDD: np.ndarray,
     Y: np.ndarray,
     iterations: np.ndarray,
+    violations: np.ndarray,
 ) -> tuple[int, int, int]:
     """``len(times)`` steps from the state ``q, v, a, qdd`` and the joints' physical unknowns
     ``y`` (module docstring).
@@ -89,8 +90,9 @@ def advance(
         The first unknown (``xi``) of each joint in ``y``: the others are multipliers.
     tol, max_iterations
         Newton's rule.
-    Q, V, A, QDD, Y, iterations
-        Per step, the state reached and the Newton iterations.
+    Q, V, A, QDD, Y, iterations, violations
+        Per step, the state reached, the Newton iterations and each joint's largest
+        constraint violation (:func:`sliders.solve.newton_kernel.newton`).
 
     Returns
     -------
@@ -142,6 +144,7 @@ def advance(
                 max_iterations,
                 history,
                 (v_hat, q_hat, gamma_rate),
+                violations[step],
             )
             if status != CONVERGED:
                 return status, step, joint

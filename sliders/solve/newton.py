@@ -205,6 +205,7 @@ class CompiledNewton:
             int(max_iterations),
             history,
             velocity if velocity is not None else (np.zeros(len(q)), q0, 0.0),
+            np.zeros(len(self.sizes)),
         )
         split = np.split(y, np.cumsum(self.sizes)[:-1]) if self.sizes else []
         if status == CONVERGED:

@@ -99,6 +99,7 @@ def newton(
     max_iterations: int,
     history: np.ndarray,
     velocity: tuple,
+    violation: np.ndarray,
 ) -> tuple[int, int, int]:
     """Newton on one member from ``q``, ``y`` (updated in place) under the load ``f``.
 
@@ -147,6 +148,10 @@ def newton(
     velocity
         ``(v_hat, q_hat, c_v)``: the velocities ``v = v_hat + c_v (q - q_hat)`` the force
         elements read (the integrator's prediction and ``gamma'``; zeros and 0 in statics).
+    violation
+        (J,): each joint's largest position and orientation constraint violation at the
+        converged state (the residual rows after its ``xi`` equation), written on
+        convergence (:meth:`sliders.solve.dynamics.Dynamics.joint_residuals`).
 
     Returns
     -------
@@ -240,6 +245,11 @@ def newton(
                 R[dofs[s0 + s]] += r_joint[s0 + y0 + s]
             for c in range(mj):
                 r_y[0, y0 + c] = r_joint[s0 + y0 + t + c]
+            if done:
+                worst = 0.0
+                for c in range(1, mj):
+                    worst = max(worst, abs(r_y[0, y0 + c]))
+                violation[j] = worst
             s0 += t
             v0 += wj
             y0 += mj
