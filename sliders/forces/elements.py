@@ -139,7 +139,7 @@ class Tyre(ForceElement):
     @property
     def axis(self) -> np.ndarray:
         """The wheel's axle direction ``normal x forward``."""
-        return np.cross(self.normal, self.forward)
+        return np.cross(np.asarray(self.normal, dtype=float), np.asarray(self.forward, dtype=float))
 
     def slots(self, structure: Structure) -> np.ndarray:
         return np.concatenate(
