@@ -359,7 +359,7 @@ DriveSpec = Annotated[AbscissaDrive | DofDriveSpec, Field(discriminator="kind")]
 class Newton(Table):
     """Newton options (:func:`sliders.solve.statics.newton_many`)."""
 
-    method: Literal["bordered", "condensed"] = "bordered"
+    method: Literal["auto", "bordered", "condensed"] = "auto"
     tol: Positive = 1e-8
     max_iterations: Count = 25
 

@@ -1,7 +1,8 @@
-"""Force laws of a landing gear (issue 14): gas spring, orifice damper, end stops, the strut,
-tyre, slip and friction, user laws; each returns its value and partial derivatives
-(:mod:`sliders.forces.laws`, :mod:`sliders.forces.user`), checked by central differences
-(:mod:`sliders.forces.differences`)."""
+"""Loads and forces beside the joints: a load moving along a chain
+(:mod:`sliders.forces.moving_load`), and the force laws of a landing gear (issue 14): gas
+spring, orifice damper, end stops, the strut, tyre, slip and friction, user laws; each law
+returns its value and partial derivatives (:mod:`sliders.forces.laws`,
+:mod:`sliders.forces.user`), checked by central differences (:mod:`sliders.forces.differences`)."""
 
 from sliders.forces.laws import (
     Strut,
@@ -15,9 +16,11 @@ from sliders.forces.laws import (
     tyre_longitudinal,
     tyre_radial,
 )
+from sliders.forces.moving_load import MovingLoad
 from sliders.forces.user import UserLaw
 
 __all__ = [
+    "MovingLoad",
     "Strut",
     "UserLaw",
     "coulomb_friction",
