@@ -56,6 +56,7 @@ from fvbeam import Beam, RigidBody, Section, Structure, Support, closed_forms, s
 from fvbeam.io import write_atomic
 from fvbeam.modes import natural_frequencies
 from sliders.app.history import Recorder
+from sliders.app.probes import LinearProbe, force_probe, node_probe
 from sliders.joints.drives import Linear
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
@@ -197,9 +198,17 @@ class Crossing:
         return float(q[self._tip]) * EJ / (F * L**3)
 
     def recorder(self) -> Recorder:
-        """An in-memory recorder with the shear and tip probes."""
+        """An in-memory recorder with the shear and tip probes (linear in ``q``: the
+        recorder evaluates them a block of steps at a time), in the units of
+        :meth:`shear` and :meth:`tip`."""
+        shear = force_probe(self.structure, 0, EVALUATION_POINT, "V2")
+        tip = node_probe(self.structure, (0, "end"), "uy")
         return Recorder(
-            None, probes={"shear": lambda s, d: self.shear(s.q), "tip": lambda s, d: self.tip(s.q)}
+            None,
+            probes={
+                "shear": LinearProbe(shear.weights / F),
+                "tip": LinearProbe(tip.weights * EJ / (F * L**3)),
+            },
         )
 
     def run(

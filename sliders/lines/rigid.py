@@ -32,6 +32,7 @@ from fvbeam.geometry import (
     section_frames,
     vector3,
 )
+from sliders.lines.rigid_kernel import HELICAL, POLYNOMIAL
 
 
 @dataclass(frozen=True)
@@ -174,6 +175,11 @@ class RigidLine:
             lambda xi: self.derivatives(xi)[:3], np.linspace(0, self.length, 65), point
         )
 
+    def compiled(self) -> tuple[int, np.ndarray, np.ndarray]:
+        """The line as :func:`sliders.lines.rigid_kernel.line_at` takes it: its shape
+        (``POLYNOMIAL`` or ``HELICAL``), parameters and piece breaks."""
+        raise NotImplementedError
+
 
 class StraightLine(RigidLine):
     """Segment from ``start`` to ``end``, arc-length parametrised."""
@@ -196,6 +202,10 @@ class StraightLine(RigidLine):
     def derivatives(self, xi: float) -> tuple[np.ndarray, ...]:
         zero = np.zeros(3)
         return self.start + xi * self.t, self.t.copy(), zero, zero
+
+    def compiled(self) -> tuple[int, np.ndarray, np.ndarray]:
+        params = np.concatenate([np.zeros(6), self.t, self.start])
+        return POLYNOMIAL, params, np.array([0.0, self.length])
 
 
 class CircularArc(RigidLine):
@@ -228,6 +238,10 @@ class CircularArc(RigidLine):
             r * w**3 * np.array([s, -c, 0.0]),
         )
 
+    def compiled(self) -> tuple[int, np.ndarray, np.ndarray]:
+        params = [*self.center, self.radius, 0.0, self.angle0, self.sense / self.radius]
+        return HELICAL, np.array(params), np.zeros(0)
+
 
 class Helix(RigidLine):
     """Helix about the z axis through ``center``: radius, rise per turn ``pitch``, ``turns``
@@ -258,6 +272,10 @@ class Helix(RigidLine):
             w**3 * np.array([r * s, -r * c, 0.0]),
         )
 
+    def compiled(self) -> tuple[int, np.ndarray, np.ndarray]:
+        params = [*self.center, self.radius, self.rise, 0.0, self.w]
+        return HELICAL, np.array(params), np.zeros(0)
+
 
 class CubicSpline(RigidLine):
     """C2 cubic spline through ``points`` (natural end conditions), parametrised by the
@@ -285,3 +303,7 @@ class CubicSpline(RigidLine):
 
     def derivatives(self, xi: float) -> tuple[np.ndarray, ...]:
         return tuple(self.spline(xi, nu) for nu in range(4))
+
+    def compiled(self) -> tuple[int, np.ndarray, np.ndarray]:
+        coefficients = np.moveaxis(self.spline.c, 0, 1)  # (pieces, 4, 3)
+        return POLYNOMIAL, np.ascontiguousarray(coefficients).ravel(), self.spline.x.copy()

@@ -39,10 +39,10 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from sliders.joints.blocks import SlotJacobian
 from sliders.solve.condensed_kernel import condensed_step
+from sliders.solve.factor import Factor
 
 #: A small system whose row- and column-equilibrated reciprocal condition number (1-norm)
 #: falls below this is singular: the threshold of the bordered diagnostic
@@ -70,7 +70,9 @@ class CondensedOperator:
         K_free = sp.csr_matrix(K)[free][:, free]
         self.phi = np.ascontiguousarray(phi)
         self.n_free, self.n_rigid = len(free), self.phi.shape[1]
-        scale = np.abs(K_free).max()
+        largest = np.abs(K_free).max()
+        # a structure held by force elements alone has no stiffness: any scale then
+        scale = largest if largest > 0 else 1.0
         B = sp.bmat(
             [[K_free, scale * sp.csr_matrix(self.phi)], [scale * sp.csr_matrix(self.phi.T), None]],
             format="csc",
@@ -80,23 +82,31 @@ class CondensedOperator:
             "supports leave a mechanism; solve with method='bordered'"
         )
         try:
-            self.lu = spla.splu(B)
-        except RuntimeError as exc:
+            #: ``B`` factorised, its factors kept for compiled solves
+            #: (:mod:`sliders.solve.newton_kernel`).
+            self.factor = Factor(B)
+        except ValueError as exc:
             raise ValueError(message) from exc
-        pivots = np.abs(self.lu.U.diagonal())
+        self.lu = self.factor.lu
+        pivots = np.abs(self.factor.pivots)
         if pivots.min() <= 1e-13 * pivots.max():
             raise ValueError(message)
         self._slot = np.full(self.n_free, -1)
         self._store = np.zeros((0, self.n_free + self.n_rigid))
-        # below the limit every column is stored, in order: the store is the dense inverse
+        # below the limit every column is stored, in order: the store is the dense inverse,
+        # computed when first asked for (the compiled Newton step keeps columns of its own)
         self._dense = self.n_free + self.n_rigid <= DENSE_LIMIT
-        if self._dense:
+
+    def _inverse(self) -> None:
+        """Below :data:`DENSE_LIMIT`, every column of ``B^{-1}``, in order, once."""
+        if self._dense and not len(self._store):
             self._columns(np.arange(self.n_free))
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         """``B^{-1} [b; 0]`` for right-hand sides ``b`` (B, n_free) on the free dofs:
         (B, n_free + k); from the dense inverse below :data:`DENSE_LIMIT` (its columns
-        computed in order at construction)."""
+        computed in order when first needed)."""
+        self._inverse()
         if self._dense:
             return b @ self._store
         rhs = np.concatenate([b, np.zeros((len(b), self.n_rigid))], axis=1)
@@ -153,6 +163,7 @@ class CondensedOperator:
         small systems are regular (the increments of the others are not to be used).
         """
         B, m, n = len(r_free), r_y.shape[1], self.n_free
+        self._inverse()
         layout = _Layout(slots, blocks, B)
         if not self._dense:
             self._columns(layout.force_dofs)

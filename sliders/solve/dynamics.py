@@ -29,10 +29,11 @@ run (``docs/dynamics.md``, Checkpoints and resume).
 
 from __future__ import annotations
 
+import itertools
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 import scipy.sparse as sp
@@ -43,18 +44,32 @@ from fvbeam.geometry import vector3
 from fvbeam.mechanism import rigid_modes, unresisted
 from fvbeam.structure import Structure
 from fvbeam.support import DOF_NAMES, Support
+from sliders.forces.elements import ForceElement
 from sliders.joints.drives import DofDrive
+from sliders.joints.packed import JointPack
 from sliders.joints.slider import Slider
+from sliders.solve.dynamics_kernel import advance
+from sliders.solve.factor import Factor
 from sliders.solve.integrator import GeneralizedAlpha, Prediction, State
 from sliders.solve.jumps import VelocityJump, VelocityJumpWarning, velocity_jumps
 from sliders.solve.mechanism import MASSLESS_REMEDY, free_motion
-from sliders.solve.statics import SliderStatics, newton_many
+from sliders.solve.newton import CompiledNewton
+from sliders.solve.newton_kernel import CONVERGED
+from sliders.solve.statics import SliderStatics
 
 #: What holds a motion left free at the static start of a time integration.
 START_REMEDY = (
     "a time integration starts from the static equilibrium, which needs it held: a support, "
     "a slider or a drive; or start from a given state, Dynamics.state or State.load"
 )
+
+
+@runtime_checkable
+class Tabulable(Protocol):
+    """A load that gives its vectors at many times at once, one row per time
+    (:class:`sliders.forces.moving_load.MovingLoad`)."""
+
+    def at(self, times: np.ndarray) -> np.ndarray: ...
 
 
 class Recorder(Protocol):
@@ -84,6 +99,11 @@ class Cursor:
 #: What :meth:`Dynamics.run` calls after every accepted and recorded step, with its cursor
 #: (:class:`sliders.app.checkpoint.Checkpoints` writes one every so often).
 Checkpoint = Callable[[Cursor], None]
+
+#: The most state entries (4 n + m per step) a compiled chunk of steps holds before its steps
+#: are recorded, and the most steps in a chunk (:meth:`Dynamics._chunks`).
+CHUNK_ENTRIES = 4_000_000
+MAX_CHUNK = 500
 
 #: A load: a fixed global vector, or a function of time returning one.
 Load = np.ndarray | Callable[[float], np.ndarray]
@@ -148,16 +168,20 @@ class Dynamics:
         sliders: Sequence[Slider] = (),
         load: Load | None = None,
         *,
+        forces: Sequence[ForceElement] = (),
         mass: str = "lumped",
         damping: float | sp.spmatrix = 0.0,
         gravity: Sequence[float] | None = None,
         drives: Sequence[DofDrive] = (),
         rho_inf: float = 0.8,
-        method: str = "bordered",
+        method: str = "auto",
         tol: float = 1e-8,
         max_iterations: int = 25,
     ) -> None:
         self.structure, self.sliders, self.drives = structure, list(sliders), list(drives)
+        self.forces = list(forces)
+        #: Whether a step is a Newton loop (sliders or force elements) rather than one solve.
+        self.nonlinear = bool(self.sliders or self.forces)
         self.scheme = GeneralizedAlpha(rho_inf)
         self.method, self.tol, self.max_iterations = method, tol, max_iterations
         n = structure.n_dofs
@@ -180,6 +204,8 @@ class Dynamics:
             raise ValueError(f"{name} is driven twice, or driven and supported")
         self.free = np.setdiff1d(np.arange(n), np.union1d(fixed, self.driven))
         self._operators: dict = {}
+        self._linear: dict[float, tuple] = {}  # the compiled problems without sliders, per h
+        self._pack: JointPack | None = None  # the joints, packed (joint_residuals)
         self._last_load: tuple[float, np.ndarray] | None = None
 
     def _damping(self, damping: float | sp.spmatrix) -> sp.csr_matrix:
@@ -198,6 +224,7 @@ class Dynamics:
 
     def _check_load(self, load: Load | None) -> Callable[[float], np.ndarray]:
         n = self.structure.n_dofs
+        self._constant = not callable(load)
         if load is None:
             return lambda t: np.zeros(n)
         if callable(load):
@@ -209,9 +236,9 @@ class Dynamics:
 
     def load(self, t: float) -> np.ndarray:
         """External load at ``t``, gravity included (read-only; the last one is kept, as a
-        step and its recorder ask for the same ``t``); ``ValueError`` if it is not
-        finite."""
-        if self._last_load is not None and self._last_load[0] == t:
+        step and its recorder ask for the same ``t``, and a load that does not depend on time
+        is built once); ``ValueError`` if it is not finite."""
+        if self._last_load is not None and (self._constant or self._last_load[0] == t):
             return self._last_load[1]
         f = np.asarray(self._load(t), dtype=float) + self.f_gravity
         if f.shape != (self.structure.n_dofs,) or not np.all(np.isfinite(f)):
@@ -237,31 +264,53 @@ class Dynamics:
         start = self.prescribe(zero, t)
         unknowns = [s.initial_unknowns(self.structure, start) for s in self.sliders]
         at_rest = State(t, zero, zero, zero, zero, [])
-        if self.sliders:
+        if self.sliders and not self.forces:  # force elements may hold what sliders do not
             solver = self._solver("static")
             assert isinstance(solver, SliderStatics)  # the solver of a model with sliders
             free = solver.free_motion(start, unknowns, START_REMEDY)
             if free:
                 raise DynamicsError(f"t = {t:.6g}: {free}", at_rest)
         q, unknowns, iterations = self._solve(
-            "static", self.load(t), start, unknowns, t, 1.0, at_rest
+            "static", self.load(t), start, unknowns, t, 1.0, at_rest, None
         )
         return State(t, q, zero.copy(), zero.copy(), zero.copy(), unknowns, 0.0, iterations)
 
-    def state(self, q: np.ndarray, v: np.ndarray | None = None, t: float = 0.0) -> State:
-        """A start from displacements ``q`` and velocities ``v`` (default 0) without sliders:
-        the accelerations solve ``M qdd = f - K q - C v`` on the free dofs (``ValueError`` if
-        the mass is singular there)."""
-        if self.sliders:
-            raise ValueError(
-                "a start with sliders is a static state (static_state) or a "
-                "saved one (State.load): their multipliers need an equilibrium"
-            )
+    def state(
+        self,
+        q: np.ndarray,
+        v: np.ndarray | None = None,
+        t: float = 0.0,
+        unknowns: Sequence[np.ndarray] | None = None,
+        qdd: np.ndarray | None = None,
+    ) -> State:
+        """A start from displacements ``q`` and velocities ``v`` (default 0) rather than from
+        the static equilibrium (a touchdown, a release).
+
+        Without sliders and force elements, the accelerations solve ``M qdd = f - K q - C v``
+        on the free dofs (``ValueError`` if the mass is singular there).  With them, the
+        joints' ``unknowns`` default to the projected abscissae and zero multipliers (the
+        first step solves the multipliers: they are no state of the scheme), and the
+        accelerations ``qdd`` to zero: a start in balance (a touchdown with the weight carried
+        by the lift); give ``qdd`` otherwise."""
         n = self.structure.n_dofs
         q = np.asarray(q, dtype=float)
         v = np.zeros(n) if v is None else np.asarray(v, dtype=float)
         if q.shape != (n,) or v.shape != (n,) or not np.all(np.isfinite(q) & np.isfinite(v)):
             raise ValueError(f"q and v must be finite vectors of {n} rows")
+        if self.nonlinear:
+            if unknowns is None:
+                unknowns = [s.initial_unknowns(self.structure, q) for s in self.sliders]
+            unknowns = [np.array(y, dtype=float) for y in unknowns]
+            sizes = [len(y) for y in unknowns]
+            if sizes != [s.n_unknowns for s in self.sliders]:
+                raise ValueError(
+                    f"unknowns of sizes {sizes} given, the sliders have "
+                    f"{[s.n_unknowns for s in self.sliders]}"
+                )
+            qdd = np.zeros(n) if qdd is None else np.asarray(qdd, dtype=float)
+            if qdd.shape != (n,) or not np.all(np.isfinite(qdd)):
+                raise ValueError(f"qdd must be a finite vector of {n} rows")
+            return State(t, q.copy(), v.copy(), qdd.copy(), qdd.copy(), unknowns)
         f = self.load(t) - self.K @ q - self.C @ v
         M = self.M[self.free][:, self.free].tocsc()
         try:
@@ -280,19 +329,20 @@ class Dynamics:
         beta_rate, gamma_rate = self.scheme.rates(h)
         return (self.M + (gamma_rate / beta_rate) * self.C + self.K / beta_rate).tocsr()
 
-    def _solver(self, key: float | str) -> SliderStatics | tuple[spla.SuperLU, sp.csr_matrix]:
+    def _solver(self, key: float | str) -> SliderStatics | tuple[Factor, sp.csr_matrix]:
         """The cached solver of the operator ``key`` (a step size, or ``static``): the
         statics of the sliders on it, or without sliders its factor on the free dofs and the
         operator itself."""
         if key not in self._operators:
             operator = self.K if isinstance(key, str) else self.operator(key)
-            if self.sliders:
+            if self.nonlinear:
                 self._operators[key] = SliderStatics(
                     self.structure,
                     self.supports,
                     self.sliders,
                     method=self.method,
                     operator=operator,
+                    forces=self.forces,
                 )
             else:
                 A = operator[self.free][:, self.free].tocsc()
@@ -304,7 +354,7 @@ class Dynamics:
                 free = free_motion(modes, position, [], [], remedy)
                 if free:
                     raise ValueError(free)
-                self._operators[key] = (spla.splu(A), operator)
+                self._operators[key] = (Factor(A), operator.tocsr())
         return self._operators[key]
 
     def _solve(
@@ -316,27 +366,27 @@ class Dynamics:
         t: float,
         scale: float,
         last: State,
+        velocity: tuple[np.ndarray, np.ndarray, float] | None,
     ) -> tuple[np.ndarray, list, int]:
         """Solve the (scaled) step problem: displacements, physical joint unknowns and
-        Newton iterations; :class:`DynamicsError` on failure."""
+        Newton iterations; ``velocity``: ``(v_hat, q_hat, gamma')`` of the step (None: at
+        rest); :class:`DynamicsError` on failure."""
         try:
             solver = self._solver(key)
             if isinstance(solver, tuple):
-                lu, operator = solver
+                factor, operator = solver
                 q = start.copy()
-                q[self.free] += lu.solve((f - operator @ start)[self.free])
+                q[self.free] += factor.solve((f - operator @ start)[self.free])
                 return q, [], 1
-            batches = [s.batch(self.structure) for s in self.sliders]
-            outcome = newton_many(
-                [solver],
-                batches,
-                f[None],
-                [(start, unknowns)],
+            outcome = solver.newton(
+                f,
+                (start, unknowns),
                 self.tol,
                 self.max_iterations,
                 time=t,
                 scale=scale,
-            )[0]
+                velocity=velocity,
+            )
         except ValueError as exc:
             raise DynamicsError(f"t = {t:.6g}: {exc}", last) from exc
         if isinstance(outcome, str):
@@ -359,7 +409,10 @@ class Dynamics:
         )
         start = self.prescribe(p.q_hat + self.scheme.beta * h * h * state.a, t)
         unknowns = [_scale_multipliers(y, scale) for y in state.unknowns]
-        q, unknowns, iterations = self._solve(h, scale * f_eff, start, unknowns, t, scale, state)
+        velocity = (p.v_hat, p.q_hat, p.gamma_rate)
+        q, unknowns, iterations = self._solve(
+            h, scale * f_eff, start, unknowns, t, scale, state, velocity
+        )
         return p.complete(t, q, unknowns, self.scheme.beta, iterations)
 
     def constraint_forces(self, state: State) -> np.ndarray:
@@ -376,13 +429,11 @@ class Dynamics:
     def joint_residuals(self, state: State) -> np.ndarray:
         """Largest position and orientation constraint violation of each slider at
         ``state`` (``|x_b - x(xi)|`` and ``|g_j|``)."""
-        out = []
-        for s, y in zip(self.sliders, state.unknowns, strict=True):
-            dofs, r, _ = s.batch(self.structure).evaluate(
-                state.q[None], np.asarray(y)[None], state.t, jacobian=False
-            )
-            out.append(float(np.abs(r[0, dofs.shape[1] + 1 :]).max()))
-        return np.array(out)
+        if state.violations is not None:
+            return state.violations
+        if self._pack is None:
+            self._pack = JointPack(self.sliders, self.structure)
+        return self._pack.violations(np.asarray(state.q, dtype=float), state.unknowns, state.t)
 
     def run(
         self,
@@ -458,6 +509,8 @@ class Dynamics:
                 desc="time",
                 bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}]",
             ) as bar:
+                if steps is not None and self._compiled(h):
+                    return self._chunks(state, h, steps, recorder, bar, checkpoint)
                 while (
                     steps > 0 if steps is not None else t_end - state.t > 1e-12 * max(abs(t_end), h)
                 ):
@@ -476,6 +529,147 @@ class Dynamics:
             if recorder is not None:
                 recorder.close()
         return state
+
+    def _compiled(self, h: float) -> bool:
+        """Whether steps of size ``h`` run compiled (:mod:`sliders.solve.dynamics_kernel`):
+        without sliders, or with the condensed back end."""
+        try:
+            solver = self._solver(h)
+        except ValueError:
+            return False  # the Python step names what is wrong
+        return isinstance(solver, tuple) or solver.method == "condensed"
+
+    def _chunks(
+        self,
+        state: State,
+        h: float,
+        steps: int,
+        recorder: "Recorder | None",
+        bar: tqdm,
+        checkpoint: "Checkpoint | None",
+    ) -> State:
+        """``steps`` fixed steps of size ``h`` from ``state``, compiled a chunk at a time
+        (:func:`sliders.solve.dynamics_kernel.advance`, the arithmetic of :meth:`step`); each
+        step's state is then recorded, shown and handed to ``checkpoint`` as :meth:`resume`
+        does.  A step that fails is taken again by :meth:`step`, which raises its
+        :class:`DynamicsError`."""
+        solver = self._solver(h)
+        beta_rate, gamma_rate = self.scheme.rates(h)
+        scheme = (
+            self.scheme.alpha_m,
+            self.scheme.alpha_f,
+            self.scheme.beta,
+            self.scheme.gamma,
+            h,
+            beta_rate,
+            gamma_rate,
+        )
+        if isinstance(solver, tuple):
+            if h not in self._linear:
+                factor, operator = solver
+                self._linear[h] = CompiledNewton(
+                    self.structure, [], operator, self.free, factor, np.zeros((len(self.free), 0))
+                ).problem
+            problem, nonlinear = self._linear[h], False
+        else:
+            problem, nonlinear = solver.compiled.problem, True
+        sizes = [s.n_unknowns for s in self.sliders]
+        first = np.cumsum([0] + sizes[:-1]).astype(np.int64)[: len(sizes)]
+        n, m = self.structure.n_dofs, sum(sizes)
+        bounds = list(itertools.pairwise(np.cumsum([0] + sizes).tolist()))
+        chunk = int(np.clip(CHUNK_ENTRIES // (4 * n + m + 1), 1, MAX_CHUNK))
+        mass, damping = _rows(self.M), _rows(self.C)
+        q, v, a, qdd = (np.array(x, dtype=float) for x in (state.q, state.v, state.a, state.qdd))
+        y = _joined(state.unknowns)
+        while steps > 0:
+            size = min(steps, chunk)
+            times = np.cumsum(np.concatenate([[state.t], np.full(size, h)]))[1:]
+            loads = self._loads(times)
+            finite = np.isfinite(loads).all(axis=1)
+            if not finite.all():  # up to the first bad load; its step raises below
+                size = int(np.argmin(finite)) if len(loads) > 1 else 0
+                times, loads = times[:size], loads[:size]
+            driven = np.array([[d.motion(t)[0] for d in self.drives] for t in times])
+            drives = np.array([[_abscissa(s, t) for s in self.sliders] for t in times])
+            Q, V, A, QDD = (np.empty((size, n)) for _ in range(4))
+            Y, iterations = np.empty((size, m)), np.zeros(size, dtype=np.int64)
+            violations = np.zeros((size, len(self.sliders)))
+            status, done, _ = advance(
+                scheme,
+                mass,
+                damping,
+                problem,
+                nonlinear,
+                times,
+                loads,
+                self.driven.astype(np.int64),
+                driven.reshape(size, len(self.drives)),
+                drives.reshape(size, len(self.sliders)),
+                first,
+                q,
+                v,
+                a,
+                qdd,
+                y,
+                float(self.tol),
+                int(self.max_iterations),
+                Q,
+                V,
+                A,
+                QDD,
+                Y,
+                iterations,
+                violations,
+            )
+            for i in range(done):
+                unknowns = [Y[i, a:b].copy() for a, b in bounds]
+                new = State(
+                    float(times[i]),
+                    Q[i].copy(),
+                    V[i].copy(),
+                    A[i].copy(),
+                    QDD[i].copy(),
+                    unknowns,
+                    h,
+                    int(iterations[i]),
+                    violations[i],
+                )
+                state = self._accepted(new, state, h, steps - 1 - i, recorder, bar, checkpoint)
+            steps -= done
+            if status != CONVERGED:
+                new = self.step(state, h)  # raises the step's DynamicsError
+                state = self._accepted(new, state, h, steps - 1, recorder, bar, checkpoint)
+                steps -= 1
+                q, v, a, qdd = (np.array(x) for x in (new.q, new.v, new.a, new.qdd))
+                y = _joined(new.unknowns)
+        return state
+
+    def _accepted(
+        self,
+        new: State,
+        old: State,
+        h: float,
+        steps: int,
+        recorder: "Recorder | None",
+        bar: tqdm,
+        checkpoint: "Checkpoint | None",
+    ) -> State:
+        """An accepted step recorded, shown and checkpointed (``steps``: those left)."""
+        if recorder is not None:
+            recorder.record(self, new, old)
+        bar.update(new.t - old.t)
+        if checkpoint is not None:
+            checkpoint(Cursor(new, h, steps))
+        return new
+
+    def _loads(self, times: np.ndarray) -> np.ndarray:
+        """The external load at each of ``times`` (gravity included), one row each; one row
+        for all when it does not depend on time."""
+        if self._constant:
+            return self.load(float(times[0]))[None]
+        if isinstance(self._load, Tabulable):
+            return self._load.at(times) + self.f_gravity
+        return np.array([self.load(float(t)) for t in times])
 
     def _advance(self, state: State, h: float, adaptive: Adaptive | None) -> tuple[State, float]:
         """One accepted step and the next step size."""
@@ -502,6 +696,23 @@ class Dynamics:
                 state,
             )
         return h / 2
+
+
+def _abscissa(slider: Slider, t: float) -> float:
+    """A slider's driven abscissa at ``t`` (0 when it is not driven)."""
+    return slider.drive(t)[0] if slider.drive is not None else 0.0
+
+
+def _joined(unknowns: Sequence[np.ndarray]) -> np.ndarray:
+    """The joints' unknowns side by side."""
+    return np.concatenate([np.asarray(u, dtype=float) for u in unknowns] + [np.zeros(0)])
+
+
+def _rows(A: sp.spmatrix) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``A`` in compressed rows, as the compiled kernels take it: row pointers, column
+    indices (int64) and values."""
+    A = sp.csr_matrix(A)
+    return A.indptr.astype(np.int64), A.indices.astype(np.int64), A.data.astype(float)
 
 
 def _scale_multipliers(y: np.ndarray, factor: float) -> np.ndarray:

@@ -128,8 +128,8 @@ class Prediction:
 class State:
     """Where the integration stands: time ``t``, displacements ``q``, velocities ``v``, the
     scheme's acceleration-like variable ``a`` and the accelerations ``qdd`` (all global dofs),
-    the sliders' unknowns (physical multipliers), the last step ``h`` and its Newton
-    iterations."""
+    the sliders' unknowns (physical multipliers), the last step ``h``, its Newton iterations
+    and the joints' constraint violations it left (optional)."""
 
     t: float
     q: np.ndarray
@@ -139,6 +139,9 @@ class State:
     unknowns: list[np.ndarray] = field(default_factory=list)
     h: float = 0.0
     iterations: int = 0
+    #: Each slider's largest constraint violation, where the step that reached the state
+    #: computed it (:meth:`sliders.solve.dynamics.Dynamics.joint_residuals`); not saved.
+    violations: np.ndarray | None = None
 
     def save(self, path: str | Path) -> None:
         """Write the state to ``path`` (``.npz``, atomically) for a restart."""

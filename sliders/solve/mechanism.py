@@ -67,11 +67,15 @@ def joint_parts(
     sliders: Sequence[Slider],
     q: np.ndarray,
     unknowns: Sequence[np.ndarray],
+    time: float = 0.0,
+    scale: float = 1.0,
 ) -> list:
-    """Each slider's ``(dofs, r_q, r_y, J)`` at the state ``q`` and ``unknowns``."""
+    """Each slider's ``(dofs, r_q, r_y, J)`` at the state ``q`` and ``unknowns`` (drives read
+    at ``time``, multipliers scaled by ``scale``,
+    :meth:`~sliders.joints.slider.SliderBatch.evaluate`)."""
     return member_parts(
         [
-            s.batch(structure).evaluate(q[None], np.asarray(y, dtype=float)[None])
+            s.batch(structure).evaluate(q[None], np.asarray(y, dtype=float)[None], time, scale)
             for s, y in zip(sliders, unknowns, strict=True)
         ],
         0,

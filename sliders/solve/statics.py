@@ -42,6 +42,7 @@ from fvbeam.mechanism import (
 )
 from fvbeam.structure import Structure
 from fvbeam.support import Support
+from sliders.forces.elements import ForceElement
 from sliders.joints.slider import Slider, SliderBatch
 from sliders.solve.condensed import SINGULAR_RCOND, CondensedOperator
 from sliders.solve.mechanism import (
@@ -51,8 +52,9 @@ from sliders.solve.mechanism import (
     joint_parts,
     member_parts,
 )
+from sliders.solve.newton import CompiledNewton
 
-METHODS = ("bordered", "condensed")
+METHODS = ("auto", "bordered", "condensed")
 
 
 @dataclass
@@ -79,7 +81,9 @@ class SliderStatics:
     supports (e.g. the same beams translated, :meth:`fvbeam.beam.Beam.translated`), whose
     assembled stiffness (and, for the condensed back end, factorisation and cached columns)
     is then taken as it is; a sweep over positions builds it once.  ``method``: the
-    linear-algebra back end, ``bordered`` or ``condensed`` (module docstring).  ``operator``:
+    linear-algebra back end, ``bordered`` or ``condensed`` (module docstring), or ``auto``
+    (the default: ``condensed`` where it applies, :meth:`_automatic`); :attr:`method` is the
+    one taken.  ``operator``:
     a matrix that takes the place of the stiffness (the time integrator's
     ``M + c_v C + c_q K``, :mod:`sliders.solve.dynamics`); default the structure's stiffness.
 
@@ -101,14 +105,17 @@ class SliderStatics:
         supports: Sequence[Support],
         sliders: Sequence[Slider],
         reuse: "SliderStatics | None" = None,
-        method: str = "bordered",
+        method: str = "auto",
         operator: sp.spmatrix | None = None,
+        forces: Sequence[ForceElement] = (),
     ) -> None:
         if method not in METHODS:
             raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
         self.structure, self.sliders, self.method = structure, list(sliders), method
+        self.forces = list(forces)
         self._stiffness = operator is None
         self._rigid: RigidModes | None = None
+        self._compiled: CompiledNewton | None = None
         names = [s.name for s in self.sliders]
         if len(set(names)) != len(names):
             raise ValueError(f"slider names must be unique, got {names}")
@@ -117,6 +124,7 @@ class SliderStatics:
             self.K, self.free, self.K_free = reuse.K, reuse.free, reuse.K_free
             self._position, self._condensed = reuse._position, reuse._condensed
         else:
+            reuse = None
             self.K = (
                 structure.tangent(np.zeros(structure.n_dofs)) if operator is None else operator
             ).tocsr()
@@ -125,8 +133,27 @@ class SliderStatics:
             self._position[self.free] = np.arange(len(self.free))
             self.K_free = self.K[self.free][:, self.free].tocoo()
             self._condensed = None
+        if method == "auto":
+            method = self.method = self._automatic()
         if method == "condensed" and self._condensed is None:
             self._condensed = CondensedOperator(self.K, self.free, self.rigid.phi)
+        if reuse is not None and reuse._compiled is not None and method == reuse.method:
+            self._compiled = reuse._compiled.moved(self)
+
+    def _automatic(self) -> str:
+        """The back end ``auto`` takes: ``condensed`` (the compiled Newton loop on a
+        factorisation kept for the problem's life) when the operator bordered by the free
+        parts' rigid motions is regular, else ``bordered``, which lets the sliders hold a
+        mechanism that is no rigid motion of a part; ``bordered`` without sliders (one linear
+        solve)."""
+        if not (self.sliders or self.forces):
+            return "bordered"
+        if self._condensed is None:
+            try:
+                self._condensed = CondensedOperator(self.K, self.free, self.rigid.phi)
+            except ValueError:
+                return "bordered"
+        return "condensed"
 
     @property
     def rigid(self) -> RigidModes:
@@ -230,13 +257,62 @@ class SliderStatics:
         """One Newton solve: converged ``q``, slider unknowns and residual history (the
         ``B = 1`` case of :func:`newton_many`); ``ValueError`` with its diagnostic.  Without
         sliders the problem is linear: one solve on the free dofs."""
-        if not self.sliders:
+        if not (self.sliders or self.forces):
             return self._linear(f)
-        batches = [s.batch(self.structure) for s in self.sliders]
-        outcome = newton_many([self], batches, f[None], [start], tol, max_iterations)[0]
+        outcome = self.newton(f, start, tol, max_iterations)
         if isinstance(outcome, str):
             raise ValueError(outcome)
         return outcome
+
+    def newton(
+        self,
+        f: np.ndarray,
+        start: tuple[np.ndarray, list[np.ndarray]] | None,
+        tol: float,
+        max_iterations: int,
+        time: float = 0.0,
+        scale: float = 1.0,
+        velocity: tuple[np.ndarray, np.ndarray, float] | None = None,
+    ) -> tuple[np.ndarray, list, list[float]] | str:
+        """One Newton solve under the load ``f`` from ``start`` (default: no displacement,
+        projected ``xi``), drives read at ``time``, multipliers scaled by ``scale``: the
+        converged ``q``, slider unknowns and scaled residual history, or the message of the
+        failure.  ``velocity``: ``(v_hat, q_hat, c_v)``, the velocities the force elements
+        read (None: at rest).  The condensed back end runs the compiled loop
+        (:class:`sliders.solve.newton.CompiledNewton`), the bordered one
+        :func:`newton_many` (for one member)."""
+        if self.method == "condensed":
+            if start is None:
+                q = np.zeros(self.structure.n_dofs)
+                start = (q, self.initial_unknowns(q))
+            q0, unknowns = start
+            return self.compiled.solve(f, q0, unknowns, tol, max_iterations, time, scale, velocity)
+        if self.forces:
+            raise ValueError(
+                "force elements run on the condensed back end (method 'condensed' or 'auto')"
+            )
+        batches = [s.batch(self.structure) for s in self.sliders]
+        return newton_many([self], batches, f[None], [start], tol, max_iterations, time, scale)[0]
+
+    @property
+    def compiled(self) -> CompiledNewton:
+        """The compiled Newton loop of this problem (condensed back end), built when first
+        asked for."""
+        if self._compiled is None:
+            condensed = self._condensed
+            if condensed is None:
+                raise ValueError("the compiled Newton step runs on the condensed back end")
+            self._compiled = CompiledNewton(
+                self.structure,
+                self.sliders,
+                self.K,
+                self.free,
+                condensed.factor,
+                condensed.phi,
+                self,
+                self.forces,
+            )
+        return self._compiled
 
     def _linear(self, f: np.ndarray) -> tuple[np.ndarray, list, list[float]]:
         """``K q = f`` on the free dofs (a structure without sliders: the bordered step with

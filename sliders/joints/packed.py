@@ -1,0 +1,664 @@
+"""The joints of one problem packed into flat arrays, and their equations evaluated compiled.
+
+A Newton step that runs compiled (:mod:`sliders.solve.newton_kernel`) evaluates every joint of
+its problem at every iteration.  Passing each joint's dozens of arrays to compiled code costs
+more than evaluating it (a call's arguments are checked one by one), so :class:`JointPack`
+lays the constant data of all the joints -- their kind and options, the line's arrays and
+the joint's slot layout -- into one float array, one integer array and a table of
+descriptors, once per problem.  :func:`evaluate_joint` reads one joint's arrays back as views
+and does, compiled, what :meth:`sliders.joints.slider.SliderBatch.evaluate` does for one
+member in Python:
+
+1. the line at ``xi`` (held at the ends with end stops): on a chain, the compiled line state
+   (:func:`sliders.lines.batched_kernel.line_state`; a smeared load transfer by
+   :func:`~sliders.lines.batched_kernel.smeared_transfer`, padded to the joint's fixed number
+   of load slots; off straight elements, the section frame and curvature of
+   :mod:`sliders.lines.rigid_kernel`); on a rigid line, its point, derivatives and frame
+   (:func:`sliders.lines.rigid_kernel.line_at`, :func:`~sliders.lines.rigid_kernel.frame_at`);
+2. the joint equations (:func:`sliders.joints.kernel.joint_equations`, paper eqs. 1-5,
+   Sec. 4) on the joint's slots;
+3. an end stop or a drive replacing the ``xi`` equation where it acts.
+
+``tests/test_packed_joints.py`` holds it equal to :meth:`SliderBatch.evaluate`, the
+reference, to roundoff, for every kind, orientation, line, smearing, end stop and drive.
+"""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Sequence
+
+import numba
+import numpy as np
+
+from fvbeam.smearing import steps
+from fvbeam.structure import Structure
+from sliders.joints.blocks import SlotJacobian
+from sliders.joints.kernel import GROUPS, KINDS, XI, joint_equations, reach
+from sliders.joints.slider import Slider, SliderBatch, _equations, _Layout
+from sliders.lines.batched import KERNEL_RULE, ChainStack
+from sliders.lines.batched_kernel import line_state, reference_line, smeared_transfer
+from sliders.lines.chain import BeamChain
+from sliders.lines.rigid import RigidLine
+from sliders.lines.rigid_kernel import curvature_rate_at, frame_at, line_at
+
+# The columns of a joint's row of :attr:`JointPack.head` (integers).
+KIND, SLOPE, SECTION, CHAIN, SMEARED, BOX, END_STOPS, DRIVEN = range(8)
+UNKNOWNS, SLOTS, WIDTH, NPE, LOAD, ROTATION, TANGENT, SHAPE, CURVED, NODE_DOFS = range(8, 18)
+HEAD = 18
+# The columns of a joint's row of :attr:`JointPack.values` (floats).
+SMEARING, LENGTH = range(2)
+# The arrays of a joint, in the order of its descriptors (:attr:`JointPack.fields`).
+FIELDS = (
+    # floats
+    "offset",
+    "frame",
+    "reference",
+    "points",
+    "breaks",
+    "vertex_s",
+    "h",
+    "lag",
+    "regions",
+    "ends",
+    "stiffness",
+    "R0_of",
+    "compliance_of",
+    "up",
+    "beam_compliance",
+    "step_r",
+    "step_jump",
+    "rule_x",
+    "rule_w",
+    "line_params",
+    "line_breaks",
+    # integers
+    "body",
+    "member_map",
+    "maps",
+    "cells",
+    "first_element",
+    "kinds",
+    "straight",
+    "start",
+    "size",
+    "where",
+)
+(
+    OFFSET,
+    FRAME,
+    REFERENCE,
+    POINTS,
+    BREAKS,
+    VERTEX_S,
+    H,
+    LAG,
+    REGIONS,
+    ENDS,
+    STIFFNESS,
+    R0_OF,
+    COMPLIANCE_OF,
+    UP,
+    BEAM_COMPLIANCE,
+    STEP_R,
+    STEP_JUMP,
+    RULE_X,
+    RULE_W,
+    LINE_PARAMS,
+    LINE_BREAKS,
+    BODY,
+    MEMBER_MAP,
+    MAPS,
+    CELLS,
+    FIRST_ELEMENT,
+    KINDS_OF,
+    STRAIGHT,
+    START,
+    SIZE,
+    WHERE,
+) = range(len(FIELDS))
+INTEGER_FIELDS = FIELDS.index("body")
+
+
+class JointPack:
+    """The constant data of ``sliders`` on ``structure``, packed (module docstring).
+
+    Attributes
+    ----------
+    head : (J, HEAD) int64
+        Per joint: kind code, slope orientation, section rotation read, line is a chain,
+        smeared, box kernel, end stops, driven; unknowns ``m``, structure slots ``t``,
+        Jacobian entries ``width``, nodes per element, load / rotation / tangent slots, rigid
+        line shape, chain with curved elements, the dofs of a node the chain's
+        interpolation reads (3, or 6 with cubic elements).
+    values : (J, 2) float64
+        Per joint: smearing and line length.
+    fields : (J, len(FIELDS), 5) int64
+        Per joint and array of :data:`FIELDS`: offset into ``floats`` or ``ints`` and shape
+        (up to four dimensions, trailing ones 1).
+    floats, ints
+        The arrays, raveled one after the other.
+    layouts
+        Per joint, its slot layout (:class:`sliders.joints.slider._Layout`) and Jacobian
+        (:class:`~sliders.joints.blocks.SlotJacobian`, one member), whose ``table`` and
+        coupling the condensed step reads.
+    """
+
+    def __init__(self, sliders: Sequence[Slider], structure: Structure) -> None:
+        self.sliders = list(sliders)
+        floats: list[np.ndarray] = []
+        ints: list[np.ndarray] = []
+        sizes = [0, 0]
+        J = len(self.sliders)
+        self.head = np.zeros((J, HEAD), dtype=np.int64)
+        self.values = np.zeros((J, 2))
+        self.fields = np.zeros((J, len(FIELDS), 5), dtype=np.int64)
+        self.layouts: list[tuple[_Layout, SlotJacobian]] = []
+        for j, slider in enumerate(self.sliders):
+            arrays, head, layout, jacobian = _joint_arrays(slider, structure)
+            self.head[j] = head
+            self.values[j] = slider.smearing, slider.line.length
+            self.layouts.append((layout, jacobian))
+            for f, name in enumerate(FIELDS):
+                integer = f >= INTEGER_FIELDS
+                a = np.ascontiguousarray(arrays[name], dtype=np.int64 if integer else float)
+                shape = a.shape + (1,) * (4 - a.ndim)
+                self.fields[j, f] = (sizes[integer], *shape)
+                (ints if integer else floats).append(a.ravel())
+                sizes[integer] += a.size
+        self.floats = np.concatenate(floats) if floats else np.zeros(0)
+        self.ints = np.concatenate(ints) if ints else np.zeros(0, dtype=np.int64)
+
+    def moved(self, sliders: Sequence[Slider], structure: Structure) -> JointPack | None:
+        """This pack for ``sliders`` on ``structure`` when they are this pack's moved rigidly
+        (a sweep over positions: the same joints on translated copies of the same beams,
+        :meth:`fvbeam.beam.Beam.translated`), with only the node positions and the sliding
+        points' reference positions read anew; None when they are not (build a new pack)."""
+        sliders = list(sliders)
+        if len(sliders) != len(self.sliders):
+            return None
+        for new, old in zip(sliders, self.sliders, strict=True):
+            if not _moved(new, old):
+                return None
+        out = copy.copy(self)
+        out.sliders = sliders
+        out.floats = self.floats.copy()
+        for j, slider in enumerate(sliders):
+            d = self.fields[j, REFERENCE]
+            reference = structure.node_position(slider.body) + slider.offset
+            out.floats[d[0] : d[0] + 3] = reference
+            if isinstance(slider.line, BeamChain):
+                d = self.fields[j, POINTS]
+                points = np.concatenate([beam.mesh.points for beam in slider.line.beams])
+                out.floats[d[0] : d[0] + points.size] = points.ravel()
+        return out
+
+    @property
+    def unknowns(self) -> np.ndarray:
+        """The number of unknowns of each joint."""
+        return self.head[:, UNKNOWNS]
+
+    @property
+    def slots(self) -> np.ndarray:
+        """The number of structure slots of each joint."""
+        return self.head[:, SLOTS]
+
+    @property
+    def widths(self) -> np.ndarray:
+        """The number of Jacobian entries of each joint."""
+        return self.head[:, WIDTH]
+
+    def violations(self, q: np.ndarray, unknowns: Sequence[np.ndarray], time: float) -> np.ndarray:
+        """The largest constraint violation of each joint at the state ``q`` and its physical
+        ``unknowns`` (drives read at ``time``), by :func:`violations`: one compiled call for
+        all joints."""
+        drives = np.array([s.drive(time)[0] if s.drive is not None else 0.0 for s in self.sliders])
+        y = np.concatenate([np.asarray(u, dtype=float) for u in unknowns] + [np.zeros(0)])
+        return violations(self.head, self.values, self.fields, self.floats, self.ints, q, y, drives)
+
+    def evaluate(
+        self,
+        j: int,
+        q: np.ndarray,
+        y: np.ndarray,
+        drive: float = 0.0,
+        scale: float = 1.0,
+        jacobian: bool = True,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Joint ``j`` at the state ``q`` (n,) and unknowns ``y``: its slots' global dofs,
+        residual (slots, then its own equations) and Jacobian entries (laid out as its
+        :class:`~sliders.joints.blocks.SlotJacobian`), by :func:`evaluate_joint`; ``drive``:
+        the driven abscissa at this time (read only for a driven joint)."""
+        t, m, width = self.slots[j], self.unknowns[j], self.widths[j]
+        dofs = np.zeros(t, dtype=np.int64)
+        r, values = np.zeros(t + m), np.zeros(width)
+        status = evaluate_joint(
+            j,
+            self.head,
+            self.values,
+            self.fields,
+            self.floats,
+            self.ints,
+            np.ascontiguousarray(q, dtype=float),
+            np.ascontiguousarray(y, dtype=float),
+            float(drive),
+            float(scale),
+            jacobian,
+            dofs,
+            r,
+            values,
+        )
+        if status == 2:
+            raise RuntimeError(f"slider {self.sliders[j].name!r}: more load slots than laid out")
+        if status:
+            raise ValueError(
+                f"slider {self.sliders[j].name!r}: xi = {y[0]:.6g} lies outside its line "
+                f"[0, {self.values[j, LENGTH]:.6g}]"
+            )
+        return dofs, r, values
+
+
+def _joint_arrays(
+    slider: Slider, structure: Structure
+) -> tuple[dict, np.ndarray, _Layout, SlotJacobian]:
+    """The arrays of :data:`FIELDS` of one joint, its head row, slot layout and Jacobian."""
+    batch = SliderBatch([slider], [structure])
+    chain = batch.chains
+    arrays: dict[str, np.ndarray] = {name: np.zeros(0) for name in FIELDS}
+    head = np.zeros(HEAD, dtype=np.int64)
+    section = batch.section and chain is not None
+    head[KIND], head[SLOPE] = KINDS[batch.kind], batch.orientation == "slope"
+    head[SECTION], head[CHAIN] = section, chain is not None
+    head[SMEARED], head[BOX] = batch.smearing > 0, batch.kernel == "box"
+    head[END_STOPS], head[DRIVEN] = batch.end_stops, batch.drives[0] is not None
+    head[UNKNOWNS] = batch.n_unknowns
+    arrays["offset"], arrays["frame"] = batch.offset, batch.frame
+    arrays["reference"], arrays["body"] = batch.reference, batch.body
+    if chain is not None:
+        frames = chain.element_frames()
+        npe = chain.npe
+        for name in ("member_map", "maps", "cells", "points", "breaks", "vertex_s"):
+            arrays[name] = getattr(chain, name if name != "member_map" else "map")
+        arrays["first_element"], arrays["h"], arrays["lag"] = (
+            chain.first_element,
+            chain.h,
+            chain.lag,
+        )
+        arrays["kinds"], arrays["regions"], arrays["ends"] = chain.kinds, chain.regions, chain._ends
+        arrays["stiffness"] = chain.stiffness
+        arrays["R0_of"], arrays["compliance_of"] = frames.R0, frames.compliance
+        arrays["straight"], arrays["up"] = frames.straight[0], chain.up
+        arrays["beam_compliance"] = np.stack(chain.compliance)
+        head[NPE], head[CURVED], head[NODE_DOFS] = npe, not frames.straight.all(), chain.width
+        head[LOAD] = _load_slots(chain, slider.smearing) if slider.smearing > 0 else 6 * npe
+        head[ROTATION] = 2 * chain.width if section else 0
+        head[TANGENT] = 3 * chain.width * npe
+        arrays["step_r"], arrays["step_jump"] = (
+            steps(slider.smearing, slider.kernel) if slider.smearing > 0 else (np.zeros(0),) * 2
+        )
+        arrays["rule_x"], arrays["rule_w"] = KERNEL_RULE
+    else:
+        line = slider.line
+        assert isinstance(line, RigidLine)  # a batch's line is a chain or rigid
+        head[SHAPE], arrays["line_params"], arrays["line_breaks"] = line.compiled()
+        arrays["up"] = np.asarray(line.up, dtype=float)
+    interp = head[NODE_DOFS] * head[NPE]
+    layout = _Layout(interp, head[LOAD], head[ROTATION], head[TANGENT], head[UNKNOWNS])
+    jacobian = layout.jacobian(1, batch.pattern)
+    compliant = head[NODE_DOFS] == 6
+    writes = reach(batch.kind, batch.orientation, bool(np.any(batch.offset)), section, compliant)
+    arrays["start"], arrays["size"], arrays["where"] = jacobian.index(GROUPS, writes)
+    head[SLOTS], head[WIDTH] = layout.t, jacobian.values.shape[1]
+    return arrays, head, layout, jacobian
+
+
+def _moved(new: Slider, old: Slider) -> bool:
+    """Whether the joint ``new`` is ``old`` moved rigidly: alike in every option, on the same
+    rigid line or on a chain of translated copies of ``old``'s beams (they share their
+    stiffness and arc lengths, :meth:`fvbeam.beam.Beam.translated`)."""
+    if not (
+        _equations(new) == _equations(old)
+        and new.kind == old.kind
+        and (new.drive is None) == (old.drive is None)
+        and np.array_equal(new.offset, old.offset)
+        and np.array_equal(new.frame, old.frame)
+    ):
+        return False
+    if isinstance(new.line, BeamChain) and isinstance(old.line, BeamChain):
+        return len(new.line.beams) == len(old.line.beams) and all(
+            a.stiffness is b.stiffness and a.mesh.vertex_s is b.mesh.vertex_s
+            for a, b in zip(new.line.beams, old.line.beams, strict=True)
+        )
+    return new.line is old.line
+
+
+def _load_slots(chain: ChainStack, smearing: float) -> int:
+    """The most load slots a smeared transfer of half-width ``smearing`` fills on ``chain``
+    (:func:`sliders.lines.batched_kernel.smeared_transfer`: six per node of the elements the
+    kernel reaches): the kernel's support ``2 smearing`` reaches at most
+    ``ceil(2 smearing / h_min) + 1`` consecutive elements, each adding ``npe - 1`` nodes."""
+    elements = min(int(np.ceil(2 * smearing / chain.h.min())) + 1, chain.h.shape[1])
+    return 6 * (elements * (chain.npe - 1) + 1)
+
+
+@numba.njit(cache=True, inline="never")
+def _f1(F: np.ndarray, d: np.ndarray) -> np.ndarray:
+    return F[d[0] : d[0] + d[1]]
+
+
+@numba.njit(cache=True, inline="never")
+def _f2(F: np.ndarray, d: np.ndarray) -> np.ndarray:
+    return F[d[0] : d[0] + d[1] * d[2]].reshape((d[1], d[2]))
+
+
+@numba.njit(cache=True, inline="never")
+def _f3(F: np.ndarray, d: np.ndarray) -> np.ndarray:
+    return F[d[0] : d[0] + d[1] * d[2] * d[3]].reshape((d[1], d[2], d[3]))
+
+
+@numba.njit(cache=True, inline="never")
+def _f4(F: np.ndarray, d: np.ndarray) -> np.ndarray:
+    return F[d[0] : d[0] + d[1] * d[2] * d[3] * d[4]].reshape((d[1], d[2], d[3], d[4]))
+
+
+@numba.njit(cache=True, inline="never")
+def _unit_row(start: np.ndarray, size: np.ndarray, where: np.ndarray, values: np.ndarray) -> None:
+    """The ``xi`` row of the Jacobian replaced by the unit derivative in ``xi`` (an equation
+    ``xi - value``; :meth:`sliders.joints.blocks.SlotJacobian.unit_row`)."""
+    for g in range(len(size)):
+        o = where[XI, g]
+        if o >= 0:
+            for c in range(size[g]):
+                values[o + c] = 0.0
+    values[where[XI, XI]] = 1.0
+
+
+@numba.njit(cache=True)
+def evaluate_joint(
+    j: int,
+    head: np.ndarray,
+    values_of: np.ndarray,
+    fields: np.ndarray,
+    F: np.ndarray,
+    I: np.ndarray,
+    q: np.ndarray,
+    y: np.ndarray,
+    drive: float,
+    scale: float,
+    jacobian: bool,
+    dofs: np.ndarray,
+    r: np.ndarray,
+    values: np.ndarray,
+) -> int:
+    """Joint ``j`` of a :class:`JointPack` at the state ``q`` (n,) and its unknowns ``y``
+    (m,): the global dof of each slot into ``dofs`` (t,), the residual into ``r`` (t + m,)
+    and, with ``jacobian``, the Jacobian entries into ``values`` (width,), all overwritten
+    (module docstring).  ``drive``: the driven abscissa; ``scale``: the multipliers in ``y``
+    are ``scale`` times the physical ones.  Returns 0, or 1 when ``xi`` lies off the line
+    (without end stops), nothing written then."""
+    hd, d = head[j], fields[j]
+    smearing, length = values_of[j, 0], values_of[j, 1]
+    kind, m, t, npe = hd[KIND], hd[UNKNOWNS], hd[SLOTS], hd[NPE]
+    n_load, n_rot, width = hd[LOAD], hd[ROTATION], hd[NODE_DOFS]
+    xi_raw = y[0]
+    xi = min(max(xi_raw, 0.0), length) if hd[END_STOPS] else xi_raw
+    if not (0.0 <= xi <= length):
+        return 1
+    start, size, where = _f1(I, d[START]), _f1(I, d[SIZE]), _f2(I, d[WHERE])
+    body = _f2(I, d[BODY])
+    xs = np.full(1, xi)
+    qb = q.reshape((1, len(q)))
+    yb = y.reshape((1, m))
+    x, l, l_xi, l_xixi = np.zeros((1, 3)), np.zeros((1, 3)), np.zeros((1, 3)), np.zeros((1, 3))
+    tangent, tangent_xi = np.zeros((1, 3)), np.zeros((1, 3))
+    R0, k0, k0_xi = np.zeros((1, 3, 3)), np.zeros((1, 3)), np.zeros((1, 3))
+    flex, flex_xi = np.zeros((1, 3, 3)), np.zeros((1, 3, 3))
+    G, dG = np.zeros((1, n_load, 6)), np.zeros((1, n_load, 6))
+    load_dofs = np.zeros((1, n_load), np.int64)
+    rotation_dofs = np.zeros((1, n_rot), np.int64)
+    W, W_xi, W_xixi = np.zeros((1, 3, n_rot)), np.zeros((1, 3, n_rot)), np.zeros((1, 3, n_rot))
+    # the position's compliance at the contact: rows on a chain with cubic elements
+    rows = 3 if hd[CHAIN] and width == 6 else 0
+    contact, contact_xi = np.zeros((1, rows, 6)), np.zeros((1, rows, 6))
+    if hd[CHAIN]:
+        member_map, maps, cells = _f1(I, d[MEMBER_MAP]), _f4(I, d[MAPS]), _f2(I, d[CELLS])
+        points, breaks = _f3(F, d[POINTS]), _f2(F, d[BREAKS])
+        vertex_s, first_element, h = _f2(F, d[VERTEX_S]), _f1(I, d[FIRST_ELEMENT]), _f2(F, d[H])
+        kinds, stiffness = _f1(I, d[KINDS_OF]), _f2(F, d[STIFFNESS])
+        regions, ends, R0_of = _f2(F, d[REGIONS]), _f2(F, d[ENDS]), _f4(F, d[R0_OF])
+        (
+            beam,
+            element,
+            X,
+            _,
+            _,
+            N,
+            dN,
+            d2N,
+            tangent_flat,
+            _,
+            T,
+            _,
+            geometry,
+            contact_,
+            contact_xi_,
+            point_dofs,
+            point_G,
+            point_dG,
+            rot_dofs,
+            W_,
+            W_xi_,
+            W_xixi_,
+            kink_,
+            kink_xi_,
+            flex_,
+            flex_xi_,
+            R0_,
+        ) = line_state(
+            xs,
+            qb,
+            member_map,
+            maps,
+            cells,
+            points,
+            breaks,
+            vertex_s,
+            first_element,
+            h,
+            _f1(F, d[LAG]),
+            kinds,
+            regions,
+            ends,
+            stiffness,
+            width,
+            R0_of,
+            _f4(F, d[COMPLIANCE_OF]),
+            True,
+            not hd[SMEARED],
+            hd[SECTION] != 0,
+        )
+        x[0], l[0], l_xi[0], l_xixi[0] = (
+            geometry[0, 0],
+            geometry[0, 1],
+            geometry[0, 2],
+            geometry[0, 3],
+        )
+        tangent[0], tangent_xi[0] = geometry[0, 4], geometry[0, 5]
+        contact[:], contact_xi[:] = contact_, contact_xi_
+        if hd[SMEARED]:
+            sd, sG, sdG = smeared_transfer(
+                xs,
+                smearing,
+                hd[BOX] != 0,
+                _f1(F, d[STEP_R]),
+                _f1(F, d[STEP_JUMP]),
+                _f1(F, d[RULE_X]),
+                _f1(F, d[RULE_W]),
+                member_map,
+                maps,
+                cells,
+                points,
+                breaks,
+                vertex_s,
+                first_element,
+                h,
+                kinds,
+                regions,
+                stiffness,
+                R0_of,
+            )
+            k = sd.shape[1]
+            if k > n_load:
+                return 2
+            load_dofs[0, :k] = sd[0]
+            load_dofs[0, k:] = sd[0, k - 1]
+            G[0, :k], dG[0, :k] = sG[0], sdG[0]
+        else:
+            load_dofs[:], G[:], dG[:] = point_dofs, point_G, point_dG
+        if hd[SECTION]:
+            rotation_dofs[:], W[:], W_xi[:], W_xixi[:] = rot_dofs, W_, W_xi_, W_xixi_
+            e = element[0]
+            if _f1(I, d[STRAIGHT])[e]:
+                R0[:], flex[:], flex_xi[:] = R0_, flex_, flex_xi_
+            else:  # curved: Lagrange 3-node elements only (a cubic element is straight)
+                nodes = np.empty((1, npe, 3))
+                for a in range(npe):
+                    nodes[0, a] = points[0, cells[e, a]]
+                l0, l0_xi = reference_line(nodes, h[0, e : e + 1], X)
+                up = _f2(F, d[UP])[e]
+                frame_at(l0[0], l0_xi[0], up, R0[0], k0[0])
+                curvature_rate_at(l0[0], l0_xi[0], np.zeros(3), up, k0_xi[0])
+                C = R0[0] @ _f3(F, d[BEAM_COMPLIANCE])[beam[0]] @ R0[0].T
+                flex[0], flex_xi[0] = kink_[0] * C, kink_xi_[0] * C
+    else:
+        derivatives = np.empty((4, 3))
+        line_at(hd[SHAPE], _f1(F, d[LINE_PARAMS]), _f1(F, d[LINE_BREAKS]), xi, derivatives)
+        x[0], l[0], l_xi[0], l_xixi[0] = (
+            derivatives[0],
+            derivatives[1],
+            derivatives[2],
+            derivatives[3],
+        )
+        tangent[0], tangent_xi[0] = l[0], l_xi[0]
+        up = _f1(F, d[UP])
+        frame_at(l[0], l_xi[0], up, R0[0], k0[0])
+        curvature_rate_at(l[0], l_xi[0], l_xixi[0], up, k0_xi[0])
+        N, dN, d2N = np.zeros((1, 3, 0)), np.zeros((1, 3, 0)), np.zeros((1, 3, 0))
+        T = np.zeros((1, 3, 0))
+        tangent_flat = np.zeros((1, 0), np.int64)
+    at = 0
+    for c in range(6):
+        dofs[at + c] = body[0, c]
+    at = 6
+    for c in range(n_load):
+        dofs[at + c] = load_dofs[0, c]
+    at += n_load
+    for c in range(n_rot):
+        dofs[at + c] = rotation_dofs[0, c]
+    at += n_rot
+    for c in range(tangent_flat.shape[1]):
+        dofs[at + c] = tangent_flat[0, c]
+    rb, vb = r.reshape((1, t + m)), values.reshape((1, len(values)))
+    rb[:] = 0.0
+    vb[:] = 0.0
+    joint_equations(
+        kind,
+        hd[SLOPE] != 0,
+        jacobian,
+        _f1(F, d[OFFSET]),
+        _f2(F, d[FRAME]),
+        body,
+        _f2(F, d[REFERENCE]),
+        qb,
+        yb,
+        x,
+        l,
+        l_xi,
+        l_xixi,
+        N,
+        dN,
+        d2N,
+        G,
+        dG,
+        tangent,
+        tangent_xi,
+        T,
+        contact,
+        contact_xi,
+        rotation_dofs,
+        W,
+        W_xi,
+        W_xixi,
+        flex,
+        flex_xi,
+        R0,
+        k0,
+        k0_xi,
+        scale,
+        start,
+        size,
+        where,
+        rb,
+        vb,
+    )
+    if hd[END_STOPS]:
+        along = l[0, 0] * y[1] + l[0, 1] * y[2] + l[0, 2] * y[3]
+        for side in range(2):
+            end, sign = (0.0, -1.0) if side == 0 else (length, 1.0)
+            beyond = sign * (xi_raw - end) > 0
+            pushing = abs(xi_raw - end) <= 1e-12 * length and sign * along > 0
+            if beyond or pushing:
+                r[t] = xi_raw - end
+                if jacobian:
+                    _unit_row(start, size, where, values)
+    if hd[DRIVEN]:
+        r[t] = y[0] - drive
+        if jacobian:
+            _unit_row(start, size, where, values)
+    return 0
+
+
+@numba.njit(cache=True)
+def violations(
+    head: np.ndarray,
+    values_of: np.ndarray,
+    fields: np.ndarray,
+    F: np.ndarray,
+    I: np.ndarray,
+    q: np.ndarray,
+    y: np.ndarray,
+    drives: np.ndarray,
+) -> np.ndarray:
+    """The largest position and orientation constraint violation of each joint of a
+    :class:`JointPack` at the state ``q`` and the joints' physical unknowns ``y`` side by side
+    (``|x_b - x(xi)|`` and ``|g_j|``: the residual rows after the ``xi`` equation); NaN for a
+    joint whose ``xi`` lies off its line."""
+    J = len(head)
+    out = np.empty(J)
+    at = 0
+    for j in range(J):
+        t, m = head[j, SLOTS], head[j, UNKNOWNS]
+        dofs, r, values = np.zeros(t, np.int64), np.zeros(t + m), np.zeros(0)
+        status = evaluate_joint(
+            j,
+            head,
+            values_of,
+            fields,
+            F,
+            I,
+            q,
+            y[at : at + m],
+            drives[j],
+            1.0,
+            False,
+            dofs,
+            r,
+            values,
+        )
+        worst = np.nan if status else 0.0
+        if not status:
+            for c in range(t + 1, t + m):
+                worst = max(worst, abs(r[c]))
+        out[j] = worst
+        at += m
+    return out

@@ -1,0 +1,343 @@
+"""The condensed Newton loop of one problem, compiled (numba).
+
+:func:`newton` is :func:`sliders.solve.statics.newton_many` for one member on the condensed
+back end (:mod:`sliders.solve.condensed`), every iteration in compiled code: the residual
+``r_q = A q - f`` of the operator ``A`` (the stiffness, or the time integrator's
+``M + c_v C + s K``), the joints' residuals and Jacobians (:func:`sliders.joints.packed.
+evaluate_joint`), the small system on the slots the joints touch
+(:func:`sliders.solve.condensed_kernel.condensed_step`) and the increments
+``dq = -B^{-1}[r_q + P F u; 0] + Phi a`` with the bordered operator ``B`` factorised once
+(:func:`sliders.solve.factor.factor_solve`).  The columns of ``B^{-1}`` at the dofs that carry
+joint forces are computed when first needed and kept (:func:`_ensure_columns`).
+
+The convergence rule and the residual history are :func:`sliders.solve.statics.converged`'s
+and ``newton_many``'s: a member converges when every increment is below ``tol`` of its
+scale, and its residual is evaluated once more.  ``tests/test_compiled_newton.py`` holds the
+loop equal to ``newton_many`` on the same problems.
+
+Status codes returned: :data:`CONVERGED`, :data:`SINGULAR` (a small system below the
+condition threshold: the caller names the free motion), :data:`NOT_CONVERGED`,
+:data:`OFF_LINE` (a joint's ``xi`` left its line; the caller names it) and
+:data:`OVERFLOW` (more load slots than a joint was laid out for: a bug).
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from sliders.forces.kernel import evaluate_element
+from sliders.joints.packed import evaluate_joint
+from sliders.solve.condensed_kernel import condensed_step
+from sliders.solve.factor import factor_solve
+
+CONVERGED, SINGULAR, NOT_CONVERGED, OFF_LINE, OVERFLOW = range(5)
+
+
+@numba.njit(cache=True, inline="never")
+def residual(
+    K_ptr: np.ndarray,
+    K_col: np.ndarray,
+    K_val: np.ndarray,
+    q: np.ndarray,
+    f: np.ndarray,
+    R: np.ndarray,
+) -> None:
+    """``R = A q - f`` for the operator ``A`` in compressed rows."""
+    for i in range(len(f)):
+        total = -f[i]
+        for p in range(K_ptr[i], K_ptr[i + 1]):
+            total += K_val[p] * q[K_col[p]]
+        R[i] = total
+
+
+@numba.njit(cache=True, inline="never")
+def _ensure_columns(
+    dofs: np.ndarray,
+    store: np.ndarray,
+    column: np.ndarray,
+    count: np.ndarray,
+    factor: tuple,
+    unit: np.ndarray,
+    scratch: np.ndarray,
+) -> None:
+    """The columns ``B^{-1}[e_d; 0]`` of the free dofs ``dofs`` (-1: held, skipped) stored
+    as rows of ``store`` (``column``: the row of each free dof, -1 if not stored; ``count``:
+    rows in use).  A column is solved once and kept; when the missing ones do not fit, the
+    store is emptied first (it holds at least the columns of one iteration)."""
+    missing = 0
+    for d in dofs:
+        if d >= 0 and column[d] < 0:
+            missing += 1
+    if missing == 0:
+        return
+    if count[0] + missing > len(store):
+        column[:] = -1
+        count[0] = 0
+    L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c = factor
+    for d in dofs:
+        if d >= 0 and column[d] < 0:
+            unit[:] = 0.0
+            unit[d] = 1.0
+            row = count[0]
+            factor_solve(
+                L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c, unit, store[row], scratch
+            )
+            column[d] = row
+            count[0] = row + 1
+
+
+@numba.njit(cache=True)
+def newton(
+    problem: tuple,
+    f: np.ndarray,
+    q: np.ndarray,
+    y: np.ndarray,
+    drives: np.ndarray,
+    scale: float,
+    tol: float,
+    max_iterations: int,
+    history: np.ndarray,
+    velocity: tuple,
+    violation: np.ndarray,
+) -> tuple[int, int, int]:
+    """Newton on one member from ``q``, ``y`` (updated in place) under the load ``f``.
+
+    Parameters
+    ----------
+    problem
+        What does not change between solves (:attr:`sliders.solve.newton.CompiledNewton.
+        problem`), in this order:
+
+        ``K_ptr, K_col, K_val``
+            the operator ``A`` (n, n) in compressed rows;
+        ``free, position``
+            the free dofs (nf,) and the position of every dof among them (-1: held);
+        ``factor``
+            the arrays of :class:`sliders.solve.factor.Factor` of the bordered operator
+            ``B = [A_ff, s Phi; s Phi^T, 0]``;
+        ``phi``
+            the rigid modes ``Phi`` (nf, k) the operator does not resist;
+        ``store, column, count``
+            the cache of columns of ``B^{-1}`` (:func:`_ensure_columns`), kept between
+            calls;
+        ``head, joint_values, fields, F, I``
+            the joints (:class:`sliders.joints.packed.JointPack`);
+        ``element_kind, element_slots, element_values, element_offsets``
+            the force elements (:mod:`sliders.forces.elements`): their kinds, slots (E, 6)
+            and packed constants (element ``e``'s from ``element_offsets[e]`` to
+            ``element_offsets[e + 1]``), evaluated by
+            :func:`sliders.forces.kernel.evaluate_element`;
+        ``tables, c_of, batches, force_slots, nc``
+            the layout for the condensed step of the joints and then the elements (one batch
+            each, :func:`sliders.solve.condensed_kernel.condensed_step`), and the slots (into
+            their slots side by side) that carry forces;
+        ``threshold``
+            the reciprocal condition number below which a small system is singular;
+        ``resolution``
+            the displacement increment that counts as converged whatever ``tol``
+            (:func:`sliders.solve.statics.converged`).
+    f, q, y
+        The load (n,), the state (n,) and the joints' unknowns side by side.
+    drives, scale
+        Each joint's driven abscissa at this time; the scaling of the multipliers.
+    tol, max_iterations
+        :func:`sliders.solve.statics.converged`'s rule.
+    history
+        (max_iterations + 1,): the scaled residual of each evaluation.
+    velocity
+        ``(v_hat, q_hat, c_v)``: the velocities ``v = v_hat + c_v (q - q_hat)`` the force
+        elements read (the integrator's prediction and ``gamma'``; zeros and 0 in statics).
+    violation
+        (J,): each joint's largest position and orientation constraint violation at the
+        converged state (the residual rows after its ``xi`` equation), written on
+        convergence (:meth:`sliders.solve.dynamics.Dynamics.joint_residuals`).
+
+    Returns
+    -------
+    The status (module docstring), the number of residual evaluations written to
+    ``history``, and the joint that failed (:data:`OFF_LINE`, :data:`OVERFLOW`) or -1.
+    """
+    (
+        K_ptr,
+        K_col,
+        K_val,
+        free,
+        position,
+        factor,
+        phi,
+        store,
+        column,
+        count,
+        head,
+        joint_values,
+        fields,
+        F,
+        I,
+        element_kind,
+        element_slots,
+        element_values,
+        element_offsets,
+        tables,
+        c_of,
+        batches,
+        force_slots,
+        nc,
+        threshold,
+        resolution,
+    ) = problem
+    v_hat, q_hat, c_v = velocity
+    n, nf, k = len(q), len(free), phi.shape[1]
+    J, E = len(head), len(element_kind)
+    m = len(y)
+    t_all = 0
+    width = 0
+    for j in range(J + E):
+        t_all += batches[j, 1]
+        width += batches[j, 3]
+    dofs = np.zeros(t_all, np.int64)
+    slots = np.zeros(t_all, np.int64)
+    r_joint = np.zeros(t_all + m)
+    values = np.zeros(width)
+    R = np.zeros(n)
+    r_free = np.zeros((1, nf))
+    r_y = np.zeros((1, m))
+    rhs, solution, scratch = np.zeros(nf + k), np.zeros((1, nf + k)), np.zeros(nf + k)
+    q_e, v_e, r_e, J_e = np.zeros(6), np.zeros(6), np.zeros(6), np.zeros((6, 6))
+    L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c = factor
+    first = np.zeros(J, np.int64)
+    at = 0
+    for j in range(J):
+        first[j] = at
+        at += batches[j, 2]
+    lengths = joint_values[:, 1]
+    load_scale = 1e-300
+    for i in range(n):
+        load_scale = max(load_scale, abs(f[i]))
+    reach = 0.0
+    for i in range(n):
+        reach = max(reach, abs(q[i]))
+    done = False
+    for iteration in range(max_iterations + 1):
+        residual(K_ptr, K_col, K_val, q, f, R)
+        s0, v0, y0 = 0, 0, 0
+        for j in range(J):
+            t, mj, wj = batches[j, 1], batches[j, 2], batches[j, 3]
+            status = evaluate_joint(
+                j,
+                head,
+                joint_values,
+                fields,
+                F,
+                I,
+                q,
+                y[y0 : y0 + mj],
+                drives[j],
+                scale,
+                not done,
+                dofs[s0 : s0 + t],
+                r_joint[s0 + y0 : s0 + y0 + t + mj],
+                values[v0 : v0 + wj],
+            )
+            if status:
+                return (OFF_LINE if status == 1 else OVERFLOW), iteration, j
+            for s in range(t):
+                R[dofs[s0 + s]] += r_joint[s0 + y0 + s]
+            for c in range(mj):
+                r_y[0, y0 + c] = r_joint[s0 + y0 + t + c]
+            if done:
+                worst = 0.0
+                for c in range(1, mj):
+                    worst = max(worst, abs(r_y[0, y0 + c]))
+                violation[j] = worst
+            s0 += t
+            v0 += wj
+            y0 += mj
+        for e in range(E):
+            for c in range(6):
+                dof = element_slots[e, c]
+                dofs[s0 + c] = dof
+                q_e[c] = q[dof]
+                v_e[c] = v_hat[dof] + c_v * (q[dof] - q_hat[dof])
+            evaluate_element(
+                element_kind[e],
+                element_values[element_offsets[e] : element_offsets[e + 1]],
+                q_e,
+                v_e,
+                c_v,
+                scale,
+                r_e,
+                J_e,
+            )
+            for c in range(6):
+                R[dofs[s0 + c]] += r_e[c]
+                for d in range(6):
+                    values[v0 + 6 * c + d] = J_e[c, d]
+            s0 += 6
+            v0 += 36
+        measure = 0.0
+        for i in range(nf):
+            r_free[0, i] = R[free[i]]
+            measure = max(measure, abs(r_free[0, i]))
+        for c in range(m):
+            measure = max(measure, abs(r_y[0, c]))
+        history[iteration] = measure / load_scale
+        if done:
+            return CONVERGED, iteration + 1, -1
+        if iteration == max_iterations:
+            break
+        for s in range(t_all):
+            slots[s] = position[dofs[s]]
+        _ensure_columns(slots[force_slots], store, column, count, factor, rhs, scratch)
+        rhs[:nf] = r_free[0]
+        rhs[nf:] = 0.0
+        factor_solve(
+            L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c, rhs, solution[0], scratch
+        )
+        force, z, regular = condensed_step(
+            store,
+            column,
+            phi,
+            solution,
+            r_free,
+            r_y,
+            slots,
+            values,
+            tables,
+            c_of,
+            batches,
+            nc,
+            threshold,
+        )
+        if not regular[0]:
+            return SINGULAR, iteration + 1, -1
+        rhs[:nf] = force[0]
+        rhs[nf:] = 0.0
+        factor_solve(
+            L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c, rhs, solution[0], scratch
+        )
+        step_q = 0.0
+        for i in range(nf):
+            dq = -solution[0, i]
+            for a in range(k):
+                dq += phi[i, a] * z[0, nc + m + a]
+            q[free[i]] += dq
+            step_q = max(step_q, abs(dq))
+        for i in range(n):
+            reach = max(reach, abs(q[i]))
+        reach = max(reach, step_q)
+        force_scale = load_scale
+        for j in range(J):
+            for c in range(first[j] + 1, first[j] + batches[j, 2]):
+                force_scale = max(force_scale, abs(y[c] + z[0, nc + c]))
+        ok = step_q <= max(tol * reach, resolution)
+        for j in range(J):
+            ok = ok and abs(z[0, nc + first[j]]) <= tol * lengths[j]
+        step_multipliers = 0.0
+        for j in range(J):
+            for c in range(first[j] + 1, first[j] + batches[j, 2]):
+                step_multipliers = max(step_multipliers, abs(z[0, nc + c]))
+        for c in range(m):
+            y[c] += z[0, nc + c]
+        done = ok and step_multipliers <= tol * force_scale
+    return NOT_CONVERGED, max_iterations + 1, -1
