@@ -100,7 +100,10 @@ def lumped(beam: MassSource) -> sp.csr_matrix:
         beam.section.mass_per_length * weight[..., None, None] * np.eye(3),
     )
     np.add.at(blocks[:, 3:, 3:], beam.mesh.cells, rotary)
-    return sp.block_diag(list(blocks), format="csr")
+    n = beam.mesh.n_nodes
+    M = sp.bsr_matrix((blocks, np.arange(n), np.arange(n + 1)), shape=(6 * n, 6 * n)).tocsr()
+    M.eliminate_zeros()
+    return M
 
 
 def consistent(beam: MassSource) -> sp.csr_matrix:

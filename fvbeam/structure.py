@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from functools import cached_property
+from itertools import combinations
 
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike
+from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 from fvbeam.beam import Beam
 from fvbeam.body import RigidBody
@@ -249,14 +252,28 @@ class Structure:
         ``consistent``) on the global dofs, plus each rigid body's 6x6 mass matrix on its
         node (:meth:`~fvbeam.body.RigidBody.mass_matrix`: a centre of mass off the node
         couples translations and rotations)."""
-        M = self._scatter([beam.mass(kind) for beam in self.beams]).tolil()
-        for body in self.bodies:
-            dofs = self.node_dofs(body.name)
-            M[dofs[:, None], dofs] += body.mass_matrix()
-        return M.tocsr()
+        M = self._scatter([beam.mass(kind) for beam in self.beams])
+        if not self.bodies:
+            return M
+        dofs = np.array([self.node_dofs(body.name) for body in self.bodies])
+        blocks = np.array([body.mass_matrix() for body in self.bodies])
+        rows, cols = np.broadcast_arrays(dofs[:, :, None], dofs[:, None, :])
+        bodies = sp.csr_matrix(
+            (blocks.ravel(), (rows.ravel(), cols.ravel())), shape=(self.n_dofs, self.n_dofs)
+        )
+        return (M + bodies).tocsr()
 
     def _scatter(self, matrices: Sequence[sp.spmatrix]) -> sp.csr_matrix:
-        """The beams' matrices, one per beam on its own dofs, summed on the global dofs."""
+        """The beams' matrices, one per beam on its own dofs, summed on the global dofs.
+
+        A single beam numbered as the structure (no ties; bodies after its nodes) keeps its
+        matrix: rows of zeros are appended for the bodies, sharing its arrays (no copy of a
+        large mesh's matrix)."""
+        local = self.dof_maps[0] if len(self.beams) == 1 else None
+        if local is not None and np.array_equal(local, np.arange(len(local))):
+            A = sp.csr_matrix(matrices[0])
+            indptr = np.concatenate([A.indptr, np.full(self.n_dofs - len(local), A.indptr[-1])])
+            return sp.csr_matrix((A.data, A.indices, indptr), shape=(self.n_dofs, self.n_dofs))
         rows, cols, vals = [np.zeros(0, dtype=int)], [np.zeros(0, dtype=int)], [np.zeros(0)]
         for A, dofs in zip(matrices, self.dof_maps, strict=True):
             A = A.tocoo()
@@ -277,6 +294,29 @@ class Structure:
     def local(self, beam: int | str, q: ArrayLike) -> np.ndarray:
         """A beam's (index or name) share of a global dof vector."""
         return self.dofs_of(q)[self.dof_maps[self.beam_index(beam)]]
+
+    def node_graph(self) -> sp.csr_matrix:
+        """The structure's nodes joined by its beams' elements (each pair of an element's
+        nodes, once), ``(n_nodes, n_nodes)``, upper triangle in the beams' numbering; tied
+        nodes are one node already, a body tied to nothing joins nothing."""
+        edges = [np.zeros((0, 2), dtype=np.int64)]
+        for beam, dofs in zip(self.beams, self.dof_maps, strict=True):
+            cells = (dofs[::6] // 6)[beam.mesh.cells]
+            edges += [cells[:, [a, b]] for a, b in combinations(range(cells.shape[1]), 2)]
+        pairs = np.vstack(edges)
+        n = self.n_nodes
+        return sp.csr_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+
+    @cached_property
+    def dof_rank(self) -> np.ndarray:
+        """Each global dof's position in an order in which the structure's matrices are
+        banded along its chains: the reverse Cuthill-McKee order of the nodes
+        (:meth:`node_graph`), six dofs per node (:class:`fvbeam.factorisation.SparseLU`)."""
+        graph = self.node_graph()
+        order = reverse_cuthill_mckee((graph + graph.T).tocsr(), symmetric_mode=True)
+        rank = np.empty(self.n_nodes, dtype=np.int64)
+        rank[order] = np.arange(self.n_nodes)
+        return np.repeat(6 * rank, 6) + np.tile(np.arange(6), self.n_nodes)
 
     def support_dofs(self, supports: Sequence[Support]) -> np.ndarray:
         """Global dofs held by ``supports``."""
