@@ -25,7 +25,7 @@ class LinearStatics:
             structure = Structure([structure])
         self.structure = structure
         self.fixed = structure.support_dofs(supports)
-        self.free = np.setdiff1d(np.arange(structure.n_dofs), self.fixed)
+        self.free = np.setdiff1d(np.arange(structure.n_dofs), self.fixed, assume_unique=True)
         modes = rigid_modes(structure, self.free)
         if modes.k:
             raise ValueError(
