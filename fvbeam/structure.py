@@ -264,26 +264,19 @@ class Structure:
         return (M + bodies).tocsr()
 
     def _scatter(self, matrices: Sequence[sp.spmatrix]) -> sp.csr_matrix:
-        """The beams' matrices, one per beam on its own dofs, summed on the global dofs.
-
-        A single beam numbered as the structure (no ties; bodies after its nodes) keeps its
-        matrix: rows of zeros are appended for the bodies, sharing its arrays (no copy of a
-        large mesh's matrix)."""
-        local = self.dof_maps[0] if len(self.beams) == 1 else None
-        if local is not None and np.array_equal(local, np.arange(len(local))):
-            A = sp.csr_matrix(matrices[0])
-            indptr = np.concatenate([A.indptr, np.full(self.n_dofs - len(local), A.indptr[-1])])
-            return sp.csr_matrix((A.data, A.indices, indptr), shape=(self.n_dofs, self.n_dofs))
-        rows, cols, vals = [np.zeros(0, dtype=int)], [np.zeros(0, dtype=int)], [np.zeros(0)]
-        for A, dofs in zip(matrices, self.dof_maps, strict=True):
-            A = A.tocoo()
-            rows.append(dofs[A.row])
-            cols.append(dofs[A.col])
-            vals.append(A.data)
-        return sp.csr_matrix(
-            (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-            shape=(self.n_dofs, self.n_dofs),
-        )
+        """The beams' matrices, one per beam on its own dofs, summed on the global dofs
+        (:func:`on_dofs` each, then added pairwise, so that each entry is added about
+        ``log2(beams)`` times)."""
+        n = self.n_dofs
+        parts = [on_dofs(A, dofs, n) for A, dofs in zip(matrices, self.dof_maps, strict=True)]
+        if not parts:
+            return sp.csr_matrix((n, n))
+        while len(parts) > 1:
+            pairs = [a + b for a, b in zip(parts[::2], parts[1::2], strict=False)]
+            parts = pairs + parts[2 * len(pairs) :]
+        total = sp.csr_matrix(parts[0])
+        total.sum_duplicates()
+        return total
 
     def gather(self, beam: int | str, f_local: np.ndarray) -> np.ndarray:
         """A beam's (index or name) load vector as a global one."""
@@ -322,3 +315,24 @@ class Structure:
         """Global dofs held by ``supports``."""
         fixed = [self.node_dofs(s.ref)[s.dofs()] for s in supports]
         return np.unique(np.concatenate(fixed)) if fixed else np.zeros(0, dtype=int)
+
+
+def on_dofs(A: sp.spmatrix, dofs: np.ndarray, n: int) -> sp.csr_matrix:
+    """``A`` (on a beam's dofs) as a matrix on ``n`` global dofs, ``dofs[i]`` the global dof
+    of its row and column ``i``: its compressed rows reordered by their global dof and its
+    column indices renamed, without a coordinate list.  A beam numbered as the structure (the
+    first beam, untied) keeps its arrays: no copy of a large mesh's matrix.  Two of a beam's
+    nodes tied together (a ring) share a dof: their entries are summed through coordinates."""
+    A = sp.csr_matrix(A)
+    if np.array_equal(dofs, np.arange(len(dofs))):
+        indptr = np.concatenate([A.indptr, np.full(n - len(dofs), A.indptr[-1])])
+        return sp.csr_matrix((A.data, A.indices, indptr), shape=(n, n))
+    order = np.argsort(dofs, kind="stable")
+    ranked = dofs[order]
+    if np.any(ranked[1:] == ranked[:-1]):
+        coo = A.tocoo()
+        return sp.csr_matrix((coo.data, (dofs[coo.row], dofs[coo.col])), shape=(n, n))
+    A = A[order]
+    lengths = np.zeros(n + 1, dtype=np.int64)
+    lengths[ranked + 1] = np.diff(A.indptr)
+    return sp.csr_matrix((A.data, dofs[A.indices], np.cumsum(lengths)), shape=(n, n))

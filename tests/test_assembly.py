@@ -16,7 +16,7 @@ import pytest
 import scipy.sparse as sp
 from skfem import BilinearForm, asm
 
-from fvbeam import Beam, Section, arc, from_curve, straight
+from fvbeam import Beam, RigidBody, Section, Structure, arc, from_curve, straight
 from fvbeam.assembly import compiled, node_blocks
 
 EPS = np.finfo(float).eps
@@ -98,3 +98,46 @@ def test_node_blocks_list_each_coupled_pair_once():
     coo = pattern.tocoo()
     assert set(zip(coo.row.tolist(), coo.col.tolist(), strict=True)) == expected
     assert len(indices) == len(expected)
+
+
+def coordinate_sum(structure: Structure, matrices: list) -> np.ndarray:
+    """The beams' matrices summed on the global dofs entry by entry (the definition)."""
+    total = np.zeros((structure.n_dofs, structure.n_dofs))
+    for A, dofs in zip(matrices, structure.dof_maps, strict=True):
+        coo = sp.coo_matrix(A)
+        np.add.at(total, (dofs[coo.row], dofs[coo.col]), coo.data)
+    return total
+
+
+@pytest.mark.parametrize(
+    "ties",
+    [
+        [],
+        [("a.end", "b.start"), ("b.end", "c.start")],
+        [("b.end", "a.start"), ("c.start", "hub")],
+        [("a.start", "a.end"), ("a.end", "b.start")],
+    ],
+    ids=["untied", "chain", "backwards-and-body", "ring"],
+)
+def test_structure_sums_the_beams_matrices_on_the_global_dofs(ties):
+    """Untied beams, a chain, ties that number a beam's end before its start (and a body),
+    and a beam tied into a ring (two of its nodes share dofs): the global stiffness is the
+    sum of the beams' entries on the global dofs, as coordinates sum them.  A global entry
+    sums at most three (the ring's node, also b's start), whose order may differ: two
+    roundings, at most ``2 EPS`` of the sum of their magnitudes."""
+    section = coupled_section()
+    beams = [
+        Beam(straight((0, 0, 0), (1, 0, 0), 3, 3, name="a"), section, "fv3"),
+        Beam(arc((1, 1, 0), 1.0, -np.pi / 2, 0.0, 2, 3, name="b"), section, "galerkin-p2"),
+        Beam(straight((2, 1, 0), (2, 1, 1), 2, 3, name="c"), section, "fv3"),
+    ]
+    if ties and ties[0] == ("a.start", "a.end"):
+        beams[0] = Beam(arc((0, 0.5, 0), 0.5, -np.pi / 2, 1.5 * np.pi, 4, 3, name="a"), section)
+        beams[1] = Beam(straight((0, 0, 0), (0, -1, 0), 2, 3, name="b"), section)
+    bodies = [RigidBody("hub", position=beams[2].mesh.points[0])]
+    structure = Structure(beams, ties, bodies)
+    K = structure.tangent(np.zeros(structure.n_dofs))
+    expected = coordinate_sum(structure, [beam.stiffness for beam in beams])
+    scale = coordinate_sum(structure, [abs(beam.stiffness) for beam in beams])
+    assert np.all(np.abs(K.toarray() - expected) <= 2 * EPS * scale)
+    assert K.has_canonical_format
