@@ -100,6 +100,24 @@ def rotated(R: np.ndarray, S: np.ndarray, C: np.ndarray) -> None:
                     C[3 * I + i, 3 * J + j] = value
 
 
+@numba.njit(cache=True, inline="always")
+def add_work(
+    Ke: np.ndarray, r: int, sigma: np.ndarray, weight: float, lever: tuple[float, float, float]
+) -> None:
+    """Add to rows ``r .. r + 5`` of ``Ke`` the work of the section forces ``sigma[j] = [F;
+    M]`` of every trial function ``j`` on one node's six test functions: ``weight F`` on the
+    translations, ``weight M + lever x F`` on the rotations."""
+    l0, l1, l2 = lever
+    for j in range(sigma.shape[0]):
+        F0, F1, F2 = sigma[j, 0], sigma[j, 1], sigma[j, 2]
+        Ke[r, j] += weight * F0
+        Ke[r + 1, j] += weight * F1
+        Ke[r + 2, j] += weight * F2
+        Ke[r + 3, j] += weight * sigma[j, 3] + l1 * F2 - l2 * F1
+        Ke[r + 4, j] += weight * sigma[j, 4] + l2 * F0 - l0 * F2
+        Ke[r + 5, j] += weight * sigma[j, 5] + l0 * F1 - l1 * F0
+
+
 @numba.njit(cache=True)
 def element_blocks(
     fv: bool,
@@ -178,30 +196,16 @@ def element_blocks(
                     step = jump[a, q]
                     if step == 0.0:
                         continue
+                    # the region's balance about its node x_a: F and M + (x - x_a) x F
                     v0, v1, v2 = x0 - nodes[e, a, 0], x1 - nodes[e, a, 1], x2 - nodes[e, a, 2]
-                    r = 6 * a
-                    for j in range(nf):
-                        F0, F1, F2 = sigma[j, 0], sigma[j, 1], sigma[j, 2]
-                        Ke[r, j] += step * F0
-                        Ke[r + 1, j] += step * F1
-                        Ke[r + 2, j] += step * F2
-                        Ke[r + 3, j] += step * (sigma[j, 3] + v1 * F2 - v2 * F1)
-                        Ke[r + 4, j] += step * (sigma[j, 4] + v2 * F0 - v0 * F2)
-                        Ke[r + 5, j] += step * (sigma[j, 5] + v0 * F1 - v1 * F0)
+                    add_work(Ke, 6 * a, sigma, step, (step * v0, step * v1, step * v2))
             else:
                 weight = W[q] * ds
                 for a in range(npe):
                     slope, value = dN[a] / ds * weight, N[a] * weight
-                    r = 6 * a
-                    for j in range(nf):
-                        F0, F1, F2 = sigma[j, 0], sigma[j, 1], sigma[j, 2]
-                        Ke[r, j] += slope * F0
-                        Ke[r + 1, j] += slope * F1
-                        Ke[r + 2, j] += slope * F2
-                        # eps . sigma of a unit rotation e_k: dN/ds M_k - N (e_k x t) . F
-                        Ke[r + 3, j] += slope * sigma[j, 3] - value * (t1 * F2 - t2 * F1)
-                        Ke[r + 4, j] += slope * sigma[j, 4] - value * (t2 * F0 - t0 * F2)
-                        Ke[r + 5, j] += slope * sigma[j, 5] - value * (t0 * F1 - t1 * F0)
+                    # eps . sigma of N_a e_k: dN_a/ds F_k; of a rotation, dN_a/ds M_k minus
+                    # N_a (e_k x t) . F = N_a e_k . (t x F)
+                    add_work(Ke, 6 * a, sigma, slope, (-value * t0, -value * t1, -value * t2))
         for a in range(npe):
             A = cells[e, a]
             width = 6 * (indptr[A + 1] - indptr[A])
