@@ -35,8 +35,11 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
-from fvbeam import Beam, Section, Structure, Support, straight
+from fvbeam import Beam, RigidBody, Section, Structure, Support, formulation, straight
 from fvbeam.closed_forms import moving_load_simply_supported
+from sliders.joints.drives import Ramp
+from sliders.joints.slider import Slider
+from sliders.lines.chain import BeamChain
 from sliders.solve.dynamics import Dynamics
 from sliders.solve.integrator import State
 
@@ -85,6 +88,11 @@ SPEED = VERIFICATION.speed
 CROSSING = VERIFICATION.crossing
 #: Mass matrix per formulation: fv lumped (its only kind), Galerkin consistent.
 MASS = {"fv2": "lumped", "fv3": "lumped", "galerkin-p1": "consistent", "galerkin-p2": "consistent"}
+#: How the force is applied: ``point_load``, the load vector of ``Beam.point_load`` at
+#: ``c t`` rebuilt every step; ``slider``, a massless body carrying the force, driven along
+#: the beam at ``c`` by a spherical slider (:class:`sliders.joints.drives.Ramp` from 0 to
+#: ``L`` over the crossing, then at rest on the end support).
+LOADINGS = ("point_load", "slider")
 #: Degree in the load's abscissa of a point load's vector between break points.
 LOAD_DEGREE = {"fv2": 1, "fv3": 1, "galerkin-p1": 1, "galerkin-p2": 2}
 
@@ -115,13 +123,36 @@ class Model:
         """Global dof of the mid-span deflection ``u_y(L / 2)`` (a vertex: even meshes)."""
         return int(self.structure.node_dofs((0, self.n_elements // 2))[1])
 
-    def dynamics(self, rho_inf: float) -> Dynamics:
+    def dynamics(self, rho_inf: float, loading: str = "point_load") -> Dynamics:
+        """Generalized-alpha on the model, the force applied as :data:`LOADINGS` says."""
+        if loading not in LOADINGS:
+            raise ValueError(f"loading must be one of {', '.join(LOADINGS)}, got {loading!r}")
+        if loading == "point_load":
+            return Dynamics(
+                self.structure,
+                self.supports,
+                load=self.load,
+                mass=MASS[self.formulation],
+                rho_inf=rho_inf,
+            )
+        p = self.problem
+        structure = Structure([self.beam], bodies=[RigidBody("body", (0, 0, 0), mass=0.0)])
+        slider = Slider(
+            "spherical",
+            BeamChain(structure, [0]),
+            "body",
+            drive=Ramp(0.0, p.L, 0.0, p.crossing, "linear"),
+            smearing=self.smearing,
+            name="body",
+        )
         return Dynamics(
-            self.structure,
-            self.supports,
-            load=self.load,
+            structure,
+            self.supports + [Support("body", kind="rx+ry+rz")],
+            [slider],
+            structure.nodal_load("body", (0.0, p.F, 0.0)),
             mass=MASS[self.formulation],
             rho_inf=rho_inf,
+            method="condensed",
         )
 
 
@@ -141,29 +172,34 @@ def section(problem: Problem = VERIFICATION) -> Section:
 
 
 def model(
-    formulation: str, n_elements: int, smearing: float = 0.0, problem: Problem = VERIFICATION
+    name: str, n_elements: int, smearing: float = 0.0, problem: Problem = VERIFICATION
 ) -> Model:
-    """The simply supported beam of ``n_elements`` (even) elements."""
+    """The simply supported beam of ``n_elements`` (even) elements of formulation ``name``."""
     if n_elements % 2:
         raise ValueError(f"n_elements must be even (mid-span on a node), got {n_elements}")
-    npe = 2 if formulation in ("fv2", "galerkin-p1") else 3
-    beam = Beam(
-        straight((0, 0, 0), (problem.L, 0, 0), n_elements, npe), section(problem), formulation
-    )
+    npe = formulation(name).nodes_per_element
+    beam = Beam(straight((0, 0, 0), (problem.L, 0, 0), n_elements, npe), section(problem), name)
     supports = [Support(0, "start", "ux+uy+uz+rx"), Support(0, "end", "uy+uz")]
-    return Model(formulation, n_elements, beam, Structure([beam]), supports, smearing, problem)
+    return Model(name, n_elements, beam, Structure([beam]), supports, smearing, problem)
 
 
 def simulate(
-    m: Model, steps: int, rho_inf: float = 0.8, t_end: float | None = None
+    m: Model,
+    steps: int,
+    rho_inf: float = 0.8,
+    t_end: float | None = None,
+    loading: str = "point_load",
 ) -> tuple[np.ndarray, np.ndarray]:
     """Times and mid-span deflections of fixed generalized-alpha steps, ``steps`` of them
     across the crossing, from rest (the load enters on the support: zero acceleration at
     ``t = 0``), on to ``t_end`` (default the crossing time; a whole number of steps) with
-    the same step."""
-    d = m.dynamics(rho_inf)
-    zero = np.zeros(m.structure.n_dofs)
-    state = State(0.0, zero, zero, zero, zero)
+    the same step; the force applied as ``loading`` says (:data:`LOADINGS`)."""
+    d = m.dynamics(rho_inf, loading)
+    if loading == "point_load":
+        zero = np.zeros(m.structure.n_dofs)
+        state = State(0.0, zero, zero, zero, zero)
+    else:
+        state = d.static_state()  # the slider's multipliers in equilibrium (zero load)
     h = m.problem.crossing / steps
     total = steps if t_end is None else int(round(t_end / h))
     w = np.zeros(total + 1)
