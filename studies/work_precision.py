@@ -454,7 +454,11 @@ def plot(rows: Sequence[dict[str, Any]], out: Path) -> list[Path]:
                 )
             ):
                 for name in sorted({series(r) for r in members}):
-                    mine = [r for r in members if series(r) == name]
+                    mine = [
+                        r for r in members if series(r) == name and math.isfinite(_number(r[key]))
+                    ]
+                    if not mine:
+                        continue
                     peer = str(mine[0]["formulation"]).startswith("exudyn")
                     t = [_number(r[TIME]) for r in mine]
                     e = [abs(_number(r[key])) for r in mine]
