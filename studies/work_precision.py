@@ -39,7 +39,9 @@ Run as ``python -m studies.work_precision --out DIR [--quick] [--docs docs/perfo
 writes ``DIR/work_precision.csv``, ``DIR/work_precision_{statics,moving_load,fig2}.png`` and
 ``DIR/work_precision.md`` (the tables of the cheapest run per accuracy level, which
 ``--docs`` also puts between the markers of that file).  ``--quick`` runs a small grid in
-seconds (the test suite's smoke test).  Ctrl-C writes the rows computed so far.
+seconds (the test suite's smoke test); ``--replot`` redraws and retabulates an existing CSV
+(after the peer's study has written its rows beside it).  Ctrl-C writes the rows computed so
+far.
 """
 
 from __future__ import annotations
@@ -331,6 +333,11 @@ def series(r: dict[str, Any]) -> str:
     return label
 
 
+def is_peer(r: dict[str, Any]) -> bool:
+    """A row of the peer's study (:mod:`studies.peer_moving_load`)."""
+    return str(r["formulation"]).startswith("exudyn")
+
+
 def settings(r: dict[str, Any]) -> str:
     """A row's mesh and steps, as words."""
     if r["study"] == "statics":
@@ -355,8 +362,8 @@ def cheapest(rows: Sequence[dict[str, Any]], level: float) -> dict[str, Any] | N
 
 def markdown(rows: Sequence[dict[str, Any]]) -> str:
     """Per study and case, per accuracy level: the cheapest run overall (CPU and wall
-    seconds) and each front's cheapest run (CPU seconds); for the Figure 2 scene each
-    level's runs."""
+    seconds), each front's cheapest run (CPU seconds) and, beside a peer, the ratio of our
+    cheapest run's time to the peer's; for the Figure 2 scene each level's runs."""
     lines = []
     for (study, case), members in groups(rows).items():
         lines += ["", f"**{study}, {case}**", ""]
@@ -373,9 +380,14 @@ def markdown(rows: Sequence[dict[str, Any]]) -> str:
                 )
             continue
         fronts = sorted({series(r) for r in members})
+        ours = [r for r in members if not is_peer(r)]
+        peers = [r for r in members if is_peer(r)]
+        ratio = ["ours / peer"] if peers and ours else []
         lines += [
-            "| error <= | cheapest | " + " | ".join(f"{f} [CPU s]" for f in fronts) + " |",
-            "|---|---|" + "---|" * len(fronts),
+            "| error <= | cheapest | "
+            + " | ".join([f"{f} [CPU s]" for f in fronts] + ratio)
+            + " |",
+            "|---|---|" + "---|" * (len(fronts) + len(ratio)),
         ]
         for level in LEVELS:
             best = cheapest(members, level)
@@ -385,6 +397,13 @@ def markdown(rows: Sequence[dict[str, Any]]) -> str:
             for name in fronts:
                 r = cheapest([m for m in members if series(m) == name], level)
                 cells.append("-" if r is None else f"{_number(r[TIME]):.3g}")
+            if ratio:
+                mine, theirs = cheapest(ours, level), cheapest(peers, level)
+                cells.append(
+                    f"{_number(mine[TIME]) / _number(theirs[TIME]):.2g}"
+                    if mine is not None and theirs is not None
+                    else "-"
+                )
             lines.append(
                 f"| {level:.0e} | {series(best)}, {settings(best)}: "
                 f"{_number(best['cpu_seconds']):.3g} s CPU, "
@@ -459,7 +478,7 @@ def plot(rows: Sequence[dict[str, Any]], out: Path) -> list[Path]:
                     ]
                     if not mine:
                         continue
-                    peer = str(mine[0]["formulation"]).startswith("exudyn")
+                    peer = is_peer(mine[0])
                     t = [_number(r[TIME]) for r in mine]
                     e = [abs(_number(r[key])) for r in mine]
                     (line,) = ax.plot(t, e, ".", alpha=0.25)
@@ -501,11 +520,17 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--quick", action="store_true", help="a small grid (seconds)")
     parser.add_argument("--docs", type=Path, help="put the tables between the markers there")
     parser.add_argument("--no-plot", action="store_true", help="CSV and tables only")
+    parser.add_argument(
+        "--replot", action="store_true", help="no runs: read DIR/work_precision.csv again"
+    )
     parser.add_argument("--no-progress", action="store_true")
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
-    rows, interrupted = compute(QUICK if args.quick else FULL, progress=not args.no_progress)
-    write_csv(rows, args.out / "work_precision.csv")
+    if args.replot:
+        rows, interrupted = read_csv(args.out / "work_precision.csv"), False
+    else:
+        rows, interrupted = compute(QUICK if args.quick else FULL, not args.no_progress)
+        write_csv(rows, args.out / "work_precision.csv")
     peer_path = args.out / PEER_CSV
     shown = rows + (read_csv(peer_path) if peer_path.exists() else [])
     table = markdown(shown)
