@@ -47,7 +47,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
 import sys
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -246,7 +245,7 @@ def compute(grid: Grid, progress: bool = True) -> tuple[list[dict[str, Any]], bo
     try:
         for loading, n, steps, rho_inf in bar:
             if steps not in exact:
-                t = PROBLEM.crossing / steps * np.arange(round(wp.WINDOW * steps) + 1)
+                t = wp.step_times(PROBLEM, steps)
                 exact[steps] = PROBLEM.exact_midspan(t, wp.REFERENCE_RTOL)
             cables = iter([Cable(n, steps, rho_inf, loading) for _ in range(grid.repeats)])
             try:
@@ -255,17 +254,8 @@ def compute(grid: Grid, progress: bool = True) -> tuple[list[dict[str, Any]], bo
             except RuntimeError:  # Exudyn's SolverError: the solve stopped
                 wall, cpu, error = math.nan, math.nan, math.inf
             rows.append(
-                wp.row(
-                    study="moving_load",
-                    case=CASE,
-                    formulation=FORMULATION,
-                    loading=loading,
-                    n_elements=n,
-                    steps=steps,
-                    rho_inf=rho_inf,
-                    wall_seconds=wall,
-                    cpu_seconds=cpu,
-                    error=error,
+                wp.moving_load_row(
+                    CASE, FORMULATION, loading, n, steps, rho_inf, (wall, cpu), error
                 )
             )
     except KeyboardInterrupt:
@@ -296,7 +286,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    if os.environ.get("OPENBLAS_NUM_THREADS") != "1":  # before numpy loads OpenBLAS
-        os.environ["OPENBLAS_NUM_THREADS"] = "1"
-        os.execv(sys.executable, [sys.executable, "-m", __spec__.name, *sys.argv[1:]])
-    sys.exit(main())
+    wp.run_with_one_blas_thread(main, __spec__.name)

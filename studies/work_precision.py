@@ -173,6 +173,36 @@ def row(**values: Any) -> dict[str, Any]:
     return {column: values.get(column, "") for column in COLUMNS}
 
 
+def step_times(problem: ml.Problem, steps: int) -> np.ndarray:
+    """The times of ``steps`` steps per crossing over the :data:`WINDOW`."""
+    return problem.crossing / steps * np.arange(round(WINDOW * steps) + 1)
+
+
+def moving_load_row(
+    case: str,
+    formulation: str,
+    loading: str,
+    n: int,
+    steps: int,
+    rho_inf: float,
+    times: tuple[float, float],
+    error: float,
+) -> dict[str, Any]:
+    """A moving-load row; ``times`` are the wall and CPU seconds."""
+    return row(
+        study="moving_load",
+        case=case,
+        formulation=formulation,
+        loading=loading,
+        n_elements=n,
+        steps=steps,
+        rho_inf=rho_inf,
+        wall_seconds=times[0],
+        cpu_seconds=times[1],
+        error=error,
+    )
+
+
 class Study:
     """The runs of a :class:`Grid`, with the references each needs computed once."""
 
@@ -240,7 +270,7 @@ class Study:
         """The closed form at the step times of ``steps`` steps per crossing."""
         if (case, steps) not in self._exact_midspan:
             problem = CASES[case]
-            t = problem.crossing / steps * np.arange(round(WINDOW * steps) + 1)
+            t = step_times(problem, steps)
             self._exact_midspan[case, steps] = problem.exact_midspan(t, REFERENCE_RTOL)
         return self._exact_midspan[case, steps]
 
@@ -256,18 +286,8 @@ class Study:
             return ml.simulate(m, steps, rho_inf, t_end, loading)[1]
 
         w, wall, cpu = timed(run, self.grid.repeats)
-        return row(
-            study="moving_load",
-            case=case,
-            formulation=formulation,
-            loading=loading,
-            n_elements=n,
-            steps=steps,
-            rho_inf=rho_inf,
-            wall_seconds=wall,
-            cpu_seconds=cpu,
-            error=ml.relative_error(w, exact),
-        )
+        error = ml.relative_error(w, exact)
+        return moving_load_row(case, formulation, loading, n, steps, rho_inf, (wall, cpu), error)
 
     def fig2(self, level: float, steps_per_period: int) -> dict[str, Any]:
         variant = fig2.VARIANTS[self.grid.fig2_variant]
@@ -544,8 +564,14 @@ def main(argv: list[str] | None = None) -> int:
     return 130 if interrupted else 0
 
 
-if __name__ == "__main__":
-    if os.environ.get("OPENBLAS_NUM_THREADS") != "1":  # before numpy loads OpenBLAS
+def run_with_one_blas_thread(main: Callable[[], int], module: str) -> None:
+    """Exit with ``main()``'s code, first restarting ``python -m module`` with
+    ``OPENBLAS_NUM_THREADS=1`` if that is not set (OpenBLAS reads it when it loads)."""
+    if os.environ.get("OPENBLAS_NUM_THREADS") != "1":
         os.environ["OPENBLAS_NUM_THREADS"] = "1"
-        os.execv(sys.executable, [sys.executable, "-m", __spec__.name, *sys.argv[1:]])
+        os.execv(sys.executable, [sys.executable, "-m", module, *sys.argv[1:]])
     sys.exit(main())
+
+
+if __name__ == "__main__":
+    run_with_one_blas_thread(main, __spec__.name)
