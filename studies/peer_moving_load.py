@@ -68,14 +68,25 @@ NEWTON_RTOL = 1e-6
 
 @dataclass(frozen=True)
 class Grid:
+    """Meshes x steps x ``rho_inf`` x loadings, and ``fine`` single ``(elements, steps,
+    rho_inf)`` runs of the ``load`` loading beyond them."""
+
     elements: tuple[int, ...]
     steps: tuple[int, ...]
     rho_infs: tuple[float, ...]
     loadings: tuple[str, ...]
     repeats: int
+    fine: tuple[tuple[int, int, float], ...] = ()
 
 
-FULL = Grid((4, 8, 16, 32), wp.FULL.moving_steps, wp.FULL.rho_infs, LOADINGS, wp.FULL.repeats)
+FULL = Grid(
+    wp.FULL.moving_elements,
+    wp.FULL.moving_steps,
+    wp.FULL.rho_infs,
+    LOADINGS,
+    wp.FULL.repeats,
+    fine=((16, 3200, 0.8), (32, 3200, 0.8)),
+)
 QUICK = Grid((4, 8), (200,), (0.8,), LOADINGS, 1)
 
 
@@ -238,7 +249,7 @@ def compute(grid: Grid, progress: bool = True) -> tuple[list[dict[str, Any]], bo
         for n in grid.elements
         for s in grid.steps
         for r in grid.rho_infs
-    ]
+    ] + [("load", n, s, r) for n, s, r in grid.fine]
     exact: dict[int, np.ndarray] = {}
     rows: list[dict[str, Any]] = []
     bar = tqdm(jobs, desc="peer", unit="run", disable=None if progress else True)
