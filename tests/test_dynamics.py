@@ -116,7 +116,13 @@ def test_modes_follow_the_scheme_and_rho_08_keeps_the_first_mode(name, mass):
 
 
 def test_energy_is_conserved_over_1e5_steps_at_rho_1():
-    structure, supports = cantilever("fv3")
+    """The trapezoidal rule (rho_inf = 1) keeps ``v M v / 2 + q K q / 2`` of a linear system
+    with symmetric ``M`` and ``K`` to roundoff.  A Galerkin beam: the fv stiffness is
+    unsymmetric (a Petrov-Galerkin form), and ``q K q`` is then no invariant of the flow, exact
+    or discrete (a superposition of its modes exchanges ``q (K - K^T) q`` between them: a
+    bounded oscillation, measured at 2-3 % on the fv3 cantilever, whose size follows the
+    modes' relative amplitudes, which the eigensolver's normalisation decides)."""
+    structure, supports = cantilever("galerkin-p2")
     modes = natural_frequencies(structure, supports, 3)
     h = 2 * np.pi / modes.omega[0] / 40
     d = Dynamics(structure, supports, rho_inf=1.0)
