@@ -498,6 +498,7 @@ def plot(rows: Sequence[dict[str, Any]], out: Path) -> list[Path]:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import NullFormatter
 
     written = []
     by_study: dict[str, list[tuple[str, list[dict[str, Any]]]]] = {}
@@ -538,6 +539,7 @@ def plot(rows: Sequence[dict[str, Any]], out: Path) -> list[Path]:
                     )
                 ax.set_xscale("log")
                 ax.set_yscale("log")
+                ax.xaxis.set_minor_formatter(NullFormatter())
                 ax.set_xlabel("CPU time of the solve [s]")
                 ax.set_ylabel(
                     "overshoot of V(b) [F]"
