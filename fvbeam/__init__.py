@@ -16,17 +16,47 @@ transverse force at its tip.  Its tip deflection and rotation are the exact Timo
 1.3333333333 0.5000000000
 """
 
-from fvbeam.beam import Beam, InternalForces
-from fvbeam.body import RigidBody
-from fvbeam.formulations import FORMULATIONS, formulation
-from fvbeam.linear_statics import LinearStatics
-from fvbeam.mesh import BeamMesh, arc, from_curve, read_beams, straight
-from fvbeam.modes import Modes, natural_frequencies
-from fvbeam.names import NodeRef, parse_node
-from fvbeam.section import Section
-from fvbeam.structure import Structure
-from fvbeam.support import DOF_NAMES, Support
+from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
+from fvbeam.lazy import lazy_names
+
+if TYPE_CHECKING:
+    from fvbeam.beam import Beam, InternalForces
+    from fvbeam.body import RigidBody
+    from fvbeam.formulations import FORMULATIONS, formulation
+    from fvbeam.linear_statics import LinearStatics
+    from fvbeam.mesh import BeamMesh, arc, from_curve, read_beams, straight
+    from fvbeam.modes import Modes, natural_frequencies
+    from fvbeam.names import NodeRef, parse_node
+    from fvbeam.section import Section
+    from fvbeam.structure import Structure
+    from fvbeam.support import DOF_NAMES, Support
+
+#: Each public name's module: imported on first use (PEP 562), so that ``import fvbeam``
+#: costs nothing until a name is used (scipy, scikit-fem and the numba kernels load then).
+_MODULES = {
+    "Beam": "fvbeam.beam",
+    "InternalForces": "fvbeam.beam",
+    "RigidBody": "fvbeam.body",
+    "FORMULATIONS": "fvbeam.formulations",
+    "formulation": "fvbeam.formulations",
+    "LinearStatics": "fvbeam.linear_statics",
+    "BeamMesh": "fvbeam.mesh",
+    "arc": "fvbeam.mesh",
+    "from_curve": "fvbeam.mesh",
+    "read_beams": "fvbeam.mesh",
+    "straight": "fvbeam.mesh",
+    "Modes": "fvbeam.modes",
+    "natural_frequencies": "fvbeam.modes",
+    "NodeRef": "fvbeam.names",
+    "parse_node": "fvbeam.names",
+    "Section": "fvbeam.section",
+    "Structure": "fvbeam.structure",
+    "DOF_NAMES": "fvbeam.support",
+    "Support": "fvbeam.support",
+}
 __all__ = [
     "Beam",
     "BeamMesh",
@@ -48,3 +78,6 @@ __all__ = [
     "read_beams",
     "straight",
 ]
+
+
+__getattr__, __dir__ = lazy_names(__name__, _MODULES, globals())

@@ -82,6 +82,9 @@ class Beam:
             self.skfem_mesh, self._test_element, quadrature=quadrature, disable_doflocs=True
         )
         self._mass: dict[str, sp.csr_matrix] = {}
+        #: What a rigid translation leaves unchanged and is built on demand (the recovery
+        #: map), shared with translated copies (:meth:`translated`).
+        self._shared: dict[str, Any] = {}
 
     def translated(self, offset: ArrayLike, name: str | None = None) -> "Beam":
         """The same beam moved rigidly by ``offset``, sharing everything a translation leaves
@@ -331,21 +334,69 @@ class Beam:
         return asm(distributed_load, basis, metric=geometry["metric"], **fields)
 
     # -- recovery -------------------------------------------------------------------------
+    @property
+    def recovery_abscissae(self) -> np.ndarray:
+        """Abscissae of the recovery points (the stiffness quadrature points: fv evaluation
+        points, Galerkin Gauss points), element by element, ``(n,)``."""
+        return self._recovery[1]
+
+    @property
+    def recovery(self) -> sp.csr_matrix:
+        """The internal forces at the recovery points as a linear map of the beam's dofs:
+        ``(recovery @ q).reshape(-1, 6)`` is ``[N, V2, V3, T, M2, M3]`` at each point, in
+        its section frame (:meth:`internal_forces`), built once and shared by translated
+        copies."""
+        return self._recovery[0]
+
+    @property
+    def _recovery(self) -> tuple[sp.csr_matrix, np.ndarray]:
+        """Eq. (T2) at the recovery points, ``[F; M] = R^T C [nu; kappa]`` with the strains
+        of eq. (T1), for every trial basis function of every element at once: the column of
+        dof ``element_dofs[i, e]`` holds the section forces of basis function ``i`` at the
+        points of element ``e``.  Any trial element (scikit-fem's ``basis.basis``: values and
+        gradients of each local function) gives its own map."""
+        if "recovery" not in self._shared:
+            geometry, frames = self._stiffness_geometry
+            basis = self.trial_basis
+            RT = np.swapaxes(frames, -1, -2)  # (nel, nqp, 3, 3), global to section axes
+            local = []
+            for functions in basis.basis:
+                strain = generalised_strain(functions[0], geometry["t"], geometry["metric"])
+                stress = np.einsum("ij...,j...->...i", geometry["C"], strain)
+                local.append(
+                    np.concatenate(
+                        [RT @ stress[..., :3, None], RT @ stress[..., 3:, None]], axis=-2
+                    )[..., 0]
+                )
+            values = np.stack(local)  # (local function, element, point, component)
+            n_functions, n_elements, n_points = values.shape[:3]
+            rows = np.arange(n_elements * n_points * 6).reshape(values.shape[1:])
+            columns = basis.element_dofs[:, :, None, None]
+            R = sp.csr_matrix(
+                (
+                    values.ravel(),
+                    (
+                        np.broadcast_to(rows, values.shape).ravel(),
+                        np.broadcast_to(columns, values.shape).ravel(),
+                    ),
+                ),
+                shape=(n_elements * n_points * 6, self.n_dofs),
+            )
+            R.eliminate_zeros()
+            X = basis.X[0]
+            xi = self.mesh.abscissae(np.arange(n_elements)[:, None], X).ravel()
+            self._shared["recovery"] = (R, xi)
+        return self._shared["recovery"]
+
     def internal_forces(self, q: ArrayLike) -> InternalForces:
-        """Internal forces at the recovery points, in section and global axes."""
-        geometry, frames = self._stiffness_geometry
-        field = self.trial_basis.interpolate(self.dofs_of(q))
-        strain = generalised_strain(field, geometry["t"], geometry["metric"])
-        stress = np.einsum("ij...,j...->...i", geometry["C"], strain).reshape(-1, 6)
-        RT = np.swapaxes(frames, -1, -2).reshape(-1, 3, 3)
-        X = self.trial_basis.X[0]
-        xi = self.mesh.abscissae(np.arange(self.mesh.n_elements)[:, None], X).ravel()
+        """Internal forces at the recovery points, in section and global axes (eq. T2 on the
+        strains of eq. T1: :attr:`recovery` times ``q``)."""
+        R, xi = self._recovery
+        section = (R @ self.dofs_of(q)).reshape(-1, 2, 3)
+        frames = self._stiffness_geometry[1].reshape(-1, 3, 3)
+        world = frames[:, None] @ section[..., None]
         return InternalForces(
-            xi,
-            np.einsum("nij,nj->ni", RT, stress[:, :3]),
-            np.einsum("nij,nj->ni", RT, stress[:, 3:]),
-            stress[:, :3],
-            stress[:, 3:],
+            xi, section[:, 0], section[:, 1], world[:, 0, :, 0], world[:, 1, :, 0]
         )
 
     def displacements(self, q: ArrayLike, xi: np.ndarray | float) -> np.ndarray:
@@ -354,6 +405,20 @@ class Beam:
         N, _ = shape_functions(X, self.mesh.nodes_per_element)
         nodal = self.dofs_of(q).reshape(-1, 6)[self.mesh.cells[e]]
         return np.einsum("an,nac->nc", N, nodal)
+
+
+def internal_forces_reference(beam: Beam, q: ArrayLike) -> np.ndarray:
+    """Section forces ``[N, V2, V3, T, M2, M3]`` at the recovery points, ``(n, 6)``, through
+    scikit-fem's interpolation of the trial field: eq. (T1) on the interpolated field, then
+    (T2) and the rotation to the section frame, point by point.  The definition
+    :attr:`Beam.recovery` is held to (``tests/test_recovery.py``), a product with it cheaper
+    by far for a state's every step."""
+    geometry, frames = beam._stiffness_geometry
+    field = beam.trial_basis.interpolate(beam.dofs_of(q))
+    strain = generalised_strain(field, geometry["t"], geometry["metric"])
+    stress = np.einsum("ij...,j...->...i", geometry["C"], strain).reshape(-1, 2, 3)
+    RT = np.swapaxes(frames, -1, -2).reshape(-1, 1, 3, 3)
+    return (RT @ stress[..., None]).reshape(-1, 6)
 
 
 def _sample(value: Field, xi: np.ndarray, name: str) -> np.ndarray:

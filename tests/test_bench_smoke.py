@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
+
 from studies.bench import main
 
 STAGES = ("assembly_s", "factorisation_s", "solve_s", "per_load_case_s")
@@ -76,3 +78,25 @@ def test_batched_sweep_benchmark_reports_the_main_sweep():
     assert main["seconds"] == result["total_seconds"]["batched"]
     assert main["setup_seconds"] == sum(r["setup_seconds"] for r in batched)
     assert main["positions"] == 192 and main["mean_newton_iterations"] >= 1
+
+
+def test_outputs_benchmark_reports_time_and_error_per_setup():
+    """Shape of the outputs benchmark: every recorder set-up timed beside its energies'
+    difference from their definitions, the recovery map beside the field path (their
+    round-off bounds are tests/test_recorder.py's and tests/test_recovery.py's)."""
+    from studies.bench_outputs import recording, recovery
+
+    result = recording(repeats=1, periods=1)
+    assert [r["setup"] for r in result["rows"]] == [
+        "default",
+        "no_residuals",
+        "probes",
+        "probes_by_function",
+        "tables",
+    ]
+    for row in result["rows"]:
+        assert row["seconds_per_step"]["min"] > 0 and row["seconds_per_row_formatted"]["min"] > 0
+        assert np.isfinite(row["energy_rel_error"]) and row["energy_rel_error"] >= 0
+    rows = recovery(repeats=2)["rows"]
+    assert [r["n_elements"] for r in rows] == [1, 100]
+    assert all(np.isfinite(r["max_rel_difference"]) and r["speed_up"] > 0 for r in rows)

@@ -173,7 +173,7 @@ def test_a_failed_write_names_the_file_and_leaves_nothing(tmp_path, capsys, monk
     table's final path (not the temporary directory's), and nothing is left."""
     import sliders.app.tables as tables
 
-    def full(results, name, path):
+    def full(results, name, path, selection=None):
         raise OSError(errno.ENOSPC, ENOSPC, str(path))
 
     monkeypatch.setattr(tables, "write_table", full)

@@ -10,7 +10,8 @@ holds what the run needs to go on as if it had never stopped:
   (:meth:`sliders.solve.integrator.State.save`: ``q``, ``v``, the scheme's ``a``, ``qdd``,
   the joints' unknowns, the last step);
 * ``history.csv`` and the per-step tables ``output.csv`` asks for: the recorder's rows so far,
-  as the cells the outputs will hold, appended at each checkpoint (never rewritten);
+  as the text the outputs will hold (:meth:`sliders.app.history.Recorder.text`), appended at
+  each checkpoint (never rewritten);
 * ``states/NNNNNN.npz``: the states kept for the VTU series and the renders;
 * ``checkpoint.npz``, the commit, written last and atomically: the scene, the cursor
   (:class:`sliders.solve.dynamics.Cursor`: which state file, the next step's size, the fixed
@@ -185,10 +186,9 @@ class Checkpoints:
         for name, header in self.recorder.headers.items():
             start, size = (old.rows[name], old.sizes[name]) if old else (0, 0)
             buffer = io.StringIO(newline="")
-            writer = csv.writer(buffer)
             if old is None:
-                writer.writerow(header)
-            writer.writerows(self.recorder.cells(name, start, counts[name]))
+                csv.writer(buffer).writerow(header)
+            buffer.write(self.recorder.text(name, start, counts[name]))
             data = buffer.getvalue().encode()
             with open(directory / f"{name}.csv", "r+b" if old else "wb") as stream:
                 stream.truncate(size)  # cut off what an interrupted checkpoint appended

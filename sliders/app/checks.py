@@ -119,12 +119,80 @@ def reference_problems(scene: Scene) -> list[Problem]:
         else:
             names.beam(f"load[{i}].beam", load.beam, problems)
     _check_study(scene, names, problems)
-    repeated = sorted({t for t in scene.output.csv if scene.output.csv.count(t) > 1})
-    if repeated:
-        problems.add(
-            "output.csv", f"lists {', '.join(repeated)} more than once", list(scene.output.csv)
-        )
+    _check_output(scene, names, problems)
     return list(problems)
+
+
+#: The tables of ``[output]`` that select rows and columns, and the key naming their rows.
+SELECTED = {
+    "nodes": "nodes",
+    "sliders": "sliders",
+    "internal_forces": "beams",
+    "reactions": "nodes",
+}
+
+
+def _check_output(scene: Scene, names: _Names, problems: Problems) -> None:
+    """What ``[output]`` asks for fits the study and its tables; each probe names one node,
+    or one beam and an abscissa.  The names of columns, fields and rows are checked against
+    the built model (:class:`sliders.app.model.Model`)."""
+    output = scene.output
+    for key, values in (
+        ("csv", output.csv),
+        ("history", output.history or ()),
+        ("vtu_fields", output.vtu_fields or ()),
+    ):
+        repeated = sorted({str(t) for t in values if values.count(t) > 1})
+        if repeated:
+            problems.add(
+                f"output.{key}", f"lists {', '.join(repeated)} more than once", list(values)
+            )
+    dynamic = isinstance(scene.study, DynamicStudy)
+    for key, given in (("history", output.history is not None), ("probe", bool(output.probe))):
+        if given and not dynamic:
+            problems.add(
+                f"output.{key}",
+                f"history.csv is a dynamic study's: study.kind = '{scene.study.kind}' has none",
+            )
+    if output.vtu_fields is not None and not output.vtu:
+        problems.add("output.vtu_fields", "selects VTU fields, but output.vtu is false")
+    for table, key in SELECTED.items():
+        spec = getattr(output, table)
+        if spec is None:
+            continue
+        if table not in output.csv:
+            problems.add(f"output.{table}", f"selects from the {table} table, not in output.csv")
+        chosen = getattr(spec, key) or ()
+        repeated = sorted(
+            {
+                c
+                for c in [*chosen, *(spec.columns or ())]
+                if [*chosen, *(spec.columns or ())].count(c) > 1
+            }
+        )
+        if repeated:
+            problems.add(f"output.{table}", f"lists {', '.join(repeated)} more than once")
+    seen: dict[str, int] = {}
+    for i, probe in enumerate(output.probe):
+        path = f"output.probe[{i}]"
+        if probe.name in seen:
+            problems.add(
+                f"{path}.name", f"already the name of output.probe[{seen[probe.name]}]", probe.name
+            )
+        seen.setdefault(probe.name, i)
+        if (probe.node is None) == (probe.beam is None):
+            problems.add(path, "give exactly one of node, beam")
+        elif probe.node is not None:
+            names.node(f"{path}.node", probe.node, problems)
+            if probe.at is not None:
+                problems.add(
+                    f"{path}.at", "a node probe takes no abscissa (at is for a beam)", probe.at
+                )
+        else:
+            assert probe.beam is not None
+            names.beam(f"{path}.beam", probe.beam, problems)
+            if probe.at is None:
+                problems.add(path, "a beam probe needs at, the abscissa of its recovery point")
 
 
 def _check_beams(scene: Scene, names: _Names, problems: Problems) -> None:

@@ -20,17 +20,21 @@ on the line passes, and a point a millionth of the line away is a mistake, not r
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from functools import partial
 
 import numpy as np
 
 from fvbeam import Beam, BeamMesh, RigidBody, Section, Structure, Support, arc, straight
 from fvbeam.mechanism import rigid_modes, unresisted
+from fvbeam.names import suggest
 from fvbeam.smearing import check_smearing
-from sliders.app.checks import part_of, tied_parts
+from fvbeam.support import DOF_NAMES
+from sliders.app.checks import SELECTED, part_of, tied_parts
 from sliders.app.errors import Problems
+from sliders.app.history import history_columns
 from sliders.app.limits import Limits, element_problems
+from sliders.app.probes import LinearProbe, force_probe, node_probe
 from sliders.app.schema import (
     Abscissa,
     BeamSpec,
@@ -43,6 +47,7 @@ from sliders.app.schema import (
     SweepStudy,
     Translation,
 )
+from sliders.app.state_tables import CHOICES, FORCE_NAMES, KEY_COLUMNS, Selection, items
 from sliders.joints.drives import DofDrive, Linear, Ramp, Tabulated, initial_rate
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
@@ -71,6 +76,28 @@ START_REMEDY = (
     "a dynamic study starts from the static equilibrium at t = 0, which needs it held: a "
     "support, a slider or a drive; or start from a saved state, study.restart"
 )
+
+
+def _choose(
+    problems: Problems,
+    path: str,
+    given: Sequence[str],
+    allowed: Sequence[str],
+    always: Sequence[str] = (),
+    single: bool = False,
+) -> None:
+    """A problem for each name of ``given`` not in ``allowed`` (at ``path[i]``, or at
+    ``path`` for a ``single`` name): always written if in ``always``, else the allowed
+    names with a did-you-mean."""
+    for i, name in enumerate(given):
+        if name in allowed:
+            continue
+        where = path if single else f"{path}[{i}]"
+        if name in always:
+            problems.add(where, "a key column, always written", name)
+        else:
+            choices = ", ".join(f"'{a}'" for a in allowed) or "none"
+            problems.add(where, f"must be one of {choices}{suggest(name, allowed)}", name)
 
 
 def _inside(xi: float, length: float) -> bool:
@@ -244,6 +271,7 @@ class Model:
         problems.raise_if_any(source)
         self._check_held(problems)
         self._check_velocity_jumps(problems)
+        self._check_output(problems)
         problems.raise_if_any(source)
         self._previous: SliderStatics | None = None
 
@@ -575,6 +603,77 @@ class Model:
             tol=study.tol,
             max_iterations=study.max_iterations,
         )
+
+    # -- outputs -------------------------------------------------------------------------------
+    def held(self) -> list[Support]:
+        """What holds nodes, as the ``reactions`` table lists them: the supports, and a
+        dynamic study's dof drives (:attr:`sliders.solve.dynamics.Dynamics.supports`)."""
+        drives = self._dof_drives()[1] if isinstance(self.scene.study, DynamicStudy) else []
+        return self.supports + [Support.at(d.node, d.dof) for d in drives]
+
+    def selections(self) -> dict[str, Selection]:
+        """The rows and columns ``[output]`` asks of each table it lists but ``samples``."""
+        output = self.scene.output
+        out: dict[str, Selection] = {}
+        for name in output.csv:
+            if name in SELECTED:
+                spec = getattr(output, name)
+                out[name] = Selection(
+                    None if spec is None else getattr(spec, SELECTED[name]),
+                    None if spec is None else spec.columns,
+                )
+        return out
+
+    def probes(self) -> dict[str, LinearProbe]:
+        """The ``[[output.probe]]`` columns of ``history.csv``, by name."""
+        out = {}
+        for spec in self.scene.output.probe:
+            if spec.node is not None:
+                out[spec.name] = node_probe(self.structure, spec.node, spec.value)
+            else:
+                assert spec.beam is not None and spec.at is not None  # checks.py
+                out[spec.name] = force_probe(self.structure, spec.beam, spec.at, spec.value)
+        return out
+
+    def _check_output(self, problems: Problems) -> None:
+        """The names ``[output]`` uses, against the model: ``history`` columns
+        (:func:`sliders.app.history.history_columns`), each table's rows and columns
+        (:func:`sliders.app.state_tables.items`, :data:`~sliders.app.state_tables.CHOICES`),
+        VTU fields (:data:`sliders.app.vtu.FIELDS`), probes' values and abscissae."""
+        output = self.scene.output
+        columns = history_columns(self.sliders)
+        choose = partial(_choose, problems)
+        if output.history is not None:
+            choose("output.history", output.history, columns)
+        if output.vtu_fields is not None:
+            from sliders.app.vtu import FIELDS  # meshio: only for a scene that names fields
+
+            choose("output.vtu_fields", output.vtu_fields, FIELDS)
+        for table, key in SELECTED.items():
+            spec = getattr(output, table)
+            if spec is not None:
+                known = items(table, self.structure, self.sliders, self.held())
+                choose(f"output.{table}.{key}", getattr(spec, key) or (), known)
+                choose(
+                    f"output.{table}.columns",
+                    spec.columns or (),
+                    CHOICES[table],
+                    KEY_COLUMNS[table],
+                )
+        for i, spec in enumerate(output.probe):
+            path = f"output.probe[{i}]"
+            if spec.name in columns:
+                problems.add(f"{path}.name", "already a column of history.csv", spec.name)
+            allowed = DOF_NAMES if spec.node is not None else FORCE_NAMES
+            choose(f"{path}.value", (spec.value,), allowed, single=True)
+            if spec.beam is not None and spec.at is not None:
+                length = self.structure.beams[self.structure.beam_index(spec.beam)].mesh.length
+                if spec.at > length * (1 + 1e-12):
+                    problems.add(
+                        f"{path}.at",
+                        f"beyond the end of beam '{spec.beam}' (length {length:.6g} m)",
+                        spec.at,
+                    )
 
     def _dof_drives(self) -> tuple[list[int], list[DofDrive]]:
         """The scene's dof drives: their indices in ``[[drive]]`` and the drives."""

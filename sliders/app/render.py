@@ -32,7 +32,8 @@ from numpy.typing import ArrayLike
 
 from fvbeam.io import write_atomic
 from fvbeam.structure import Structure
-from sliders.app.vtu import check_solution, contact_point, rigid_part, structure_size, tube_radii
+from sliders.app.state_tables import contact_point
+from sliders.app.vtu import check_solution, rigid_part, structure_size, tube_radii
 from sliders.joints.slider import Slider
 
 #: Samples per element along the tube (a 3-node element is a parabola; 8 chords keep

@@ -9,12 +9,15 @@ the last converged step.  Given the output directory, it keeps checkpoints besid
 :func:`write_dynamic` then writes a new directory, which replaces the output directory whole
 (and removes the checkpoint of a run that ended):
 
-* ``history.csv`` always (in place of ``samples``); ``nodes.csv``, ``sliders.csv``,
-  ``internal_forces.csv``, ``reactions.csv`` when ``output.csv`` lists them: the static
-  tables' columns, one set of rows per step (:data:`sliders.app.tables.STEP_COLUMNS`);
+* ``history.csv`` always (in place of ``samples``; the columns ``output.history`` keeps, and
+  the ``output.probe`` ones); ``nodes.csv``, ``sliders.csv``, ``internal_forces.csv``,
+  ``reactions.csv`` when ``output.csv`` lists them: the static tables' columns, one set of
+  rows per step (:data:`sliders.app.state_tables.STEP_COLUMNS`), the rows and columns
+  ``[output]`` selects (:meth:`sliders.app.model.Model.selections`);
 * ``state.npz``, the last converged state (restart from it with ``study.restart``);
-* ``scene.toml``; with ``output.vtu``, a VTU per kept state (``study.every``) and their
-  ``.pvd``; with ``output.png``, renders of the last state (``last``) or of every kept one.
+* ``scene.toml``; with ``output.vtu``, a VTU per kept state (``study.every``) with the
+  fields of ``output.vtu_fields``, and their ``.pvd``; with ``output.png``, renders of the
+  last state (``last``) or of every kept one.
 """
 
 from __future__ import annotations
@@ -31,7 +34,6 @@ from sliders.app.history import Recorder
 from sliders.app.model import Model
 from sliders.app.scene import dump_scene
 from sliders.app.schema import CheckpointSpec, DynamicStudy, Scene
-from sliders.app.state_tables import STEP_COLUMNS
 from sliders.app.vtu import Frame, write_series
 from sliders.solve.dynamics import Adaptive, DynamicsError
 from sliders.solve.integrator import State
@@ -111,8 +113,10 @@ def integrate(
         )
     recorder = Recorder(
         None,
-        [name for name in output.csv if name in STEP_COLUMNS],
+        model.selections(),
+        model.probes(),
         every=study.every if (output.vtu or output.png == "all") else 0,
+        history=output.history,
     )
     held = np.setdiff1d(np.arange(model.structure.n_dofs), dynamics.free)
     outcome = DynamicRun(model, recorder, held)
@@ -159,7 +163,7 @@ def write_dynamic(outcome: DynamicRun, out: str | Path) -> None:
         outcome.state.save(directory / "state.npz")
         frames = outcome.frames()
         if output.vtu:
-            write_series(directory / "states", frames)
+            write_series(directory / "states", frames, fields=output.vtu_fields)
         kept = frames if output.vtu else frames[: len(outcome.recorder.states)]
         rendered = {"none": [], "last": frames[-1:], "all": kept}[output.png]
         for k, frame in enumerate(rendered):

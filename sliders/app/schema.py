@@ -467,15 +467,73 @@ class DynamicStudy(Newton):
 Study = Annotated[StaticStudy | SweepStudy | DynamicStudy, Field(discriminator="kind")]
 
 
+Names = Annotated[tuple[Text, ...], Field(description="a list of names")]
+
+
+class NodesOutput(Table):
+    """``[output.nodes]``: the rows of the ``nodes`` table (``nodes``: a beam's or body's
+    name for all its nodes, ``beam.start``, ``beam.end``) and its columns after ``part,
+    xi``; None: all."""
+
+    nodes: Names | None = None
+    columns: Names | None = None
+
+
+class SlidersOutput(Table):
+    """``[output.sliders]``: the sliders of the ``sliders`` table and its columns after
+    ``slider``; None: all."""
+
+    sliders: Names | None = None
+    columns: Names | None = None
+
+
+class ForcesOutput(Table):
+    """``[output.internal_forces]``: the beams of the ``internal_forces`` table and its
+    columns after ``beam, xi``; None: all."""
+
+    beams: Names | None = None
+    columns: Names | None = None
+
+
+class ReactionsOutput(Table):
+    """``[output.reactions]``: the held nodes of the ``reactions`` table and its columns
+    after ``node``; None: all."""
+
+    nodes: Names | None = None
+    columns: Names | None = None
+
+
+class ProbeSpec(Table):
+    """``[[output.probe]]``: a ``history.csv`` column of a dynamic study, ``value`` of a
+    ``node`` (a dof, ``ux`` ... ``rz``) or of a ``beam`` at the recovery point nearest its
+    abscissa ``at`` (an internal force, ``N`` ... ``M3``) (:mod:`sliders.app.probes`)."""
+
+    name: Name
+    node: NodeRef | None = None
+    beam: Name | None = None
+    at: NonNegative | None = None
+    value: Text
+
+
 class Output(Table):
     """``[output]``: the CSV tables to write (:mod:`sliders.app.tables`); ``vtu``: a VTU per
     converged sample and their ``.pvd`` index (:mod:`sliders.app.vtu`); ``png``: pyvista
     renders of the deformed configuration, of the ``last`` converged sample or of ``all``
-    (:mod:`sliders.app.render`, needs the ``render`` extra)."""
+    (:mod:`sliders.app.render`, needs the ``render`` extra).  What to write of them: the
+    columns of ``history.csv`` after ``step, t`` (``history``), each table's rows and
+    columns, the VTU fields (``vtu_fields``), and ``probe`` columns of ``history.csv``; the
+    names are checked against the model (:class:`sliders.app.model.Model`)."""
 
     csv: tuple[TableName, ...] = TABLES
     vtu: bool = False
     png: Literal["none", "last", "all"] = "none"
+    history: Names | None = None
+    vtu_fields: Names | None = None
+    nodes: NodesOutput | None = None
+    sliders: SlidersOutput | None = None
+    internal_forces: ForcesOutput | None = None
+    reactions: ReactionsOutput | None = None
+    probe: tuple[ProbeSpec, ...] = ()
 
 
 class Scene(Table):

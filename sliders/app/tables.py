@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import csv
 import importlib.util
+import io
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
@@ -41,7 +42,15 @@ from fvbeam.io import OUTPUT_MARKER as MARKER
 from fvbeam.io import replace_directory
 from sliders.app.run import Results, Sample
 from sliders.app.scene import dump_scene
-from sliders.app.state_tables import STATE_COLUMNS, STATE_ROWS, Snapshot, cell
+from sliders.app.state_tables import (
+    STATE_COLUMNS,
+    Selection,
+    Snapshot,
+    cell,
+    lines,
+    quote,
+    state_table,
+)
 from sliders.app.vtu import Frame, write_series
 from sliders.solve.statics import SliderSolution, SliderStatics
 
@@ -76,13 +85,24 @@ def _snapshot(results: Results, sample: Sample) -> Snapshot:
     )
 
 
-def _rows(results: Results, name: str) -> Iterator[list]:
+def _lines(results: Results, name: str, selection: Selection | None) -> Iterator[str]:
+    """The CSV lines of table ``name``'s rows, sample by sample."""
     if name == "samples":
-        yield from _samples_rows(results)
+        for row in _samples_rows(results):
+            buffer = io.StringIO()
+            csv.writer(buffer).writerow([cell(v) for v in row])
+            yield buffer.getvalue()[:-2]
         return
     for sample in _converged(results):
-        for row in STATE_ROWS[name](_snapshot(results, sample)):
-            yield [sample.index, sample.value, *row]
+        snapshot = _snapshot(results, sample)
+        table = state_table(
+            name, snapshot.structure, snapshot.sliders, snapshot.supports, selection
+        )
+        head = f"{sample.index},{cell(sample.value)}"
+        labels = [quote(label) for label in table.labels]
+        body = lines(table.values(snapshot), table.blank)
+        for label, line in zip(labels, body, strict=True):
+            yield f"{head},{label},{line}" if table.blank.shape[1] else f"{head},{label}"
 
 
 def _converged(results: Results) -> Iterator[Sample]:
@@ -95,13 +115,20 @@ def _solved(sample: Sample) -> tuple[SliderStatics, SliderSolution]:
     return sample.statics, sample.solution
 
 
-def write_table(results: Results, name: str, path: Path) -> None:
-    """Write the table ``name`` of ``results`` to ``path``."""
+def write_table(
+    results: Results, name: str, path: Path, selection: Selection | None = None
+) -> None:
+    """Write the table ``name`` of ``results`` to ``path``: the rows and columns of
+    ``selection`` (default all)."""
+    model = results.model
+    header = COLUMNS[name][:2] + (
+        COLUMNS[name][2:]
+        if name == "samples"
+        else state_table(name, model.structure, model.sliders, model.held(), selection).columns
+    )
     with open(path, "w", newline="") as handle:
-        writer = csv.writer(handle)
-        writer.writerow(COLUMNS[name])
-        for row in _rows(results, name):
-            writer.writerow([cell(v) for v in row])
+        csv.writer(handle).writerow(header)
+        handle.writelines(line + "\r\n" for line in _lines(results, name, selection))
 
 
 def write_results(results: Results, out: str | Path, tables: Sequence[str] | None = None) -> None:
@@ -109,6 +136,7 @@ def write_results(results: Results, out: str | Path, tables: Sequence[str] | Non
     directory that replaces ``out`` whole."""
     output = results.scene.output
     tables = output.csv if tables is None else tables
+    selections = results.model.selections()
     converged = list(_converged(results))
     rendered = {"none": [], "last": converged[-1:], "all": converged}[output.png]
     if rendered and importlib.util.find_spec("pyvista") is None:
@@ -117,9 +145,13 @@ def write_results(results: Results, out: str | Path, tables: Sequence[str] | Non
     def fill(directory: Path) -> None:
         (directory / "scene.toml").write_text(dump_scene(results.scene))
         for name in tables:
-            write_table(results, name, directory / f"{name}.csv")
+            write_table(results, name, directory / f"{name}.csv", selections.get(name))
         if output.vtu:
-            write_series(directory / "states", (_frame(s, converged) for s in converged))
+            write_series(
+                directory / "states",
+                (_frame(s, converged) for s in converged),
+                fields=output.vtu_fields,
+            )
         for sample in rendered:
             _render(sample, directory / f"render_{sample.index:06d}.png", results.scene.title)
 

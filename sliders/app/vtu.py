@@ -58,8 +58,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from fvbeam.io import replace_directory, write_atomic
+from fvbeam.names import suggest
 from fvbeam.structure import Structure
 from sliders.app.motion import rigid_motion
+from sliders.app.state_tables import contact_point
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
 
@@ -77,6 +79,33 @@ FLOAT_CELL_FIELDS = {
     "couple": 3,
 }
 INT_CELL_FIELDS = ("part", "id", "element")
+#: The fields a VTU may be asked for (``fields``); ``radius``, ``part``, ``id``, ``element``
+#: and ``xi`` are always written.
+FIELDS = (
+    "displacement",
+    "rigid_displacement",
+    "elastic_displacement",
+    "rotation",
+    "force",
+    "moment",
+    "force_global",
+    "moment_global",
+    "reaction",
+    "couple",
+)
+ALWAYS = ("radius", *INT_CELL_FIELDS, "xi")
+
+
+def check_fields(fields: Sequence[str] | None) -> set[str]:
+    """The VTU fields asked for (None: all), or ``ValueError`` naming an unknown one."""
+    if fields is None:
+        return set(FIELDS)
+    for i, name in enumerate(fields):
+        if name not in FIELDS:
+            raise ValueError(
+                f"fields[{i}] = {name!r}: must be one of {', '.join(FIELDS)}{suggest(name, FIELDS)}"
+            )
+    return set(fields)
 
 
 def structure_size(structure: Structure) -> float:
@@ -145,16 +174,6 @@ def check_solution(
             )
         ys.append(y)
     return q, ys
-
-
-def contact_point(slider: Slider, q: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Reference point and displacement of the line at the slider's ``xi``; their sum is
-    the deformed contact point ``x(xi)``."""
-    xi = float(y[0])
-    if isinstance(slider.line, BeamChain):
-        interp = slider.line.interpolation(xi)
-        return interp.N @ interp.X, interp.N @ q[interp.dofs]
-    return slider.line.at(xi).x, np.zeros(3)
 
 
 def slider_couple(slider: Slider, structure: Structure, q: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -242,7 +261,8 @@ class _Blocks:
                 np.broadcast_to(cell_data.get(name, np.nan), shape).astype(float)
             )
 
-    def mesh(self) -> meshio.Mesh:
+    def mesh(self, fields: set[str]) -> meshio.Mesh:
+        """The mesh with the ``fields`` asked for, and those always written."""
         displacement, rigid = np.vstack(self.displacement), np.vstack(self.rigid)
         point_data = {
             "displacement": displacement,
@@ -251,8 +271,12 @@ class _Blocks:
             "rotation": np.vstack(self.rotation),
             "radius": np.concatenate(self.radius),
         }
+        keep = fields | set(ALWAYS)
         return meshio.Mesh(
-            np.vstack(self.points), self.cells, point_data=point_data, cell_data=self.data
+            np.vstack(self.points),
+            self.cells,
+            point_data={k: v for k, v in point_data.items() if k in keep},
+            cell_data={k: v for k, v in self.data.items() if k in keep},
         )
 
 
@@ -263,6 +287,7 @@ def to_meshio(
     unknowns: Sequence[np.ndarray] = (),
     radius: float | Sequence[float] | None = None,
     held: ArrayLike | None = None,
+    fields: Sequence[str] | None = None,
 ) -> meshio.Mesh:
     """The solved structure as a meshio mesh (layout and fields: module docstring).
 
@@ -285,11 +310,18 @@ def to_meshio(
     held
         The global dofs the supports and dof drives hold, for the rigid part of the motion
         (:func:`rigid_part`); ``None``: no rigid part.
+    fields
+        The fields to write (:data:`FIELDS`; None: all), besides ``radius``, ``part``,
+        ``id``, ``element`` and ``xi``: what none of them needs is not computed (the rigid
+        part of the motion, the internal forces, the sliders' couples).
     """
     structure, q, sliders, unknowns, held = _solved(structure, q, sliders, unknowns, held)
     q, ys = check_solution(structure, q, sliders, unknowns)
+    asked = check_fields(fields)
     radii, marker = tube_radii(structure, radius)
-    q_rigid = rigid_part(structure, q, sliders, ys, held)
+    split = bool(asked & {"rigid_displacement", "elastic_displacement"})
+    q_rigid = rigid_part(structure, q, sliders, ys, held) if split else np.zeros_like(q)
+    forces_asked = bool(asked & {"force", "moment", "force_global", "moment_global"})
     blocks = _Blocks()
     for b, (beam, dofs, r) in enumerate(
         zip(structure.beams, structure.dof_maps, radii, strict=True)
@@ -307,23 +339,30 @@ def to_meshio(
             id=b,
             element=np.arange(mesh.n_elements),
         )
-        forces = beam.internal_forces(q_beam)
-        e, X = mesh.locate(forces.xi)
+        xi = beam.recovery_abscissae
+        e, X = mesh.locate(xi)
+        forces = beam.internal_forces(q_beam) if forces_asked else None
         blocks.add(
             "vertex",
             np.arange(len(e))[:, None],
             mesh.positions(e, X),
-            beam.displacements(q_beam, forces.xi),
-            beam.displacements(rigid_beam, forces.xi)[:, :3],
+            beam.displacements(q_beam, xi),
+            beam.displacements(rigid_beam, xi)[:, :3],
             r,
             part=PARTS["evaluation point"],
             id=b,
             element=e,
-            xi=forces.xi,
-            force=forces.force,
-            moment=forces.moment,
-            force_global=forces.force_global,
-            moment_global=forces.moment_global,
+            xi=xi,
+            **(
+                {}
+                if forces is None
+                else dict(
+                    force=forces.force,
+                    moment=forces.moment,
+                    force_global=forces.force_global,
+                    moment_global=forces.moment_global,
+                )
+            ),
         )
     if sliders:
         contact = [contact_point(s, q, y) for s, y in zip(sliders, ys, strict=True)]
@@ -346,6 +385,8 @@ def to_meshio(
             reaction=np.array([y[1:4] for y in ys]),
             couple=np.array(
                 [slider_couple(s, structure, q, y) for s, y in zip(sliders, ys, strict=True)]
+                if "couple" in asked
+                else np.nan
             ),
         )
     if structure.bodies:
@@ -359,7 +400,7 @@ def to_meshio(
             part=PARTS["body"],
             id=np.arange(len(structure.bodies)),
         )
-    return blocks.mesh()
+    return blocks.mesh(asked)
 
 
 def write_vtu(
@@ -370,6 +411,7 @@ def write_vtu(
     unknowns: Sequence[np.ndarray] = (),
     radius: float | Sequence[float] | None = None,
     held: ArrayLike | None = None,
+    fields: Sequence[str] | None = None,
 ) -> None:
     """Write the solved structure to the VTU file ``path`` atomically
     (:func:`fvbeam.io.write_atomic`); arguments as :func:`to_meshio`, e.g.
@@ -377,7 +419,7 @@ def write_vtu(
     path = Path(path)
     if path.suffix != ".vtu":
         raise ValueError(f"path {str(path)!r} must end in .vtu")
-    mesh = to_meshio(structure, q, sliders, unknowns, radius, held)
+    mesh = to_meshio(structure, q, sliders, unknowns, radius, held, fields)
     write_atomic(path, lambda tmp: meshio.write(tmp, mesh, file_format="vtu"))
 
 
@@ -505,10 +547,14 @@ def _solved(
 
 
 def write_series(
-    directory: str | Path, frames: Iterable[Frame], radius: float | Sequence[float] | None = None
+    directory: str | Path,
+    frames: Iterable[Frame],
+    radius: float | Sequence[float] | None = None,
+    fields: Sequence[str] | None = None,
 ) -> Path:
     """Write a whole series: ``directory/NAME.pvd`` (``NAME`` the directory's name) and one
-    ``directory/step_NNNNNN.vtu`` per frame, in frame order.
+    ``directory/step_NNNNNN.vtu`` per frame, in frame order, with the ``fields`` asked for
+    (:func:`to_meshio`).
 
     The files are written into a new temporary directory, which then takes the place of
     ``directory`` as a whole (:func:`fvbeam.io.replace_directory`): an error or an
@@ -518,6 +564,7 @@ def write_series(
     """
     directory = Path(directory)
     index = directory / f"{directory.name}.pvd"
+    check_fields(fields)
 
     def write(tmp: Path) -> None:
         steps = []
@@ -526,7 +573,14 @@ def write_series(
                 raise ValueError(f"frames[{k}] must be a Frame, got {type(frame).__name__}")
             file = tmp / f"step_{k:06d}.vtu"
             write_vtu(
-                file, frame.structure, frame.q, frame.sliders, frame.unknowns, radius, frame.held
+                file,
+                frame.structure,
+                frame.q,
+                frame.sliders,
+                frame.unknowns,
+                radius,
+                frame.held,
+                fields,
             )
             steps.append((frame.time, file))
         write_pvd(tmp / index.name, steps)

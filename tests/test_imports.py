@@ -1,0 +1,70 @@
+"""What a command imports: ``import sliders`` and ``import fvbeam`` load a public name's module
+on its first use (PEP 562), so ``fvslider --help`` loads none of the numerical libraries and
+``fvslider check`` neither plotting nor rendering.
+
+Each case runs in a fresh interpreter (a subprocess: this one has imported everything) and
+reads ``sys.modules`` at its end.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+from test_scenes import SCENES
+
+import fvbeam
+import sliders
+
+HEAVY = ("numba", "scipy", "skfem", "pydantic", "numpy", "meshio", "matplotlib", "pyvista")
+
+
+def loaded(code: str) -> set[str]:
+    """The packages of :data:`HEAVY` that ``code`` leaves imported, in a fresh interpreter."""
+    script = f"""
+import json, sys
+{code}
+print(json.dumps(sorted({{m.split(".")[0] for m in sys.modules}} & set({list(HEAVY)!r}))))
+"""
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, check=True
+    )
+    return set(json.loads(done.stdout.splitlines()[-1]))
+
+
+def test_help_imports_no_numerical_library():
+    code = """
+from sliders.app.cli import main
+try:
+    main(["--help"])
+except SystemExit:
+    pass
+"""
+    assert loaded(code) == set()
+
+
+def test_the_packages_import_their_names_when_used():
+    assert loaded("import sliders, fvbeam") == set()
+    assert "scipy" in loaded("import fvbeam; fvbeam.Beam")
+
+
+@pytest.mark.parametrize("scene", ["pushed_body.toml", "arch.toml"])
+def test_check_imports_no_plotting_or_rendering(scene, tmp_path):
+    code = f"""
+from sliders.app.cli import main
+assert main(["check", {str(SCENES / scene)!r}, "--out", {str(tmp_path / "out")!r}]) == 0
+"""
+    imported = loaded(code)
+    assert "pydantic" in imported  # it did validate
+    assert not imported & {"matplotlib", "pyvista"}
+
+
+@pytest.mark.parametrize("package", [sliders, fvbeam], ids=lambda p: p.__name__)
+def test_every_public_name_resolves(package):
+    assert set(package.__all__) <= set(dir(package))
+    for name in package.__all__:
+        assert getattr(package, name) is not None, name
+    with pytest.raises(AttributeError, match="has no attribute 'nothing'"):
+        package.nothing  # noqa: B018
