@@ -29,6 +29,7 @@ from __future__ import annotations
 import argparse
 import time
 from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -39,6 +40,7 @@ from sliders.app.run import run
 from sliders.app.scene import load_scene, parse_scene
 from sliders.sliding_beams.exact import sliding_beams
 from sliders.sliding_beams.model import PAPER, SlidingBeams
+from sliders.solve.statics import SliderSolution, SliderStatics
 
 from . import moving_load as ml
 from .bench import environment, read_existing, write_merged
@@ -68,16 +70,7 @@ def static_solve(solves: int = 200) -> list[dict[str, Any]]:
         statics.solve(f)  # set up: factorisation, compiled loop, columns
         exact = sliding_beams(s * L, L, PAPER.EJ, PAPER.GA, kind)["k_norm"]
         for start in ("cold", "warm"):
-            last = statics.solve(f)
-
-            def solve_all(start: str = start) -> Any:
-                nonlocal last
-                for i in range(solves):
-                    load = f * (1.0 + 1e-3 * i)
-                    begin = None if start == "cold" else (last.q, last.unknowns)
-                    last = statics.solve(load, start=begin)
-                return last
-
+            solve_all = partial(_solves, statics, f, start, solves)
             solution, cpu, wall = timed(solve_all)
             k = model.tip_stiffness(statics, solution) * (1.0 + 1e-3 * (solves - 1))
             rows.append(
@@ -96,6 +89,16 @@ def static_solve(solves: int = 200) -> list[dict[str, Any]]:
                 flush=True,
             )
     return rows
+
+
+def _solves(statics: SliderStatics, f: np.ndarray, start: str, solves: int) -> SliderSolution:
+    """``solves`` solves of ``statics`` under ``f`` scaled a little more each time, from the
+    projected start (``cold``) or from the last solution (``warm``); the last solution."""
+    last = statics.solve(f)
+    for i in range(solves):
+        begin = None if start == "cold" else (last.q, last.unknowns)
+        last = statics.solve(f * (1.0 + 1e-3 * i), start=begin)
+    return last
 
 
 def telescope() -> dict[str, Any]:
