@@ -430,7 +430,9 @@ def evaluate_joint(
     n_load, n_rot = hd[LOAD], hd[ROTATION]
     xi_raw = y[0]
     xi = min(max(xi_raw, 0.0), length) if hd[END_STOPS] else xi_raw
-    if not (0.0 <= xi <= length):
+    # within 1e-12 of the length beyond an end is at the end (fvbeam.geometry.locate_abscissa)
+    tie = 1e-12 * length
+    if not (-tie <= xi <= length + tie):
         return 1
     start, size, where = _f1(I, d[START]), _f1(I, d[SIZE]), _f2(I, d[WHERE])
     body = _f2(I, d[BODY])
@@ -547,7 +549,8 @@ def evaluate_joint(
         tangent_flat = tangent_dofs.reshape((1, tangent_dofs.shape[1] * 3))
     else:
         derivatives = np.empty((4, 3))
-        line_at(hd[SHAPE], _f1(F, d[LINE_PARAMS]), _f1(F, d[LINE_BREAKS]), xi, derivatives)
+        at = min(max(xi, 0.0), length)  # a rigid line is read at the end (RigidLine.at)
+        line_at(hd[SHAPE], _f1(F, d[LINE_PARAMS]), _f1(F, d[LINE_BREAKS]), at, derivatives)
         x[0], l[0], l_xi[0], l_xixi[0] = (
             derivatives[0],
             derivatives[1],
