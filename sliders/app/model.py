@@ -29,7 +29,7 @@ from fvbeam import Beam, BeamMesh, RigidBody, Section, Structure, Support, arc, 
 from fvbeam.mechanism import rigid_modes, unresisted
 from fvbeam.names import suggest
 from fvbeam.smearing import check_smearing
-from fvbeam.support import DOF_NAMES
+from fvbeam.support import DOF_NAMES, complement
 from sliders.app.checks import SELECTED, part_of, tied_parts
 from sliders.app.errors import Problems
 from sliders.app.history import history_columns
@@ -363,7 +363,7 @@ class Model:
             supports += [Support.at(d.node, d.dof) for d in self.scene.drive if d.kind == "dof"]
             remedy = START_REMEDY if study.restart is None else MASSLESS_REMEDY
         n = self.structure.n_dofs
-        free = np.setdiff1d(np.arange(n), self.structure.support_dofs(supports))
+        free = complement(n, self.structure.support_dofs(supports))
         modes = rigid_modes(self.structure, free)
         if isinstance(study, DynamicStudy) and study.restart is not None and modes.k:
             modes = unresisted(modes, self.structure.mass(study.mass)[free][:, free])

@@ -29,6 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from fvbeam.io import OUTPUT_MARKER, replace_directory
+from fvbeam.support import complement
 from sliders.app.checkpoint import Checkpoints
 from sliders.app.history import Recorder
 from sliders.app.model import Model
@@ -118,7 +119,7 @@ def integrate(
         every=study.every if (output.vtu or output.png == "all") else 0,
         history=output.history,
     )
-    held = np.setdiff1d(np.arange(model.structure.n_dofs), dynamics.free)
+    held = complement(model.structure.n_dofs, dynamics.free)
     outcome = DynamicRun(model, recorder, held)
     period = study.checkpoint or CheckpointSpec()
     cursor = None

@@ -43,7 +43,7 @@ from tqdm.auto import tqdm
 from fvbeam.geometry import vector3
 from fvbeam.mechanism import rigid_modes, unresisted
 from fvbeam.structure import Structure
-from fvbeam.support import DOF_NAMES, Support
+from fvbeam.support import DOF_NAMES, Support, complement
 from sliders.forces.elements import ForceElement
 from sliders.joints.drives import DofDrive
 from sliders.joints.packed import JointPack
@@ -202,7 +202,7 @@ class Dynamics:
         if clash.size or len(np.unique(self.driven)) < len(self.driven):
             name = structure.dof_name(clash[0] if clash.size else self.driven[0])
             raise ValueError(f"{name} is driven twice, or driven and supported")
-        self.free = np.setdiff1d(np.arange(n), np.union1d(fixed, self.driven))
+        self.free = complement(n, np.concatenate([fixed, self.driven]))
         self._operators: dict = {}
         self._linear: dict[float, tuple] = {}  # the compiled problems without sliders, per h
         self._pack: JointPack | None = None  # the joints, packed (joint_residuals)

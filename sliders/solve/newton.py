@@ -62,6 +62,14 @@ class Moved(Diagnosis, Protocol):
 #: Columns of the inverse kept beyond what one iteration needs, on problems too large to
 #: keep every column (above :data:`sliders.solve.condensed.DENSE_LIMIT` unknowns).
 SPARE_COLUMNS = 64
+#: The most memory the columns of the inverse may take (bytes): a column is as long as the
+#: problem, so joints on a mesh of a million dofs would need gigabytes; the bordered back end
+#: (one factorisation per step, no columns) takes such problems (``auto`` falls back to it).
+COLUMN_BYTES = 256 * 2**20
+
+
+class ColumnStorageError(ValueError):
+    """The condensed back end's columns would not fit :data:`COLUMN_BYTES`."""
 
 
 class CompiledNewton:
@@ -136,6 +144,12 @@ class CompiledNewton:
         self.nc = nc
         n_free, k = len(self.free), self.phi.shape[1]
         capacity = n_free if n_free + k <= DENSE_LIMIT else len(self.force_slots) + SPARE_COLUMNS
+        if capacity * (n_free + k) * 8 > COLUMN_BYTES:
+            raise ColumnStorageError(
+                f"the condensed back end would keep {capacity} columns of {n_free + k} "
+                f"unknowns ({capacity * (n_free + k) * 8 / 2**30:.1f} GiB): solve with "
+                "method='bordered'"
+            )
         self.store = np.zeros((max(capacity, 1), n_free + k))
         self.column = np.full(n_free, -1, dtype=np.int64)
         self.count = np.zeros(1, dtype=np.int64)

@@ -41,7 +41,7 @@ from fvbeam.mechanism import (
     unresisted,
 )
 from fvbeam.structure import Structure
-from fvbeam.support import Support
+from fvbeam.support import Support, complement
 from sliders.forces.elements import ForceElement
 from sliders.joints.slider import Slider, SliderBatch
 from sliders.solve.condensed import SINGULAR_RCOND, CondensedOperator
@@ -52,7 +52,7 @@ from sliders.solve.mechanism import (
     joint_parts,
     member_parts,
 )
-from sliders.solve.newton import CompiledNewton
+from sliders.solve.newton import ColumnStorageError, CompiledNewton
 
 METHODS = ("auto", "bordered", "condensed")
 
@@ -128,11 +128,12 @@ class SliderStatics:
             self.K = (
                 structure.tangent(np.zeros(structure.n_dofs)) if operator is None else operator
             ).tocsr()
-            self.free = np.setdiff1d(np.arange(structure.n_dofs), fixed)
+            self.free = complement(structure.n_dofs, fixed)
             self._position = np.full(structure.n_dofs, -1)
             self._position[self.free] = np.arange(len(self.free))
             self.K_free = self.K[self.free][:, self.free].tocoo()
             self._condensed = None
+        self._auto = method == "auto"
         if method == "auto":
             method = self.method = self._automatic()
         if method == "condensed" and self._condensed is None:
@@ -145,7 +146,9 @@ class SliderStatics:
         factorisation kept for the problem's life) when the operator bordered by the free
         parts' rigid motions is regular, else ``bordered``, which lets the sliders hold a
         mechanism that is no rigid motion of a part; ``bordered`` without sliders (one linear
-        solve)."""
+        solve).  A problem too large for the condensed columns
+        (:class:`~sliders.solve.newton.ColumnStorageError`) turns ``bordered`` at its first
+        solve."""
         if not (self.sliders or self.forces):
             return "bordered"
         if self._condensed is None:
@@ -281,6 +284,11 @@ class SliderStatics:
         read (None: at rest).  The condensed back end runs the compiled loop
         (:class:`sliders.solve.newton.CompiledNewton`), the bordered one
         :func:`newton_many` (for one member)."""
+        if self.method == "condensed" and self._auto:
+            try:
+                _ = self.compiled
+            except ColumnStorageError:  # too large for the columns: auto takes bordered
+                self.method = "bordered"
         if self.method == "condensed":
             if start is None:  # the projection compiled, for every joint at once
                 q = np.zeros(self.structure.n_dofs)
