@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Callable, Sequence
-from functools import partial
+from functools import cached_property, partial
 
 import numpy as np
 
@@ -63,6 +63,7 @@ from sliders.solve.dynamics import Dynamics
 from sliders.solve.integrator import State
 from sliders.solve.jumps import velocity_jumps
 from sliders.solve.mechanism import MASSLESS_REMEDY, REMEDY, free_motion, joint_parts
+from sliders.solve.planar import PLANES, check, check_load, out_of_plane_names
 from sliders.solve.statics import SliderStatics
 
 #: Body-on-line tolerance, relative to the line's size (module docstring).
@@ -562,6 +563,44 @@ class Model:
         )
         return target - slider.reference_point(self.structure)
 
+    @cached_property
+    def plane(self) -> str | None:
+        """The coordinate plane the scene lies in, or None: its nodes, joints and lines, its
+        loads, gravity and driven dofs, the direction its parts move in a sweep and its
+        restart state, with no stiffness or mass coupling the plane's dofs with the others
+        (:func:`sliders.solve.planar.check`).  Its studies then solve on the in-plane dofs
+        (``study.planar``, default true; not with the bordered back end, which cannot pin
+        the joints' out-of-plane reactions)."""
+        study = self.scene.study
+        if not study.planar or study.method == "bordered":
+            return None
+        structure = self.structure
+        matrices = [structure.tangent(np.zeros(structure.n_dofs))]
+        vectors = [("the loads", self.load_vector(structure, None))]
+        if isinstance(study, DynamicStudy):
+            matrices.append(structure.mass(study.mass))
+            if study.gravity is not None:
+                n = structure.n_dofs
+                g = np.tile(np.concatenate([study.gravity, np.zeros(3)]), n // 6)
+                vectors.append(("gravity", g))
+            if self.restart is not None:
+                vectors += [("the restart", self.restart.q), ("the restart", self.restart.v)]
+        drives = self._dof_drives()[1]
+        parameter = study.parameter if isinstance(study, SweepStudy) else None
+        for plane, axis in PLANES.items():
+            try:
+                check(structure, self.sliders, plane, matrices)
+                for what, f in vectors:
+                    check_load(structure, f, plane, what)
+            except ValueError:
+                continue
+            if any(d.dof in out_of_plane_names(axis) for d in drives):
+                continue
+            if isinstance(parameter, Translation) and abs(parameter.direction[axis]) > 0:
+                continue
+            return plane
+        return None
+
     def problem(self, value: float | None = None) -> tuple[SliderStatics, np.ndarray]:
         """The statics and the load vector of the study point ``value`` (``None``: the scene
         as written)."""
@@ -580,7 +619,12 @@ class Model:
             structure = Structure(beams, self.ties, bodies)
             sliders = [self._slider(s, structure) for s in self.scene.slider]
             self._previous = SliderStatics(
-                structure, self.supports, sliders, reuse=self._previous, method=method
+                structure,
+                self.supports,
+                sliders,
+                reuse=self._previous,
+                method=method,
+                plane=self.plane,
             )
         return self._previous, self.load_vector(self._previous.structure, value)
 
@@ -602,6 +646,7 @@ class Model:
             method=study.method,
             tol=study.tol,
             max_iterations=study.max_iterations,
+            plane=self.plane,
         )
 
     # -- outputs -------------------------------------------------------------------------------

@@ -357,11 +357,14 @@ DriveSpec = Annotated[AbscissaDrive | DofDriveSpec, Field(discriminator="kind")]
 
 # -- study ---------------------------------------------------------------------------------------
 class Newton(Table):
-    """Newton options (:func:`sliders.solve.statics.newton_many`)."""
+    """Newton options (:func:`sliders.solve.statics.newton_many`); ``planar``: a scene that
+    lies in a coordinate plane is solved on its in-plane dofs
+    (:attr:`sliders.app.model.Model.plane`)."""
 
     method: Literal["auto", "bordered", "condensed"] = "auto"
     tol: Positive = 1e-8
     max_iterations: Count = 25
+    planar: bool = True
 
 
 class Solver(Newton):

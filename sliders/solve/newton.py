@@ -79,7 +79,8 @@ class CompiledNewton:
     problem's :class:`~sliders.solve.statics.SliderStatics`, whose Python code names what
     makes a solve fail (:attr:`~sliders.solve.statics.SliderStatics.compiled` builds both);
     without it, only :attr:`problem` is of use (a structure without sliders,
-    :mod:`sliders.solve.dynamics_kernel`)."""
+    :mod:`sliders.solve.dynamics_kernel`).  ``forces``: the force elements; ``pinned``: per
+    joint, the unknowns a planar solve pins (:func:`sliders.solve.planar.pinned`)."""
 
     def __init__(
         self,
@@ -91,6 +92,7 @@ class CompiledNewton:
         phi: np.ndarray,
         statics: Diagnosis | None = None,
         forces: Sequence[ForceElement] = (),
+        pinned: Sequence[Sequence[int]] | None = None,
     ) -> None:
         self.statics = statics
         K = sp.csr_matrix(K)
@@ -101,7 +103,7 @@ class CompiledNewton:
         self.position[self.free] = np.arange(len(self.free))
         self.factor = factor.arrays
         self.phi = np.ascontiguousarray(phi, dtype=float).reshape(len(self.free), -1)
-        self.pack = JointPack(sliders, structure)
+        self.pack = JointPack(sliders, structure, pinned)
         tables, c_of, rows, forces_at = [], [], [], []
         at = np.zeros(4, dtype=np.int64)
         nc = 0
