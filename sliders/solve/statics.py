@@ -141,8 +141,8 @@ class SliderStatics:
             self._position[self.free] = np.arange(len(self.free))
             self.K_free = self.K[self.free][:, self.free].tocoo()
             self._condensed = None
-        if plane is not None:
-            check(structure, self.sliders, plane, [self.K])
+        if plane is not None:  # a reused operator's coupling was checked where it was built
+            check(structure, self.sliders, plane, [self.K] if reuse is None else [])
         self._auto = method == "auto"
         if method == "auto":
             method = self.method = self._automatic()
