@@ -30,7 +30,7 @@ integrates it and returns a :class:`~sliders.gear.outputs.GearRun`.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import time
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -38,6 +38,7 @@ import numpy as np
 
 from fvbeam import Beam, RigidBody, Section, Structure, Support, straight
 from sliders.forces.elements import AxialForce, Tyre
+from sliders.gear.outputs import GearRecorder, GearRun
 from sliders.gear.parameters import Gear
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
@@ -186,12 +187,15 @@ class GearModel:
         """The six global dofs of ``node`` (a body's name or ``"C.end"`` and the like)."""
         return self.structure.node_dofs(node)
 
-    def _statics(self, extra: Sequence[Support] = ()) -> SliderStatics:
+    def _statics(self) -> SliderStatics:
+        """The gear hanging from the held airframe, its tyre off the ground (the tyre carries
+        nothing at touchdown, and the axle hangs a few micrometres below its reference
+        height ``R0``: the tyre element is left out)."""
         return SliderStatics(
             self.structure,
-            [Support("airframe"), Support("wheel"), Support("axle", kind="rz"), *extra],
+            [Support("airframe"), Support("wheel"), Support("axle", kind="rz")],
             self.sliders,
-            forces=self.forces,
+            forces=[self.strut],
             method="condensed",
         )
 
@@ -258,3 +262,13 @@ class GearModel:
             damping=beta,
             method="condensed",
         )
+
+    def simulate(self, t_end: float = 0.3, step: float = 1e-4, progress: bool = False) -> GearRun:
+        """Integrate from :meth:`touchdown` to ``t_end`` in fixed steps of about ``step``
+        (generalized-alpha, compiled) and return the outputs
+        (:class:`~sliders.gear.outputs.GearRun`)."""
+        recorder = GearRecorder(self)
+        start = self.touchdown()
+        clock = time.perf_counter()
+        self.dynamics.run(start, t_end, step, recorder=recorder, progress=progress)
+        return recorder.result(time.perf_counter() - clock)
