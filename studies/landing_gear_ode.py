@@ -57,7 +57,7 @@ from sliders.forces.laws import (
     tyre_longitudinal,
     tyre_radial,
 )
-from sliders.gear.parameters import Gear
+from sliders.gear.parameters import ISSUE_14, Gear
 
 #: The issue's output columns (Figure 7 study), in order.
 COLUMNS = (
@@ -280,7 +280,7 @@ def contact(t: float, y: np.ndarray, gear: Gear, friction: bool) -> float:
 
 
 def simulate(
-    gear: Gear = Gear(),
+    gear: Gear = ISSUE_14,
     *,
     friction: bool = False,
     t_end: float = 0.3,

@@ -7,8 +7,9 @@ at full extension).  The parts (``docs/landing_gear.md``, "The flexible models")
 * ``airframe``: a rigid body of mass ``m_a`` at the attachment, free in x and z (``uy`` and
   the rotations supported: no pitch), carrying the lift ``(m_a + m_u) g``;
 * the cylinder ``C`` on ``[0, L]`` below it, its top node tied to the airframe (clamped), and
-  the piston ``P`` on ``[s_ext, s_ext + L]``: light fv3 beams (:data:`LIGHT`) of the tube's section, ``n``
-  elements each; the rigid model scales the section by ``rigid_factor`` (one element each);
+  the piston ``P`` on ``[s_ext, s_ext + L]``: light fv3 beams (:data:`LIGHT`) of the tube's
+  section, ``n`` elements each; the rigid model scales the section by ``rigid_factor`` (one
+  element each);
 * two sliders as in the paper's Figures 3-5: ``top`` (the piston's top node slides on ``C``,
   its abscissa is ``s``) and ``bottom`` (the cylinder's bottom node slides on ``P``);
   classical, or spherical;
@@ -39,7 +40,7 @@ import numpy as np
 from fvbeam import Beam, RigidBody, Section, Structure, Support, straight
 from sliders.forces.elements import AxialForce, Tyre
 from sliders.gear.outputs import GearRecorder, GearRun
-from sliders.gear.parameters import Gear
+from sliders.gear.parameters import ISSUE_14, Gear
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
 from sliders.solve.dynamics import Dynamics
@@ -103,7 +104,7 @@ class GearModel:
     def __init__(
         self,
         model: str,
-        gear: Gear = Gear(),
+        gear: Gear = ISSUE_14,
         *,
         slider: str = "classical",
         smearing: float = 0.01,
@@ -133,19 +134,14 @@ class GearModel:
             EJz=factor * g.EJ,
             mass_per_length=self.tube_mass / g.length,
         )
-        top = np.array([0.0, 0.0, self.top])
-        cylinder = Beam(
-            straight(top, top + g.length * DOWN, self.n_elements, name="C"), section, "fv3"
-        )
-        head = top + g.extension * DOWN
-        piston = Beam(
-            straight(head, head + g.length * DOWN, self.n_elements, name="P"), section, "fv3"
-        )
-        axle = head + g.length * DOWN
+        top, head, bottom = ([0.0, 0.0, self.top - depth] for depth in (0.0, g.extension, g.length))
+        axle = [0.0, 0.0, g.radius]
+        cylinder = Beam(straight(top, bottom, self.n_elements, name="C"), section, "fv3")
+        piston = Beam(straight(head, axle, self.n_elements, name="P"), section, "fv3")
         bodies = [
-            RigidBody("airframe", top, mass=g.airframe_mass - self.tube_mass),
-            RigidBody("axle", axle, mass=g.unsprung_mass - self.tube_mass),
-            RigidBody("wheel", axle, inertia=np.diag([0.0, g.spin_inertia, 0.0])),
+            RigidBody("airframe", np.array(top), mass=g.airframe_mass - self.tube_mass),
+            RigidBody("axle", np.array(axle), mass=g.unsprung_mass - self.tube_mass),
+            RigidBody("wheel", np.array(axle), inertia=np.diag([0.0, g.spin_inertia, 0.0])),
         ]
         self.structure = Structure(
             [cylinder, piston], ties=[("C.start", "airframe"), ("P.end", "axle")], bodies=bodies

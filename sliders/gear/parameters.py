@@ -70,3 +70,7 @@ class Gear:
     def lift(self) -> float:
         """The constant lift ``(m_a + m_u) g`` on the airframe [N]."""
         return self.mass * self.gravity
+
+
+#: Issue 14's gear, as ``Gear()`` (a default argument).
+ISSUE_14 = Gear()
