@@ -259,11 +259,13 @@ class GearModel:
             method="condensed",
         )
 
-    def simulate(self, t_end: float = 0.3, step: float = 1e-4, progress: bool = False) -> GearRun:
+    def simulate(
+        self, t_end: float = 0.3, step: float = 1e-4, progress: bool = False, keep: bool = False
+    ) -> GearRun:
         """Integrate from :meth:`touchdown` to ``t_end`` in fixed steps of about ``step``
         (generalized-alpha, compiled) and return the outputs
-        (:class:`~sliders.gear.outputs.GearRun`)."""
-        recorder = GearRecorder(self)
+        (:class:`~sliders.gear.outputs.GearRun`; with ``keep``, every state too)."""
+        recorder = GearRecorder(self, keep)
         start = self.touchdown()
         clock = time.perf_counter()
         self.dynamics.run(start, t_end, step, recorder=recorder, progress=progress)

@@ -83,8 +83,10 @@ PEAKS = (
 class GearRecorder:
     """Keeps what the outputs need of every state of a run (module docstring)."""
 
-    def __init__(self, model: GearModel) -> None:
+    def __init__(self, model: GearModel, keep: bool = False) -> None:
         self.model = model
+        #: With ``keep``, every state's time, displacements and slider unknowns (a render).
+        self.states: list[tuple[float, np.ndarray, list[np.ndarray]]] | None = [] if keep else None
         s = model.structure
         self.nodes = ("airframe", "axle", "C.start", "P.start")
         self.translations = np.concatenate([s.node_dofs(n)[:3] for n in self.nodes])
@@ -95,9 +97,13 @@ class GearRecorder:
 
     def start(self, dynamics: Dynamics, state: State) -> None:
         self.rows.clear()
+        if self.states is not None:
+            self.states.clear()
         self.record(dynamics, state, state)
 
     def record(self, dynamics: Dynamics, new: State, old: State) -> None:
+        if self.states is not None:
+            self.states.append((new.t, new.q, new.unknowns))
         self.rows.append(
             np.concatenate(
                 [
@@ -162,7 +168,9 @@ class GearRecorder:
             "friction_post": g.bearing_mu * normal,
             "tyre_deflection": deflection,
         }
-        return GearRun(model.model, model.slider_kind, g.radius, t, outputs, iterations, seconds)
+        return GearRun(
+            model.model, model.slider_kind, g.radius, t, outputs, iterations, seconds, self.states
+        )
 
 
 @dataclass
@@ -176,6 +184,8 @@ class GearRun:
     outputs: dict[str, np.ndarray]
     iterations: np.ndarray
     seconds: float = math.nan
+    #: Every step's time, displacements and slider unknowns, when the recorder kept them.
+    states: list[tuple[float, np.ndarray, list[np.ndarray]]] | None = None
     #: Set by the study when the lead's slider friction lands (the "in the dynamics"
     #: column): the peak friction force along the strut in a run with friction.
     friction_dynamic: float = field(default=math.nan)
