@@ -47,6 +47,7 @@ bench: $(VENV)/.installed-all
 	$(BIN)/python -m studies.bench_sweep --out $(RESULTS)/bench.json
 	$(BIN)/python -m studies.bench_dynamics --out $(RESULTS)/bench.json
 	$(BIN)/python -m studies.bench_outputs --out $(RESULTS)/bench.json
+	$(BIN)/python -m studies.bench_landing_gear --out $(RESULTS)/bench.json
 
 clean:
 	rm -rf $(VENV) $(RESULTS) .pytest_cache .mypy_cache

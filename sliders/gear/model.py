@@ -62,10 +62,14 @@ FRAME = np.column_stack([DOWN, [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
 
 
 def elements(model: str) -> int:
-    """Elements per tube of ``model`` (:data:`MODELS`); the rigid leg has one."""
-    if model not in MODELS:
-        raise ValueError(f"model must be one of {', '.join(MODELS)}, got {model!r}")
-    return 1 if model == "rigid" else int(model.split("-")[1])
+    """Elements per tube of ``model``: one of :data:`MODELS`, or ``fv3-N`` for any ``N >= 1``
+    (a finer mesh, for convergence); the rigid leg has one."""
+    if model == "rigid":
+        return 1
+    kind, _, count = model.partition("-")
+    if kind != "fv3" or not count.isdigit() or int(count) < 1:
+        raise ValueError(f"model must be one of {', '.join(MODELS)} or fv3-N, got {model!r}")
+    return int(count)
 
 
 @dataclass(frozen=True)

@@ -104,16 +104,13 @@ class GearRecorder:
     def record(self, dynamics: Dynamics, new: State, old: State) -> None:
         if self.states is not None:
             self.states.append((new.t, new.q, new.unknowns))
-        self.rows.append(
-            np.concatenate(
-                [
-                    [new.t, new.qdd[self.airframe_x], new.v[self.spin], new.iterations],
-                    self.positions + new.q[self.translations],
-                    new.v[self.translations],
-                    *[np.pad(y, (0, 7 - len(y))) for y in new.unknowns],
-                ]
-            )
-        )
+        row = np.zeros(42)
+        row[:4] = new.t, new.qdd[self.airframe_x], new.v[self.spin], new.iterations
+        row[4:16] = self.positions + new.q[self.translations]
+        row[16:28] = new.v[self.translations]
+        for k, y in enumerate(new.unknowns):  # each slider's [xi, lambda, mu_2, mu_3]
+            row[28 + 7 * k : 28 + 7 * k + len(y)] = y
+        self.rows.append(row)
 
     def close(self) -> None:
         """Nothing is held open."""
