@@ -12,12 +12,14 @@ The columns, at each step (``docs/landing_gear.md``, "Outputs"):
     the fore-aft force of the gear on the airframe, forward positive: ``m_a x_a''`` (the
     airframe's equation of motion; nothing else acts on it fore-aft);
 ``ground_vertical``, ``ground_longitudinal``
-    the tyre's ``F_z`` and ``F_x`` (:func:`sliders.forces.laws.tyre_radial`,
-    :func:`~sliders.forces.laws.tyre_longitudinal`) at the state;
+    the tyre's ``F_z`` and ``F_x`` at the state (:meth:`sliders.forces.elements.Tyre.
+    outputs`);
 ``top_slider``, ``bottom_slider``
-    the magnitude of each slider's reaction force ``lambda`` across the strut's axis;
+    the magnitude of each slider's reaction force ``lambda`` across the strut's axis
+    (its x and y components: the strut is vertical);
 ``stroke``, ``wheel_speed``
-    ``S = s_ext - |x_P.start - x_C.start|`` (the strut element's) and the wheel's spin.
+    ``S = s_ext - |x_P.start - x_C.start|`` (the strut element's) and the wheel's spin
+    (the elements' :meth:`~sliders.forces.elements.ForceElement.outputs`).
 """
 
 from __future__ import annotations
@@ -28,7 +30,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from sliders.forces.laws import tyre_longitudinal, tyre_radial
 from sliders.solve.integrator import State
 
 if TYPE_CHECKING:
@@ -81,22 +82,23 @@ PEAKS = (
 
 
 class GearRecorder:
-    """Keeps what the outputs need of every state of a run (module docstring)."""
+    """Keeps what the outputs need of every state of a run (module docstring): the time,
+    the airframe's fore-aft acceleration, the Newton iterations, the displacements, the
+    velocities and the sliders' unknowns."""
 
     def __init__(self, model: GearModel, keep: bool = False) -> None:
         self.model = model
         #: With ``keep``, every state's time, displacements and slider unknowns (a render).
         self.states: list[tuple[float, np.ndarray, list[np.ndarray]]] | None = [] if keep else None
-        s = model.structure
-        self.nodes = ("airframe", "axle", "C.start", "P.start")
-        self.translations = np.concatenate([s.node_dofs(n)[:3] for n in self.nodes])
-        self.positions = np.concatenate([s.node_position(n) for n in self.nodes])
-        self.spin = int(s.node_dofs("wheel")[4])
-        self.airframe_x = int(s.node_dofs("airframe")[0])
-        self.rows: list[np.ndarray] = []
+        self.airframe_x = int(model.structure.node_dofs("airframe")[0])
+        self.head: list[tuple[float, float, int]] = []
+        self.q: list[np.ndarray] = []
+        self.v: list[np.ndarray] = []
+        self.unknowns: list[np.ndarray] = []
 
     def start(self, dynamics: Dynamics, state: State) -> None:
-        self.rows.clear()
+        for kept in (self.head, self.q, self.v, self.unknowns):
+            kept.clear()
         if self.states is not None:
             self.states.clear()
         self.record(dynamics, state, state)
@@ -104,13 +106,10 @@ class GearRecorder:
     def record(self, dynamics: Dynamics, new: State, old: State) -> None:
         if self.states is not None:
             self.states.append((new.t, new.q, new.unknowns))
-        row = np.zeros(42)
-        row[:4] = new.t, new.qdd[self.airframe_x], new.v[self.spin], new.iterations
-        row[4:16] = self.positions + new.q[self.translations]
-        row[16:28] = new.v[self.translations]
-        for k, y in enumerate(new.unknowns):  # each slider's [xi, lambda, mu_2, mu_3]
-            row[28 + 7 * k : 28 + 7 * k + len(y)] = y
-        self.rows.append(row)
+        self.head.append((new.t, new.qdd[self.airframe_x], new.iterations))
+        self.q.append(new.q)
+        self.v.append(new.v)
+        self.unknowns.append(np.stack(new.unknowns))  # both sliders alike: (2, n_unknowns)
 
     def close(self) -> None:
         """Nothing is held open."""
@@ -118,52 +117,36 @@ class GearRecorder:
     def result(self, seconds: float = math.nan) -> GearRun:
         """The outputs of the states recorded (module docstring)."""
         model, g = self.model, self.model.gear
-        rows = np.array(self.rows)
-        t, accel, spin, iterations = rows[:, 0], rows[:, 1], rows[:, 2], rows[:, 3]
-        x = rows[:, 4:16].reshape(-1, 4, 3)  # airframe, axle, C.start, P.start
-        v = rows[:, 16:28].reshape(-1, 4, 3)
-        top, bottom = rows[:, 28:35], rows[:, 35:42]
-        height, sink = x[:, 1, 2], -v[:, 1, 2]
-        deflection = g.radius - height
-        vertical = tyre_radial(
-            deflection, sink, stiffness=g.tyre_stiffness, damping=g.tyre_damping
-        )[0]
-        longitudinal = tyre_longitudinal(
-            v[:, 1, 0],
-            spin,
-            vertical,
-            radius=g.radius,
-            B=g.B,
-            C=g.C,
-            D=g.D,
-            speed_eps=g.speed_eps,
-        )[0]
-        chord = x[:, 3] - x[:, 2]
-        length = np.linalg.norm(chord, axis=1)
-        across = [np.linalg.norm(y[:, 1:3], axis=1) for y in (top, bottom)]
-        couples = [np.linalg.norm(y[:, 4:6], axis=1) for y in (top, bottom)]
-        normal = across[0] + across[1]
-        airframe_mass = model.structure.bodies[0].mass
+        head = np.array(self.head)
+        t, accel, iterations = head[:, 0], head[:, 1], head[:, 2]
+        q, v, y = np.array(self.q), np.array(self.v), np.array(self.unknowns)
+        tyre = model.tyre.outputs(model.structure, q, v)
+        strut = model.strut.outputs(model.structure, q, v)
+        across = np.linalg.norm(y[:, :, 1:3], axis=2)  # lambda across the strut (x, y)
+        couples = np.linalg.norm(y[:, :, 4:6], axis=2)
+        normal = across.sum(axis=1)
+        s = model.structure
+        airframe, axle = s.node_dofs("airframe"), s.node_dofs("axle")
         outputs = {
-            "attachment_longitudinal": airframe_mass * accel,
-            "ground_vertical": vertical,
-            "ground_longitudinal": longitudinal,
-            "top_slider": across[0],
-            "bottom_slider": across[1],
-            "stroke": g.extension - length,
-            "wheel_speed": spin,
-            "airframe_forward_speed": v[:, 0, 0],
-            "airframe_vertical_speed": v[:, 0, 2],
-            "axle_forward_speed": v[:, 1, 0],
-            "axle_vertical_speed": v[:, 1, 2],
-            "stroke_rate": -np.einsum("ij,ij->i", chord, v[:, 3] - v[:, 2]) / length,
-            "top_xi": top[:, 0],
-            "bottom_xi": bottom[:, 0],
-            "top_couple": couples[0],
-            "bottom_couple": couples[1],
+            "attachment_longitudinal": s.bodies[0].mass * accel,
+            "ground_vertical": tyre["Fz"],
+            "ground_longitudinal": tyre["Fx"],
+            "top_slider": across[:, 0],
+            "bottom_slider": across[:, 1],
+            "stroke": strut["stroke"],
+            "wheel_speed": tyre["spin"],
+            "airframe_forward_speed": v[:, airframe[0]],
+            "airframe_vertical_speed": v[:, airframe[2]],
+            "axle_forward_speed": v[:, axle[0]],
+            "axle_vertical_speed": v[:, axle[2]],
+            "stroke_rate": strut["rate"],
+            "top_xi": y[:, 0, 0],
+            "bottom_xi": y[:, 1, 0],
+            "top_couple": couples[:, 0],
+            "bottom_couple": couples[:, 1],
             "bearing_normal": normal,
             "friction_post": g.bearing_mu * normal,
-            "tyre_deflection": deflection,
+            "tyre_deflection": tyre["deflection"],
         }
         return GearRun(
             model.model, model.slider_kind, g.radius, t, outputs, iterations, seconds, self.states
