@@ -515,8 +515,8 @@ class DynamicStudy(Newton):
     or a saved ``restart`` state) to ``t_end`` (:class:`sliders.solve.dynamics.Dynamics`):
     steps of ``step`` seconds, or ``adaptive`` ones starting there; ``damping`` is the
     stiffness-proportional coefficient (s); ``every``: keep one state in that many for the
-    VTU series and renders; ``checkpoint``: how often ``fvslider run`` saves what ``--resume`` needs (None: the
-    defaults of :class:`CheckpointSpec`, every minute)."""
+    VTU series and renders; ``checkpoint``: how often ``fvslider run`` saves what
+    ``--resume`` needs (None: the defaults of :class:`CheckpointSpec`, every minute)."""
 
     kind: Literal["dynamic"]
     t_end: Positive
