@@ -103,6 +103,10 @@ class GearModel:
         ``zeta`` of the first fore-aft bending mode.
     rigid_factor
         The rigid model's section is the tube's times this factor.
+    strut
+        The strut's lower node: ``head`` (the piston's top, ``extended = s_ext``: the gas
+        pushes the piston's head, along the cylinder) or ``axle`` (the piston's lower end,
+        ``extended = s_ext + L``; for comparison, ``docs/landing_gear.md``).
     """
 
     def __init__(
@@ -114,6 +118,7 @@ class GearModel:
         smearing: float = 0.01,
         damping_ratio: float = 0.0175,
         rigid_factor: float = 1e5,
+        strut: str = "head",
     ) -> None:
         self.model, self.gear, self.n_elements = model, gear, elements(model)
         if slider not in ("classical", "spherical"):
@@ -166,7 +171,15 @@ class GearModel:
             )
             for name, line, body in (("top", "C", "P.start"), ("bottom", "P", "C.end"))
         ]
-        self.strut = AxialForce("C.start", "P.start", g.strut, extended=g.extension, name="strut")
+        if strut not in ("head", "axle"):
+            raise ValueError(f"strut must be 'head' or 'axle', got {strut!r}")
+        self.strut = AxialForce(
+            "C.start",
+            "P.start" if strut == "head" else "axle",
+            g.strut,
+            extended=g.extension + (g.length if strut == "axle" else 0.0),
+            name="strut",
+        )
         self.tyre = Tyre(
             "axle",
             "wheel",
