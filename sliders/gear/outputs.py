@@ -18,8 +18,10 @@ The columns, at each step (``docs/landing_gear.md``, "Outputs"):
     the magnitude of each slider's reaction force ``lambda`` across the strut's axis
     (its x and y components: the strut is vertical);
 ``stroke``, ``wheel_speed``
-    ``S = s_ext - |x_P.start - x_C.start|`` (the strut element's) and the wheel's spin
-    (the elements' :meth:`~sliders.forces.elements.ForceElement.outputs`).
+    the issue's ``S = s_ext - s``, ``s`` the top slider's abscissa on the cylinder (the strut
+    element's stroke ``s_ext - |x_P.start - x_C.start|`` is ``strut_stroke``: shorter by the
+    chord's shortening, second order in the cylinder's slope), and the wheel's spin (the
+    tyre's :meth:`~sliders.forces.elements.ForceElement.outputs`).
 """
 
 from __future__ import annotations
@@ -46,11 +48,13 @@ COLUMNS = (
     "stroke",
     "wheel_speed",
 )
-#: Further outputs: velocities (airframe, axle, stroke rate), the sliders' abscissae and
+#: Further outputs: the strut element's stroke (its chord's), velocities (airframe, axle, the
+#: strut's stroke rate), the sliders' abscissae and
 #: couples (the classical sliders' orientation multipliers), the bearings' normal force
 #: ``|R_top| + |R_bot|`` and its friction ``mu_b N`` (post-processing), and the tyre's
 #: deflection.
 EXTRA = (
+    "strut_stroke",
     "airframe_forward_speed",
     "airframe_vertical_speed",
     "axle_forward_speed",
@@ -133,12 +137,13 @@ class GearRecorder:
             "ground_longitudinal": tyre["Fx"],
             "top_slider": across[:, 0],
             "bottom_slider": across[:, 1],
-            "stroke": strut["stroke"],
+            "stroke": g.extension - y[:, 0, 0],
             "wheel_speed": tyre["spin"],
             "airframe_forward_speed": v[:, airframe[0]],
             "airframe_vertical_speed": v[:, airframe[2]],
             "axle_forward_speed": v[:, axle[0]],
             "axle_vertical_speed": v[:, axle[2]],
+            "strut_stroke": strut["stroke"],
             "stroke_rate": strut["rate"],
             "top_xi": y[:, 0, 0],
             "bottom_xi": y[:, 1, 0],
