@@ -28,15 +28,28 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
+from fvbeam.structure import Structure
+from sliders.forces.elements import AxialForce, Tyre
+from sliders.gear.parameters import Gear
 from sliders.solve.integrator import State
 
 if TYPE_CHECKING:
-    from sliders.gear.model import GearModel
     from sliders.solve.dynamics import Dynamics
+
+
+class Parts(Protocol):
+    """What the recorder reads of a gear model (:class:`sliders.gear.model.GearModel`)."""
+
+    model: str
+    slider_kind: str
+    gear: Gear
+    structure: Structure
+    strut: AxialForce
+    tyre: Tyre
 
 #: The issue's output columns after ``model, t`` (Figure 7 study), in order.
 COLUMNS = (
@@ -90,7 +103,7 @@ class GearRecorder:
     the airframe's fore-aft acceleration, the Newton iterations, the displacements, the
     velocities and the sliders' unknowns."""
 
-    def __init__(self, model: GearModel, keep: bool = False) -> None:
+    def __init__(self, model: Parts, keep: bool = False) -> None:
         self.model = model
         #: With ``keep``, every state's time, displacements and slider unknowns (a render).
         self.states: list[tuple[float, np.ndarray, list[np.ndarray]]] | None = [] if keep else None
