@@ -161,7 +161,7 @@ class Tyre(ForceElement):
     @property
     def axis(self) -> np.ndarray:
         """The wheel's axle direction ``normal x forward``."""
-        return np.cross(np.asarray(self.normal), np.asarray(self.forward))
+        return np.cross(np.asarray(self.normal, dtype=float), np.asarray(self.forward, dtype=float))
 
     def outputs(self, structure: Structure, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
         """The radial force ``Fz`` and the longitudinal ``Fx`` (forward positive) on the axle,

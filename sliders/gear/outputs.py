@@ -51,6 +51,7 @@ class Parts(Protocol):
     strut: AxialForce
     tyre: Tyre
 
+
 #: The issue's output columns after ``model, t`` (Figure 7 study), in order.
 COLUMNS = (
     "attachment_longitudinal",

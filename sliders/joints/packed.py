@@ -25,6 +25,7 @@ reference, to roundoff, for every kind, orientation, line, smearing, end stop an
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Sequence
 
 import numba
@@ -32,10 +33,12 @@ import numpy as np
 
 from fvbeam.smearing import steps
 from fvbeam.structure import Structure
+from sliders.joints.blocks import SlotJacobian
 from sliders.joints.kernel import GROUPS, KINDS, XI, joint_equations, reach
-from sliders.joints.slider import Slider, SliderBatch, _Layout
-from sliders.lines.batched import KERNEL_RULE
+from sliders.joints.slider import Slider, SliderBatch, _equations, _Layout
+from sliders.lines.batched import KERNEL_RULE, ChainStack
 from sliders.lines.batched_kernel import line_state, reference_line, smeared_transfer
+from sliders.lines.chain import BeamChain
 from sliders.lines.rigid import RigidLine
 from sliders.lines.rigid_kernel import curvature_rate_at, frame_at, line_at
 
@@ -147,7 +150,7 @@ class JointPack:
         self.head = np.zeros((J, HEAD), dtype=np.int64)
         self.values = np.zeros((J, 2))
         self.fields = np.zeros((J, len(FIELDS), 5), dtype=np.int64)
-        self.layouts = []
+        self.layouts: list[tuple[_Layout, SlotJacobian]] = []
         for j, slider in enumerate(self.sliders):
             arrays, head, layout, jacobian = _joint_arrays(slider, structure)
             self.head[j] = head
@@ -162,6 +165,30 @@ class JointPack:
                 sizes[integer] += a.size
         self.floats = np.concatenate(floats) if floats else np.zeros(0)
         self.ints = np.concatenate(ints) if ints else np.zeros(0, dtype=np.int64)
+
+    def moved(self, sliders: Sequence[Slider], structure: Structure) -> JointPack | None:
+        """This pack for ``sliders`` on ``structure`` when they are this pack's moved rigidly
+        (a sweep over positions: the same joints on translated copies of the same beams,
+        :meth:`fvbeam.beam.Beam.translated`), with only the node positions and the sliding
+        points' reference positions read anew; None when they are not (build a new pack)."""
+        sliders = list(sliders)
+        if len(sliders) != len(self.sliders):
+            return None
+        for new, old in zip(sliders, self.sliders, strict=True):
+            if not _moved(new, old):
+                return None
+        out = copy.copy(self)
+        out.sliders = sliders
+        out.floats = self.floats.copy()
+        for j, slider in enumerate(sliders):
+            d = self.fields[j, REFERENCE]
+            reference = structure.node_position(slider.body) + slider.offset
+            out.floats[d[0] : d[0] + 3] = reference
+            if isinstance(slider.line, BeamChain):
+                d = self.fields[j, POINTS]
+                points = np.concatenate([beam.mesh.points for beam in slider.line.beams])
+                out.floats[d[0] : d[0] + points.size] = points.ravel()
+        return out
 
     @property
     def unknowns(self) -> np.ndarray:
@@ -228,7 +255,9 @@ class JointPack:
         return dofs, r, values
 
 
-def _joint_arrays(slider: Slider, structure: Structure) -> tuple[dict, np.ndarray, _Layout, object]:
+def _joint_arrays(
+    slider: Slider, structure: Structure
+) -> tuple[dict, np.ndarray, _Layout, SlotJacobian]:
     """The arrays of :data:`FIELDS` of one joint, its head row, slot layout and Jacobian."""
     batch = SliderBatch([slider], [structure])
     chain = batch.chains
@@ -277,7 +306,27 @@ def _joint_arrays(slider: Slider, structure: Structure) -> tuple[dict, np.ndarra
     return arrays, head, layout, jacobian
 
 
-def _load_slots(chain, smearing: float) -> int:
+def _moved(new: Slider, old: Slider) -> bool:
+    """Whether the joint ``new`` is ``old`` moved rigidly: alike in every option, on the same
+    rigid line or on a chain of translated copies of ``old``'s beams (they share their
+    stiffness and arc lengths, :meth:`fvbeam.beam.Beam.translated`)."""
+    if not (
+        _equations(new) == _equations(old)
+        and new.kind == old.kind
+        and (new.drive is None) == (old.drive is None)
+        and np.array_equal(new.offset, old.offset)
+        and np.array_equal(new.frame, old.frame)
+    ):
+        return False
+    if isinstance(new.line, BeamChain) and isinstance(old.line, BeamChain):
+        return len(new.line.beams) == len(old.line.beams) and all(
+            a.stiffness is b.stiffness and a.mesh.vertex_s is b.mesh.vertex_s
+            for a, b in zip(new.line.beams, old.line.beams, strict=True)
+        )
+    return new.line is old.line
+
+
+def _load_slots(chain: ChainStack, smearing: float) -> int:
     """The most load slots a smeared transfer of half-width ``smearing`` fills on ``chain``
     (:func:`sliders.lines.batched_kernel.smeared_transfer`: six per node of the elements the
     kernel reaches): the kernel's support ``2 smearing`` reaches at most

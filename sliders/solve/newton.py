@@ -17,8 +17,9 @@ Python code on the state where the loop stopped.
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
 import scipy.sparse as sp
@@ -40,8 +41,23 @@ from sliders.solve.newton_kernel import (
     newton,
 )
 
-if TYPE_CHECKING:
-    from sliders.solve.statics import SliderStatics
+
+class Diagnosis(Protocol):
+    """What names a failed solve (:class:`sliders.solve.statics.SliderStatics` is one): its
+    structure and sliders, and the diagnosis of a singular or unconverged step."""
+
+    structure: Structure
+    sliders: list[Slider]
+
+    def _diagnose(self, parts: list, fallback: str, cold: bool) -> str: ...
+
+
+class Moved(Diagnosis, Protocol):
+    """A problem a compiled loop moves to (:meth:`CompiledNewton.moved`): its force
+    elements too."""
+
+    forces: list[ForceElement]
+
 
 #: Columns of the inverse kept beyond what one iteration needs, on problems too large to
 #: keep every column (above :data:`sliders.solve.condensed.DENSE_LIMIT` unknowns).
@@ -53,8 +69,9 @@ class CompiledNewton:
     ``structure``, the operator ``K`` (n, n) with its ``free`` dofs, the ``factor`` of the
     bordered operator on them and the rigid modes ``phi`` that border it.  ``statics``: the
     problem's :class:`~sliders.solve.statics.SliderStatics`, whose Python code names what
-    makes a solve fail (:meth:`of` builds both from it); without it, only :attr:`problem` is
-    of use (a structure without sliders, :mod:`sliders.solve.dynamics_kernel`)."""
+    makes a solve fail (:attr:`~sliders.solve.statics.SliderStatics.compiled` builds both);
+    without it, only :attr:`problem` is of use (a structure without sliders,
+    :mod:`sliders.solve.dynamics_kernel`)."""
 
     def __init__(
         self,
@@ -64,7 +81,7 @@ class CompiledNewton:
         free: np.ndarray,
         factor: Factor,
         phi: np.ndarray,
-        statics: SliderStatics | None = None,
+        statics: Diagnosis | None = None,
         forces: Sequence[ForceElement] = (),
     ) -> None:
         self.statics = statics
@@ -126,7 +143,7 @@ class CompiledNewton:
         self.resolution = 4 * np.finfo(float).eps * max(1.0, np.abs(positions).max())
         self.sizes = [s.n_unknowns for s in sliders]
         #: What :func:`sliders.solve.newton_kernel.newton` reads of the problem, in its order.
-        self.problem = (
+        self.problem: tuple = (
             *self.operator,
             self.free,
             self.position,
@@ -150,22 +167,31 @@ class CompiledNewton:
             self.resolution,
         )
 
-    @classmethod
-    def of(cls, statics: SliderStatics) -> CompiledNewton:
-        """The compiled loop of ``statics`` on its condensed back end."""
-        condensed = statics._condensed
-        if condensed is None:
-            raise ValueError("the compiled Newton step runs on the condensed back end")
-        return cls(
-            statics.structure,
-            statics.sliders,
-            statics.K,
-            statics.free,
-            condensed.factor,
-            condensed.phi,
-            statics,
-            statics.forces,
+    def moved(self, statics: Moved) -> CompiledNewton | None:
+        """This loop for ``statics``, a problem on the same operator whose joints are this
+        one's moved rigidly (:meth:`sliders.joints.packed.JointPack.moved`): everything
+        shared but the joints' positions and the force elements' constants; None when the
+        joints are not this loop's moved (build it anew)."""
+        pack = self.pack.moved(statics.sliders, statics.structure)
+        if pack is None or len(statics.forces) != len(self.elements[0]):
+            return None
+        out = copy.copy(self)
+        out.statics, out.pack = statics, pack
+        packed = [e.packed(statics.structure) for e in statics.forces]
+        out.elements = (
+            *self.elements[:2],
+            np.concatenate([np.zeros(0)] + packed),
+            self.elements[3],
         )
+        F, element_values = 13, 17  # their places in the problem tuple
+        out.problem = (
+            *self.problem[:F],
+            pack.floats,
+            *self.problem[F + 1 : element_values],
+            out.elements[2],
+            *self.problem[element_values + 1 :],
+        )
+        return out
 
     def solve(
         self,

@@ -124,6 +124,7 @@ class SliderStatics:
             self.K, self.free, self.K_free = reuse.K, reuse.free, reuse.K_free
             self._position, self._condensed = reuse._position, reuse._condensed
         else:
+            reuse = None
             self.K = (
                 structure.tangent(np.zeros(structure.n_dofs)) if operator is None else operator
             ).tocsr()
@@ -136,6 +137,8 @@ class SliderStatics:
             method = self.method = self._automatic()
         if method == "condensed" and self._condensed is None:
             self._condensed = CondensedOperator(self.K, self.free, self.rigid.phi)
+        if reuse is not None and reuse._compiled is not None and method == reuse.method:
+            self._compiled = reuse._compiled.moved(self)
 
     def _automatic(self) -> str:
         """The back end ``auto`` takes: ``condensed`` (the compiled Newton loop on a
@@ -282,7 +285,8 @@ class SliderStatics:
             if start is None:
                 q = np.zeros(self.structure.n_dofs)
                 start = (q, self.initial_unknowns(q))
-            return self.compiled.solve(f, *start, tol, max_iterations, time, scale, velocity)
+            q0, unknowns = start
+            return self.compiled.solve(f, q0, unknowns, tol, max_iterations, time, scale, velocity)
         if self.forces:
             raise ValueError(
                 "force elements run on the condensed back end (method 'condensed' or 'auto')"
@@ -295,7 +299,19 @@ class SliderStatics:
         """The compiled Newton loop of this problem (condensed back end), built when first
         asked for."""
         if self._compiled is None:
-            self._compiled = CompiledNewton.of(self)
+            condensed = self._condensed
+            if condensed is None:
+                raise ValueError("the compiled Newton step runs on the condensed back end")
+            self._compiled = CompiledNewton(
+                self.structure,
+                self.sliders,
+                self.K,
+                self.free,
+                condensed.factor,
+                condensed.phi,
+                self,
+                self.forces,
+            )
         return self._compiled
 
     def _linear(self, f: np.ndarray) -> tuple[np.ndarray, list, list[float]]:
