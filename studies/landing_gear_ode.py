@@ -57,20 +57,11 @@ from sliders.forces.laws import (
     tyre_longitudinal,
     tyre_radial,
 )
+from sliders.gear import outputs as gear_outputs
 from sliders.gear.parameters import ISSUE_14, Gear
 
 #: The issue's output columns (Figure 7 study), in order.
-COLUMNS = (
-    "model",
-    "t",
-    "attachment_longitudinal",
-    "ground_vertical",
-    "ground_longitudinal",
-    "top_slider",
-    "bottom_slider",
-    "stroke",
-    "wheel_speed",
-)
+COLUMNS = ("model", "t", *gear_outputs.COLUMNS)
 #: State names, in the order of ``y``.
 STATES = (
     "x",
@@ -88,7 +79,7 @@ STATES = (
 #: Typical size of each state, the scale of its absolute tolerance (``atol = rtol * SCALE``).
 SCALE = np.array([10.0, 1.0, 0.1, 40.0, 3.0, 3.0, 180.0, 1e3, 1e3, 1e3, 1e3])
 #: Spin-up: the wheel reaches this fraction of the rolling speed u / R0 (issue 14).
-SPIN_UP = 0.99
+SPIN_UP = gear_outputs.SPIN_UP
 
 
 def bearing_reactions(
@@ -325,16 +316,7 @@ def peak(run: Run, name: str) -> tuple[float, float]:
 
 
 #: The outputs whose peaks :func:`summary` reports.
-PEAKS = (
-    "ground_vertical",
-    "ground_longitudinal",
-    "attachment_longitudinal",
-    "top_slider",
-    "bottom_slider",
-    "stroke",
-    "friction_post",
-    "friction_dynamic",
-)
+PEAKS = (*gear_outputs.PEAKS, "friction_dynamic")
 
 
 def summary(run: Run) -> dict[str, float]:

@@ -17,21 +17,12 @@ import pytest
 from fvbeam import RigidBody, Structure, Support
 from sliders.forces.elements import AxialForce, Tyre
 from sliders.forces.kernel import evaluate_element, reference
-from sliders.forces.laws import Strut
+from sliders.gear.parameters import ISSUE_14
 from sliders.solve.dynamics import Dynamics
 from sliders.solve.statics import SliderStatics
 
 EPS = np.finfo(float).eps
-STRUT = Strut(
-    area=1.6e-3,
-    pressure=4.1e5,
-    volume=2.8e-4,
-    exponent=1.3,
-    compression=5000.0,
-    rebound=20000.0,
-    stop_stiffness=1e8,
-    stroke_max=0.16,
-)
+STRUT = ISSUE_14.strut
 TYRE = dict(radius=0.22, stiffness=2.5e5, damping=250.0, B=10.0, C=1.65, D=0.8)
 
 
