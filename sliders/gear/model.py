@@ -213,19 +213,22 @@ class GearModel:
         )
 
     @cached_property
+    def loads(self) -> np.ndarray:
+        """Lift and gravity (``M g``) as one load vector."""
+        g = np.concatenate([self.gravity, np.zeros(3)])
+        return self.lift + self.structure.mass("lumped") @ np.tile(g, self.structure.n_nodes)
+
+    @cached_property
     def hanging(self) -> tuple[np.ndarray, list[np.ndarray]]:
         """The gear hanging from the held airframe under gravity and lift, the tyre just off
         the ground: the strut on its extension stop holds the gas preload and the unsprung
         weight (``F_s(S0, 0) = -m_u g``), the tubes strained by it.  Displacements and the
         sliders' unknowns."""
-        weight = self.structure.mass("lumped") @ np.tile(
-            np.concatenate([self.gravity, np.zeros(3)]), self.structure.n_nodes
-        )
-        solution = self._statics().solve(self.lift + weight, load_steps=1)
+        solution = self._statics().solve(self.loads)
         return solution.q, solution.unknowns
 
     def touchdown(self) -> State:
-        """Issue 14's touchdown: :attr:`hanging` moved down rigidly so that the axle is at
+        """Issue 14's touchdown: :attr:`hanging` moved rigidly along z so that the axle is at
         ``z = R0`` (the tyre just touching), every part moving at ``sink`` down and
         ``forward`` on, the wheel still; accelerations zero (the hanging state is a
         balance: lift equals the weight, and the tyre carries nothing)."""
@@ -252,10 +255,7 @@ class GearModel:
         statics = self._statics()
         push = 1e3  # N: a tenth of the drag; the response is linear in it
         unit = self.structure.nodal_load("axle", (push, 0.0, 0.0))
-        base = self.lift + self.structure.mass("lumped") @ np.tile(
-            np.concatenate([self.gravity, np.zeros(3)]), self.structure.n_nodes
-        )
-        loaded = statics.solve(base + unit, start=(q, unknowns))
+        loaded = statics.solve(self.loads + unit, start=(q, unknowns))
         k = push / (loaded.q[self.dofs("axle")[0]] - q[self.dofs("axle")[0]])
         g = self.gear
         return Mode(k, float(np.sqrt(k * (1 / g.airframe_mass + 1 / g.unsprung_mass))))
