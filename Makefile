@@ -7,7 +7,7 @@ RESULTS ?= results
 # Mesa's EGL vendor library and Mesa's software rasteriser (llvmpipe).
 RENDER_DEBS := libegl1 libegl-mesa0 libgl1-mesa-dri
 
-.PHONY: demo test bench clean render-libs
+.PHONY: demo test bench work-precision clean render-libs
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV) || { \
@@ -48,6 +48,14 @@ bench: $(VENV)/.installed-all
 	$(BIN)/python -m studies.bench_dynamics --out $(RESULTS)/bench.json
 	$(BIN)/python -m studies.bench_outputs --out $(RESULTS)/bench.json
 	$(BIN)/python -m studies.bench_landing_gear --out $(RESULTS)/bench.json
+
+# Run time against error (docs/performance.md, "Work-precision"): the peer first (Exudyn, the
+# `peer` extra), then our grid, whose tables replace the ones in docs/performance.md.
+work-precision: export OPENBLAS_NUM_THREADS = 1
+work-precision: $(VENV)/.installed-all
+	$(BIN)/python -m pip install -q -e ".[peer]"
+	$(BIN)/python -m studies.peer_moving_load --out $(RESULTS)
+	$(BIN)/python -m studies.work_precision --out $(RESULTS) --docs docs/performance.md
 
 clean:
 	rm -rf $(VENV) $(RESULTS) .pytest_cache .mypy_cache

@@ -16,12 +16,14 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike
 from skfem import CellBasis, MeshLine1, asm
+from skfem.assembly import Dofs
 
+from fvbeam import assembly
 from fvbeam import mass as beam_mass
 from fvbeam.forms import distributed_load, generalised_strain, internal_work
 from fvbeam.formulations import Formulation, composite_gauss
 from fvbeam.formulations import formulation as get_formulation
-from fvbeam.geometry import sized, vector3, wrench
+from fvbeam.geometry import section_frames, sized, vector3, wrench
 from fvbeam.mesh import BeamMesh, shape_functions
 from fvbeam.section import Section
 from fvbeam.smearing import KERNEL_GAUSS_POINTS, check_smearing, density, kernel_breaks
@@ -76,11 +78,7 @@ class Beam:
         self.mesh, self.section, self.formulation = mesh, section, form
         self.skfem_mesh = MeshLine1(mesh.vertex_s[None, :], mesh.cells[:, :2].T.copy())
         self._test_element = form.test_element(mesh)
-        quadrature = form.stiffness_quadrature(self._test_element)
-        self.trial_basis = CellBasis(self.skfem_mesh, form.trial_element(), quadrature=quadrature)
-        self.test_basis = CellBasis(
-            self.skfem_mesh, self._test_element, quadrature=quadrature, disable_doflocs=True
-        )
+        self._quadrature = form.stiffness_quadrature(self._test_element)
         self._mass: dict[str, sp.csr_matrix] = {}
         #: What a rigid translation leaves unchanged and is built on demand (the recovery
         #: map), shared with translated copies (:meth:`translated`).
@@ -116,29 +114,70 @@ class Beam:
         """The six dofs of a mesh node (index, ``'start'`` or ``'end'``)."""
         return 6 * self.node_index(node) + np.arange(6)
 
+    def centreline(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The section frames ``[t, e2, e3]`` (nel, nqp, 3, 3) and the metric ``ds / d xi``
+        (nel, nqp) at reference points X (1, nqp) of every element
+        (:meth:`fvbeam.mesh.BeamMesh.frames`, :meth:`~fvbeam.mesh.BeamMesh.metric`)."""
+        dx = self.mesh.element_tangents(X[0])
+        metric = np.linalg.norm(dx, axis=-1) / self.mesh.element_length[:, None]
+        return section_frames(dx, self.mesh.up), metric
+
     def geometry(self, X: np.ndarray) -> tuple[dict[str, np.ndarray], np.ndarray]:
         """Form fields (tangent, metric, global section stiffness) at reference points X
         (1, nqp), and the section frames there, shape (nel, nqp, 3, 3)."""
-        e = np.repeat(np.arange(self.mesh.n_elements)[:, None], X.shape[-1], axis=1)
-        Xe = np.broadcast_to(X[0], e.shape)
-        dx = self.mesh.tangent_vectors(e, Xe)
-        frames = self.mesh.frames(e, Xe)
+        frames, metric = self.centreline(X)
         C = self.section.global_stiffness(frames)
         return {
-            "t": np.moveaxis(dx / np.linalg.norm(dx, axis=-1, keepdims=True), -1, 0),
-            "metric": self.mesh.metric(e, Xe),
+            "t": np.moveaxis(frames[..., 0], -1, 0),
+            "metric": metric,
             "C": np.moveaxis(C, (-2, -1), (0, 1)),
         }, frames
 
     @cached_property
+    def trial_basis(self) -> CellBasis:
+        """scikit-fem's trial basis on the stiffness quadrature, built when first asked for
+        (the recovery and :meth:`reference_stiffness` read it)."""
+        element = self.formulation.trial_element()
+        return CellBasis(self.skfem_mesh, element, quadrature=self._quadrature)
+
+    @cached_property
+    def test_basis(self) -> CellBasis:
+        """scikit-fem's test basis on the stiffness quadrature, built when first asked for."""
+        return CellBasis(
+            self.skfem_mesh,
+            self._test_element,
+            quadrature=self._quadrature,
+            dofs=self._test_dofs,
+            disable_doflocs=True,
+        )
+
+    @cached_property
+    def _test_dofs(self) -> Dofs:
+        """The test element's global dof numbering (the trial one's, six per node)."""
+        return Dofs(self.skfem_mesh, self._test_element)
+
+    @cached_property
     def _stiffness_geometry(self) -> tuple[dict[str, np.ndarray], np.ndarray]:
         """Geometry at the stiffness quadrature points, which are also the recovery points."""
-        return self.geometry(self.trial_basis.X)
+        return self.geometry(self._quadrature[0])
 
     # -- residual and tangent ------------------------------------------------------------
     @cached_property
     def stiffness(self) -> sp.csr_matrix:
-        """Tangent stiffness K (unsymmetric for fv test functions), assembled once."""
+        """Tangent stiffness K (unsymmetric for fv test functions), assembled once: by the
+        compiled element blocks of :mod:`fvbeam.assembly` for the fv and Galerkin
+        formulations, which equal :meth:`reference_stiffness` to round-off
+        (``tests/test_assembly.py``), otherwise by that method."""
+        if not assembly.compiled(self.formulation):
+            return self.reference_stiffness()
+        frames, metric = self.centreline(self._quadrature[0])
+        return assembly.stiffness(
+            self.mesh, self.formulation, self.section.stiffness, self._quadrature, frames, metric
+        )
+
+    def reference_stiffness(self) -> sp.csr_matrix:
+        """The stiffness by its definition: scikit-fem's ``asm`` of the internal-work form
+        (eq. T3, :func:`fvbeam.forms.internal_work`) on the trial and test bases."""
         K = asm(internal_work, self.trial_basis, self.test_basis, **self._stiffness_geometry[0])
         return sp.csr_matrix(K)
 
@@ -313,7 +352,7 @@ class Beam:
             self._test_element,
             quadrature=(np.tile(points, (copies, 1))[None], np.tile(weights, (copies, 1))),
             elements=np.tile(elements, copies),
-            dofs=self.test_basis.dofs,
+            dofs=self._test_dofs,
             disable_doflocs=True,
         )
 

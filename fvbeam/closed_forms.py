@@ -212,15 +212,18 @@ def moving_load_truncation(
     n_modes: int, L: float, EJ: float, GA: float, m: float, F: float, c: float
 ) -> float:
     """Bound on ``|w - w_N|`` of :func:`moving_load_simply_supported` kept to ``N = n_modes``
-    terms of its remainder series, for every ``x`` and ``0 <= t <= L / c``
-    (``docs/dynamics.md``, "Moving load").  With ``D_j = kappa_j (1 - r_j^2)``,
-    ``G' = GA - m c^2`` and ``r_j`` decreasing in ``j``, the terms beyond ``N`` obey::
+    terms of its remainder series, for every ``x`` and ``t >= 0`` (``docs/dynamics.md``,
+    "Moving load").  With ``D_j = kappa_j (1 - r_j^2)``, ``G' = GA - m c^2`` and ``r_j``
+    decreasing in ``j``, the terms beyond ``N`` obey::
 
         |R_j| = GA^2 / ((GA + EJ k^2) G' D_j)
               <= GA / (G' (1 - r^2)) min(1, GA / (EJ k^2)) (1 / (EJ k^4) + 1 / (GA k^2))
         r_j / |D_j| <= r / (1 - r^2) (1 / (EJ k^4) + 1 / (GA k^2)),     r = r_{N+1}
 
-    summed with :func:`_power_tail` and times ``2 F / L``.  ``inf`` when ``r_{N+1} >= 1``.
+    While the load is on the beam (``t <= L / c``) a term is at most ``|R_j| + r_j / |D_j|``,
+    in the free vibration after it at most ``2 r_j / |D_j|``
+    (:func:`moving_load_modes`); the larger of the two sums, summed with
+    :func:`_power_tail` and times ``2 F / L``.  ``inf`` when ``r_{N+1} >= 1``.
     """
     r = float(_moving_load_modes(np.array(n_modes + 1.0), L, EJ, GA, m, c)[2])
     if r >= 1:
@@ -229,7 +232,8 @@ def moving_load_truncation(
     tail = {p: _power_tail(N, p, L) for p in (2, 4, 6)}
     inverse_kappa = tail[4] / EJ + tail[2] / GA
     quasi_static = min(inverse_kappa, GA * tail[6] / EJ**2 + tail[4] / EJ) / (1 - m * c**2 / GA)
-    return 2 * F / L * (quasi_static + r * inverse_kappa) / (1 - r * r)
+    free = r * inverse_kappa
+    return 2 * F / L * (free + max(quasi_static, free)) / (1 - r * r)
 
 
 def moving_load_n_modes(
@@ -253,6 +257,95 @@ def moving_load_n_modes(
     return high
 
 
+#: ``|1 - r_j|`` below which a mode is taken at resonance (its limit form).
+_RESONANCE = 1e-8
+
+
+def _check_moving_load(L: float, EJ: float, GA: float, m: float, c: float) -> None:
+    if not all(np.isfinite(v) and v > 0 for v in (L, EJ, m, c)) or not GA > m * c**2:
+        raise ValueError(
+            f"need finite L, EJ, m, c > 0 and GA > m c^2, got L = {L}, EJ = {EJ}, "
+            f"GA = {GA}, m = {m}, c = {c}"
+        )
+
+
+def _free_vibration(
+    j: np.ndarray, t: np.ndarray, L: float, EJ: float, GA: float, m: float, F: float, c: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Modal coordinates and velocities, ``t.shape + j.shape``, after the crossing
+    (``t >= L / c``): :func:`moving_load_modes`."""
+    k, kappa, r = _moving_load_modes(j, L, EJ, GA, m, c)
+    omega, D = np.sqrt(kappa / m), kappa - m * (k * c) ** 2
+    T = L / c
+    wt, ws = np.multiply.outer(t, omega), np.multiply.outer(t - T, omega)
+    sign = np.where(j % 2, -1.0, 1.0)
+    near = np.abs(1 - r) < _RESONANCE
+    q_T = -F / (L * kappa) * j * np.pi * sign  # the resonant mode's deflection at L / c
+    with np.errstate(divide="ignore", invalid="ignore"):
+        q = np.where(near, q_T * np.cos(ws), 2 * F / L * r / D * (sign * np.sin(ws) - np.sin(wt)))
+        v = np.where(
+            near,
+            -omega * q_T * np.sin(ws),
+            2 * F / L * k * c / D * (sign * np.cos(ws) - np.cos(wt)),
+        )
+    return q, v
+
+
+def moving_load_modes(
+    j: ArrayLike,
+    t: ArrayLike,
+    L: float = 1.0,
+    EJ: float = 1.0,
+    GA: float = np.inf,
+    m: float = 1.0,
+    F: float = 1.0,
+    c: float = 1.0,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Modal coordinates ``q_j(t)`` and velocities ``q_j'(t)`` of
+    ``w = sum_j q_j(t) sin(k_j x)`` (:func:`moving_load_simply_supported`), of shape
+    ``t.shape + j.shape``, for every ``t >= 0``.
+
+    With ``k_j = j pi / L``, ``Omega_j = k_j c``, ``omega_j^2 = kappa_j / m``,
+    ``r_j = Omega_j / omega_j`` and ``D_j = kappa_j - m Omega_j^2``, the undamped mode
+    ``m q'' + kappa q = (2 F / L) sin(Omega t)`` from rest is, while the load is on the beam
+    (Fryba 1999, Ch. 1)::
+
+        q_j = (2 F / L) [sin(Omega_j t) - r_j sin(omega_j t)] / D_j,      0 <= t <= T = L / c
+
+    and after it leaves (``Omega_j T = j pi``), the free vibration from the state at ``T``::
+
+        q_j = (2 F / L) (r_j / D_j) [(-1)^j sin(omega_j (t - T)) - sin(omega_j t)],   t >= T
+
+    At resonance (``r_j = 1``) their limits,
+    ``(F / (L kappa_j)) (sin w t - w t cos w t)`` and
+    ``-(F / (L kappa_j)) j pi (-1)^j cos(w (t - T))``.
+    """
+    _check_moving_load(L, EJ, GA, m, c)
+    j = np.asarray(j, dtype=float)
+    t = np.asarray(t, dtype=float)
+    if np.any(t < 0) or np.any(j < 1) or np.any(j != np.round(j)):
+        raise ValueError("need times t >= 0 and mode numbers j = 1, 2, ...")
+    k, kappa, r = _moving_load_modes(j, L, EJ, GA, m, c)
+    omega, D = np.sqrt(kappa / m), kappa - m * (k * c) ** 2
+    wt, Wt = np.multiply.outer(t, omega), np.multiply.outer(t, k * c)
+    near = np.abs(1 - r) < _RESONANCE
+    with np.errstate(divide="ignore", invalid="ignore"):
+        q = np.where(
+            near,
+            F / (L * kappa) * (np.sin(wt) - wt * np.cos(wt)),
+            2 * F / L * (np.sin(Wt) - r * np.sin(wt)) / D,
+        )
+        v = np.where(
+            near,
+            F / (L * m) * t[..., None] * np.sin(wt),
+            2 * F / L * k * c * (np.cos(Wt) - np.cos(wt)) / D,
+        )
+    after = t > L / c
+    if np.any(after):
+        q[after], v[after] = _free_vibration(j, t[after], L, EJ, GA, m, F, c)
+    return q, v
+
+
 def moving_load_simply_supported(
     x: ArrayLike,
     t: ArrayLike,
@@ -266,58 +359,55 @@ def moving_load_simply_supported(
     rtol: float = 1e-8,
 ) -> np.ndarray:
     """Deflection ``w(x, t)`` of a simply supported beam crossed by a constant force ``F`` at
-    speed ``c``, entering at ``x = 0`` at ``t = 0`` on the beam at rest.
+    speed ``c``, entering at ``x = 0`` at ``t = 0`` on the beam at rest, and its free
+    vibration after the load leaves at ``x = L`` (``t > L / c``).
 
     Fryba, *Vibration of Solids and Structures under Moving Loads*, 3rd ed. (1999), Ch. 1
     (the series solution for a constant force, undamped), extended to a Timoshenko beam
     without rotary inertia
     (``docs/dynamics.md``, "Moving load"): the modes stay ``sin(k_j x)``, ``k_j = j pi / L``,
     with modal mass ``m L / 2`` and modal stiffness ``kappa_j L / 2``,
-    ``kappa_j = EJ k_j^4 / (1 + EJ k_j^2 / GA)``::
+    ``kappa_j = EJ k_j^4 / (1 + EJ k_j^2 / GA)``, and ``w = sum_j q_j(t) sin(k_j x)`` with
+    the modal coordinates of :func:`moving_load_modes`.
 
-        w = sum_j q_j(t) sin(k_j x),
-        q_j = 2 F / (L m) [sin(Omega_j t) - r_j sin(omega_j t)] / (omega_j^2 - Omega_j^2),
-        omega_j^2 = kappa_j / m,   Omega_j = k_j c,   r_j = Omega_j / omega_j
-
-    (at resonance, ``r_j = 1``, its limit ``2 F / (L m) (sin w t - w t cos w t) / (2 w^2)``).
-    The quasi-static terms decay only like ``j^-2`` (shear); their leading part
-    ``2 F sin(k_j c t) / (L G' k_j^2)``, ``G' = GA - m c^2``, is summed in closed form,
-    ``F min(x, a) (L - max(x, a)) / (L G')`` with ``a = c t`` (the string's Green function),
-    and the series sums the rest.  Valid while the load is on the beam, ``0 <= t <= L / c``,
-    for ``c`` below the shear wave speed ``sqrt(GA / m)``.
+    While the load is on the beam the quasi-static terms decay only like ``j^-2`` (shear);
+    their leading part ``2 F sin(k_j c t) / (L G' k_j^2)``, ``G' = GA - m c^2``, is summed in
+    closed form, ``F min(x, a) (L - max(x, a)) / (L G')`` with ``a = c t`` (the string's
+    Green function), and the series sums the rest.  After the crossing ``a = L`` and that part
+    vanishes: the series is the free vibration alone.  Valid for ``c`` below the shear wave
+    speed ``sqrt(GA / m)``.
 
     Parameters
     ----------
     x, t
-        Abscissae and times, broadcast together.
+        Abscissae and times ``t >= 0``, broadcast together.
     n_modes
         Terms kept; by default the fewest whose :func:`moving_load_truncation` bound is at most
         ``rtol`` times the static mid-span deflection ``F L^3 / (48 EJ) + F L / (4 GA)``.
     """
-    if not all(np.isfinite(v) and v > 0 for v in (L, EJ, m, c)) or not GA > m * c**2:
-        raise ValueError(
-            f"need finite L, EJ, m, c > 0 and GA > m c^2, got L = {L}, EJ = {EJ}, "
-            f"GA = {GA}, m = {m}, c = {c}"
-        )
+    _check_moving_load(L, EJ, GA, m, c)
     x, t = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(t, dtype=float))
-    if np.any(t < 0) or np.any(t > L / c * (1 + 1e-12)) or np.any((x < 0) | (x > L)):
-        raise ValueError(
-            f"need 0 <= x <= L = {L:g} and 0 <= t <= L / c = {L / c:g} (the load on the beam)"
-        )
+    if np.any(t < 0) or np.any((x < 0) | (x > L)):
+        raise ValueError(f"need 0 <= x <= L = {L:g} and times t >= 0")
     if n_modes is None:
         n_modes = moving_load_n_modes(
             rtol * (F * L**3 / (48 * EJ) + F * L / (4 * GA)), L, EJ, GA, m, F, c
         )
     G = GA - m * c**2
-    a = np.minimum(c * t, L)
-    w = F / G * np.minimum(x, a) * (L - np.maximum(x, a)) / L
+    T = L / c
+    on = t <= T
+    x_on, t_on, x_off, t_off = x[on], t[on], x[~on], t[~on]
+    a = c * t_on
+    w = np.zeros(x.shape)
+    w_on = F / G * np.minimum(x_on, a) * (L - np.maximum(x_on, a)) / L
+    w_off = np.zeros(x_off.shape)
     chunk = max(1, 2_000_000 // max(x.size, 1))
     for start in range(1, n_modes + 1, chunk):
         j = np.arange(start, min(start + chunk, n_modes + 1), dtype=float)
         k, kappa, r = _moving_load_modes(j, L, EJ, GA, m, c)
         omega, D = np.sqrt(kappa / m), kappa - m * (k * c) ** 2
-        wt, ka = np.multiply.outer(t, omega), np.multiply.outer(a, k)
-        near = np.abs(1 - r) < 1e-8
+        wt, ka = np.multiply.outer(t_on, omega), np.multiply.outer(a, k)
+        near = np.abs(1 - r) < _RESONANCE
         with np.errstate(divide="ignore", invalid="ignore"):
             remainder = 1 / ((1 + EJ * k**2 / GA) * (1 - m * c**2 / GA) * D)
             q = np.where(
@@ -325,5 +415,9 @@ def moving_load_simply_supported(
                 (np.sin(wt) - wt * np.cos(wt)) / (2 * kappa) - np.sin(ka) / (G * k**2),
                 np.sin(ka) * remainder - r * np.sin(wt) / D,
             )
-        w += 2 * F / L * np.einsum("...j,...j->...", q, np.sin(np.multiply.outer(x, k)))
+        w_on += 2 * F / L * np.einsum("...j,...j->...", q, np.sin(np.multiply.outer(x_on, k)))
+        if x_off.size:
+            q_off, _ = _free_vibration(j, t_off, L, EJ, GA, m, F, c)
+            w_off += np.einsum("...j,...j->...", q_off, np.sin(np.multiply.outer(x_off, k)))
+    w[on], w[~on] = w_on, w_off
     return w

@@ -5,9 +5,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-import scipy.sparse.linalg as spla
 
 from fvbeam.beam import Beam
+from fvbeam.factorisation import SparseLU
 from fvbeam.mechanism import free_motion_message, motion_phrases, rigid_modes
 from fvbeam.structure import Structure
 from fvbeam.support import Support
@@ -25,7 +25,7 @@ class LinearStatics:
             structure = Structure([structure])
         self.structure = structure
         self.fixed = structure.support_dofs(supports)
-        self.free = np.setdiff1d(np.arange(structure.n_dofs), self.fixed)
+        self.free = np.setdiff1d(np.arange(structure.n_dofs), self.fixed, assume_unique=True)
         modes = rigid_modes(structure, self.free)
         if modes.k:
             raise ValueError(
@@ -34,7 +34,7 @@ class LinearStatics:
                 )
             )
         self.K = structure.tangent(np.zeros(structure.n_dofs))
-        self.lu = spla.splu(self.K[self.free][:, self.free].tocsc())
+        self.lu = SparseLU(self.K, self.free, structure.dof_rank)
 
     def solve(self, f: np.ndarray) -> np.ndarray:
         """Displacements for the load vector ``f`` (global dofs; zero at the supports)."""

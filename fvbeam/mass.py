@@ -48,7 +48,7 @@ class MassSource(Protocol):
     formulation: Formulation
     skfem_mesh: MeshLine1
 
-    def geometry(self, X: np.ndarray) -> tuple[dict[str, np.ndarray], np.ndarray]: ...
+    def centreline(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]: ...
 
 
 #: Mass matrix kinds.
@@ -77,9 +77,9 @@ def check_kind(beam: MassSource, kind: str) -> None:
 def _section_fields(beam: MassSource, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Global section inertia ``R J R^T`` (nel, nqp, 3, 3) and ``ds / dX`` (nel, nqp) at
     reference points ``X`` (1, nqp)."""
-    geometry, frames = beam.geometry(X)
+    frames, metric = beam.centreline(X)
     J = frames @ beam.section.inertia @ np.swapaxes(frames, -1, -2)
-    return J, geometry["metric"] * beam.mesh.element_length[:, None]
+    return J, metric * beam.mesh.element_length[:, None]
 
 
 def lumped(beam: MassSource) -> sp.csr_matrix:
@@ -100,7 +100,10 @@ def lumped(beam: MassSource) -> sp.csr_matrix:
         beam.section.mass_per_length * weight[..., None, None] * np.eye(3),
     )
     np.add.at(blocks[:, 3:, 3:], beam.mesh.cells, rotary)
-    return sp.block_diag(list(blocks), format="csr")
+    n = beam.mesh.n_nodes
+    M = sp.bsr_matrix((blocks, np.arange(n), np.arange(n + 1)), shape=(6 * n, 6 * n)).tocsr()
+    M.eliminate_zeros()
+    return M
 
 
 def consistent(beam: MassSource) -> sp.csr_matrix:

@@ -80,15 +80,7 @@ class RigidModes:
 def _parts(structure: Structure) -> tuple[int, np.ndarray]:
     """The number of connected parts and the part of each node: the nodes of a beam's
     elements are joined, tied nodes are one node already."""
-    edges = [np.zeros((0, 2), dtype=np.int64)]
-    for beam, dofs in zip(structure.beams, structure.dof_maps, strict=True):
-        nodes = dofs[::6] // 6
-        cells = nodes[beam.mesh.cells]
-        edges += [np.column_stack([cells[:, 0], cells[:, j]]) for j in range(1, cells.shape[1])]
-    pairs = np.vstack(edges)
-    n = structure.n_nodes
-    graph = sp.coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-    return connected_components(graph, directed=False)
+    return connected_components(structure.node_graph(), directed=False)
 
 
 def _labels(structure: Structure, part: np.ndarray, count: int) -> list[str]:
@@ -157,7 +149,9 @@ def unresisted(modes: RigidModes, operator_free: sp.spmatrix) -> RigidModes:
     time integrator's operator ``M + c K`` keeps only those of the massless parts."""
     if modes.k == 0:
         return modes
-    _, sigma, Vt = np.linalg.svd(operator_free @ modes.phi, full_matrices=True)
+    # the singular values and right vectors of A = Q R are those of the small R (k x k)
+    R = np.linalg.qr(operator_free @ modes.phi, mode="r")
+    _, sigma, Vt = np.linalg.svd(R, full_matrices=True)
     sigma = np.concatenate([sigma, np.zeros(modes.k - len(sigma))])
     return modes.combined(Vt[sigma <= 1e-8 * abs(operator_free).max()].T)
 

@@ -111,14 +111,8 @@ class BeamMesh:
                 f"(points {ids[cells[short[0]]].tolist()})"
             )
         if self.nodes_per_element == 3:
-            X = np.array([0.0, 0.5, 1.0])
-            speeds = np.linalg.norm(
-                self.tangent_vectors(
-                    np.repeat(np.arange(self.n_elements), 3), np.tile(X, self.n_elements)
-                ),
-                axis=1,
-            )
-            folded = np.flatnonzero(speeds.reshape(-1, 3).min(axis=1) <= 1e-9 * lengths)
+            speeds = np.linalg.norm(self.element_tangents(np.array([0.0, 0.5, 1.0])), axis=-1)
+            folded = np.flatnonzero(speeds.min(axis=1) <= 1e-9 * lengths)
             if folded.size:
                 raise ValueError(
                     f"{self.name}: element {int(folded[0])} folds back on itself "
@@ -197,15 +191,20 @@ class BeamMesh:
     # -- geometry of the interpolated centreline --------------------------------------
     def _element_lengths(self) -> np.ndarray:
         X, W = _GAUSS8
-        X = (X + 1) / 2
-        e = np.repeat(np.arange(self.n_elements), len(X))
-        speed = np.linalg.norm(self.tangent_vectors(e, np.tile(X, self.n_elements)), axis=1)
-        return (speed.reshape(self.n_elements, -1) * W / 2).sum(axis=1)
+        speed = np.linalg.norm(self.element_tangents((X + 1) / 2), axis=-1)
+        return (speed * W / 2).sum(axis=1)
 
     def positions(self, e: np.ndarray, X: np.ndarray) -> np.ndarray:
         """Centreline points x(X) in elements ``e`` at reference coordinates ``X`` in [0, 1]."""
         N, _ = shape_functions(X, self.nodes_per_element)
         return np.einsum("a...,...ak->...k", N, self.points[self.cells[e]])
+
+    def element_tangents(self, X: np.ndarray) -> np.ndarray:
+        """Centreline derivative dx/dX at the reference coordinates ``X`` (nq,) of every
+        element, (n_elements, nq, 3): :meth:`tangent_vectors` at the same points of all
+        elements, reading each element's nodes once."""
+        _, dN = shape_functions(X, self.nodes_per_element)
+        return np.einsum("aq,eak->eqk", dN, self.points[self.cells])
 
     def tangent_vectors(self, e: np.ndarray, X: np.ndarray) -> np.ndarray:
         """Centreline derivative dx/dX in elements ``e`` at reference coordinates ``X``."""

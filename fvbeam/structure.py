@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from functools import cached_property
+from itertools import combinations
 
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike
+from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 from fvbeam.beam import Beam
 from fvbeam.body import RigidBody
@@ -249,24 +252,31 @@ class Structure:
         ``consistent``) on the global dofs, plus each rigid body's 6x6 mass matrix on its
         node (:meth:`~fvbeam.body.RigidBody.mass_matrix`: a centre of mass off the node
         couples translations and rotations)."""
-        M = self._scatter([beam.mass(kind) for beam in self.beams]).tolil()
-        for body in self.bodies:
-            dofs = self.node_dofs(body.name)
-            M[dofs[:, None], dofs] += body.mass_matrix()
-        return M.tocsr()
+        M = self._scatter([beam.mass(kind) for beam in self.beams])
+        if not self.bodies:
+            return M
+        dofs = np.array([self.node_dofs(body.name) for body in self.bodies])
+        blocks = np.array([body.mass_matrix() for body in self.bodies])
+        rows, cols = np.broadcast_arrays(dofs[:, :, None], dofs[:, None, :])
+        bodies = sp.csr_matrix(
+            (blocks.ravel(), (rows.ravel(), cols.ravel())), shape=(self.n_dofs, self.n_dofs)
+        )
+        return (M + bodies).tocsr()
 
     def _scatter(self, matrices: Sequence[sp.spmatrix]) -> sp.csr_matrix:
-        """The beams' matrices, one per beam on its own dofs, summed on the global dofs."""
-        rows, cols, vals = [np.zeros(0, dtype=int)], [np.zeros(0, dtype=int)], [np.zeros(0)]
-        for A, dofs in zip(matrices, self.dof_maps, strict=True):
-            A = A.tocoo()
-            rows.append(dofs[A.row])
-            cols.append(dofs[A.col])
-            vals.append(A.data)
-        return sp.csr_matrix(
-            (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-            shape=(self.n_dofs, self.n_dofs),
-        )
+        """The beams' matrices, one per beam on its own dofs, summed on the global dofs
+        (:func:`on_dofs` each, then added pairwise, so that each entry is added about
+        ``log2(beams)`` times)."""
+        n = self.n_dofs
+        parts = [on_dofs(A, dofs, n) for A, dofs in zip(matrices, self.dof_maps, strict=True)]
+        if not parts:
+            return sp.csr_matrix((n, n))
+        while len(parts) > 1:
+            pairs = [a + b for a, b in zip(parts[::2], parts[1::2], strict=False)]
+            parts = pairs + parts[2 * len(pairs) :]
+        total = sp.csr_matrix(parts[0])
+        total.sum_duplicates()
+        return total
 
     def gather(self, beam: int | str, f_local: np.ndarray) -> np.ndarray:
         """A beam's (index or name) load vector as a global one."""
@@ -278,7 +288,51 @@ class Structure:
         """A beam's (index or name) share of a global dof vector."""
         return self.dofs_of(q)[self.dof_maps[self.beam_index(beam)]]
 
+    def node_graph(self) -> sp.csr_matrix:
+        """The structure's nodes joined by its beams' elements (each pair of an element's
+        nodes, once), ``(n_nodes, n_nodes)``, upper triangle in the beams' numbering; tied
+        nodes are one node already, a body tied to nothing joins nothing."""
+        edges = [np.zeros((0, 2), dtype=np.int64)]
+        for beam, dofs in zip(self.beams, self.dof_maps, strict=True):
+            cells = (dofs[::6] // 6)[beam.mesh.cells]
+            edges += [cells[:, [a, b]] for a, b in combinations(range(cells.shape[1]), 2)]
+        pairs = np.vstack(edges)
+        n = self.n_nodes
+        return sp.csr_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+
+    @cached_property
+    def dof_rank(self) -> np.ndarray:
+        """Each global dof's position in an order in which the structure's matrices are
+        banded along its chains: the reverse Cuthill-McKee order of the nodes
+        (:meth:`node_graph`), six dofs per node (:class:`fvbeam.factorisation.SparseLU`)."""
+        graph = self.node_graph()
+        order = reverse_cuthill_mckee((graph + graph.T).tocsr(), symmetric_mode=True)
+        rank = np.empty(self.n_nodes, dtype=np.int64)
+        rank[order] = np.arange(self.n_nodes)
+        return np.repeat(6 * rank, 6) + np.tile(np.arange(6), self.n_nodes)
+
     def support_dofs(self, supports: Sequence[Support]) -> np.ndarray:
         """Global dofs held by ``supports``."""
         fixed = [self.node_dofs(s.ref)[s.dofs()] for s in supports]
         return np.unique(np.concatenate(fixed)) if fixed else np.zeros(0, dtype=int)
+
+
+def on_dofs(A: sp.spmatrix, dofs: np.ndarray, n: int) -> sp.csr_matrix:
+    """``A`` (on a beam's dofs) as a matrix on ``n`` global dofs, ``dofs[i]`` the global dof
+    of its row and column ``i``: its compressed rows reordered by their global dof and its
+    column indices renamed, without a coordinate list.  A beam numbered as the structure (the
+    first beam, untied) keeps its arrays: no copy of a large mesh's matrix.  Two of a beam's
+    nodes tied together (a ring) share a dof: their entries are summed through coordinates."""
+    A = sp.csr_matrix(A)
+    if np.array_equal(dofs, np.arange(len(dofs))):
+        indptr = np.concatenate([A.indptr, np.full(n - len(dofs), A.indptr[-1])])
+        return sp.csr_matrix((A.data, A.indices, indptr), shape=(n, n))
+    order = np.argsort(dofs, kind="stable")
+    ranked = dofs[order]
+    if np.any(ranked[1:] == ranked[:-1]):
+        coo = A.tocoo()
+        return sp.csr_matrix((coo.data, (dofs[coo.row], dofs[coo.col])), shape=(n, n))
+    A = A[order]
+    lengths = np.zeros(n + 1, dtype=np.int64)
+    lengths[ranked + 1] = np.diff(A.indptr)
+    return sp.csr_matrix((A.data, dofs[A.indices], np.cumsum(lengths)), shape=(n, n))

@@ -1,12 +1,14 @@
-"""Wall-clock benchmark of the fv3 linear-statics pipeline on a straight cantilever.
+"""Wall-clock benchmark of the linear-statics pipeline on a straight cantilever, to 1e5 elements.
 
 Run as ``python -m studies.bench --out results/bench.json`` (``make bench``).
 
-For a straight fv3 cantilever of length ``L`` clamped at node 0, with ``n`` equal elements,
-four stages are timed with :func:`time.perf_counter`:
+For a straight cantilever of length ``L`` clamped at node 0, with ``n`` equal elements of each
+formulation (fv3 from 10 to 1e5 elements, fv2, galerkin-p1 and galerkin-p2 from 1e3 to 1e5),
+four stages are timed with :func:`time.perf_counter` (and :func:`time.process_time`, the CPU
+time of this process, which other work on a shared machine does not inflate):
 
 ``assembly``
-    ``Beam(straight(...), section, "fv3").stiffness`` (mesh, bases and stiffness; a fresh
+    ``Beam(straight(...), section, formulation).stiffness`` (mesh and stiffness; a fresh
     beam every repeat, since ``stiffness`` is cached on the beam);
 ``factorisation``
     ``LinearStatics(beam, [Support(0, "start")])`` (global matrix and ``scipy`` ``splu``);
@@ -18,8 +20,11 @@ four stages are timed with :func:`time.perf_counter`:
 
 Every timing comes with the accuracy of the answer it produced: the relative error of the tip
 deflection against the closed-form Timoshenko cantilever
-(:func:`fvbeam.closed_forms.cantilever_exact`).  The section and length are the values of the
-paper's Sec. 6 (``EA = 1e9``, ``GA = 1.1e8``, ``GJ = 3e4``, ``EJ = 4.1e4``, ``L = 0.6``).
+(:func:`fvbeam.closed_forms.cantilever_exact`).  Per formulation, the log-log slope of
+assembly + factorisation + first solve against ``n`` from 1e3 to 1e5 elements (least squares
+over the sizes, of the medians) says how the pipeline scales: 1 is linear.  The section and
+length are the values of the paper's Sec. 6 (``EA = 1e9``, ``GA = 1.1e8``, ``GJ = 3e4``,
+``EJ = 4.1e4``, ``L = 0.6``).
 
 The results are merged into the output JSON: top-level keys written by other benchmarks are
 kept, the keys written here (:data:`KEYS`) are replaced.
@@ -60,12 +65,24 @@ FORCE = (0.0, 1.0, 0.0)
 #: Load positions of the per-load-case batch, as fractions of the length.
 BATCH_FRACTIONS = tuple(np.round(np.linspace(0.05, 1.0, 20), 10))
 
-FULL_SIZES = {10: 5, 100: 5, 1000: 5, 10000: 3}  # n_elements: repeats
-QUICK_SIZES = {10: 1, 100: 1}
+#: n_elements: repeats, per formulation (fv3's rows are :data:`RESULT_KEY`'s).
+FULL_SIZES = {
+    "fv3": {10: 5, 100: 5, 1000: 5, 10000: 3, 100000: 3},
+    "fv2": {1000: 3, 10000: 3, 100000: 2},
+    "galerkin-p1": {1000: 3, 10000: 3, 100000: 2},
+    "galerkin-p2": {1000: 3, 10000: 3, 100000: 2},
+}
+QUICK_SIZES = {"fv3": {10: 1, 100: 1}, "fv2": {10: 1, 100: 1}}
+#: The slope is fitted from this many elements on (over all sizes when fewer than two reach it).
+SLOPE_FROM = 1000
+#: The stages of one solve from scratch, whose sum the slope is fitted to.
+PIPELINE = ("assembly", "factorisation", "solve")
 
 RESULT_KEY = "fv3_cantilever"
+OTHERS_KEY = "cantilever_formulations"
+SCALING_KEY = "cantilever_scaling"
 SETUP_KEY = "fv3_cantilever_setup"
-KEYS = ("environment", RESULT_KEY, SETUP_KEY)
+KEYS = ("environment", RESULT_KEY, OTHERS_KEY, SCALING_KEY, SETUP_KEY)
 
 
 # -- the problem ------------------------------------------------------------------------------
@@ -74,22 +91,26 @@ def make_section() -> Section:
     return Section.diagonal(**SECTION)
 
 
-def build_beam(n_elements: int, section: Section) -> Beam:
-    """Straight fv3 beam along x of length :data:`LENGTH` with its stiffness assembled.
+def build_beam(n_elements: int, section: Section, formulation: str = "fv3") -> Beam:
+    """Straight beam along x of length :data:`LENGTH` with its stiffness assembled.
 
     Parameters
     ----------
     n_elements
-        Number of 3-node elements.
+        Number of elements (2-node for fv2 and galerkin-p1, 3-node otherwise).
     section
         Section properties.
+    formulation
+        A formulation name (:data:`fvbeam.FORMULATIONS`).
 
     Returns
     -------
     Beam
         The beam; ``beam.stiffness`` is already computed (and cached).
     """
-    beam = Beam(straight((0.0, 0.0, 0.0), (LENGTH, 0.0, 0.0), n_elements, 3), section, "fv3")
+    npe = 2 if formulation in ("fv2", "galerkin-p1") else 3
+    mesh = straight((0.0, 0.0, 0.0), (LENGTH, 0.0, 0.0), n_elements, npe)
+    beam = Beam(mesh, section, formulation)
     _ = beam.stiffness  # assembled here, outside the timed solves
     return beam
 
@@ -119,36 +140,42 @@ def relative_tip_error(beam: Beam, q: np.ndarray, xi: float) -> float:
 
 
 # -- timing -----------------------------------------------------------------------------------
-def timed(fn: Callable[[], T]) -> tuple[float, T]:
-    """Run ``fn()`` once; return (elapsed seconds, its result)."""
-    start = time.perf_counter()
+def timed(fn: Callable[[], T], cpu: dict[str, float], stage: str) -> tuple[float, T]:
+    """Run ``fn()`` once; return (elapsed seconds, its result), and put its CPU seconds in
+    ``cpu[stage]``."""
+    start, start_cpu = time.perf_counter(), time.process_time()
     result = fn()
+    cpu[stage] = time.process_time() - start_cpu
     return time.perf_counter() - start, result
 
 
-def run_once(n_elements: int, section: Section) -> dict[str, float]:
+def run_once(n_elements: int, section: Section, formulation: str = "fv3") -> dict[str, float]:
     """One repeat of the four stages for ``n_elements``; times and errors.
 
     Returns
     -------
     dict
-        ``assembly``, ``factorisation``, ``solve``, ``per_load_case`` (seconds),
-        ``rel_error`` (first solve, load at ``XI_FRACTION * L``), ``batch_max_rel_error``
-        and ``batch_worst_xi`` (over the per-load-case batch).
+        ``assembly``, ``factorisation``, ``solve``, ``per_load_case`` (seconds; their CPU
+        seconds as ``cpu_<stage>``), ``rel_error`` (first solve, load at
+        ``XI_FRACTION * L``), ``batch_max_rel_error`` and ``batch_worst_xi`` (over the
+        per-load-case batch).
     """
     xi = XI_FRACTION * LENGTH
     gc.collect()
-    t_assembly, beam = timed(lambda: build_beam(n_elements, section))
-    t_factor, statics = timed(lambda: LinearStatics(beam, [Support(0, "start")]))
+    cpu: dict[str, float] = {}
+    t_assembly, beam = timed(lambda: build_beam(n_elements, section, formulation), cpu, "assembly")
+    t_factor, statics = timed(
+        lambda: LinearStatics(beam, [Support(0, "start")]), cpu, "factorisation"
+    )
     f = beam.point_load(xi, force=FORCE)
-    t_solve, q = timed(lambda: statics.solve(f))
+    t_solve, q = timed(lambda: statics.solve(f), cpu, "solve")
 
     batch = [s * LENGTH for s in BATCH_FRACTIONS]
 
     def load_cases() -> list[np.ndarray]:
         return [statics.solve(beam.point_load(x, force=FORCE)) for x in batch]
 
-    t_batch, solutions = timed(load_cases)
+    t_batch, solutions = timed(load_cases, cpu, "per_load_case")
     batch_errors = [relative_tip_error(beam, qb, x) for qb, x in zip(solutions, batch, strict=True)]
     worst = int(np.argmax(batch_errors))
     return {
@@ -156,6 +183,8 @@ def run_once(n_elements: int, section: Section) -> dict[str, float]:
         "factorisation": t_factor,
         "solve": t_solve,
         "per_load_case": t_batch / len(batch),
+        **{f"cpu_{stage}": seconds for stage, seconds in cpu.items()},
+        "cpu_per_load_case": cpu["per_load_case"] / len(batch),
         "rel_error": relative_tip_error(beam, q, xi),
         "batch_max_rel_error": batch_errors[worst],
         "batch_worst_xi": batch[worst],
@@ -168,22 +197,60 @@ def summary(samples: Sequence[float]) -> dict[str, float]:
     return {"median": float(np.median(samples)), "min": float(np.min(samples))}
 
 
-def bench_size(n_elements: int, repeats: int, section: Section) -> dict[str, Any]:
+def bench_size(
+    n_elements: int, repeats: int, section: Section, formulation: str = "fv3"
+) -> dict[str, Any]:
     """All repeats for one mesh size, summarised as one JSON row."""
-    runs = [run_once(n_elements, section) for _ in range(repeats)]
+    runs = [run_once(n_elements, section, formulation) for _ in range(repeats)]
     row: dict[str, Any] = {
+        "formulation": formulation,
         "n_elements": n_elements,
         "n_dofs": runs[0]["n_dofs"],
         "repeats": repeats,
     }
     for stage in ("assembly", "factorisation", "solve", "per_load_case"):
         row[f"{stage}_s"] = summary([r[stage] for r in runs])
+        row[f"{stage}_cpu_s"] = summary([r[f"cpu_{stage}"] for r in runs])
+    for key, prefix in (("pipeline_s", ""), ("pipeline_cpu_s", "cpu_")):
+        row[key] = summary([sum(r[f"{prefix}{stage}"] for stage in PIPELINE) for r in runs])
     row["n_load_cases"] = len(BATCH_FRACTIONS)
     # The answers are deterministic; the worst over the repeats guards against surprises.
     row[f"rel_error_xi_{XI_FRACTION}"] = max(r["rel_error"] for r in runs)
     row["per_load_case_max_rel_error"] = max(r["batch_max_rel_error"] for r in runs)
     row["per_load_case_worst_xi"] = runs[0]["batch_worst_xi"]
     return row
+
+
+def loglog_slope(rows: Sequence[dict[str, Any]], key: str) -> float | None:
+    """Least-squares slope of ``log(row[key]["median"])`` against ``log(n_elements)`` over
+    the rows from :data:`SLOPE_FROM` elements on (all rows when fewer than two reach it);
+    None for a single row."""
+    chosen = [r for r in rows if r["n_elements"] >= SLOPE_FROM]
+    chosen = chosen if len(chosen) >= 2 else list(rows)
+    if len(chosen) < 2:
+        return None
+    n = np.log([r["n_elements"] for r in chosen])
+    t = np.log([r[key]["median"] for r in chosen])
+    return float(np.polyfit(n, t, 1)[0])
+
+
+def scaling(formulation: str, rows: Sequence[dict[str, Any]]) -> dict[str, Any]:
+    """The scaling summary of one formulation's rows: the slopes (wall and CPU) of the
+    pipeline and of each stage, and the largest mesh's pipeline time beside its errors."""
+    largest = max(rows, key=lambda r: r["n_elements"])
+    return {
+        "formulation": formulation,
+        "n_elements": [r["n_elements"] for r in rows],
+        "slope_from": SLOPE_FROM,
+        "pipeline_slope": loglog_slope(rows, "pipeline_s"),
+        "pipeline_cpu_slope": loglog_slope(rows, "pipeline_cpu_s"),
+        **{f"{stage}_slope": loglog_slope(rows, f"{stage}_s") for stage in PIPELINE},
+        "largest_n_elements": largest["n_elements"],
+        "largest_pipeline_s": largest["pipeline_s"],
+        "largest_pipeline_cpu_s": largest["pipeline_cpu_s"],
+        f"largest_rel_error_xi_{XI_FRACTION}": largest[f"rel_error_xi_{XI_FRACTION}"],
+        "largest_per_load_case_max_rel_error": largest["per_load_case_max_rel_error"],
+    }
 
 
 # -- environment and output -------------------------------------------------------------------
@@ -223,10 +290,10 @@ def environment() -> dict[str, Any]:
     }
 
 
-def setup_description(sizes: dict[int, int]) -> dict[str, Any]:
+def setup_description(sizes: dict[str, dict[int, int]]) -> dict[str, Any]:
     """The problem definition stored next to the results."""
     return {
-        "formulation": "fv3",
+        "formulations": list(sizes),
         "length": LENGTH,
         "section": SECTION,
         "section_source": "paper Sec. 6",
@@ -236,11 +303,14 @@ def setup_description(sizes: dict[int, int]) -> dict[str, Any]:
         "accuracy_xi_over_L": XI_FRACTION,
         "batch_xi_over_L": [float(s) for s in BATCH_FRACTIONS],
         "exact": "cantilever_exact: F (xi^2 (3L - xi) / (6 EJz) + xi / GAy)",
-        "repeats": {str(n): r for n, r in sizes.items()},
-        "timer": "time.perf_counter; median and min over repeats; one untimed warm-up "
-        "run at n = 10 first",
+        "repeats": {f: {str(n): r for n, r in s.items()} for f, s in sizes.items()},
+        "timer": "time.perf_counter (wall) and time.process_time (*_cpu_s); median and min "
+        "over repeats; one untimed warm-up run at n = 10 per formulation first",
         "assembly_includes": "straight() mesh + Beam() + beam.stiffness",
-        "factorisation_includes": "LinearStatics(): global matrix, Kff slicing, splu",
+        "factorisation_includes": "LinearStatics(): global matrix, free-motion check, "
+        "SparseLU (free dofs in the structure's RCM order, SuperLU)",
+        "pipeline": "assembly + factorisation + first solve; slope: least squares of "
+        f"log(median) against log(n) from n = {SLOPE_FROM}",
     }
 
 
@@ -275,7 +345,7 @@ def format_table(rows: Sequence[dict[str, Any]]) -> str:
     """Human-readable table: median (min) seconds per stage and the relative errors."""
     err = f"rel_error_xi_{XI_FRACTION}"
     head = (
-        f"{'n_el':>6} {'dofs':>7} {'rep':>3} | {'assembly s':>19} | "
+        f"{'form':>11} {'n_el':>6} {'dofs':>7} {'rep':>3} | {'assembly s':>19} | "
         f"{'factorisation s':>19} | {'first solve s':>19} | {'per load case s':>19} | "
         f"{'err xi=0.7L':>11} {'batch max err':>13}"
     )
@@ -286,7 +356,7 @@ def format_table(rows: Sequence[dict[str, Any]]) -> str:
     lines = [head, "-" * len(head)]
     for r in rows:
         lines.append(
-            f"{r['n_elements']:>6} {r['n_dofs']:>7} {r['repeats']:>3} | "
+            f"{r['formulation']:>11} {r['n_elements']:>6} {r['n_dofs']:>7} {r['repeats']:>3} | "
             f"{cell(r['assembly_s'])} | {cell(r['factorisation_s'])} | "
             f"{cell(r['solve_s'])} | {cell(r['per_load_case_s'])} | "
             f"{r[err]:11.2e} {r['per_load_case_max_rel_error']:13.2e}"
@@ -308,7 +378,7 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
         help="JSON file to create or merge into (default: %(default)s)",
     )
     parser.add_argument(
-        "--quick", action="store_true", help="smoke test: n = 10 and 100 only, one repeat"
+        "--quick", action="store_true", help="smoke test: fv3 and fv2, n = 10 and 100, one repeat"
     )
     return parser.parse_args(argv)
 
@@ -326,18 +396,43 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     read_existing(args.out)  # fail before spending the time if the file cannot be merged
     section = make_section()
     start = time.perf_counter()
-    run_once(10, section)  # warm-up: first-call costs (imports, caches) stay out of the timings
-    rows = []
-    for n, repeats in sizes.items():
-        t0 = time.perf_counter()
-        rows.append(bench_size(n, repeats, section))
-        print(f"n = {n}: {repeats} repeat(s) in {time.perf_counter() - t0:.1f} s", flush=True)
+    rows: dict[str, list[dict[str, Any]]] = {}
+    for formulation, per_size in sizes.items():
+        # warm-up: first-call costs (imports, compiled kernels) stay out of the timings
+        run_once(10, section, formulation)
+        rows[formulation] = []
+        for n, repeats in per_size.items():
+            t0 = time.perf_counter()
+            rows[formulation].append(bench_size(n, repeats, section, formulation))
+            print(
+                f"{formulation} n = {n}: {repeats} repeat(s) in {time.perf_counter() - t0:.1f} s",
+                flush=True,
+            )
     setup = setup_description(sizes) | {"wall_time_s": round(time.perf_counter() - start, 2)}
+    summaries = {f: scaling(f, r) for f, r in rows.items()}
+    others = [row for f, r in rows.items() if f != "fv3" for row in r]
     data = write_merged(
-        args.out, {"environment": environment(), RESULT_KEY: rows, SETUP_KEY: setup}
+        args.out,
+        {
+            "environment": environment(),
+            RESULT_KEY: rows["fv3"],
+            OTHERS_KEY: others,
+            SCALING_KEY: summaries,
+            SETUP_KEY: setup,
+        },
     )
     print()
-    print(format_table(rows))
+    print(format_table([row for r in rows.values() for row in r]))
+    for f, summary_row in summaries.items():
+        slope = summary_row["pipeline_slope"]
+        print(
+            f"{f}: assembly + factorisation + solve at n = {summary_row['largest_n_elements']}: "
+            f"{summary_row['largest_pipeline_s']['median']:.3g} s wall, "
+            f"{summary_row['largest_pipeline_cpu_s']['median']:.3g} s CPU; log-log slope "
+            f"{'-' if slope is None else f'{slope:.2f}'} (CPU "
+            f"{summary_row['pipeline_cpu_slope'] or float('nan'):.2f}); tip error "
+            f"{summary_row[f'largest_rel_error_xi_{XI_FRACTION}']:.2e}"
+        )
     print(f"\nwritten to {args.out} ({setup['wall_time_s']} s)")
     return data
 

@@ -11,6 +11,10 @@ of the formulations.  The speed is half the critical one,
 ``c = 0.5 pi sqrt(EJ / m) / L`` (Fryba's ``alpha = 0.5``).  Supports: a pin (``ux uy uz``)
 and ``rx`` at ``x = 0``, ``uy uz`` at ``x = L``; the out-of-plane dofs carry no load.
 
+:class:`Problem` holds these numbers; the work-precision study
+(:mod:`studies.work_precision`) runs other problems through the same functions, and past the
+crossing into the free vibration (:func:`simulate`'s ``t_end``).
+
 Two references (``docs/dynamics.md``, "Moving load"):
 
 * :func:`fvbeam.closed_forms.moving_load_simply_supported`, the continuum's modal series;
@@ -20,7 +24,8 @@ Two references (``docs/dynamics.md``, "Moving load"):
   load vector is a polynomial in ``t``.  The load vector of a point load is a polynomial in
   its abscissa between the formulation's break points (element ends; fv also the
   evaluation points, across which it jumps), so each piece is read off exactly by
-  interpolating ``Beam.point_load`` at ``degree + 1`` interior times.
+  interpolating ``Beam.point_load`` at ``degree + 1`` interior times.  After the crossing
+  the force sits on the end support and the free dofs are unloaded.
 """
 
 from __future__ import annotations
@@ -31,20 +36,65 @@ from functools import cached_property
 import numpy as np
 import scipy.linalg as sla
 
-from fvbeam import Beam, Section, Structure, Support, straight
+from fvbeam import Beam, RigidBody, Section, Structure, Support, formulation, straight
 from fvbeam.closed_forms import moving_load_simply_supported
 from sliders.forces.moving_load import MovingLoad
-from sliders.joints.drives import Linear
+from sliders.joints.drives import Linear, Ramp
+from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
 from sliders.solve.dynamics import Dynamics
 from sliders.solve.integrator import State
 
-L, EJ, GA, M_PER_LENGTH, F = 1.0, 1.0, 1e5, 1.0, 1.0
+
+@dataclass(frozen=True)
+class Problem:
+    """A simply supported beam of length ``L`` (bending ``EJ``, shear ``GA``, mass ``m`` per
+    length, no rotary inertia) crossed by a force ``F`` at ``alpha`` times the critical speed
+    ``pi sqrt(EJ / m) / L`` of the Euler-Bernoulli beam (Fryba's ``alpha``)."""
+
+    L: float = 1.0
+    EJ: float = 1.0
+    GA: float = 1e5
+    m: float = 1.0
+    F: float = 1.0
+    alpha: float = 0.5
+
+    @property
+    def speed(self) -> float:
+        return self.alpha * np.pi * np.sqrt(self.EJ / self.m) / self.L
+
+    @property
+    def crossing(self) -> float:
+        """The crossing time ``L / c``."""
+        return self.L / self.speed
+
+    def exact_midspan(self, t: np.ndarray, rtol: float = 1e-8) -> np.ndarray:
+        """The continuum's mid-span deflection at times ``t >= 0``, the free vibration after
+        the crossing included (:func:`moving_load_simply_supported`)."""
+        return moving_load_simply_supported(
+            self.L / 2, t, self.L, self.EJ, self.GA, self.m, self.F, self.speed, rtol=rtol
+        )
+
+
+#: The verification scene (module docstring).
+VERIFICATION = Problem()
+L, EJ, GA, M_PER_LENGTH, F = (
+    VERIFICATION.L,
+    VERIFICATION.EJ,
+    VERIFICATION.GA,
+    VERIFICATION.m,
+    VERIFICATION.F,
+)
 #: Speed: half the critical speed ``pi sqrt(EJ / m) / L`` of the Euler-Bernoulli beam.
-SPEED = 0.5 * np.pi * np.sqrt(EJ / M_PER_LENGTH) / L
-CROSSING = L / SPEED
+SPEED = VERIFICATION.speed
+CROSSING = VERIFICATION.crossing
 #: Mass matrix per formulation: fv lumped (its only kind), Galerkin consistent.
 MASS = {"fv2": "lumped", "fv3": "lumped", "galerkin-p1": "consistent", "galerkin-p2": "consistent"}
+#: How the force is applied: ``point_load``, the load vector of ``Beam.point_load`` at
+#: ``c t`` rebuilt every step; ``slider``, a massless body carrying the force, driven along
+#: the beam at ``c`` by a spherical slider (:class:`sliders.joints.drives.Ramp` from 0 to
+#: ``L`` over the crossing, then at rest on the end support).
+LOADINGS = ("point_load", "slider")
 #: Degree in the load's abscissa of a point load's vector between break points.
 LOAD_DEGREE = {"fv2": 1, "fv3": 1, "galerkin-p1": 1, "galerkin-p2": 2}
 
@@ -59,15 +109,18 @@ class Model:
     structure: Structure
     supports: list[Support]
     smearing: float = 0.0
+    problem: Problem = VERIFICATION
 
     @cached_property
     def load(self) -> MovingLoad:
-        """The force at ``xi = c t`` (held at the supports before and after the crossing):
-        its global load vector at ``t``, ``load(t)``, or at many times, ``load.at(t)``."""
+        """The force at ``xi = c t``, on the end support (so carried by it) once it has
+        crossed: its global load vector at ``t``, ``load(t)``, or at many times,
+        ``load.at(t)`` (what the compiled steps read, a chunk at a time)."""
+        p = self.problem
         return MovingLoad(
             BeamChain(self.structure, [0]),
-            Linear(0.0, SPEED),
-            force=(0.0, F, 0.0),
+            Linear(0.0, p.speed),
+            force=(0.0, p.F, 0.0),
             smearing=self.smearing,
         )
 
@@ -76,45 +129,89 @@ class Model:
         """Global dof of the mid-span deflection ``u_y(L / 2)`` (a vertex: even meshes)."""
         return int(self.structure.node_dofs((0, self.n_elements // 2))[1])
 
-    def dynamics(self, rho_inf: float) -> Dynamics:
+    def dynamics(self, rho_inf: float, loading: str = "point_load") -> Dynamics:
+        """Generalized-alpha on the model, the force applied as :data:`LOADINGS` says."""
+        if loading not in LOADINGS:
+            raise ValueError(f"loading must be one of {', '.join(LOADINGS)}, got {loading!r}")
+        if loading == "point_load":
+            return Dynamics(
+                self.structure,
+                self.supports,
+                load=self.load,
+                mass=MASS[self.formulation],
+                rho_inf=rho_inf,
+            )
+        p = self.problem
+        structure = Structure([self.beam], bodies=[RigidBody("body", (0, 0, 0), mass=0.0)])
+        slider = Slider(
+            "spherical",
+            BeamChain(structure, [0]),
+            "body",
+            drive=Ramp(0.0, p.L, 0.0, p.crossing, "linear"),
+            smearing=self.smearing,
+            name="body",
+        )
         return Dynamics(
-            self.structure,
-            self.supports,
-            load=self.load,
+            structure,
+            self.supports + [Support("body", kind="rx+ry+rz")],
+            [slider],
+            structure.nodal_load("body", (0.0, p.F, 0.0)),
             mass=MASS[self.formulation],
             rho_inf=rho_inf,
+            method="condensed",
         )
 
 
-def model(formulation: str, n_elements: int, smearing: float = 0.0) -> Model:
-    """The simply supported beam of ``n_elements`` (even) elements."""
-    if n_elements % 2:
-        raise ValueError(f"n_elements must be even (mid-span on a node), got {n_elements}")
-    section = Section.diagonal(
-        EA=1e3,
-        GAy=GA,
-        GAz=GA,
-        GJ=1.0,
-        EJy=EJ,
-        EJz=EJ,
-        mass_per_length=M_PER_LENGTH,
+def section(problem: Problem = VERIFICATION) -> Section:
+    """The beam's section: bending and shear in both planes, no rotary inertia (``EA``
+    and ``GJ`` play no role in this bending problem)."""
+    return Section.diagonal(
+        EA=1e3 * problem.EJ,
+        GAy=problem.GA,
+        GAz=problem.GA,
+        GJ=problem.EJ,
+        EJy=problem.EJ,
+        EJz=problem.EJ,
+        mass_per_length=problem.m,
         name="moving-load",
     )
-    npe = 2 if formulation in ("fv2", "galerkin-p1") else 3
-    beam = Beam(straight((0, 0, 0), (L, 0, 0), n_elements, npe), section, formulation)
+
+
+def model(
+    name: str, n_elements: int, smearing: float = 0.0, problem: Problem = VERIFICATION
+) -> Model:
+    """The simply supported beam of ``n_elements`` (even) elements of formulation ``name``."""
+    if n_elements % 2:
+        raise ValueError(f"n_elements must be even (mid-span on a node), got {n_elements}")
+    npe = formulation(name).nodes_per_element
+    beam = Beam(straight((0, 0, 0), (problem.L, 0, 0), n_elements, npe), section(problem), name)
     supports = [Support(0, "start", "ux+uy+uz+rx"), Support(0, "end", "uy+uz")]
-    return Model(formulation, n_elements, beam, Structure([beam]), supports, smearing)
+    return Model(name, n_elements, beam, Structure([beam]), supports, smearing, problem)
 
 
-def simulate(m: Model, steps: int, rho_inf: float = 0.8) -> tuple[np.ndarray, np.ndarray]:
-    """Times and mid-span deflections of ``steps`` fixed generalized-alpha steps across the
-    crossing, from rest (the load enters on the support: zero acceleration at ``t = 0``)."""
-    d = m.dynamics(rho_inf)
-    zero = np.zeros(m.structure.n_dofs)
-    probe, h = Probe(m.midspan), CROSSING / steps
-    d.run(State(0.0, zero, zero, zero, zero), CROSSING, h, recorder=probe, progress=False)
-    # the nominal times: the run's add h step by step, and may end an ulp past the crossing
-    return h * np.arange(steps + 1), np.array(probe.w)
+def simulate(
+    m: Model,
+    steps: int,
+    rho_inf: float = 0.8,
+    t_end: float | None = None,
+    loading: str = "point_load",
+) -> tuple[np.ndarray, np.ndarray]:
+    """Times and mid-span deflections of fixed generalized-alpha steps, ``steps`` of them
+    across the crossing, from rest (the load enters on the support: zero acceleration at
+    ``t = 0``), on to ``t_end`` (default the crossing time; a whole number of steps) with
+    the same step; the force applied as ``loading`` says (:data:`LOADINGS`)."""
+    d = m.dynamics(rho_inf, loading)
+    if loading == "point_load":
+        zero = np.zeros(m.structure.n_dofs)
+        state = State(0.0, zero, zero, zero, zero)
+    else:
+        state = d.static_state()  # the slider's multipliers in equilibrium (zero load)
+    h = m.problem.crossing / steps
+    total = steps if t_end is None else int(round(t_end / h))
+    probe = Probe(m.midspan)
+    d.run(state, total * h, h, recorder=probe, progress=False)
+    # the nominal times: the run's add h step by step, and may end an ulp past them
+    return h * np.arange(total + 1), np.array(probe.w)
 
 
 class Probe:
@@ -134,10 +231,8 @@ class Probe:
 
 
 def exact_midspan(t: np.ndarray, rtol: float = 1e-8) -> np.ndarray:
-    """The continuum's mid-span deflection (:func:`moving_load_simply_supported`)."""
-    return moving_load_simply_supported(
-        L / 2, np.minimum(t, CROSSING), L, EJ, GA, M_PER_LENGTH, F, SPEED, rtol=rtol
-    )
+    """The verification scene's mid-span deflection (:meth:`Problem.exact_midspan`)."""
+    return VERIFICATION.exact_midspan(t, rtol)
 
 
 def relative_error(w: np.ndarray, reference: np.ndarray, scale: np.ndarray | None = None) -> float:
@@ -172,6 +267,8 @@ def semi_discrete(m: Model, t: np.ndarray) -> np.ndarray:
 
     mid = np.flatnonzero(free[moving] == m.midspan)[0]
     breaks = _load_breaks(m)
+    if t.max() > breaks[-1]:  # the free vibration after the crossing: no load on the beam
+        breaks = np.append(breaks, t.max())
     degree = LOAD_DEGREE[m.formulation]
     q, v = np.zeros(len(omega)), np.zeros(len(omega))
     out = np.zeros(len(t))
@@ -188,12 +285,13 @@ def semi_discrete(m: Model, t: np.ndarray) -> np.ndarray:
 
 
 def _load_breaks(m: Model) -> np.ndarray:
-    """Times at which the load vector's polynomial piece changes (module docstring)."""
+    """Times at which the load vector's polynomial piece changes (module docstring), up to
+    the crossing time."""
     if m.smearing:
         raise ValueError("semi_discrete takes a point load (smearing = 0)")
     local = m.beam.formulation.breakpoints()
     xi = m.beam.mesh.abscissae(np.arange(m.n_elements)[:, None], local).ravel()
-    return np.unique(np.clip(xi, 0, L)) / SPEED
+    return np.unique(np.clip(xi, 0, m.problem.L)) / m.problem.speed
 
 
 def _polynomial_response(

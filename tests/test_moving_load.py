@@ -19,8 +19,26 @@ Sources of the asserted numbers (``docs/dynamics.md``, "Moving load"):
     deflection larger than the bending one, so a wrong shear term cannot pass.
   - *Truncation bound*: ``|w_N - w_ref| <= bound(N) + bound(N_ref)`` (triangle inequality)
     for a few ``N``, ``N_ref = 30000`` terms in the reference.
+  - *After the crossing* (``t > L / c``) each mode vibrates freely from its state at
+    ``L / c``: :func:`moving_load_modes` is checked against ``q(T) cos(omega s) + q'(T) /
+    omega sin(omega s)`` built from its own crossing branch at ``T`` (continuity of deflection
+    and velocity, and the free oscillator), at and off resonance, to roundoff: ``16 eps``
+    times the largest phase ``omega t`` in play times the mode's amplitude bound
+    ``(2 F / L)(1 + r_j) / |D_j|``.  The deflection after the crossing is the plain modal
+    sum (the string part vanishes at ``a = L``), to roundoff.
+  - *Convergence in the number of modes.*  Against 2000 (Euler-Bernoulli) or 20000 terms, the
+    max-norm error of ``N = 10, 20, 40, 80`` terms over a grid of ``x`` and ``t``: the terms
+    decay like ``j^-p`` (``p = 4`` for the remainder during the crossing, ``p = 5`` for the
+    free vibration after it, Euler-Bernoulli: ``r_j / D_j ~ j^-1 j^-4``; ``p = 2`` with shear,
+    ``r_j -> c / c_s``, ``D_j ~ GA k_j^2``), so the error decays like a tail sum, ``N^(1-p)``
+    when the terms add up coherently, and at most like the first omitted term, ``N^-p``:
+    observed orders within ``[p - 1, p]`` widened by the order tolerance.
   - *Symmetry* of the static closed form: Maxwell-Betti reciprocity ``w(x; a) = w(a; x)``
     and the mirror ``w(L - x; L - a) = w(x; a)``, to roundoff (``1e-14`` of the values).
+
+* **Mesh, past the crossing.** The same for galerkin-p2 over ``0 <= t <= 1.5 L / c`` (the
+  crossing and the free vibration after it), on the same meshes: order 3, the
+  free vibration's error being that of the P2 modes (order 4) excited by the crossing.
 
 * **Mesh.** The exact semi-discrete solution (:func:`studies.moving_load.semi_discrete`: no
   time-stepping error) against the closed form, relative max-norm error of the mid-span
@@ -48,6 +66,7 @@ import numpy as np
 import pytest
 
 from fvbeam.closed_forms import (
+    moving_load_modes,
     moving_load_simply_supported,
     moving_load_truncation,
     simply_supported_point_load,
@@ -88,22 +107,92 @@ def test_euler_bernoulli_limit_is_frybas_series():
     assert np.abs(w).max() > 1e3 * bound
 
 
-@pytest.mark.parametrize("a", [0.1, 0.35, 0.5, 0.8])
+@pytest.mark.parametrize("a", [0.1, 0.35, 0.5, 0.8, 1.3])
 def test_quasi_static_limit(a):
     L, EJ, GA, m, F = 1.0, 1.0, 10.0, 1.0, 1.0
     c = 1e-4 * np.pi / L * np.sqrt(EJ / m)
     x = np.linspace(0, L, 11)
     w = moving_load_simply_supported(x, a / c, L, EJ, GA, m, F, c)
-    static = simply_supported_point_load(x, a, L, EJ, GA, F)
+    static = simply_supported_point_load(x, min(a, L), L, EJ, GA, F)  # 0 once it left
     kappa_1 = 1 / (L**4 / (np.pi**4 * EJ) + L**2 / (np.pi**2 * GA))
     r1 = np.pi / L * c * np.sqrt(m / kappa_1)
     rtol = 1e-8  # the default truncation, relative to the static mid-span deflection
-    bound = r1 / (1 - r1) * F * (L**3 / (45 * EJ) + L / (3 * GA)) + rtol * F * (
+    after = 2.0 if a > L else 1.0  # the free vibration's terms: twice the bound (docstring)
+    bound = after * r1 / (1 - r1) * F * (L**3 / (45 * EJ) + L / (3 * GA)) + rtol * F * (
         L**3 / (48 * EJ) + L / (4 * GA)
     )
     assert np.abs(w - static).max() <= bound
-    shear = F * np.minimum(x, a) * (L - np.maximum(x, a)) / (GA * L)
-    assert shear.max() > 1e3 * bound  # the shear part is resolved
+    midspan = simply_supported_point_load(L / 2, L / 2, L, EJ, GA, F)
+    assert midspan > 1e3 * bound  # the bound is tight enough to catch a wrong term
+    if a < L:
+        shear = F * np.minimum(x, a) * (L - np.maximum(x, a)) / (GA * L)
+        assert shear.max() > 1e3 * bound  # the shear part is resolved
+
+
+EPS = np.finfo(float).eps
+#: Moving-load cases of the post-crossing checks: (GA, alpha) with ``L = 1, EJ = 1e4,
+#: m = 10, F = 100`` (the work-precision problem); alpha = 1 puts mode 1 at resonance.
+POST_CROSSING = [(np.inf, 0.5), (1e7, 0.5), (np.inf, 1.0), (1e5, 0.9)]
+
+
+def _case(GA: float, alpha: float) -> tuple[float, float, float, float, float, float]:
+    L, EJ, m, F = 1.0, 1e4, 10.0, 100.0
+    return L, EJ, GA, m, F, alpha * np.pi / L * np.sqrt(EJ / m)
+
+
+@pytest.mark.parametrize("GA, alpha", POST_CROSSING)
+def test_free_vibration_continues_the_crossing(GA, alpha):
+    L, EJ, GA, m, F, c = _case(GA, alpha)
+    T = L / c
+    j = np.arange(1, 41, dtype=float)
+    k = j * np.pi / L
+    kappa = 1 / (1 / (EJ * k**4) + 1 / (GA * k**2))
+    omega, r = np.sqrt(kappa / m), k * c / np.sqrt(kappa / m)
+    q_T, v_T = moving_load_modes(j, T, L, EJ, GA, m, F, c)
+    s = np.linspace(0, 0.5 * T, 97)[1:, None]
+    q, v = moving_load_modes(j, T + s[:, 0], L, EJ, GA, m, F, c)
+    free_q = q_T * np.cos(omega * s) + v_T / omega * np.sin(omega * s)
+    free_v = v_T * np.cos(omega * s) - omega * q_T * np.sin(omega * s)
+    amplitude = np.where(
+        np.abs(1 - r) < 1e-8,
+        F / (L * kappa) * (1 + omega * 1.5 * T),  # the resonant mode's growth, t <= 1.5 T
+        2 * F / L * (1 + r) / np.abs(kappa - m * (k * c) ** 2),
+    )
+    tol = 16 * EPS * (1 + omega * 1.5 * T) * amplitude
+    assert np.all(np.abs(q - free_q) <= tol)
+    assert np.all(np.abs(v - free_v) <= omega * tol)
+    assert np.abs(q).max() > 1e6 * tol.max()  # the modes are excited
+
+
+@pytest.mark.parametrize("GA, alpha", POST_CROSSING)
+def test_deflection_after_crossing_is_the_modal_sum(GA, alpha):
+    L, EJ, GA, m, F, c = _case(GA, alpha)
+    T, N = L / c, 60
+    x, t = np.linspace(0, L, 9)[:, None], np.linspace(T, 1.5 * T, 31)[None, :]
+    j = np.arange(1, N + 1, dtype=float)
+    q, _ = moving_load_modes(j, t[0], L, EJ, GA, m, F, c)
+    modal = np.sin(np.multiply.outer(x[:, 0], j * np.pi / L)) @ q.T
+    w = moving_load_simply_supported(x, t, L, EJ, GA, m, F, c, n_modes=N)
+    assert np.abs(w - modal).max() <= 1e-12 * np.abs(modal).max()
+
+
+@pytest.mark.parametrize(
+    "GA, window, p, n_ref",
+    [(np.inf, "crossing", 4, 2000), (np.inf, "after", 5, 2000), (1e6, "after", 2, 20000)],
+)
+def test_series_converges_at_its_rate(GA, window, p, n_ref):
+    L, EJ, GA, m, F, c = _case(GA, 0.5)
+    T = L / c
+    times = np.linspace(0, T, 61) if window == "crossing" else np.linspace(T, 1.5 * T, 61)
+    x, t = np.linspace(0, L, 11)[:, None], times[None, :]
+    reference = moving_load_simply_supported(x, t, L, EJ, GA, m, F, c, n_modes=n_ref)
+    errors = [
+        np.abs(moving_load_simply_supported(x, t, L, EJ, GA, m, F, c, n_modes=N) - reference).max()
+        for N in (10, 20, 40, 80)
+    ]
+    orders = observed_orders(errors)
+    assert np.all(orders >= p - 1 - ORDER_TOLERANCE) and np.all(orders <= p + ORDER_TOLERANCE)
+    assert errors[-1] <= moving_load_truncation(80, L, EJ, GA, m, F, c)
 
 
 @pytest.mark.parametrize("N", [3, 30, 300])
@@ -131,8 +220,10 @@ def test_static_symmetry():
 
 
 def test_bad_input_is_named():
-    with pytest.raises(ValueError, match="L / c"):
-        moving_load_simply_supported(0.5, 2.0, c=1.0)
+    with pytest.raises(ValueError, match="t >= 0"):
+        moving_load_simply_supported(0.5, -1.0, c=1.0)
+    with pytest.raises(ValueError, match="mode numbers"):
+        moving_load_modes(0.5, 1.0)
     with pytest.raises(ValueError, match="GA > m c"):
         moving_load_simply_supported(0.5, 0.1, GA=1.0, c=2.0)
 
@@ -147,6 +238,16 @@ def test_mesh_convergence(formulation, order):
         for n in (16, 32, 64)
     ]
     assert np.all(np.abs(observed_orders(errors) - order) <= ORDER_TOLERANCE), errors
+
+
+def test_mesh_convergence_past_the_crossing():
+    t = np.linspace(0, 1.5 * ml.CROSSING, 601)
+    exact = ml.exact_midspan(t)
+    errors = [
+        ml.relative_error(ml.semi_discrete(ml.model("galerkin-p2", n), t), exact)
+        for n in (16, 32, 64)
+    ]
+    assert np.all(np.abs(observed_orders(errors) - 3) <= ORDER_TOLERANCE), errors
 
 
 @pytest.mark.parametrize("formulation", ["fv3", "galerkin-p2"])

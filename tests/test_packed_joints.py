@@ -114,3 +114,18 @@ def test_an_abscissa_off_the_line_is_named() -> None:
     pack = JointPack(batch.sliders[:1], batch.structures[0])
     with pytest.raises(ValueError, match="slider 'A': xi = -0.1 lies outside its line"):
         pack.evaluate(0, q[0], y[0])
+
+
+@pytest.mark.parametrize("line", LINES)
+def test_projection_equals_the_batch(line) -> None:
+    """The compiled projection (:func:`sliders.joints.packed.project`) against the batch's
+    (:meth:`SliderBatch.initial_unknowns`, numpy around the same line kernels): the same
+    Newton steps from the same sample, so the same ``xi`` to a few ulp of the line's length,
+    on a deformed state; and on the state moved rigidly (:meth:`JointPack.moved`)."""
+    batch = batch_of("spherical", "section", line, OFFSETS["off the node"])
+    slider, structure = batch.sliders[0], batch.structures[0]
+    q = np.random.default_rng(9).standard_normal(structure.n_dofs) * 1e-3
+    pack = JointPack([slider], structure)
+    reference = batch.subset(np.array([0])).initial_unknowns(q[None])[0]
+    (packed,) = pack.initial_unknowns(q)
+    assert np.abs(packed - reference).max() <= 8 * EPS * slider.line.length

@@ -71,6 +71,8 @@ FIELDS = (
     "rule_w",
     "line_params",
     "line_breaks",
+    "grid",
+    "grid_points",
     # integers
     "body",
     "member_map",
@@ -82,6 +84,7 @@ FIELDS = (
     "start",
     "size",
     "where",
+    "grid_dofs",
 )
 (
     OFFSET,
@@ -104,6 +107,8 @@ FIELDS = (
     RULE_W,
     LINE_PARAMS,
     LINE_BREAKS,
+    GRID,
+    GRID_POINTS,
     BODY,
     MEMBER_MAP,
     MAPS,
@@ -114,8 +119,12 @@ FIELDS = (
     START,
     SIZE,
     WHERE,
+    GRID_DOFS,
 ) = range(len(FIELDS))
 INTEGER_FIELDS = FIELDS.index("body")
+#: Sample points of a rigid line where a projection starts (:meth:`sliders.lines.rigid.
+#: RigidLine.project`'s grid).
+PROJECTION_GRID = 65
 
 
 class JointPack:
@@ -151,8 +160,11 @@ class JointPack:
         self.values = np.zeros((J, 2))
         self.fields = np.zeros((J, len(FIELDS), 5), dtype=np.int64)
         self.layouts: list[tuple[_Layout, SlotJacobian]] = []
+        #: Per joint on a chain, the node of the chain at each projection sample.
+        self.grid_nodes: list[np.ndarray] = []
         for j, slider in enumerate(self.sliders):
             arrays, head, layout, jacobian = _joint_arrays(slider, structure)
+            self.grid_nodes.append(arrays.pop("grid_nodes", np.zeros(0, dtype=int)))
             self.head[j] = head
             self.values[j] = slider.smearing, slider.line.length
             self.layouts.append((layout, jacobian))
@@ -188,6 +200,9 @@ class JointPack:
                 d = self.fields[j, POINTS]
                 points = np.concatenate([beam.mesh.points for beam in slider.line.beams])
                 out.floats[d[0] : d[0] + points.size] = points.ravel()
+                d = self.fields[j, GRID_POINTS]
+                grid = points[self.grid_nodes[j]]
+                out.floats[d[0] : d[0] + grid.size] = grid.ravel()
         return out
 
     @property
@@ -204,6 +219,18 @@ class JointPack:
     def widths(self) -> np.ndarray:
         """The number of Jacobian entries of each joint."""
         return self.head[:, WIDTH]
+
+    def initial_unknowns(self, q: np.ndarray) -> list[np.ndarray]:
+        """Each joint's ``xi`` from projecting its sliding point on its line at the state
+        ``q`` (:func:`project`, one compiled call for all joints), multipliers zero; a spline
+        slider's frame checked against the line's there."""
+        xi = project(self.head, self.values, self.fields, self.floats, self.ints, q)
+        out = []
+        for slider, x, m in zip(self.sliders, xi, self.unknowns, strict=True):
+            if slider.kind == "spline":
+                slider._check_frame(float(x))
+            out.append(np.concatenate([[x], np.zeros(m - 1)]))
+        return out
 
     def violations(self, q: np.ndarray, unknowns: Sequence[np.ndarray], time: float) -> np.ndarray:
         """The largest constraint violation of each joint at the state ``q`` and its physical
@@ -292,11 +319,18 @@ def _joint_arrays(
             steps(slider.smearing, slider.kernel) if slider.smearing > 0 else (np.zeros(0),) * 2
         )
         arrays["rule_x"], arrays["rule_w"] = KERNEL_RULE
+        grid, node = chain._node_grid()
+        arrays["grid"], arrays["grid_points"] = grid, chain.points[0, node]
+        arrays["grid_nodes"] = node
+        arrays["grid_dofs"] = chain._node_dofs()[chain.map[0], node]
     else:
         line = slider.line
         assert isinstance(line, RigidLine)  # a batch's line is a chain or rigid
         head[SHAPE], arrays["line_params"], arrays["line_breaks"] = line.compiled()
         arrays["up"] = np.asarray(line.up, dtype=float)
+        arrays["grid"] = np.linspace(0, line.length, PROJECTION_GRID)
+        arrays["grid_points"] = np.array([line.derivatives(xi)[0] for xi in arrays["grid"]])
+        arrays["grid_dofs"] = np.full((PROJECTION_GRID, 3), -1)
     interp = 3 * head[NPE]
     layout = _Layout(interp, head[LOAD], head[ROTATION], head[TANGENT], head[UNKNOWNS])
     jacobian = layout.jacobian(1, batch.pattern)
@@ -396,7 +430,9 @@ def evaluate_joint(
     n_load, n_rot = hd[LOAD], hd[ROTATION]
     xi_raw = y[0]
     xi = min(max(xi_raw, 0.0), length) if hd[END_STOPS] else xi_raw
-    if not (0.0 <= xi <= length):
+    # within 1e-12 of the length beyond an end is at the end (fvbeam.geometry.locate_abscissa)
+    tie = 1e-12 * length
+    if not (-tie <= xi <= length + tie):
         return 1
     start, size, where = _f1(I, d[START]), _f1(I, d[SIZE]), _f2(I, d[WHERE])
     body = _f2(I, d[BODY])
@@ -513,7 +549,8 @@ def evaluate_joint(
         tangent_flat = tangent_dofs.reshape((1, tangent_dofs.shape[1] * 3))
     else:
         derivatives = np.empty((4, 3))
-        line_at(hd[SHAPE], _f1(F, d[LINE_PARAMS]), _f1(F, d[LINE_BREAKS]), xi, derivatives)
+        at = min(max(xi, 0.0), length)  # a rigid line is read at the end (RigidLine.at)
+        line_at(hd[SHAPE], _f1(F, d[LINE_PARAMS]), _f1(F, d[LINE_BREAKS]), at, derivatives)
         x[0], l[0], l_xi[0], l_xixi[0] = (
             derivatives[0],
             derivatives[1],
@@ -641,4 +678,97 @@ def violations(
                 worst = max(worst, abs(r[c]))
         out[j] = worst
         at += m
+    return out
+
+
+@numba.njit(cache=True, inline="never")
+def _curve(
+    j: int,
+    head: np.ndarray,
+    fields: np.ndarray,
+    F: np.ndarray,
+    I: np.ndarray,
+    q: np.ndarray,
+    xi: float,
+    out: np.ndarray,
+) -> None:
+    """``x``, ``l``, ``l_/xi`` (3, 3) of joint ``j``'s line at ``xi`` on the state ``q``."""
+    hd, d = head[j], fields[j]
+    if hd[CHAIN]:
+        geometry = line_state(
+            np.full(1, xi),
+            q.reshape((1, len(q))),
+            _f1(I, d[MEMBER_MAP]),
+            _f4(I, d[MAPS]),
+            _f2(I, d[CELLS]),
+            _f3(F, d[POINTS]),
+            _f2(F, d[BREAKS]),
+            _f2(F, d[VERTEX_S]),
+            _f1(I, d[FIRST_ELEMENT]),
+            _f2(F, d[H]),
+            _f1(F, d[LAG]),
+            _f1(I, d[RIGID]) != 0,
+            _f2(F, d[REGIONS]),
+            _f2(F, d[ENDS]),
+            _f4(F, d[R0_OF]),
+            _f4(F, d[COMPLIANCE_OF]),
+            True,
+            False,
+            False,
+        )[12]
+        for r in range(3):
+            out[r] = geometry[0, r]
+    else:
+        derivatives = np.empty((4, 3))
+        line_at(hd[SHAPE], _f1(F, d[LINE_PARAMS]), _f1(F, d[LINE_BREAKS]), xi, derivatives)
+        for r in range(3):
+            out[r] = derivatives[r]
+
+
+@numba.njit(cache=True)
+def project(
+    head: np.ndarray,
+    values_of: np.ndarray,
+    fields: np.ndarray,
+    F: np.ndarray,
+    I: np.ndarray,
+    q: np.ndarray,
+) -> np.ndarray:
+    """Each joint's ``xi`` that projects its sliding point on its line at the state ``q``:
+    :func:`sliders.lines.rigid.project` (the reference, which the chains' and the rigid
+    lines' ``project`` call), one joint at a time: Newton on ``l . (x - p) = 0`` from the
+    sample closest to ``p`` (a chain's nodes, a rigid line's 65 points), each step clipped
+    to the line, until a step is below ``1e-14`` of the length (at most 50)."""
+    J = len(head)
+    out = np.empty(J)
+    geometry = np.empty((3, 3))
+    for j in range(J):
+        d = fields[j]
+        length = values_of[j, 1]
+        body, reference = _f2(I, d[BODY]), _f2(F, d[REFERENCE])
+        point = np.empty(3)
+        for c in range(3):
+            point[c] = reference[0, c] + q[body[0, c]]
+        grid, points, dofs = _f1(F, d[GRID]), _f2(F, d[GRID_POINTS]), _f2(I, d[GRID_DOFS])
+        best, closest = 0, np.inf
+        for g in range(len(grid)):
+            distance = 0.0
+            for c in range(3):
+                moved = points[g, c] + (q[dofs[g, c]] if dofs[g, c] >= 0 else 0.0)
+                distance += (moved - point[c]) ** 2
+            if distance < closest:
+                best, closest = g, distance
+        xi = grid[best]
+        for _ in range(50):
+            _curve(j, head, fields, F, I, q, xi, geometry)
+            slope, along = 0.0, 0.0
+            for c in range(3):
+                gap = geometry[0, c] - point[c]
+                slope += geometry[1, c] * geometry[1, c] + geometry[2, c] * gap
+                along += geometry[1, c] * gap
+            step = -along / slope if slope > 0 else 0.0
+            xi = min(max(xi + step, 0.0), length)
+            if abs(step) <= 1e-14 * max(length, 1.0):
+                break
+        out[j] = xi
     return out

@@ -282,9 +282,9 @@ class SliderStatics:
         (:class:`sliders.solve.newton.CompiledNewton`), the bordered one
         :func:`newton_many` (for one member)."""
         if self.method == "condensed":
-            if start is None:
+            if start is None:  # the projection compiled, for every joint at once
                 q = np.zeros(self.structure.n_dofs)
-                start = (q, self.initial_unknowns(q))
+                start = (q, self.compiled.pack.initial_unknowns(q))
             q0, unknowns = start
             return self.compiled.solve(f, q0, unknowns, tol, max_iterations, time, scale, velocity)
         if self.forces:

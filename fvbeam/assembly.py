@@ -1,0 +1,262 @@
+"""The stiffness of a beam assembled element by element into 6x6 node blocks, compiled (numba).
+
+The definition of the stiffness is the scikit-fem form :func:`fvbeam.forms.internal_work`
+(eq. T3) on the trial and test bases of :class:`fvbeam.beam.Beam`, assembled by
+``skfem.asm`` (:meth:`fvbeam.beam.Beam.reference_stiffness`).  scikit-fem evaluates a form
+once per pair of an element's local functions, each time over arrays of all elements'
+quadrature points: for a 3-node element, 324 passes over the mesh, each computing both
+strains and contracting the 6x6 section stiffness again, and a coordinate list of
+``324 n_elements`` entries before the sparse matrix is summed (``docs/performance.md``,
+"Large meshes").  :func:`element_blocks` computes the same integral element by element, in
+one pass: per quadrature point the section forces of each trial function once, then their
+work on each test function, added into the 6x6 block of each pair of nodes
+(:func:`node_blocks`, the pattern of a block-sparse matrix).  It applies to the formulations
+with Lagrange trial functions: finite volume and Galerkin (:func:`compiled`); the others are
+assembled by scikit-fem.
+
+With ``d/ds`` the derivative in arc length, ``t`` the unit tangent, ``C`` the section
+stiffness in global axes (eq. T2), trial function ``N_b e_k`` of node ``b`` has the
+generalised strain (eq. T1)::
+
+    k < 3:   eps = [dN_b/ds e_k; 0]
+    k >= 3:  eps = [-N_b e_(k-3) x t; dN_b/ds e_(k-3)]
+
+and the section force and moment ``sigma = C eps``.  A Galerkin test function ``N_a e_c``
+(strain likewise) takes ``int eps_a . sigma_b ds``; an fv test function of node ``a`` (eq.
+T4) is a rigid motion of its influence region, strain-free inside it, so its work is that of
+the spikes of the region's indicator at the evaluation points ``p``: ``jump_a(p)`` times the
+force ``F`` and the moment about the node ``M + (x_p - x_a) x F`` of ``sigma`` there (the
+region's balance, ``docs/theory.md`` eq. T7).
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+import scipy.sparse as sp
+
+from fvbeam.elements import jumps
+from fvbeam.formulations import FiniteVolume, Formulation, Galerkin
+from fvbeam.mesh import BeamMesh
+from fvbeam.pointwise import shape_at
+
+
+def compiled(formulation: Formulation) -> bool:
+    """Whether :func:`stiffness` assembles the formulation: Lagrange trial functions with fv
+    or Galerkin test functions."""
+    return isinstance(formulation, (FiniteVolume, Galerkin))
+
+
+def node_blocks(cells: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The pairs of nodes that the elements ``cells`` (nel, npe) couple, compressed by rows.
+
+    Returns
+    -------
+    indptr, indices : the coupled node pairs, by row node (columns sorted)
+    block : (nel, npe, npe) -- the position among them of each element's pair (row node
+        ``a``, column node ``b``)
+    """
+    keys = cells[:, :, None] * n_nodes + cells[:, None, :]
+    unique, block = np.unique(keys, return_inverse=True)
+    indptr = np.searchsorted(unique // n_nodes, np.arange(n_nodes + 1))
+    return indptr, unique % n_nodes, block.reshape(keys.shape)
+
+
+@numba.njit(cache=True)
+def dof_pattern(indptr: np.ndarray, indices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The CSR pattern of six dofs per node on the node pairs ``indptr``, ``indices``
+    (:func:`node_blocks`): row ``6 A + i`` holds ``6 B + j`` for every ``B`` coupled to ``A``
+    and every ``j``, so that node ``A``'s rows take ``36 indptr[A]`` onwards, ``6 deg(A)``
+    entries each."""
+    n = indptr.shape[0] - 1
+    dof_indptr = np.empty(6 * n + 1, dtype=np.int64)
+    dof_indices = np.empty(36 * indptr[n], dtype=np.int32)
+    for A in range(n):
+        width = 6 * (indptr[A + 1] - indptr[A])
+        for i in range(6):
+            start = 36 * indptr[A] + i * width
+            dof_indptr[6 * A + i] = start
+            for p in range(indptr[A], indptr[A + 1]):
+                for j in range(6):
+                    dof_indices[start + 6 * (p - indptr[A]) + j] = 6 * indices[p] + j
+    dof_indptr[6 * n] = 36 * indptr[n]
+    return dof_indptr, dof_indices
+
+
+@numba.njit(cache=True, inline="never")
+def rotated(R: np.ndarray, S: np.ndarray, C: np.ndarray) -> None:
+    """``C = blockdiag(R, R) S blockdiag(R, R)^T`` (6x6): the section stiffness ``S`` in
+    global axes for the frame ``R`` (eq. T2, :meth:`fvbeam.section.Section.global_stiffness`)."""
+    for I in range(2):
+        for J in range(2):
+            for i in range(3):
+                for j in range(3):
+                    value = 0.0
+                    for k in range(3):
+                        RS = 0.0
+                        for m in range(3):
+                            RS += R[i, m] * S[3 * I + m, 3 * J + k]
+                        value += RS * R[j, k]
+                    C[3 * I + i, 3 * J + j] = value
+
+
+@numba.njit(cache=True, inline="always")
+def add_work(
+    Ke: np.ndarray, r: int, sigma: np.ndarray, weight: float, lever: tuple[float, float, float]
+) -> None:
+    """Add to rows ``r .. r + 5`` of ``Ke`` the work of the section forces ``sigma[j] = [F;
+    M]`` of every trial function ``j`` on one node's six test functions: ``weight F`` on the
+    translations, ``weight M + lever x F`` on the rotations."""
+    l0, l1, l2 = lever
+    for j in range(sigma.shape[0]):
+        F0, F1, F2 = sigma[j, 0], sigma[j, 1], sigma[j, 2]
+        Ke[r, j] += weight * F0
+        Ke[r + 1, j] += weight * F1
+        Ke[r + 2, j] += weight * F2
+        Ke[r + 3, j] += weight * sigma[j, 3] + l1 * F2 - l2 * F1
+        Ke[r + 4, j] += weight * sigma[j, 4] + l2 * F0 - l0 * F2
+        Ke[r + 5, j] += weight * sigma[j, 5] + l0 * F1 - l1 * F0
+
+
+@numba.njit(cache=True)
+def element_blocks(
+    fv: bool,
+    X: np.ndarray,
+    W: np.ndarray,
+    jump: np.ndarray,
+    nodes: np.ndarray,
+    h: np.ndarray,
+    frames: np.ndarray,
+    metric: np.ndarray,
+    S: np.ndarray,
+    cells: np.ndarray,
+    block: np.ndarray,
+    indptr: np.ndarray,
+    data: np.ndarray,
+) -> None:
+    """Add every element's stiffness (module docstring) into the CSR values ``data`` of the
+    pattern :func:`dof_pattern`.
+
+    Parameters
+    ----------
+    fv
+        Finite-volume test functions (else Galerkin).
+    X, W
+        The stiffness quadrature on the reference element [0, 1] (nq,): Gauss points, or the
+        evaluation points (fv; ``W`` unused).
+    jump
+        (npe, nq): the step of each node's region indicator at each evaluation point (fv).
+    nodes
+        (nel, npe, 3): the node positions of each element.
+    h
+        (nel,): the element lengths (``d xi / dX``).
+    frames, metric
+        (nel, nq, 3, 3), (nel, nq): the section frames ``[t, e2, e3]`` and ``ds / d xi`` at
+        the quadrature points.
+    S
+        (6, 6): the section stiffness in its frame.
+    cells, block, indptr
+        (nel, npe) the elements' nodes; (nel, npe, npe) and (n_nodes + 1,) the node pairs
+        (:func:`node_blocks`).
+    data
+        The CSR values, added to.
+    """
+    nel, npe = nodes.shape[0], nodes.shape[1]
+    nf = 6 * npe
+    N, dN, d2N = np.empty(npe), np.empty(npe), np.empty(npe)
+    sigma = np.empty((nf, 6))
+    C = np.empty((6, 6))
+    Ct = np.empty((6, 3))
+    Ke = np.empty((nf, nf))
+    for e in range(nel):
+        Ke[:] = 0.0
+        for q in range(X.shape[0]):
+            shape_at(X[q], npe, N, dN, d2N)
+            ds = h[e] * metric[e, q]
+            rotated(frames[e, q], S, C)
+            t0, t1, t2 = frames[e, q, 0, 0], frames[e, q, 1, 0], frames[e, q, 2, 0]
+            # Ct[:, k] = C[:, :3] (e_k x t): the section forces of a unit rotation's shear
+            for i in range(6):
+                Ct[i, 0] = -C[i, 1] * t2 + C[i, 2] * t1
+                Ct[i, 1] = C[i, 0] * t2 - C[i, 2] * t0
+                Ct[i, 2] = -C[i, 0] * t1 + C[i, 1] * t0
+            for b in range(npe):
+                slope = dN[b] / ds
+                for k in range(3):
+                    for i in range(6):
+                        sigma[6 * b + k, i] = slope * C[i, k]
+                        sigma[6 * b + 3 + k, i] = slope * C[i, 3 + k] - N[b] * Ct[i, k]
+            if fv:
+                x0 = x1 = x2 = 0.0
+                for b in range(npe):
+                    x0 += N[b] * nodes[e, b, 0]
+                    x1 += N[b] * nodes[e, b, 1]
+                    x2 += N[b] * nodes[e, b, 2]
+                for a in range(npe):
+                    step = jump[a, q]
+                    if step == 0.0:
+                        continue
+                    # the region's balance about its node x_a: F and M + (x - x_a) x F
+                    v0, v1, v2 = x0 - nodes[e, a, 0], x1 - nodes[e, a, 1], x2 - nodes[e, a, 2]
+                    add_work(Ke, 6 * a, sigma, step, (step * v0, step * v1, step * v2))
+            else:
+                weight = W[q] * ds
+                for a in range(npe):
+                    slope, value = dN[a] / ds * weight, N[a] * weight
+                    # eps . sigma of N_a e_k: dN_a/ds F_k; of a rotation, dN_a/ds M_k minus
+                    # N_a (e_k x t) . F = N_a e_k . (t x F)
+                    add_work(Ke, 6 * a, sigma, slope, (-value * t0, -value * t1, -value * t2))
+        for a in range(npe):
+            A = cells[e, a]
+            width = 6 * (indptr[A + 1] - indptr[A])
+            for b in range(npe):
+                start = 36 * indptr[A] + 6 * (block[e, a, b] - indptr[A])
+                for i in range(6):
+                    for j in range(6):
+                        data[start + i * width + j] += Ke[6 * a + i, 6 * b + j]
+
+
+def stiffness(
+    mesh: BeamMesh,
+    formulation: Formulation,
+    section: np.ndarray,
+    quadrature: tuple[np.ndarray, np.ndarray],
+    frames: np.ndarray,
+    metric: np.ndarray,
+) -> sp.csr_matrix:
+    """The stiffness of a beam (six dofs per node, node ``k`` owning ``6k .. 6k + 5``) by
+    :func:`element_blocks`, as a CSR matrix without explicit zeros (as ``skfem.asm`` gives
+    it).
+
+    ``section``: the 6x6 section stiffness in its frame; ``quadrature``: the stiffness
+    quadrature ``(X (1, nq), W (nq,))``; ``frames`` (nel, nq, 3, 3) and ``metric`` (nel, nq)
+    there (:meth:`fvbeam.beam.Beam.centreline`).
+    """
+    if not compiled(formulation):
+        raise ValueError(f"{formulation.name}: no compiled stiffness; assemble it with asm")
+    X, W = (np.ascontiguousarray(a, dtype=float).ravel() for a in quadrature)
+    npe = mesh.nodes_per_element
+    fv = isinstance(formulation, FiniteVolume)
+    step = jumps(npe) if fv else np.zeros((npe, len(X)))
+    indptr, indices, block = node_blocks(mesh.cells, mesh.n_nodes)
+    dof_indptr, dof_indices = dof_pattern(indptr, indices)
+    data = np.zeros(len(dof_indices))
+    element_blocks(
+        fv,
+        X,
+        W,
+        np.ascontiguousarray(step, dtype=float),
+        np.ascontiguousarray(mesh.points[mesh.cells]),
+        np.ascontiguousarray(mesh.element_length),
+        np.ascontiguousarray(frames),
+        np.ascontiguousarray(metric),
+        np.ascontiguousarray(section, dtype=float),
+        mesh.cells,
+        block,
+        indptr,
+        data,
+    )
+    n = 6 * mesh.n_nodes
+    K = sp.csr_matrix((data, dof_indices, dof_indptr), shape=(n, n))
+    K.eliminate_zeros()
+    return K
