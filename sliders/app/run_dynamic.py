@@ -105,7 +105,6 @@ def integrate(
     if resume and out is None:
         raise ValueError("resume needs the output directory out whose checkpoint to go on from")
     dynamics = model.dynamics()
-    start = model.restart
     adaptive = None
     if study.adaptive is not None:
         spec = study.adaptive
@@ -135,7 +134,7 @@ def integrate(
         if cursor is not None:
             outcome.state = dynamics.resume(cursor, study.t_end, adaptive, recorder, progress, save)
         else:
-            first = start if start is not None else dynamics.static_state()
+            first = model.start_state(dynamics)
             outcome.state = dynamics.run(
                 first, study.t_end, study.step, adaptive, recorder, progress, save
             )
