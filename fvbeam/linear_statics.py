@@ -10,7 +10,7 @@ from fvbeam.beam import Beam
 from fvbeam.factorisation import SparseLU
 from fvbeam.mechanism import free_motion_message, motion_phrases, rigid_modes
 from fvbeam.structure import Structure
-from fvbeam.support import Support
+from fvbeam.support import Support, complement
 
 
 class LinearStatics:
@@ -25,7 +25,7 @@ class LinearStatics:
             structure = Structure([structure])
         self.structure = structure
         self.fixed = structure.support_dofs(supports)
-        self.free = np.setdiff1d(np.arange(structure.n_dofs), self.fixed, assume_unique=True)
+        self.free = complement(structure.n_dofs, self.fixed)
         modes = rigid_modes(structure, self.free)
         if modes.k:
             raise ValueError(

@@ -41,7 +41,7 @@ import argparse
 import csv
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -51,26 +51,17 @@ from scipy.optimize import minimize_scalar
 
 from fvbeam.io import write_atomic
 from sliders.forces.laws import (
-    Strut,
     coulomb_friction,
     orifice_damper,
     tyre_energy,
     tyre_longitudinal,
     tyre_radial,
 )
+from sliders.gear import outputs as gear_outputs
+from sliders.gear.parameters import ISSUE_14, Gear
 
 #: The issue's output columns (Figure 7 study), in order.
-COLUMNS = (
-    "model",
-    "t",
-    "attachment_longitudinal",
-    "ground_vertical",
-    "ground_longitudinal",
-    "top_slider",
-    "bottom_slider",
-    "stroke",
-    "wheel_speed",
-)
+COLUMNS = ("model", "t", *gear_outputs.COLUMNS)
 #: State names, in the order of ``y``.
 STATES = (
     "x",
@@ -88,47 +79,7 @@ STATES = (
 #: Typical size of each state, the scale of its absolute tolerance (``atol = rtol * SCALE``).
 SCALE = np.array([10.0, 1.0, 0.1, 40.0, 3.0, 3.0, 180.0, 1e3, 1e3, 1e3, 1e3])
 #: Spin-up: the wheel reaches this fraction of the rolling speed u / R0 (issue 14).
-SPIN_UP = 0.99
-
-
-@dataclass(frozen=True)
-class Gear:
-    """Issue 14's nose gear (``docs/landing_gear.md`` gives each value's reason)."""
-
-    airframe_mass: float = 300.0
-    unsprung_mass: float = 12.0
-    gravity: float = 9.81
-    length: float = 0.6
-    extension: float = 0.45
-    strut: Strut = field(
-        default_factory=lambda: Strut(
-            area=1.6e-3,
-            pressure=4.1e5,
-            volume=2.8e-4,
-            exponent=1.3,
-            compression=5000.0,
-            rebound=20000.0,
-            stop_stiffness=1e8,
-            stroke_max=0.16,
-        )
-    )
-    radius: float = 0.22
-    spin_inertia: float = 0.15
-    tyre_stiffness: float = 2.5e5
-    tyre_damping: float = 250.0
-    B: float = 10.0
-    C: float = 1.65
-    D: float = 0.8
-    speed_eps: float = 0.1
-    sink: float = 2.8
-    forward: float = 40.0
-    bearing_mu: float = 0.02
-    bearing_v_eps: float = 1e-3
-
-    @property
-    def mass(self) -> float:
-        """``M = m_a + m_u``, the mass the ground's longitudinal force accelerates."""
-        return self.airframe_mass + self.unsprung_mass
+SPIN_UP = gear_outputs.SPIN_UP
 
 
 def bearing_reactions(
@@ -320,7 +271,7 @@ def contact(t: float, y: np.ndarray, gear: Gear, friction: bool) -> float:
 
 
 def simulate(
-    gear: Gear = Gear(),
+    gear: Gear = ISSUE_14,
     *,
     friction: bool = False,
     t_end: float = 0.3,
@@ -365,16 +316,7 @@ def peak(run: Run, name: str) -> tuple[float, float]:
 
 
 #: The outputs whose peaks :func:`summary` reports.
-PEAKS = (
-    "ground_vertical",
-    "ground_longitudinal",
-    "attachment_longitudinal",
-    "top_slider",
-    "bottom_slider",
-    "stroke",
-    "friction_post",
-    "friction_dynamic",
-)
+PEAKS = (*gear_outputs.PEAKS, "friction_dynamic")
 
 
 def summary(run: Run) -> dict[str, float]:

@@ -100,3 +100,19 @@ def test_outputs_benchmark_reports_time_and_error_per_setup():
     rows = recovery(repeats=2)["rows"]
     assert [r["n_elements"] for r in rows] == [1, 100]
     assert all(np.isfinite(r["max_rel_difference"]) and r["speed_up"] > 0 for r in rows)
+
+
+def test_landing_gear_benchmark_reports_its_step_time_and_errors(tmp_path):
+    """Shape of the landing-gear benchmark (``--quick``), never its speed."""
+    from studies.bench_landing_gear import LOADS
+    from studies.bench_landing_gear import main as gear_main
+
+    out = tmp_path / "b.json"
+    gear_main(["--out", str(out), "--quick"])
+    result = json.loads(out.read_text())["landing_gear"]
+    assert not result["interrupted"] and result["setup_s"] > 0
+    assert [row["step"] for row in result["convergence"]] == [4e-4, 2e-4]
+    for row in result["convergence"]:
+        assert row["max_load_error"] == max(row["rel_errors"][name] for name in LOADS)
+    assert result["bench"]["step"] in (4e-4, 2e-4) and result["bench"]["seconds"]["min"] > 0
+    assert [row["model"] for row in result["mesh"]] == ["fv3-1"]

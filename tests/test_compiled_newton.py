@@ -124,3 +124,20 @@ def test_failures_are_reported_as_the_reference_reports_them() -> None:
     load = structure.gather(1, P.nodal_load("end", (0, 1.0, 0)))
     message = spinning.newton(load, None, TOL, 25)
     assert isinstance(message, str) and "rotating about x" in message
+
+
+def test_a_problem_too_large_for_the_columns_turns_bordered(monkeypatch) -> None:
+    """With the columns' memory capped below what the sliding beams need, ``auto`` solves on
+    the bordered back end (the same solution), and ``condensed`` says why it cannot."""
+    from sliders.solve import newton
+
+    monkeypatch.setattr(newton, "COLUMN_BYTES", 1024)
+    structure, supports, sliders, P = sliding_beams_model(0.3 * 0.6, 3, "spherical")
+    f = structure.gather(1, P.nodal_load("end", (0, 1.0, 0)))
+    auto = SliderStatics(structure, supports, sliders)
+    q = auto.solve(f).q
+    assert auto.method == "bordered"
+    reference = SliderStatics(structure, supports, sliders, method="bordered").solve(f).q
+    assert np.array_equal(q, reference)
+    with pytest.raises(ValueError, match="solve with method='bordered'"):
+        SliderStatics(structure, supports, sliders, method="condensed").solve(f)

@@ -17,21 +17,12 @@ import pytest
 from fvbeam import RigidBody, Structure, Support
 from sliders.forces.elements import AxialForce, Tyre
 from sliders.forces.kernel import evaluate_element, reference
-from sliders.forces.laws import Strut
+from sliders.gear.parameters import ISSUE_14
 from sliders.solve.dynamics import Dynamics
 from sliders.solve.statics import SliderStatics
 
 EPS = np.finfo(float).eps
-STRUT = Strut(
-    area=1.6e-3,
-    pressure=4.1e5,
-    volume=2.8e-4,
-    exponent=1.3,
-    compression=5000.0,
-    rebound=20000.0,
-    stop_stiffness=1e8,
-    stroke_max=0.16,
-)
+STRUT = ISSUE_14.strut
 TYRE = dict(radius=0.22, stiffness=2.5e5, damping=250.0, B=10.0, C=1.65, D=0.8)
 
 
@@ -131,3 +122,33 @@ def test_a_spinning_wheel_dropped_at_speed_spins_up_to_rolling() -> None:
     assert abs(omega * 0.22 - u) <= 1e-3 * u
     # the horizontal impulse on the axle, -12 (u - 40), turned the wheel by R0 times it
     assert 0.15 * omega == pytest.approx(0.22 * 12.0 * (40.0 - u), rel=1e-6)
+
+
+@pytest.mark.parametrize("which", ["strut", "tyre"])
+def test_outputs_are_the_forces_the_kernel_applies(which) -> None:
+    """``outputs`` (numpy, many states at once) against the reference residual: the strut
+    pushes ``b`` by ``F n``, the tyre pulls the axle by ``-(F_z N + F_x e)``; ``stroke``,
+    ``deflection`` and the speeds are the module docstring's."""
+    structure, strut, tyre = gear()
+    element = strut if which == "strut" else tyre
+    p = element.packed(structure)
+    slots = element.slots(structure)
+    pairs = states(np.random.default_rng(2))
+    q, v = np.zeros((len(pairs), structure.n_dofs)), np.zeros((len(pairs), structure.n_dofs))
+    for k, (qs, vs) in enumerate(pairs):
+        if which == "tyre":
+            qs[2] = -abs(qs[2]) - 0.01
+        q[k, slots], v[k, slots] = qs, vs
+    out = element.outputs(structure, q, v)
+    for k, (qs, vs) in enumerate(pairs):
+        r = reference(element.kind, p, qs, vs)[0]
+        if which == "strut":
+            d = p[3:6] + qs[3:6] - p[0:3] - qs[0:3]
+            n = d / np.linalg.norm(d)
+            assert out["force"][k] == pytest.approx(r[3:6] @ -n, rel=1e-12)
+            assert out["stroke"][k] == pytest.approx(0.8 - np.linalg.norm(d), rel=1e-12)
+        else:
+            assert out["Fz"][k] == pytest.approx(-r[2], rel=1e-12, abs=1e-9)
+            assert out["Fx"][k] == pytest.approx(-r[0], rel=1e-12, abs=1e-9)
+            assert out["deflection"][k] == pytest.approx(0.22 - (0.2 + qs[2]), rel=1e-12)
+            assert (out["forward_speed"][k], out["spin"][k]) == (vs[0], vs[4])

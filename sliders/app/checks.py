@@ -42,8 +42,8 @@ class _Names:
         self.sections = self._unique("section", scene.section, problems)
         parts = [("beam", scene.beam), ("body", scene.body), ("line", scene.line)]
         self.beams, self.bodies, self.lines = self._unique_across(parts, problems)
-        actors = [("slider", scene.slider), ("load", scene.load)]
-        self.sliders, self.loads = self._unique_across(actors, problems)
+        actors = [("slider", scene.slider), ("load", scene.load), ("force", scene.force)]
+        self.sliders, self.loads, self.forces = self._unique_across(actors, problems)
 
     @staticmethod
     def _unique(key: str, items: Iterable, problems: Problems) -> dict[str, int]:
@@ -118,6 +118,7 @@ def reference_problems(scene: Scene) -> list[Problem]:
             names.node(f"load[{i}].node", load.node, problems)
         else:
             names.beam(f"load[{i}].beam", load.beam, problems)
+    _check_forces(scene, names, problems)
     _check_study(scene, names, problems)
     _check_output(scene, names, problems)
     return list(problems)
@@ -180,8 +181,18 @@ def _check_output(scene: Scene, names: _Names, problems: Problems) -> None:
                 f"{path}.name", f"already the name of output.probe[{seen[probe.name]}]", probe.name
             )
         seen.setdefault(probe.name, i)
-        if (probe.node is None) == (probe.beam is None):
-            problems.add(path, "give exactly one of node, beam")
+        targets = [k for k in ("node", "beam", "force") if getattr(probe, k) is not None]
+        if len(targets) != 1:
+            problems.add(path, "give exactly one of node, beam, force")
+        elif probe.force is not None:
+            if probe.force not in names.forces:
+                problems.add(
+                    f"{path}.force",
+                    f"no force element named '{probe.force}'{suggest(probe.force, names.forces)}",
+                    probe.force,
+                )
+            if probe.at is not None:
+                problems.add(f"{path}.at", "a force probe takes no abscissa (at is for a beam)")
         elif probe.node is not None:
             names.node(f"{path}.node", probe.node, problems)
             if probe.at is not None:
@@ -193,6 +204,19 @@ def _check_output(scene: Scene, names: _Names, problems: Problems) -> None:
             names.beam(f"{path}.beam", probe.beam, problems)
             if probe.at is None:
                 problems.add(path, "a beam probe needs at, the abscissa of its recovery point")
+
+
+def _check_forces(scene: Scene, names: _Names, problems: Problems) -> None:
+    """Each force element's nodes: defined, and two different ones."""
+    for i, force in enumerate(scene.force):
+        path = f"force[{i}]"
+        if force.kind == "axial":
+            ends = [(f"{path}.nodes[{k}]", n) for k, n in enumerate(force.nodes)]
+        else:
+            ends = [(f"{path}.axle", force.axle), (f"{path}.wheel", force.wheel)]
+        known = all([names.node(where, node, problems) for where, node in ends])
+        if known and ends[0][1] == ends[1][1]:
+            problems.add(ends[1][0], f"is the element's other node too ({ends[0][0]})", ends[1][1])
 
 
 def _check_beams(scene: Scene, names: _Names, problems: Problems) -> None:
@@ -285,6 +309,16 @@ def _check_study(scene: Scene, names: _Names, problems: Problems) -> None:
         )
     if isinstance(study, DynamicStudy):
         _check_dynamic(scene, study, names, problems)
+        _check_start(scene, study, names, problems)
+    else:
+        for i, body in enumerate(scene.body):
+            for key in ("velocity", "angular_velocity"):
+                if getattr(body, key) is not None:
+                    problems.add(
+                        f"body[{i}].{key}",
+                        f"an initial velocity needs study.kind = 'dynamic', not '{study.kind}'",
+                        list(getattr(body, key)),
+                    )
     if study.method == "condensed" and not scene.slider:
         problems.add(
             "study.method",
@@ -354,6 +388,32 @@ def _check_dynamic(scene: Scene, study: DynamicStudy, names: _Names, problems: P
         problems.add(
             "study.adaptive.h_max", f"must exceed h_min = {adaptive.h_min}", adaptive.h_max
         )
+
+
+def _check_start(scene: Scene, study: DynamicStudy, names: _Names, problems: Problems) -> None:
+    """``study.start`` and the bodies' velocities: not with a restart (its state has its own
+    velocities); the nodes ``hold`` clamps, defined and listed once."""
+    moving = [
+        (f"body[{i}].{key}", getattr(body, key))
+        for i, body in enumerate(scene.body)
+        for key in ("velocity", "angular_velocity")
+        if getattr(body, key) is not None
+    ]
+    if study.start is not None:
+        moving.insert(0, ("study.start", study.start.velocity))
+        for k, node in enumerate(study.start.hold):
+            names.node(f"study.start.hold[{k}]", node, problems)
+        hold = study.start.hold
+        repeated = sorted({n for n in hold if hold.count(n) > 1})
+        if repeated:
+            problems.add("study.start.hold", f"lists {', '.join(repeated)} more than once")
+    if study.restart is not None:
+        for where, _ in moving:
+            problems.add(
+                where,
+                "a restart starts from its saved state, velocities included: give either "
+                "study.restart or initial velocities",
+            )
 
 
 def _holds(kind: str, dof: str) -> bool:

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Callable, Sequence
-from functools import partial
+from functools import cached_property, partial
 
 import numpy as np
 
@@ -30,12 +30,19 @@ from fvbeam.formulations import formulation as get_formulation
 from fvbeam.mechanism import rigid_modes, unresisted
 from fvbeam.names import suggest
 from fvbeam.smearing import check_smearing
-from fvbeam.support import DOF_NAMES
+from fvbeam.support import DOF_NAMES, complement
 from sliders.app.checks import SELECTED, part_of, tied_parts
 from sliders.app.errors import Problems
 from sliders.app.history import history_columns
 from sliders.app.limits import Limits, element_problems
-from sliders.app.probes import LinearProbe, force_probe, node_probe
+from sliders.app.probes import (
+    VELOCITY_NAMES,
+    Probe,
+    element_probe,
+    force_probe,
+    node_probe,
+    velocity_probe,
+)
 from sliders.app.schema import (
     Abscissa,
     BeamSpec,
@@ -49,6 +56,8 @@ from sliders.app.schema import (
     Translation,
 )
 from sliders.app.state_tables import CHOICES, FORCE_NAMES, KEY_COLUMNS, Selection, items
+from sliders.forces.elements import AxialForce, ForceElement, Tyre
+from sliders.forces.laws import Strut
 from sliders.joints.drives import DofDrive, Linear, Ramp, Tabulated, initial_rate
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
@@ -60,10 +69,11 @@ from sliders.lines.rigid import (
     StraightLine,
     project_one,
 )
-from sliders.solve.dynamics import Dynamics
+from sliders.solve.dynamics import Dynamics, DynamicsError
 from sliders.solve.integrator import State
 from sliders.solve.jumps import velocity_jumps
 from sliders.solve.mechanism import MASSLESS_REMEDY, REMEDY, free_motion, joint_parts
+from sliders.solve.planar import PLANES, check, check_load, out_of_plane_names
 from sliders.solve.statics import SliderStatics
 
 #: Body-on-line tolerance, relative to the line's size (module docstring).
@@ -141,6 +151,23 @@ def _body(spec) -> RigidBody:
         np.array(spec.inertia or np.zeros((3, 3))),
         frame,
         np.array(spec.centre),
+    )
+
+
+def _force(spec) -> ForceElement:
+    """A ``[[force]]`` table's element (its parameters checked where it is built)."""
+    if spec.kind == "axial":
+        law = Strut(**{k: v for k, v in spec.law.model_dump().items() if k != "kind"})
+        return AxialForce(spec.nodes[0], spec.nodes[1], law, spec.extended, name=spec.name)
+    keys = ("radius", "stiffness", "damping", "B", "C", "D", "speed_eps")
+    return Tyre(
+        spec.axle,
+        spec.wheel,
+        **{k: getattr(spec, k) for k in keys},
+        ground=spec.ground,
+        normal=spec.normal,
+        forward=spec.forward,
+        name=spec.name,
     )
 
 
@@ -263,6 +290,9 @@ class Model:
             problems.attempt(f"slider[{i}]", partial(self._slider, s, self.structure))
             for i, s in enumerate(scene.slider)
         ]
+        self.forces = [
+            problems.attempt(f"force[{i}]", partial(_force, s)) for i, s in enumerate(scene.force)
+        ]
         problems.raise_if_any(source)
         self._check_on_lines(problems)
         #: The state a dynamic study starts from (``study.restart``), or None.
@@ -357,13 +387,17 @@ class Model:
         static equilibrium, unless it restarts from a saved state: then the masses hold a
         part's motions and only the massless parts' must be held."""
         study = self.scene.study
+        if self.forces:
+            return  # force elements may hold what supports and sliders leave free (a strut)
         supports = list(self.supports)
         remedy = REMEDY
         if isinstance(study, DynamicStudy):
             supports += [Support.at(d.node, d.dof) for d in self.scene.drive if d.kind == "dof"]
+            if study.start is not None:
+                supports += [Support(node) for node in study.start.hold]
             remedy = START_REMEDY if study.restart is None else MASSLESS_REMEDY
         n = self.structure.n_dofs
-        free = np.setdiff1d(np.arange(n), self.structure.support_dofs(supports))
+        free = complement(n, self.structure.support_dofs(supports))
         modes = rigid_modes(self.structure, free)
         if isinstance(study, DynamicStudy) and study.restart is not None and modes.k:
             modes = unresisted(modes, self.structure.mass(study.mass)[free][:, free])
@@ -562,6 +596,57 @@ class Model:
         )
         return target - slider.reference_point(self.structure)
 
+    @cached_property
+    def plane(self) -> str | None:
+        """The coordinate plane the scene lies in, or None: its nodes, joints and lines, its
+        loads, gravity and driven dofs, the direction its parts move in a sweep and its
+        restart state, with no stiffness or mass coupling the plane's dofs with the others
+        (:func:`sliders.solve.planar.check`).  Its studies then solve on the in-plane dofs
+        (``study.planar``, default true; not with the bordered back end, which cannot pin
+        the joints' out-of-plane reactions)."""
+        study = self.scene.study
+        if not study.planar or study.method == "bordered":
+            return None
+        structure = self.structure
+        matrices = [structure.tangent(np.zeros(structure.n_dofs))]
+        vectors = [("the loads", self.load_vector(structure, None))]
+        if isinstance(study, DynamicStudy):
+            matrices.append(structure.mass(study.mass))
+            if study.gravity is not None:
+                n = structure.n_dofs
+                g = np.tile(np.concatenate([study.gravity, np.zeros(3)]), n // 6)
+                vectors.append(("gravity", g))
+            if self.restart is not None:
+                vectors += [("the restart", self.restart.q), ("the restart", self.restart.v)]
+        # directions that must lie in the plane, and rotation rates that must turn about
+        # its normal: the start's velocities, the tyres' ground
+        along: list[np.ndarray] = [np.asarray(b.velocity) for b in self.scene.body if b.velocity]
+        about = [np.asarray(b.angular_velocity) for b in self.scene.body if b.angular_velocity]
+        if isinstance(study, DynamicStudy) and study.start is not None:
+            along.append(np.asarray(study.start.velocity))
+        for force in self.forces:
+            if isinstance(force, Tyre):
+                along += [np.asarray(force.normal), np.asarray(force.forward)]
+        drives = self._dof_drives()[1]
+        parameter = study.parameter if isinstance(study, SweepStudy) else None
+        for plane, axis in PLANES.items():
+            try:
+                check(structure, self.sliders, plane, matrices)
+                for what, f in vectors:
+                    check_load(structure, f, plane, what)
+            except ValueError:
+                continue
+            if any(d.dof in out_of_plane_names(axis) for d in drives):
+                continue
+            if any(abs(v[axis]) > 0 for v in along) or any(
+                np.any(np.delete(w, axis) != 0) for w in about
+            ):
+                continue
+            if isinstance(parameter, Translation) and abs(parameter.direction[axis]) > 0:
+                continue
+            return plane
+        return None
+
     def problem(self, value: float | None = None) -> tuple[SliderStatics, np.ndarray]:
         """The statics and the load vector of the study point ``value`` (``None``: the scene
         as written)."""
@@ -580,7 +665,13 @@ class Model:
             structure = Structure(beams, self.ties, bodies)
             sliders = [self._slider(s, structure) for s in self.scene.slider]
             self._previous = SliderStatics(
-                structure, self.supports, sliders, reuse=self._previous, method=method
+                structure,
+                self.supports,
+                sliders,
+                reuse=self._previous,
+                method=method,
+                forces=self.forces,
+                plane=self.plane,
             )
         return self._previous, self.load_vector(self._previous.structure, value)
 
@@ -594,6 +685,7 @@ class Model:
             self.supports,
             self.sliders,
             self.load_vector(self.structure, None),
+            forces=self.forces,
             mass=study.mass,
             damping=study.damping,
             gravity=study.gravity,
@@ -602,7 +694,52 @@ class Model:
             method=study.method,
             tol=study.tol,
             max_iterations=study.max_iterations,
+            plane=self.plane,
         )
+
+    def start_state(self, dynamics: Dynamics) -> State:
+        """Where a dynamic study starts: the restart state; or the static equilibrium at
+        ``t = 0``, solved with ``study.start.hold``'s nodes clamped and set moving at
+        ``study.start.velocity`` and the bodies' own velocities (the held dofs at rest),
+        accelerations zero (:meth:`sliders.solve.dynamics.Dynamics.state`); or, with no
+        velocity given, at rest (:meth:`~sliders.solve.dynamics.Dynamics.static_state`)."""
+        study = self.scene.study
+        assert isinstance(study, DynamicStudy)
+        if self.restart is not None:
+            return self.restart
+        start = study.start
+        moving = [b for b in self.scene.body if b.velocity or b.angular_velocity]
+        if start is None and not moving:
+            return dynamics.static_state()
+        hold = [Support(node) for node in (start.hold if start is not None else ())]
+        first = dynamics.prescribe(np.zeros(self.structure.n_dofs), 0.0)
+        unknowns = [s.initial_unknowns(self.structure, first) for s in self.sliders]
+        statics = SliderStatics(
+            self.structure,
+            dynamics.supports + hold,
+            self.sliders,
+            method=study.method,
+            forces=self.forces,
+        )
+        try:
+            solution = statics.solve(
+                dynamics.load(0.0), (first, unknowns), study.tol, study.max_iterations
+            )
+        except ValueError as exc:
+            rest = np.zeros(self.structure.n_dofs)
+            raise DynamicsError(
+                f"t = 0: the static start: {exc}", State(0.0, first, rest, rest, rest, unknowns)
+            ) from exc
+        v = np.zeros(self.structure.n_dofs)
+        if start is not None:
+            v[0::6], v[1::6], v[2::6] = start.velocity
+        for body in moving:
+            dofs = self.structure.node_dofs(body.name)
+            v[dofs[:3]] = body.velocity if body.velocity is not None else v[dofs[:3]]
+            v[dofs[3:]] = body.angular_velocity if body.angular_velocity is not None else 0.0
+        held = np.setdiff1d(np.arange(len(v)), dynamics.free)
+        v[held] = 0.0
+        return dynamics.state(solution.q, v, 0.0, solution.unknowns)
 
     # -- outputs -------------------------------------------------------------------------------
     def held(self) -> list[Support]:
@@ -624,11 +761,16 @@ class Model:
                 )
         return out
 
-    def probes(self) -> dict[str, LinearProbe]:
+    def probes(self) -> dict[str, Probe]:
         """The ``[[output.probe]]`` columns of ``history.csv``, by name."""
-        out = {}
+        out: dict[str, Probe] = {}
+        elements = {e.name: e for e in self.forces}
         for spec in self.scene.output.probe:
-            if spec.node is not None:
+            if spec.force is not None:
+                out[spec.name] = element_probe(elements[spec.force], spec.value)
+            elif spec.node is not None and spec.value in VELOCITY_NAMES:
+                out[spec.name] = velocity_probe(self.structure, spec.node, spec.value)
+            elif spec.node is not None:
                 out[spec.name] = node_probe(self.structure, spec.node, spec.value)
             else:
                 assert spec.beam is not None and spec.at is not None  # checks.py
@@ -664,7 +806,12 @@ class Model:
             path = f"output.probe[{i}]"
             if spec.name in columns:
                 problems.add(f"{path}.name", "already a column of history.csv", spec.name)
-            allowed = DOF_NAMES if spec.node is not None else FORCE_NAMES
+            if spec.force is not None:
+                allowed = next(e.OUTPUTS for e in self.forces if e.name == spec.force)
+            elif spec.node is not None:
+                allowed = DOF_NAMES + VELOCITY_NAMES
+            else:
+                allowed = FORCE_NAMES
             choose(f"{path}.value", (spec.value,), allowed, single=True)
             if spec.beam is not None and spec.at is not None:
                 length = self.structure.beams[self.structure.beam_index(spec.beam)].mesh.length

@@ -22,6 +22,7 @@ from fvbeam.names import NodeRef, suggest
 from fvbeam.structure import Structure
 from fvbeam.support import DOF_NAMES
 from sliders.app.state_tables import FORCE_NAMES
+from sliders.forces.elements import ForceElement
 
 if TYPE_CHECKING:
     from sliders.solve.dynamics import Dynamics
@@ -35,6 +36,10 @@ class LinearProbe:
 
     weights: sp.csr_matrix
 
+
+#: The rates of a node's dofs (:data:`fvbeam.support.DOF_NAMES`): velocity and angular
+#: velocity, global axes.
+VELOCITY_NAMES = ("vx", "vy", "vz", "wx", "wy", "wz")
 
 #: A probe: a function of the state and the dynamics, or linear in ``q``.
 Probe = Callable[["State", "Dynamics"], float] | LinearProbe
@@ -66,3 +71,33 @@ def force_probe(structure: Structure, beam: int | str, at: float, force: str) ->
     return LinearProbe(
         sp.csr_matrix((row.data, (np.zeros_like(columns), columns)), shape=(1, structure.n_dofs))
     )
+
+
+def velocity_probe(structure: Structure, node: NodeRef, rate: str) -> Probe:
+    """The rate ``rate`` (:data:`VELOCITY_NAMES`: ``vx`` ... ``wz``) of ``node``'s dofs."""
+    if rate not in VELOCITY_NAMES:
+        raise ValueError(
+            f"velocity {rate!r}: must be one of {', '.join(VELOCITY_NAMES)}"
+            f"{suggest(rate, VELOCITY_NAMES)}"
+        )
+    column = int(structure.node_dofs(node)[VELOCITY_NAMES.index(rate)])
+
+    def probe(state: State, dynamics: Dynamics) -> float:
+        return float(state.v[column])
+
+    return probe
+
+
+def element_probe(element: ForceElement, value: str) -> Probe:
+    """The output ``value`` of a force element (its ``OUTPUTS``:
+    :meth:`sliders.forces.elements.ForceElement.outputs`) at the state."""
+    if value not in element.OUTPUTS:
+        raise ValueError(
+            f"{element.name}: value {value!r} must be one of {', '.join(element.OUTPUTS)}"
+            f"{suggest(value, element.OUTPUTS)}"
+        )
+
+    def probe(state: State, dynamics: Dynamics) -> float:
+        return float(element.outputs(dynamics.structure, state.q, state.v)[value])
+
+    return probe

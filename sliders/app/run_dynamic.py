@@ -29,6 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from fvbeam.io import OUTPUT_MARKER, replace_directory
+from fvbeam.support import complement
 from sliders.app.checkpoint import Checkpoints
 from sliders.app.history import Recorder
 from sliders.app.model import Model
@@ -104,7 +105,6 @@ def integrate(
     if resume and out is None:
         raise ValueError("resume needs the output directory out whose checkpoint to go on from")
     dynamics = model.dynamics()
-    start = model.restart
     adaptive = None
     if study.adaptive is not None:
         spec = study.adaptive
@@ -118,7 +118,7 @@ def integrate(
         every=study.every if (output.vtu or output.png == "all") else 0,
         history=output.history,
     )
-    held = np.setdiff1d(np.arange(model.structure.n_dofs), dynamics.free)
+    held = complement(model.structure.n_dofs, dynamics.free)
     outcome = DynamicRun(model, recorder, held)
     period = study.checkpoint or CheckpointSpec()
     cursor = None
@@ -134,7 +134,7 @@ def integrate(
         if cursor is not None:
             outcome.state = dynamics.resume(cursor, study.t_end, adaptive, recorder, progress, save)
         else:
-            first = start if start is not None else dynamics.static_state()
+            first = model.start_state(dynamics)
             outcome.state = dynamics.run(
                 first, study.t_end, study.step, adaptive, recorder, progress, save
             )

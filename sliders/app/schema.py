@@ -187,7 +187,9 @@ class BeamSpec(Table):
 
 
 class BodySpec(Table):
-    """``[[body]]``: a rigid body (``fvbeam.RigidBody``), one six-dof node."""
+    """``[[body]]``: a rigid body (``fvbeam.RigidBody``), one six-dof node; ``velocity`` and
+    ``angular_velocity``: its node's at the start of a dynamic study (instead of
+    ``study.start.velocity``)."""
 
     name: Name
     position: Vec3
@@ -195,6 +197,8 @@ class BodySpec(Table):
     inertia: Inertia | None = None
     frame: Frame | None = None
     centre: Vec3 = (0.0, 0.0, 0.0)
+    velocity: Vec3 | None = None
+    angular_velocity: Vec3 | None = None
 
 
 class TieSpec(Table):
@@ -302,6 +306,60 @@ class DistributedLoad(Wrench):
 LoadSpec = Annotated[NodalLoad | PointLoad | DistributedLoad, Field(discriminator="kind")]
 
 
+# -- force elements -----------------------------------------------------------------------------
+class StrutLaw(Table):
+    """An oleo-pneumatic strut's law (:class:`sliders.forces.laws.Strut`): polytropic gas
+    spring, orifice damper, penalty end stops; SI units, compression positive."""
+
+    kind: Literal["strut"]
+    area: Positive
+    pressure: Positive
+    volume: Positive
+    exponent: Positive
+    ambient: NonNegative = 101_325.0
+    compression: NonNegative
+    rebound: NonNegative
+    stop_stiffness: Positive
+    stroke_min: Number = 0.0
+    stroke_max: Number
+
+
+class AxialForceSpec(Table):
+    """``[[force]]`` of kind ``axial``: ``law`` along the line between two nodes, of the
+    stroke ``extended - |x_b - x_a|`` (:class:`sliders.forces.elements.AxialForce`)."""
+
+    kind: Literal["axial"]
+    name: Name
+    nodes: Annotated[
+        tuple[NodeRef, ...], Field(min_length=2, max_length=2, description="two nodes [a, b]")
+    ]
+    extended: Positive
+    law: StrutLaw
+
+
+class TyreSpec(Table):
+    """``[[force]]`` of kind ``tyre``: a wheel on flat ground (:class:`sliders.forces.
+    elements.Tyre`): the axle node's translations, the wheel node's spin."""
+
+    kind: Literal["tyre"]
+    name: Name
+    axle: NodeRef
+    wheel: NodeRef
+    radius: Positive
+    stiffness: Positive
+    damping: NonNegative
+    B: Positive
+    C: Positive
+    D: Positive
+    speed_eps: Positive = 0.1
+    ground: Vec3 = (0.0, 0.0, 0.0)
+    normal: Vec3 = (0.0, 0.0, 1.0)
+    forward: Vec3 = (1.0, 0.0, 0.0)
+
+
+ForceSpec = Annotated[AxialForceSpec | TyreSpec, Field(discriminator="kind")]
+
+
 # -- drives -------------------------------------------------------------------------------------
 class LinearMotion(Table):
     """``start + velocity (t - t0)`` (:class:`sliders.joints.drives.Linear`)."""
@@ -357,11 +415,14 @@ DriveSpec = Annotated[AbscissaDrive | DofDriveSpec, Field(discriminator="kind")]
 
 # -- study ---------------------------------------------------------------------------------------
 class Newton(Table):
-    """Newton options (:func:`sliders.solve.statics.newton_many`)."""
+    """Newton options (:func:`sliders.solve.statics.newton_many`); ``planar``: a scene that
+    lies in a coordinate plane is solved on its in-plane dofs
+    (:attr:`sliders.app.model.Model.plane`)."""
 
     method: Literal["auto", "bordered", "condensed"] = "auto"
     tol: Positive = 1e-8
     max_iterations: Count = 25
+    planar: bool = True
 
 
 class Solver(Newton):
@@ -441,13 +502,24 @@ class CheckpointSpec(Table):
     seconds: NonNegative = 60.0
 
 
+class StartSpec(Table):
+    """``[study.start]``: a dynamic study's start from the static equilibrium with
+    ``hold``'s nodes clamped (for that solve only: a part the masses alone hold once moving,
+    an airframe touching down), then set moving: every node's translations at ``velocity``
+    (the dofs the supports and drives hold stay at rest; a body's own ``velocity`` and
+    ``angular_velocity`` go first), accelerations zero (a start in balance)."""
+
+    velocity: Vec3 = (0.0, 0.0, 0.0)
+    hold: tuple[NodeRef, ...] = ()
+
+
 class DynamicStudy(Newton):
-    """Time integration from the static equilibrium at ``t = 0`` (or a saved ``restart``
-    state) to ``t_end`` (:class:`sliders.solve.dynamics.Dynamics`): steps of ``step`` seconds, or
-    ``adaptive`` ones starting there; ``damping`` is the stiffness-proportional coefficient
-    (s); ``every``: keep one state in that many for the VTU series and renders;
-    ``checkpoint``: how often ``fvslider run`` saves what ``--resume`` needs (None: the
-    defaults of :class:`CheckpointSpec`, every minute)."""
+    """Time integration from the static equilibrium at ``t = 0`` (set moving by ``start``,
+    or a saved ``restart`` state) to ``t_end`` (:class:`sliders.solve.dynamics.Dynamics`):
+    steps of ``step`` seconds, or ``adaptive`` ones starting there; ``damping`` is the
+    stiffness-proportional coefficient (s); ``every``: keep one state in that many for the
+    VTU series and renders; ``checkpoint``: how often ``fvslider run`` saves what
+    ``--resume`` needs (None: the defaults of :class:`CheckpointSpec`, every minute)."""
 
     kind: Literal["dynamic"]
     t_end: Positive
@@ -462,6 +534,7 @@ class DynamicStudy(Newton):
     restart: FilePath | None = None
     every: Count = 1
     checkpoint: CheckpointSpec | None = None
+    start: StartSpec | None = None
 
 
 Study = Annotated[StaticStudy | SweepStudy | DynamicStudy, Field(discriminator="kind")]
@@ -505,12 +578,15 @@ class ReactionsOutput(Table):
 
 class ProbeSpec(Table):
     """``[[output.probe]]``: a ``history.csv`` column of a dynamic study, ``value`` of a
-    ``node`` (a dof, ``ux`` ... ``rz``) or of a ``beam`` at the recovery point nearest its
-    abscissa ``at`` (an internal force, ``N`` ... ``M3``) (:mod:`sliders.app.probes`)."""
+    ``node`` (a dof, ``ux`` ... ``rz``, or its rate, ``vx`` ... ``vz``, ``wx`` ... ``wz``), of
+    a ``beam`` at the recovery point nearest its abscissa ``at`` (an internal force, ``N``
+    ... ``M3``) or of a ``force`` element (``force``, ``stroke``, ``rate`` of an axial one;
+    ``Fz``, ``Fx``, ``deflection``, ``slip`` of a tyre) (:mod:`sliders.app.probes`)."""
 
     name: Name
     node: NodeRef | None = None
     beam: Name | None = None
+    force: Name | None = None
     at: NonNegative | None = None
     value: Text
 
@@ -550,6 +626,7 @@ class Scene(Table):
     support: tuple[SupportSpec, ...] = ()
     slider: tuple[SliderSpec, ...] = ()
     load: tuple[LoadSpec, ...] = ()
+    force: tuple[ForceSpec, ...] = ()
     drive: tuple[DriveSpec, ...] = ()
     study: Study
     output: Output = Output()

@@ -40,6 +40,7 @@ import numpy as np
 
 from fvbeam.io import OUTPUT_MARKER as MARKER
 from fvbeam.io import replace_directory
+from fvbeam.support import complement
 from sliders.app.run import Results, Sample
 from sliders.app.scene import dump_scene
 from sliders.app.state_tables import (
@@ -161,7 +162,7 @@ def write_results(results: Results, out: str | Path, tables: Sequence[str] | Non
 def _held(sample: Sample) -> np.ndarray:
     """The dofs the supports hold at ``sample``."""
     statics, _ = _solved(sample)
-    return np.setdiff1d(np.arange(statics.structure.n_dofs), statics.free)
+    return complement(statics.structure.n_dofs, statics.free)
 
 
 def _frame(sample: Sample, converged: list[Sample]) -> Frame:

@@ -60,6 +60,7 @@ from numpy.typing import ArrayLike
 from fvbeam.io import replace_directory, write_atomic
 from fvbeam.names import suggest
 from fvbeam.structure import Structure
+from fvbeam.support import complement
 from sliders.app.motion import rigid_motion
 from sliders.app.state_tables import contact_point
 from sliders.joints.slider import Slider
@@ -517,7 +518,7 @@ class Frame:
             time = getattr(solution, "t", 0.0)
         free = getattr(system, "free", None)
         if held is None and free is not None:
-            held = np.setdiff1d(np.arange(system.structure.n_dofs), free)
+            held = complement(system.structure.n_dofs, free)
         return cls(
             float(time), system.structure, solution.q, system.sliders, solution.unknowns, held
         )

@@ -37,10 +37,18 @@ AXIAL, TYRE = range(2)
 
 
 class ForceElement:
-    """What the Newton step reads of an element: its kind, slots and packed parameters."""
+    """What the Newton step reads of an element: its kind, slots and packed parameters;
+    and what it reports (:meth:`outputs`, named by :attr:`OUTPUTS`)."""
 
     name: str
     kind: int
+    #: The names of :meth:`outputs`.
+    OUTPUTS: tuple[str, ...] = ()
+
+    def outputs(self, structure: Structure, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
+        """The element's forces and states at displacements ``q`` and velocities ``v`` (the
+        global dofs on the last axis; leading axes, such as time steps, broadcast)."""
+        raise NotImplementedError
 
     def slots(self, structure: Structure) -> np.ndarray:
         """The global dofs the element acts on."""
@@ -72,10 +80,22 @@ class AxialForce(ForceElement):
             raise ValueError(f"{self.name}: law must be a sliders.forces.laws.Strut")
         self.extended = number(self.extended, f"{self.name}: extended", "> 0")
 
+    OUTPUTS = ("force", "stroke", "rate")
+
     def slots(self, structure: Structure) -> np.ndarray:
         return np.concatenate(
             [structure.node_dofs(self.a)[:3], structure.node_dofs(self.b)[:3]]
         ).astype(np.int64)
+
+    def outputs(self, structure: Structure, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
+        """``force`` (the law's, compression positive), ``stroke`` ``S`` and its ``rate``."""
+        a, b = structure.node_dofs(self.a)[:3], structure.node_dofs(self.b)[:3]
+        d = structure.node_position(self.b) - structure.node_position(self.a)
+        d = d + np.asarray(q)[..., b] - np.asarray(q)[..., a]
+        length = np.linalg.norm(d, axis=-1)
+        rate = -np.sum(d * (np.asarray(v)[..., b] - np.asarray(v)[..., a]), axis=-1) / length
+        stroke = self.extended - length
+        return {"force": self.law(stroke, rate)[0], "stroke": stroke, "rate": rate}
 
     def packed(self, structure: Structure) -> np.ndarray:
         law = {**vars(self.law), "ambient": self.law.ambient}
@@ -136,10 +156,38 @@ class Tyre(ForceElement):
         )
         laws.tyre_radial(0.0, 0.0, stiffness=self.stiffness, damping=self.damping)
 
+    OUTPUTS = ("Fz", "Fx", "deflection", "slip", "forward_speed", "spin")
+
     @property
     def axis(self) -> np.ndarray:
         """The wheel's axle direction ``normal x forward``."""
         return np.cross(np.asarray(self.normal, dtype=float), np.asarray(self.forward, dtype=float))
+
+    def outputs(self, structure: Structure, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
+        """The radial force ``Fz`` and the longitudinal ``Fx`` (forward positive) on the axle,
+        the ``deflection`` ``d``, the ``slip`` ratio, the axle's ``forward_speed`` ``u`` and
+        the wheel's ``spin`` ``omega``."""
+        axle, wheel = structure.node_dofs(self.axle)[:3], structure.node_dofs(self.wheel)[3:]
+        q, v = np.asarray(q), np.asarray(v)
+        normal, forward = np.asarray(self.normal), np.asarray(self.forward)
+        x = structure.node_position(self.axle) + q[..., axle] - np.asarray(self.ground)
+        deflection = self.radius - x @ normal
+        vertical = laws.tyre_radial(
+            deflection, -(v[..., axle] @ normal), stiffness=self.stiffness, damping=self.damping
+        )[0]
+        u, spin = v[..., axle] @ forward, v[..., wheel] @ self.axis
+        tyre = {"radius": self.radius, "speed_eps": self.speed_eps}
+        longitudinal = laws.tyre_longitudinal(
+            u, spin, vertical, B=self.B, C=self.C, D=self.D, **tyre
+        )[0]
+        return {
+            "Fz": vertical,
+            "Fx": longitudinal,
+            "deflection": deflection,
+            "slip": laws.slip_ratio(u, spin, **tyre)[0],
+            "forward_speed": u,
+            "spin": spin,
+        }
 
     def slots(self, structure: Structure) -> np.ndarray:
         return np.concatenate(

@@ -34,7 +34,7 @@ import numpy as np
 from fvbeam.smearing import steps
 from fvbeam.structure import Structure
 from sliders.joints.blocks import SlotJacobian
-from sliders.joints.kernel import GROUPS, KINDS, XI, joint_equations, reach
+from sliders.joints.kernel import GROUPS, KINDS, LAM, MU, XI, joint_equations, reach
 from sliders.joints.slider import Slider, SliderBatch, _equations, _Layout
 from sliders.lines.batched import KERNEL_RULE, ChainStack
 from sliders.lines.batched_kernel import line_state, reference_line, smeared_transfer
@@ -86,6 +86,7 @@ FIELDS = (
     "size",
     "where",
     "grid_dofs",
+    "pinned",
 )
 (
     OFFSET,
@@ -122,6 +123,7 @@ FIELDS = (
     SIZE,
     WHERE,
     GRID_DOFS,
+    PINNED,
 ) = range(len(FIELDS))
 INTEGER_FIELDS = FIELDS.index("body")
 #: Sample points of a rigid line where a projection starts (:meth:`sliders.lines.rigid.
@@ -130,7 +132,9 @@ PROJECTION_GRID = 65
 
 
 class JointPack:
-    """The constant data of ``sliders`` on ``structure``, packed (module docstring).
+    """The constant data of ``sliders`` on ``structure``, packed (module docstring);
+    ``pinned``: per joint, the unknowns a planar solve pins to zero
+    (:func:`sliders.solve.planar.pinned`).
 
     Attributes
     ----------
@@ -153,8 +157,14 @@ class JointPack:
         coupling the condensed step reads.
     """
 
-    def __init__(self, sliders: Sequence[Slider], structure: Structure) -> None:
+    def __init__(
+        self,
+        sliders: Sequence[Slider],
+        structure: Structure,
+        pinned: Sequence[Sequence[int]] | None = None,
+    ) -> None:
         self.sliders = list(sliders)
+        pins = list(pinned) if pinned is not None else [()] * len(self.sliders)
         floats: list[np.ndarray] = []
         ints: list[np.ndarray] = []
         sizes = [0, 0]
@@ -166,7 +176,7 @@ class JointPack:
         #: Per joint on a chain, the node of the chain at each projection sample.
         self.grid_nodes: list[np.ndarray] = []
         for j, slider in enumerate(self.sliders):
-            arrays, head, layout, jacobian = _joint_arrays(slider, structure)
+            arrays, head, layout, jacobian = _joint_arrays(slider, structure, pins[j])
             self.grid_nodes.append(arrays.pop("grid_nodes", np.zeros(0, dtype=int)))
             self.head[j] = head
             self.values[j] = slider.smearing, slider.line.length
@@ -286,9 +296,11 @@ class JointPack:
 
 
 def _joint_arrays(
-    slider: Slider, structure: Structure
+    slider: Slider, structure: Structure, pinned: Sequence[int] = ()
 ) -> tuple[dict, np.ndarray, _Layout, SlotJacobian]:
-    """The arrays of :data:`FIELDS` of one joint, its head row, slot layout and Jacobian."""
+    """The arrays of :data:`FIELDS` of one joint, its head row, slot layout and Jacobian;
+    ``pinned``: the unknowns a planar solve pins to zero (:func:`sliders.solve.planar.
+    pinned`), whose rows the layout then holds a diagonal for."""
     batch = SliderBatch([slider], [structure])
     chain = batch.chains
     arrays: dict[str, np.ndarray] = {name: np.zeros(0) for name in FIELDS}
@@ -338,7 +350,11 @@ def _joint_arrays(
         arrays["grid_dofs"] = np.full((PROJECTION_GRID, 3), -1)
     interp = head[NODE_DOFS] * head[NPE]
     layout = _Layout(interp, head[LOAD], head[ROTATION], head[TANGENT], head[UNKNOWNS])
-    jacobian = layout.jacobian(1, batch.pattern)
+    arrays["pinned"] = np.asarray(pinned, dtype=np.int64)
+    diagonal: tuple[tuple[str, str], ...] = (("lam", "lam"),) if any(k <= 3 for k in pinned) else ()
+    diagonal += (("mu", "mu"),) if any(k > 3 for k in pinned) else ()
+    # once each: a cubic chain's joint has the (lam, lam) block already
+    jacobian = layout.jacobian(1, tuple(dict.fromkeys(batch.pattern + diagonal)))
     compliant = head[NODE_DOFS] == 6
     writes = reach(batch.kind, batch.orientation, bool(np.any(batch.offset)), section, compliant)
     arrays["start"], arrays["size"], arrays["where"] = jacobian.index(GROUPS, writes)
@@ -652,7 +668,25 @@ def evaluate_joint(
         r[t] = y[0] - drive
         if jacobian:
             _unit_row(start, size, where, values)
+    for k in _f1(I, d[PINNED]):
+        r[t + k] = y[k]
+        if jacobian:
+            _pin(k, size, where, values)
     return 0
+
+
+@numba.njit(cache=True, inline="never")
+def _pin(k: int, size: np.ndarray, where: np.ndarray, values: np.ndarray) -> None:
+    """The row of unknown ``k`` (a multiplier: ``lambda`` for 1-3, ``mu`` after) replaced by
+    the unit derivative in itself (the equation ``y_k = 0`` of a planar solve,
+    :mod:`sliders.solve.planar`)."""
+    group, row = (LAM, k - 1) if k <= 3 else (MU, k - 4)
+    for g in range(len(size)):
+        o = where[group, g]
+        if o >= 0:
+            for c in range(size[g]):
+                values[o + row * size[g] + c] = 0.0
+    values[where[group, group] + row * size[group] + row] = 1.0
 
 
 @numba.njit(cache=True)

@@ -43,7 +43,7 @@ from tqdm.auto import tqdm
 from fvbeam.geometry import vector3
 from fvbeam.mechanism import rigid_modes, unresisted
 from fvbeam.structure import Structure
-from fvbeam.support import DOF_NAMES, Support
+from fvbeam.support import DOF_NAMES, Support, complement
 from sliders.forces.elements import ForceElement
 from sliders.joints.drives import DofDrive
 from sliders.joints.packed import JointPack
@@ -55,6 +55,7 @@ from sliders.solve.jumps import VelocityJump, VelocityJumpWarning, velocity_jump
 from sliders.solve.mechanism import MASSLESS_REMEDY, free_motion
 from sliders.solve.newton import CompiledNewton
 from sliders.solve.newton_kernel import CONVERGED
+from sliders.solve.planar import check, check_load, out_of_plane
 from sliders.solve.statics import SliderStatics
 
 #: What holds a motion left free at the static start of a time integration.
@@ -155,6 +156,10 @@ class Dynamics:
         Acceleration of gravity, a 3-vector: the load ``M g`` on every translation.
     rho_inf
         Spectral radius at infinity of the scheme (:class:`GeneralizedAlpha`).
+    plane
+        ``xy``, ``yz`` or ``zx``: a planar problem, integrated on its in-plane dofs
+        (:mod:`sliders.solve.planar`; ``ValueError`` naming what is not planar, and a load, a
+        drive or a start out of the plane).
     method
         ``bordered`` or ``condensed`` (:class:`sliders.solve.statics.SliderStatics`).
     tol, max_iterations
@@ -169,6 +174,7 @@ class Dynamics:
         load: Load | None = None,
         *,
         forces: Sequence[ForceElement] = (),
+        plane: str | None = None,
         mass: str = "lumped",
         damping: float | sp.spmatrix = 0.0,
         gravity: Sequence[float] | None = None,
@@ -195,14 +201,21 @@ class Dynamics:
             self.f_gravity = self.M @ np.tile(np.concatenate([g, np.zeros(3)]), n // 6)
         self.supports = list(supports) + [Support.at(d.node, d.dof) for d in self.drives]
         fixed = structure.support_dofs(supports)
+        self.plane = plane
+        if plane is not None:  # a planar problem: the out-of-plane dofs are held
+            check(structure, self.sliders, plane, [self.K, self.M, self.C])
+            check_load(structure, self.f_gravity, plane, "gravity")
+            fixed = np.union1d(fixed, out_of_plane(structure, plane))
         self.driven = np.array(
             [structure.node_dofs(d.node)[DOF_NAMES.index(d.dof)] for d in self.drives], dtype=int
         )
         clash = np.intersect1d(fixed, self.driven)
         if clash.size or len(np.unique(self.driven)) < len(self.driven):
             name = structure.dof_name(clash[0] if clash.size else self.driven[0])
-            raise ValueError(f"{name} is driven twice, or driven and supported")
-        self.free = np.setdiff1d(np.arange(n), np.union1d(fixed, self.driven))
+            raise ValueError(
+                f"{name} is driven twice, or driven and supported (or out of the plane)"
+            )
+        self.free = complement(n, np.concatenate([fixed, self.driven]))
         self._operators: dict = {}
         self._linear: dict[float, tuple] = {}  # the compiled problems without sliders, per h
         self._pack: JointPack | None = None  # the joints, packed (joint_residuals)
@@ -245,6 +258,8 @@ class Dynamics:
             raise ValueError(
                 f"the load at t = {t:.6g} is not a finite vector of {self.structure.n_dofs} rows"
             )
+        if self.plane is not None:
+            check_load(self.structure, f, self.plane, f"the load at t = {t:.6g}")
         f.setflags(write=False)
         self._last_load = (t, f)
         return f
@@ -343,6 +358,7 @@ class Dynamics:
                     method=self.method,
                     operator=operator,
                     forces=self.forces,
+                    plane=self.plane,
                 )
             else:
                 A = operator[self.free][:, self.free].tocsc()
@@ -460,6 +476,9 @@ class Dynamics:
             raise ValueError(
                 f"need t_end > t = {state.t} and a step h > 0, got t_end = {t_end}, h = {h}"
             )
+        if self.plane is not None:
+            for what, values in (("displacement", state.q), ("velocity", state.v)):
+                check_load(self.structure, values, self.plane, f"the start's {what}")
         jumps = self.velocity_jumps(state)
         if jumps:
             warnings.warn(
@@ -668,7 +687,11 @@ class Dynamics:
         if self._constant:
             return self.load(float(times[0]))[None]
         if isinstance(self._load, Tabulable):
-            return self._load.at(times) + self.f_gravity
+            table = self._load.at(times) + self.f_gravity
+            if self.plane is not None:
+                for t, f in zip(times, table, strict=True):
+                    check_load(self.structure, f, self.plane, f"the load at t = {t:.6g}")
+            return table
         return np.array([self.load(float(t)) for t in times])
 
     def _advance(self, state: State, h: float, adaptive: Adaptive | None) -> tuple[State, float]:

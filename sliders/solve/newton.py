@@ -62,6 +62,14 @@ class Moved(Diagnosis, Protocol):
 #: Columns of the inverse kept beyond what one iteration needs, on problems too large to
 #: keep every column (above :data:`sliders.solve.condensed.DENSE_LIMIT` unknowns).
 SPARE_COLUMNS = 64
+#: The most memory the columns of the inverse may take (bytes): a column is as long as the
+#: problem, so joints on a mesh of a million dofs would need gigabytes; the bordered back end
+#: (one factorisation per step, no columns) takes such problems (``auto`` falls back to it).
+COLUMN_BYTES = 256 * 2**20
+
+
+class ColumnStorageError(ValueError):
+    """The condensed back end's columns would not fit :data:`COLUMN_BYTES`."""
 
 
 class CompiledNewton:
@@ -71,7 +79,8 @@ class CompiledNewton:
     problem's :class:`~sliders.solve.statics.SliderStatics`, whose Python code names what
     makes a solve fail (:attr:`~sliders.solve.statics.SliderStatics.compiled` builds both);
     without it, only :attr:`problem` is of use (a structure without sliders,
-    :mod:`sliders.solve.dynamics_kernel`)."""
+    :mod:`sliders.solve.dynamics_kernel`).  ``forces``: the force elements; ``pinned``: per
+    joint, the unknowns a planar solve pins (:func:`sliders.solve.planar.pinned`)."""
 
     def __init__(
         self,
@@ -83,6 +92,7 @@ class CompiledNewton:
         phi: np.ndarray,
         statics: Diagnosis | None = None,
         forces: Sequence[ForceElement] = (),
+        pinned: Sequence[Sequence[int]] | None = None,
     ) -> None:
         self.statics = statics
         K = sp.csr_matrix(K)
@@ -93,7 +103,7 @@ class CompiledNewton:
         self.position[self.free] = np.arange(len(self.free))
         self.factor = factor.arrays
         self.phi = np.ascontiguousarray(phi, dtype=float).reshape(len(self.free), -1)
-        self.pack = JointPack(sliders, structure)
+        self.pack = JointPack(sliders, structure, pinned)
         tables, c_of, rows, forces_at = [], [], [], []
         at = np.zeros(4, dtype=np.int64)
         nc = 0
@@ -136,6 +146,12 @@ class CompiledNewton:
         self.nc = nc
         n_free, k = len(self.free), self.phi.shape[1]
         capacity = n_free if n_free + k <= DENSE_LIMIT else len(self.force_slots) + SPARE_COLUMNS
+        if capacity * (n_free + k) * 8 > COLUMN_BYTES:
+            raise ColumnStorageError(
+                f"the condensed back end would keep {capacity} columns of {n_free + k} "
+                f"unknowns ({capacity * (n_free + k) * 8 / 2**30:.1f} GiB): solve with "
+                "method='bordered'"
+            )
         self.store = np.zeros((max(capacity, 1), n_free + k))
         self.column = np.full(n_free, -1, dtype=np.int64)
         self.count = np.zeros(1, dtype=np.int64)

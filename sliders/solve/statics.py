@@ -41,7 +41,7 @@ from fvbeam.mechanism import (
     unresisted,
 )
 from fvbeam.structure import Structure
-from fvbeam.support import Support
+from fvbeam.support import Support, complement
 from sliders.forces.elements import ForceElement
 from sliders.joints.slider import Slider, SliderBatch
 from sliders.solve.condensed import SINGULAR_RCOND, CondensedOperator
@@ -52,7 +52,8 @@ from sliders.solve.mechanism import (
     joint_parts,
     member_parts,
 )
-from sliders.solve.newton import CompiledNewton
+from sliders.solve.newton import ColumnStorageError, CompiledNewton
+from sliders.solve.planar import check, check_load, out_of_plane, pinned
 
 METHODS = ("auto", "bordered", "condensed")
 
@@ -83,7 +84,9 @@ class SliderStatics:
     is then taken as it is; a sweep over positions builds it once.  ``method``: the
     linear-algebra back end, ``bordered`` or ``condensed`` (module docstring), or ``auto``
     (the default: ``condensed`` where it applies, :meth:`_automatic`); :attr:`method` is the
-    one taken.  ``operator``:
+    one taken.  ``plane``: ``xy``, ``yz`` or ``zx`` for a planar problem, solved on its
+    in-plane dofs (:mod:`sliders.solve.planar`; ``ValueError`` naming what is not planar).
+    ``operator``:
     a matrix that takes the place of the stiffness (the time integrator's
     ``M + c_v C + c_q K``, :mod:`sliders.solve.dynamics`); default the structure's stiffness.
 
@@ -108,6 +111,7 @@ class SliderStatics:
         method: str = "auto",
         operator: sp.spmatrix | None = None,
         forces: Sequence[ForceElement] = (),
+        plane: str | None = None,
     ) -> None:
         if method not in METHODS:
             raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
@@ -119,7 +123,11 @@ class SliderStatics:
         names = [s.name for s in self.sliders]
         if len(set(names)) != len(names):
             raise ValueError(f"slider names must be unique, got {names}")
-        fixed = self._fixed = structure.support_dofs(supports)
+        self.plane = plane
+        fixed = structure.support_dofs(supports)
+        if plane is not None:  # a planar solve holds the out-of-plane dofs
+            fixed = np.union1d(fixed, out_of_plane(structure, plane))
+        self._fixed = fixed
         if reuse is not None and operator is None and reuse._same_operator(structure, fixed):
             self.K, self.free, self.K_free = reuse.K, reuse.free, reuse.K_free
             self._position, self._condensed = reuse._position, reuse._condensed
@@ -128,11 +136,14 @@ class SliderStatics:
             self.K = (
                 structure.tangent(np.zeros(structure.n_dofs)) if operator is None else operator
             ).tocsr()
-            self.free = np.setdiff1d(np.arange(structure.n_dofs), fixed)
+            self.free = complement(structure.n_dofs, fixed)
             self._position = np.full(structure.n_dofs, -1)
             self._position[self.free] = np.arange(len(self.free))
             self.K_free = self.K[self.free][:, self.free].tocoo()
             self._condensed = None
+        if plane is not None:  # a reused operator's coupling was checked where it was built
+            check(structure, self.sliders, plane, [self.K] if reuse is None else [])
+        self._auto = method == "auto"
         if method == "auto":
             method = self.method = self._automatic()
         if method == "condensed" and self._condensed is None:
@@ -145,7 +156,9 @@ class SliderStatics:
         factorisation kept for the problem's life) when the operator bordered by the free
         parts' rigid motions is regular, else ``bordered``, which lets the sliders hold a
         mechanism that is no rigid motion of a part; ``bordered`` without sliders (one linear
-        solve)."""
+        solve).  A problem too large for the condensed columns
+        (:class:`~sliders.solve.newton.ColumnStorageError`) turns ``bordered`` at its first
+        solve."""
         if not (self.sliders or self.forces):
             return "bordered"
         if self._condensed is None:
@@ -233,6 +246,8 @@ class SliderStatics:
         f = np.asarray(f, dtype=float)
         if f.shape != (self.structure.n_dofs,) or not np.all(np.isfinite(f)):
             raise ValueError(f"load vector must be finite with {self.structure.n_dofs} rows")
+        if self.plane is not None:
+            check_load(self.structure, f, self.plane)
         if not (isinstance(load_steps, (int, np.integer)) and load_steps >= 1):
             raise ValueError(f"load_steps must be a positive integer, got {load_steps!r}")
         state, counts = start, []
@@ -281,15 +296,21 @@ class SliderStatics:
         read (None: at rest).  The condensed back end runs the compiled loop
         (:class:`sliders.solve.newton.CompiledNewton`), the bordered one
         :func:`newton_many` (for one member)."""
+        if self.method == "condensed" and self._auto:
+            try:
+                _ = self.compiled
+            except ColumnStorageError:  # too large for the columns: auto takes bordered
+                self.method = "bordered"
         if self.method == "condensed":
             if start is None:  # the projection compiled, for every joint at once
                 q = np.zeros(self.structure.n_dofs)
                 start = (q, self.compiled.pack.initial_unknowns(q))
             q0, unknowns = start
             return self.compiled.solve(f, q0, unknowns, tol, max_iterations, time, scale, velocity)
-        if self.forces:
+        if self.forces or self.plane is not None:
             raise ValueError(
-                "force elements run on the condensed back end (method 'condensed' or 'auto')"
+                "force elements and planar solves run on the condensed back end (method "
+                "'condensed' or 'auto')"
             )
         batches = [s.batch(self.structure) for s in self.sliders]
         return newton_many([self], batches, f[None], [start], tol, max_iterations, time, scale)[0]
@@ -311,6 +332,7 @@ class SliderStatics:
                 condensed.phi,
                 self,
                 self.forces,
+                [pinned(s, self.plane) for s in self.sliders] if self.plane else None,
             )
         return self._compiled
 
