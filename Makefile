@@ -46,6 +46,7 @@ bench: $(VENV)/.installed-all
 	$(BIN)/python -m studies.bench --out $(RESULTS)/bench.json
 	$(BIN)/python -m studies.bench_sweep --out $(RESULTS)/bench.json
 	$(BIN)/python -m studies.bench_dynamics --out $(RESULTS)/bench.json
+	$(BIN)/python -m studies.bench_engine --out $(RESULTS)/bench.json
 	$(BIN)/python -m studies.bench_outputs --out $(RESULTS)/bench.json
 	$(BIN)/python -m studies.bench_landing_gear --out $(RESULTS)/bench.json
 

@@ -138,9 +138,9 @@ def test_reproduce_fig1(tmp_path, capsys):
 
 def test_reproduce_rejects_unknown_figures(capsys):
     with pytest.raises(SystemExit) as info:
-        main(["reproduce", "fig7"])
+        main(["reproduce", "fig9"])
     assert info.value.code == 2
-    assert "unknown figure 'fig7'" in capsys.readouterr().err
+    assert "unknown figure 'fig9'" in capsys.readouterr().err
 
 
 def test_compile_solves_each_slider_kind(capsys, monkeypatch):

@@ -56,7 +56,6 @@ written), 130 interrupted (Ctrl-C keeps what was computed)
 STUDY_GROUP = "fvslider.studies"
 #: Studies that ``reproduce`` runs only when named: Figure 2 integrates 3 x 5 crossings of
 #: 4000 steps each (about 10 minutes).
-LONG = ("fig2",)
 ALIASES = {"fig5": "fig4"}
 
 
@@ -222,7 +221,7 @@ def _reproduce(args: argparse.Namespace) -> int:
 
     check_writable(args.out)
     registered = registered_studies()
-    keys = list(dict.fromkeys(args.figures or [k for k in registered if k not in LONG]))
+    keys = list(dict.fromkeys(args.figures or list(registered)))
     plot = importlib.util.find_spec("matplotlib") is not None
     if not plot:
         print(
@@ -319,7 +318,7 @@ def _parser(named: bool = True) -> argparse.ArgumentParser:
         nargs="*",
         metavar="FIG",
         type=_figure,
-        help=f"{figures} (default: all but {', '.join(LONG)})",
+        help=f"{figures} (default: all)",
     )
     reproduce.add_argument(
         "--out", type=Path, default=Path("results"), help="output directory (default results/)"

@@ -1,0 +1,55 @@
+"""Slider friction's term of the ``xi`` equation (:mod:`sliders.joints.friction`): the
+compiled twin against the numpy reference to roundoff, the partials against central
+differences, the limits (the friction opposes the sliding, is bounded by ``mu N``, and
+vanishes without a transverse reaction or without sliding).
+
+Tolerances: the two evaluate the same expressions in another order (``16 eps`` of the largest
+term); a central difference of step ``h = 1e-6`` of the inputs' scale errs by ``h^2 f''' / 6``
+plus ``eps |f| / h``: below ``1e-7`` of the largest partial for these smooth laws (``v_eps``
+is kept above a hundredth of the sliding speeds drawn)."""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from sliders.joints.friction import friction_at, friction_term
+
+EPS = np.finfo(float).eps
+vectors = st.lists(st.floats(-2.0, 2.0), min_size=3, max_size=3).map(np.array)
+
+
+@settings(max_examples=150, deadline=None, derandomize=True)
+@given(vectors, vectors, vectors, st.floats(0.01, 0.5), st.floats(0.05, 1.0))
+def test_compiled_equals_reference_and_partials_are_derivatives(l, w, lam, mu, v_eps) -> None:
+    l = l + np.array([1.0, 0.0, 0.0]) * (np.linalg.norm(l) < 0.5)  # a line: |l| away from 0
+    lam = lam + np.array([0.0, 1.0, 0.0]) * (np.linalg.norm(lam - (lam @ l) * l / (l @ l)) < 0.1)
+    e, d_l, d_w, d_lam, F = friction_term(l, w, lam, mu, v_eps)
+    got = [np.zeros(3), np.zeros(3), np.zeros(3)]
+    e2, F2 = friction_at(l, w, lam, mu, v_eps, *got)
+    scale = max(abs(e), np.abs(np.concatenate([d_l, d_w, d_lam])).max(), 1.0)
+    assert abs(e2 - e) <= 16 * EPS * scale and abs(F2 - F) <= 16 * EPS * scale
+    for a, b in zip(got, (d_l, d_w, d_lam), strict=True):
+        assert np.abs(a - b).max() <= 16 * EPS * scale
+    h = 1e-6
+    for index, partial in enumerate((d_l, d_w, d_lam)):
+        for c in range(3):
+            step = np.zeros(3)
+            step[c] = h
+            args = [l, w, lam]
+            plus = [a + step if i == index else a for i, a in enumerate(args)]
+            minus = [a - step if i == index else a for i, a in enumerate(args)]
+            fd = (friction_term(*plus, mu, v_eps)[0] - friction_term(*minus, mu, v_eps)[0]) / (
+                2 * h
+            )
+            assert abs(fd - partial[c]) <= 1e-7 * scale
+
+
+def test_the_friction_opposes_the_sliding_and_is_bounded() -> None:
+    l, lam = np.array([2.0, 0.0, 0.0]), np.array([0.3, -4.0, 3.0])  # N = 5
+    for slide in (-1.0, -1e-3, 1e-3, 1.0):
+        F = friction_term(l, np.array([slide, 0.7, 0.0]), lam, 0.02, 1e-2)[4]
+        assert F * slide < 0 and abs(F) <= 0.02 * 5.0
+    assert friction_term(l, np.array([1.0, 0, 0]), np.array([1.0, 0, 0]), 0.02, 1e-2)[4] == 0.0
+    assert friction_term(l, np.array([0.0, 1.0, 0]), lam, 0.02, 1e-2)[4] == 0.0
