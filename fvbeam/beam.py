@@ -24,7 +24,7 @@ from fvbeam.forms import distributed_load, generalised_strain, internal_work
 from fvbeam.formulations import Formulation, composite_gauss
 from fvbeam.formulations import formulation as get_formulation
 from fvbeam.geometry import section_frames, sized, vector3, wrench
-from fvbeam.mesh import BeamMesh, shape_functions
+from fvbeam.mesh import BeamMesh
 from fvbeam.section import Section
 from fvbeam.smearing import KERNEL_GAUSS_POINTS, check_smearing, density, kernel_breaks
 
@@ -56,9 +56,10 @@ class Beam:
     section
         Section properties (uniform along the beam).
     formulation
-        ``fv2``, ``fv3``, ``galerkin-p1``, ``galerkin-p2`` or a :class:`Formulation`.
+        ``fv2``, ``fv3``, ``galerkin-p1``, ``galerkin-p2``, ``cubic`` or a
+        :class:`Formulation`.
     integration
-        ``reduced`` or ``full``; Galerkin formulations only.
+        ``reduced`` or ``full``; Lagrange Galerkin formulations only.
     """
 
     def __init__(
@@ -77,7 +78,7 @@ class Beam:
         form.check(mesh)
         self.mesh, self.section, self.formulation = mesh, section, form
         self.skfem_mesh = MeshLine1(mesh.vertex_s[None, :], mesh.cells[:, :2].T.copy())
-        self._test_element = form.test_element(mesh)
+        self._test_element = form.test_element(mesh, section)
         self._quadrature = form.stiffness_quadrature(self._test_element)
         self._mass: dict[str, sp.csr_matrix] = {}
         #: What a rigid translation leaves unchanged and is built on demand (the recovery
@@ -137,8 +138,10 @@ class Beam:
     def trial_basis(self) -> CellBasis:
         """scikit-fem's trial basis on the stiffness quadrature, built when first asked for
         (the recovery and :meth:`reference_stiffness` read it)."""
-        element = self.formulation.trial_element()
-        return CellBasis(self.skfem_mesh, element, quadrature=self._quadrature)
+        element = self.formulation.trial_element(self.mesh, self.section)
+        return CellBasis(
+            self.skfem_mesh, element, quadrature=self._quadrature, disable_doflocs=True
+        )
 
     @cached_property
     def test_basis(self) -> CellBasis:
@@ -216,7 +219,7 @@ class Beam:
             evaluation points, across which H jumps)
         """
         e, X = self.mesh.locate(np.atleast_1d(xi))
-        H, dH = self.formulation.transfer(self.mesh, e, X)
+        H, dH = self.formulation.transfer(self.mesh, self.section, e, X)
         dofs = (6 * self.mesh.cells[e][:, :, None] + np.arange(6)).reshape(len(e), -1)
         return dofs, H, dH
 
@@ -439,11 +442,12 @@ class Beam:
         )
 
     def displacements(self, q: ArrayLike, xi: np.ndarray | float) -> np.ndarray:
-        """Displacement and rotation ``(n, 6)`` at abscissae ``xi`` (trial interpolation)."""
+        """Displacement and rotation ``(n, 6)`` at abscissae ``xi`` (trial interpolation,
+        :meth:`Formulation.interpolation`)."""
         e, X = self.mesh.locate(np.atleast_1d(xi))
-        N, _ = shape_functions(X, self.mesh.nodes_per_element)
-        nodal = self.dofs_of(q).reshape(-1, 6)[self.mesh.cells[e]]
-        return np.einsum("an,nac->nc", N, nodal)
+        trial = self.formulation.interpolation(self.mesh, self.section, e, X)
+        nodal = self.dofs_of(q).reshape(-1, 6)[self.mesh.cells[e]].reshape(len(e), -1)
+        return np.einsum("nkc,nk->nc", trial, nodal)
 
 
 def internal_forces_reference(beam: Beam, q: ArrayLike) -> np.ndarray:

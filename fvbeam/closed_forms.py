@@ -87,6 +87,36 @@ def cantilever_fv3(
     return flex, shear, phi
 
 
+def cantilever_end_loads(
+    s: ArrayLike,
+    L: float = 1.0,
+    EJ: float = 1.0,
+    GA: float = 1.0,
+    F: float = 1.0,
+    C: float = 0.0,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Deflection, rotation, shear force and bending moment at ``s`` of a Timoshenko
+    cantilever clamped at 0 under a tip force ``F`` and a tip couple ``C`` in one bending
+    plane (rotation positive from the beam's axis towards the deflection).
+
+    The shear ``S = F`` and the moment ``M = F (L - s) + C`` are statically determinate; the
+    rotation integrates ``M / EJ`` from the clamp and the deflection ``theta + S / GA``::
+
+        theta = F (2 L s - s^2) / (2 EJ) + C s / EJ
+        v     = F s^2 (3 L - s) / (6 EJ) + F s / GA + C s^2 / (2 EJ)
+
+    At the tip with ``C = 0``, :func:`cantilever_exact` at ``xi = L``:
+
+    >>> v, theta, S, M = cantilever_end_loads(1.0)
+    >>> print(v, theta, S, M)
+    1.3333333333333333 0.5 1.0 0.0
+    """
+    s = np.asarray(s, dtype=float)
+    theta = F * (2 * L * s - s**2) / (2 * EJ) + C * s / EJ
+    v = F * s**2 * (3 * L - s) / (6 * EJ) + F * s / GA + C * s**2 / (2 * EJ)
+    return v, theta, np.full(s.shape, float(F)), F * (L - s) + C
+
+
 def cantilever_internal_forces(
     zeta: ArrayLike, xi: float, F: float = 1.0
 ) -> tuple[np.ndarray, np.ndarray]:

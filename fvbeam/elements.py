@@ -1,4 +1,5 @@
-"""Finite-volume test functions as a custom scikit-fem element.
+"""Finite-volume test functions, and the cubic element's functions, as custom scikit-fem
+elements.
 
 Each node owns an *influence region* bounded by the evaluation points (or a beam end).  Its six
 test functions are the rigid motions of that region (``docs/theory.md``, eq. T4):
@@ -12,6 +13,10 @@ evaluation points: the region's force and moment balance about its node, with th
 ``x(evaluation point) - x_a`` of the internal shear.  The element reproduces those spikes on a
 quadrature made of the evaluation points alone: there ``chi' = jump / (W detJ)``, so that the
 scikit-fem sum ``sum f chi' W detJ`` returns ``jump * f`` exactly.
+
+:class:`ElementBeamCubic` is the cubic element's (``docs/theory.md`` Sec. 9): its trial and
+test functions are the interdependent interpolation of eq. T11, which depends on the element's
+section frame and length and on the section, so the element holds the mesh and the section.
 """
 
 from __future__ import annotations
@@ -22,7 +27,8 @@ from skfem.mapping import Mapping
 from skfem.refdom import RefLine
 
 from fvbeam.mesh import BeamMesh
-from fvbeam.pointwise import indicator_many, rigid_motions_many
+from fvbeam.pointwise import cubic_many, indicator_many, rigid_motions_many
+from fvbeam.section import Section
 
 
 def evaluation_points(nodes_per_element: int) -> np.ndarray:
@@ -113,38 +119,24 @@ def rigid_motions_at(
     return G.reshape(shape), dG.reshape(shape)
 
 
-class ElementBeamFV(Element):
-    """Finite-volume beam test functions on one :class:`~fvbeam.mesh.BeamMesh`.
-
-    Six dofs per node, numbered as ``ElementVector(ElementLineP1|P2(), 6)`` numbers them, so
-    that the trial and test bases share the global dof numbering (a square Petrov-Galerkin
-    system).  Evaluated on :meth:`stiffness_quadrature` it yields the spikes of the region
-    boundaries; on any other points, the region indicators.
-    """
+class AllAtOnce(Element):
+    """A beam element of six dofs per node whose functions are evaluated all at once:
+    scikit-fem asks for them one by one (``gbasis``) at the same points, so the first request
+    evaluates all of them (``_all_functions``: values and derivatives in the abscissa,
+    ``P + (n_functions, 6)`` each) and the next ones read them."""
 
     refdom = RefLine
-    maxdeg = 0
 
-    def __init__(self, mesh: BeamMesh) -> None:
-        npe = mesh.nodes_per_element
-        self.mesh = mesh
+    def __init__(self, n_functions: int) -> None:
+        self.n_functions = n_functions
         self.nodal_dofs = 6
-        self.interior_dofs = 6 if npe == 3 else 0
         self.dofnames = ["u"] * 6
-        self.points = evaluation_points(npe)
-        self.weight = 1.0 / len(self.points)
-        self.jumps = jumps(npe)
         self._cache: tuple | None = None
-
-    def stiffness_quadrature(self) -> tuple[np.ndarray, np.ndarray]:
-        """The evaluation points as a quadrature rule (weights cancel in the spikes)."""
-        return self.points[None, :], np.full(len(self.points), self.weight)
 
     def gbasis(
         self, mapping: Mapping, X: np.ndarray, i: int, tind: np.ndarray | None = None
     ) -> tuple[DiscreteField]:
-        npe = self.mesh.nodes_per_element
-        if not 0 <= i < 6 * npe:
+        if not 0 <= i < self.n_functions:
             self._index_error()
         if tind is None:
             tind = np.arange(mapping.mesh.t.shape[1])
@@ -163,8 +155,37 @@ class ElementBeamFV(Element):
     def _all_functions(
         self, mapping: Mapping, X: np.ndarray, tind: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray]:
-        """All 6 npe test functions at once: scikit-fem asks for them one by one, at the same
-        points, so they are evaluated together and kept for the next request."""
+        raise NotImplementedError
+
+
+class ElementBeamFV(AllAtOnce):
+    """Finite-volume beam test functions on one :class:`~fvbeam.mesh.BeamMesh`.
+
+    Six dofs per node, numbered as ``ElementVector(ElementLineP1|P2(), 6)`` numbers them, so
+    that the trial and test bases share the global dof numbering (a square Petrov-Galerkin
+    system).  Evaluated on :meth:`stiffness_quadrature` it yields the spikes of the region
+    boundaries; on any other points, the region indicators.
+    """
+
+    maxdeg = 0
+
+    def __init__(self, mesh: BeamMesh) -> None:
+        npe = mesh.nodes_per_element
+        super().__init__(6 * npe)
+        self.mesh = mesh
+        self.interior_dofs = 6 if npe == 3 else 0
+        self.points = evaluation_points(npe)
+        self.weight = 1.0 / len(self.points)
+        self.jumps = jumps(npe)
+
+    def stiffness_quadrature(self) -> tuple[np.ndarray, np.ndarray]:
+        """The evaluation points as a quadrature rule (weights cancel in the spikes)."""
+        return self.points[None, :], np.full(len(self.points), self.weight)
+
+    def _all_functions(
+        self, mapping: Mapping, X: np.ndarray, tind: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """All 6 npe test functions at once (:class:`AllAtOnce`)."""
         npe = self.mesh.nodes_per_element
         Xe = np.broadcast_to(X[0], (len(tind),) + X.shape[-1:]) if X.ndim == 2 else X[0]
         e = np.broadcast_to(tind[:, None], Xe.shape)
@@ -175,3 +196,38 @@ class ElementBeamFV(Element):
             on = np.isclose(Xe, p, rtol=0, atol=1e-14)
             dchi[:, on] = self.jumps[:, k : k + 1] / (self.weight * detJ[on])
         return rigid_motions(self.mesh, e, Xe, chi, dchi)
+
+
+class ElementBeamCubic(AllAtOnce):
+    """The cubic beam element's functions (eq. T11) on one :class:`~fvbeam.mesh.BeamMesh` of
+    2-node (straight) elements with one :class:`~fvbeam.section.Section`: trial and test
+    basis alike (a Galerkin element).
+
+    Six dofs per node, numbered as ``ElementVector(ElementLineP1(), 6)`` numbers them (local
+    dof ``6a + c``, node ``a``'s component ``c``).  Each function is a 6-component field
+    ``(u, theta)`` in global axes; its gradient is the derivative in the abscissa (the affine
+    coordinate scikit-fem sees: the elements are straight, metric 1).
+    """
+
+    maxdeg = 3
+
+    def __init__(self, mesh: BeamMesh, section: Section) -> None:
+        super().__init__(12)
+        self.mesh, self.section = mesh, section
+        self.frames = mesh.frames(np.arange(mesh.n_elements), np.full(mesh.n_elements, 0.5))
+        self.stiffness = np.ascontiguousarray(np.diag(section.stiffness))
+
+    def _all_functions(
+        self, mapping: Mapping, X: np.ndarray, tind: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """All twelve functions and their derivatives (:func:`fvbeam.pointwise.cubic_many`)."""
+        Xe = np.broadcast_to(X[0], (len(tind),) + X.shape[-1:]) if X.ndim == 2 else X[0]
+        e = np.broadcast_to(tind[:, None], Xe.shape).ravel()
+        frames = np.ascontiguousarray(self.frames[e])
+        h = np.ascontiguousarray(self.mesh.element_length[e])
+        points = np.ascontiguousarray(Xe, dtype=float).ravel()
+        value, grad = (
+            cubic_many(frames, self.stiffness, h, points, order).reshape(Xe.shape + (12, 6))
+            for order in (0, 1)
+        )
+        return value, grad

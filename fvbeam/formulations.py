@@ -1,8 +1,12 @@
-"""Beam formulations: finite-volume (fv2, fv3) and Galerkin (galerkin-p1, galerkin-p2).
+"""Beam formulations: finite-volume (fv2, fv3), Galerkin (galerkin-p1, galerkin-p2) and the
+cubic element (cubic).
 
-All of them interpolate the six nodal fields (3 displacements, 3 rotations) with Lagrange
-polynomials in the arc length (the *trial* side) and assemble the same internal-work form
-(:func:`fvbeam.forms.internal_work`); they differ only in the *test* side and its quadrature:
+The fv and Galerkin formulations interpolate the six nodal fields (3 displacements, 3
+rotations) with Lagrange polynomials in the arc length (the *trial* side); the cubic one
+with the interdependent interpolation of ``docs/theory.md`` Sec. 9 (eq. T11: cubic
+deflection, quadratic rotation, coupled through the shear parameter).  All assemble the same
+internal-work form (:func:`fvbeam.forms.internal_work`); they differ in their trial and test
+sides and the quadrature:
 
 ============  =============================  ===========================================
 name          test functions                 stiffness quadrature
@@ -11,6 +15,8 @@ fv2, fv3      rigid motions of each node's   the evaluation points (mid-point;
               influence region (paper Sec.5) s = -+1/sqrt(3))
 galerkin-p1   P1 shape functions             reduced: 1 Gauss point; full: 2
 galerkin-p2   P2 shape functions             reduced: 2 Gauss points; full: 3
+cubic         its trial functions (eq. T11)  2 Gauss points (exact: constant shear,
+                                             linear curvature)
 ============  =============================  ===========================================
 """
 
@@ -23,9 +29,10 @@ from typing import ClassVar, Literal, get_args
 import numpy as np
 from skfem.element import Element, ElementLineP1, ElementLineP2, ElementVector
 
-from fvbeam.elements import ElementBeamFV, influence_regions
-from fvbeam.mesh import BeamMesh
-from fvbeam.pointwise import transfer_many
+from fvbeam.elements import ElementBeamCubic, ElementBeamFV, influence_regions
+from fvbeam.mesh import BeamMesh, shape_functions
+from fvbeam.pointwise import CUBIC, FINITE_VOLUME, LAGRANGE, transfer_many
+from fvbeam.section import Section
 
 
 @cache
@@ -55,16 +62,29 @@ class Formulation:
 
     name: str
     nodes_per_element: int
-    #: Whether the test functions are the rigid motions of the nodes' influence regions (fv,
-    #: eq. T4) rather than the trial shape functions (Galerkin).
-    rigid_test: ClassVar[bool] = False
+    #: The test functions' kind (:func:`fvbeam.pointwise.transfer_at`): Lagrange shape
+    #: functions, the rigid motions of the nodes' influence regions (fv, eq. T4), or the cubic
+    #: element's functions (eq. T11).
+    kind: ClassVar[int] = LAGRANGE
 
-    def trial_element(self) -> Element:
+    @property
+    def degree(self) -> int:
+        """The degree of the trial polynomials (a consistent mass integrates their
+        products)."""
+        return self.nodes_per_element - 1
+
+    @property
+    def rigid_test(self) -> bool:
+        """Whether the test functions are the rigid motions of the nodes' influence regions
+        (fv, eq. T4) rather than shape functions."""
+        return self.kind == FINITE_VOLUME
+
+    def trial_element(self, mesh: BeamMesh, section: Section) -> Element:
         """Lagrange interpolation of the six nodal fields."""
         scalar = ElementLineP1() if self.nodes_per_element == 2 else ElementLineP2()
         return ElementVector(scalar, 6)
 
-    def test_element(self, mesh: BeamMesh) -> Element:
+    def test_element(self, mesh: BeamMesh, section: Section) -> Element:
         raise NotImplementedError
 
     def stiffness_quadrature(self, test: Element) -> tuple[np.ndarray, np.ndarray]:
@@ -74,35 +94,55 @@ class Formulation:
         raise NotImplementedError
 
     def transfer(
-        self, mesh: BeamMesh, e: np.ndarray, X: np.ndarray
+        self, mesh: BeamMesh, section: Section, e: np.ndarray, X: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray]:
         """Test functions at points and their derivatives in ``xi``, shape ``P + (6 npe, 6)``.
 
         Row ``6a + c`` is test function ``c`` of local node ``a`` as the 6-vector
         ``(w, psi)``; read as a matrix, it carries a force and couple ``[F; M]`` applied at the
-        point to the element's nodes (eq. T6).  :meth:`transfer_at` on the node positions of
-        the elements ``e``.
+        point to the element's nodes (eq. T6).  :meth:`transfer_at` on the node positions,
+        section frames and lengths of the elements ``e`` of a beam of ``section``.
         """
         e, X = np.broadcast_arrays(np.asarray(e), np.asarray(X, dtype=float))
-        return self.transfer_at(mesh.points[mesh.cells[e]], mesh.element_length[e], X)
+        frames = mesh.frames(e, np.full(e.shape, 0.5))
+        return self.transfer_at(
+            mesh.points[mesh.cells[e]], mesh.element_length[e], X, frames, section
+        )
 
     def transfer_at(
-        self, nodes: np.ndarray, h: np.ndarray, X: np.ndarray
+        self,
+        nodes: np.ndarray,
+        h: np.ndarray,
+        X: np.ndarray,
+        frames: np.ndarray,
+        section: Section,
     ) -> tuple[np.ndarray, np.ndarray]:
-        """:meth:`transfer` in elements given by their node positions ``P + (npe, 3)`` and
-        lengths ``P``, at reference coordinates ``X`` (shape ``P``): elements of several
-        meshes at once (:func:`fvbeam.pointwise.transfer_at` at each point)."""
+        """:meth:`transfer` in elements given by their node positions ``P + (npe, 3)``,
+        lengths ``P`` and section frames ``P + (3, 3)`` (the cubic element's), at reference
+        coordinates ``X`` (shape ``P``): elements of several meshes at once
+        (:func:`fvbeam.pointwise.transfer_at` at each point)."""
         nodes = np.asarray(nodes, dtype=float)
         npe, points = self.nodes_per_element, np.shape(X)
         G, dG = transfer_many(
-            self.rigid_test,
+            self.kind,
             influence_regions(npe),
             np.ascontiguousarray(nodes.reshape(-1, npe, 3)),
+            np.ascontiguousarray(np.broadcast_to(frames, points + (3, 3))).reshape(-1, 3, 3),
+            np.ascontiguousarray(np.diag(section.stiffness)),
             np.ascontiguousarray(np.broadcast_to(h, points), dtype=float).ravel(),
             np.ascontiguousarray(X, dtype=float).ravel(),
         )
         shape = points + (6 * npe, 6)
         return G.reshape(shape), dG.reshape(shape)
+
+    def interpolation(
+        self, mesh: BeamMesh, section: Section, e: np.ndarray, X: np.ndarray
+    ) -> np.ndarray:
+        """The trial functions at points of the elements ``e`` of a beam of ``section``,
+        shape ``P + (6 npe, 6)``: row ``6a + c`` is the field ``(u, theta)`` of a unit value
+        of node ``a``'s dof ``c``, here the Lagrange ``N_a e_c``."""
+        N, _ = shape_functions(np.asarray(X, dtype=float), self.nodes_per_element)
+        return np.einsum("a...,cd->...acd", N, np.eye(6)).reshape(np.shape(X) + (-1, 6))
 
     def breakpoints(self) -> np.ndarray:
         """Reference coordinates where the test functions are not smooth (element ends...)."""
@@ -121,9 +161,9 @@ class Formulation:
 class FiniteVolume(Formulation):
     """Finite-volume beam of Ghiringhelli, Masarati and Mantegazza (paper ref. [8], Sec. 5)."""
 
-    rigid_test: ClassVar[bool] = True
+    kind: ClassVar[int] = FINITE_VOLUME
 
-    def test_element(self, mesh: BeamMesh) -> Element:
+    def test_element(self, mesh: BeamMesh, section: Section) -> Element:
         return ElementBeamFV(mesh)
 
     def stiffness_quadrature(self, test: Element) -> tuple[np.ndarray, np.ndarray]:
@@ -149,8 +189,8 @@ class Galerkin(Formulation):
                 f"{self.name}: integration must be 'full' or 'reduced', got {self.integration!r}"
             )
 
-    def test_element(self, mesh: BeamMesh) -> Element:
-        return self.trial_element()
+    def test_element(self, mesh: BeamMesh, section: Section) -> Element:
+        return self.trial_element(mesh, section)
 
     def stiffness_quadrature(self, test: Element) -> tuple[np.ndarray, np.ndarray]:
         n = self.nodes_per_element - (1 if self.integration == "reduced" else 0)
@@ -162,15 +202,54 @@ class Galerkin(Formulation):
         return X[None, :], W
 
 
+@dataclass(frozen=True)
+class Cubic(Formulation):
+    """The cubic Timoshenko beam element: 2-node, Galerkin on the interdependent
+    interpolation (eq. T11, Reddy's IIE), whose nodal solution is exact for loads at the
+    nodes (``docs/theory.md`` Sec. 9)."""
+
+    kind: ClassVar[int] = CUBIC
+
+    @property
+    def degree(self) -> int:
+        """Cubic deflections."""
+        return 3
+
+    def trial_element(self, mesh: BeamMesh, section: Section) -> Element:
+        """The interdependent interpolation of the element (eq. T11)."""
+        return ElementBeamCubic(mesh, section)
+
+    def test_element(self, mesh: BeamMesh, section: Section) -> Element:
+        return self.trial_element(mesh, section)
+
+    def interpolation(
+        self, mesh: BeamMesh, section: Section, e: np.ndarray, X: np.ndarray
+    ) -> np.ndarray:
+        """The element's functions (eq. T11): its test functions (:meth:`transfer`)."""
+        return self.transfer(mesh, section, e, X)[0]
+
+    def stiffness_quadrature(self, test: Element) -> tuple[np.ndarray, np.ndarray]:
+        """Two Gauss points: the strains of the element's functions are a constant shear and
+        a linear curvature (and constant stretch and twist), so the integrand is at most
+        quadratic and the stiffness exact; the points are where internal forces are
+        recovered."""
+        X, W = gauss(2)
+        return X[None, :], W
+
+    def load_quadrature(self) -> tuple[np.ndarray, np.ndarray]:
+        X, W = gauss(4)
+        return X[None, :], W
+
+
 #: The formulations by name (the scenes' ``formulation`` takes one of them).
-FormulationName = Literal["fv2", "fv3", "galerkin-p1", "galerkin-p2"]
+FormulationName = Literal["fv2", "fv3", "galerkin-p1", "galerkin-p2", "cubic"]
 FORMULATIONS: tuple[str, ...] = get_args(FormulationName)
 
 
 def formulation(name: str, integration: str = "reduced") -> Formulation:
-    """Formulation by name: ``fv2``, ``fv3``, ``galerkin-p1`` or ``galerkin-p2``.
+    """Formulation by name: ``fv2``, ``fv3``, ``galerkin-p1``, ``galerkin-p2`` or ``cubic``.
 
-    ``integration`` ('reduced' or 'full') applies to the Galerkin formulations only.
+    ``integration`` ('reduced' or 'full') applies to the Lagrange Galerkin formulations only.
     """
     if name == "fv2":
         return FiniteVolume("fv2", 2)
@@ -178,4 +257,6 @@ def formulation(name: str, integration: str = "reduced") -> Formulation:
         return FiniteVolume("fv3", 3)
     if name in ("galerkin-p1", "galerkin-p2"):
         return Galerkin(name, 2 if name.endswith("p1") else 3, integration)
+    if name == "cubic":
+        return Cubic("cubic", 2)
     raise ValueError(f"unknown formulation {name!r}; choose one of {', '.join(FORMULATIONS)}")

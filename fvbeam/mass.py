@@ -17,12 +17,18 @@ offset centre of mass is not modelled (the section has no such offset).
     add it to their nodal bodies, ``../shared/notes/mbdyn-beam-slider.md`` Sec. 3).
     Galerkin: ``phi_a`` is the shape function ``N_a``, which is the block row sum of the
     consistent matrix (``sum_b N_b = 1``); for P2 the weights ``1/6, 2/3, 1/6`` of Simpson's
-    rule are positive.
+    rule are positive.  Cubic: ``phi_a`` is the linear ``N_a`` of its two nodes (half the
+    element's mass and section inertia on each node), which lumps away the interpolation's
+    coupling of deflections and rotations: first order in the mass, so second order in the
+    frequencies, against the fourth of the consistent mass (``docs/theory.md`` Sec. 9).
 ``consistent``
-    Galerkin only: ``int N_a N_b (m I, R J R^T) ds`` on the trial shape functions, assembled
-    with scikit-fem (:func:`fvbeam.forms.inertia`) on a Gauss rule exact for the product of
-    two shape functions on straight elements.  The fv test functions are not the trial ones, so
-    a "consistent" fv mass would be a Petrov-Galerkin product; it is not offered.
+    Galerkin and cubic: ``int N_a . N_b`` of the trial functions, ``N_a`` the field
+    ``(u, theta)`` of dof ``a``, weighted by ``(m I, R J R^T)``, assembled with scikit-fem
+    (:func:`fvbeam.forms.inertia`) on a Gauss rule exact for the product of two trial
+    functions on straight elements (``degree + 1`` points).  The cubic element's deflections
+    read its nodal rotations, so its mass couples them (eq. T12).  The fv test functions are
+    not the trial ones, so a "consistent" fv mass would be a Petrov-Galerkin product; it is
+    not offered.
 """
 
 from __future__ import annotations
@@ -107,9 +113,15 @@ def lumped(beam: MassSource) -> sp.csr_matrix:
 
 
 def consistent(beam: MassSource) -> sp.csr_matrix:
-    """Galerkin mass ``int N_a N_b (m I, R J R^T) ds`` (scikit-fem, :func:`forms.inertia`)."""
-    X, W = gauss(beam.mesh.nodes_per_element + 1)
-    basis = CellBasis(beam.skfem_mesh, beam.formulation.trial_element(), quadrature=(X[None, :], W))
+    """Galerkin mass ``int N_a . (m I, R J R^T) N_b ds`` (scikit-fem, :func:`forms.inertia`)
+    on the trial functions, Gauss rule of ``degree + 1`` points."""
+    X, W = gauss(beam.formulation.degree + 1)
+    basis = CellBasis(
+        beam.skfem_mesh,
+        beam.formulation.trial_element(beam.mesh, beam.section),
+        quadrature=(X[None, :], W),
+        disable_doflocs=True,
+    )
     J, ds = _section_fields(beam, X[None, :])
     metric = ds / beam.mesh.element_length[:, None]
     M = asm(

@@ -8,11 +8,19 @@ functions loop them over flat arrays of points for the numpy-facing wrappers of
 :mod:`fvbeam.formulations` (``transfer_at``).  Reference coordinates ``X`` run over the
 element [0, 1], local nodes in meshio's order: end 0, end 1, then the mid node.
 
+The cubic element (``docs/theory.md`` Sec. 9, the interdependent interpolation) has trial
+and test functions of its own, which depend on the element's frame and section:
+:func:`cubic_local_at` (section axes) and :func:`cubic_blocks_at` (global axes, the
+load-transfer blocks), and the compliance of the element at an interior point under a load
+there (:func:`cubic_flex_at`, eq. T13).  :func:`transfer_at` reads an element of any
+:data:`LAGRANGE`, :data:`FINITE_VOLUME` or :data:`CUBIC` kind.
+
 Each kernel has a plain numpy reference at the end of the module (``*_reference``: the
 Lagrange shape functions, the region indicators with their half-and-half rule, the rigid
-motions of eq. T4 and the load-transfer block of eq. T6, written as the equations read); the
-tests hold kernels and references equal to roundoff.  They are for reading and testing: the
-code runs the kernels.
+motions of eq. T4, the load-transfer block of eq. T6, the cubic element's functions as the
+homogeneous solutions of the Timoshenko beam and its compliance as two cantilevers in
+parallel, written as the equations read); the tests hold kernels and references equal to
+roundoff.  They are for reading and testing: the code runs the kernels.
 
 A smeared load has its definition elsewhere: the kernels :func:`fvbeam.smearing.density` and
 :func:`~fvbeam.smearing.slope`, integrated against the test functions by the scikit-fem form
@@ -33,6 +41,10 @@ from fvbeam.geometry import skew_matrices
 
 #: Distance (reference coordinate) within which a point counts as on a region boundary.
 TIE = 1e-12
+#: Kinds of element of :func:`transfer_at`: Lagrange shape functions as test functions
+#: (Galerkin), rigid motions of the influence regions (finite volume, eq. T4), and the cubic
+#: element's own functions (eq. T11).
+LAGRANGE, FINITE_VOLUME, CUBIC = 0, 1, 2
 
 
 @numba.njit(cache=True, inline="never")
@@ -129,10 +141,227 @@ def shape_blocks_at(h: float, N: np.ndarray, dN: np.ndarray, G: np.ndarray, dG: 
 
 
 @numba.njit(cache=True, inline="never")
+def cubic_plane_at(
+    X: float, h: float, EJ: float, GA: float, order: int
+) -> tuple[float, float, float, float, float, float, float, float]:
+    """The cubic element's functions of one bending plane (eq. T11), or their ``order``-th
+    derivative in the abscissa (``order`` 0 to 3), at ``X`` of an element of length ``h``:
+    the deflection ``v`` and the rotation ``psi`` (``v' - psi`` the shear strain) of the nodal
+    values ``v_0, psi_0, v_1, psi_1`` in turn, ``(v of v_0, psi of v_0, v of psi_0, psi of
+    psi_0, ...)``, with ``phi = 12 EJ / (GA h^2)`` and ``mu = 1 / (1 + phi)``::
+
+        v:   mu (1 - 3X^2 + 2X^3 + phi (1 - X)),  mu h (X - 2X^2 + X^3 + phi (X - X^2) / 2),
+             mu (3X^2 - 2X^3 + phi X),           mu h (-X^2 + X^3 - phi (X - X^2) / 2)
+        psi: 6 mu (X^2 - X) / h,                 mu (1 - 4X + 3X^2 + phi (1 - X)),
+             6 mu (X - X^2) / h,                 mu (-2X + 3X^2 + phi X)
+    """
+    phi = 12 * EJ / (GA * h * h)
+    mu = 1 / (1 + phi)
+    X2 = X * X
+    if order == 0:
+        v = (
+            1 - 3 * X2 + 2 * X2 * X + phi * (1 - X),
+            h * (X - 2 * X2 + X2 * X + 0.5 * phi * (X - X2)),
+            3 * X2 - 2 * X2 * X + phi * X,
+            h * (-X2 + X2 * X - 0.5 * phi * (X - X2)),
+        )
+        p = (6 * (X2 - X) / h, 1 - 4 * X + 3 * X2 + phi * (1 - X), 6 * (X - X2) / h)
+        p4 = -2 * X + 3 * X2 + phi * X
+    elif order == 1:
+        v = (
+            -6 * X + 6 * X2 - phi,
+            h * (1 - 4 * X + 3 * X2 + 0.5 * phi * (1 - 2 * X)),
+            6 * X - 6 * X2 + phi,
+            h * (-2 * X + 3 * X2 - 0.5 * phi * (1 - 2 * X)),
+        )
+        p = (6 * (2 * X - 1) / h, -4 + 6 * X - phi, 6 * (1 - 2 * X) / h)
+        p4 = -2 + 6 * X + phi
+    elif order == 2:
+        v = (-6 + 12 * X, h * (-4 + 6 * X - phi), 6 - 12 * X, h * (-2 + 6 * X + phi))
+        p = (12 / h, 6.0, -12 / h)
+        p4 = 6.0
+    else:
+        v = (12.0, 6 * h, -12.0, 6 * h)
+        p = (0.0, 0.0, 0.0)
+        p4 = 0.0
+    scale = mu / h**order
+    return (
+        scale * v[0],
+        scale * p[0],
+        scale * v[1],
+        scale * p[1],
+        scale * v[2],
+        scale * p[2],
+        scale * v[3],
+        scale * p4,
+    )
+
+
+@numba.njit(cache=True, inline="never")
+def cubic_local_at(stiffness: np.ndarray, h: float, X: float, order: int, L: np.ndarray) -> None:
+    """The cubic element's functions (eq. T11) in its section axes ``(t, e2, e3)``, or their
+    ``order``-th derivative in the abscissa, at ``X``, into ``L`` (12, 6): row ``6a + k`` is
+    the field ``(u, theta)`` of a unit value of node ``a``'s dof ``k``.
+
+    ``stiffness`` (6,) holds ``EA, GAy, GAz, GJ, EJy, EJz`` (the diagonal of the section
+    stiffness).  The axial displacement and the twist are linear; ``u2`` and ``theta3``
+    follow :func:`cubic_plane_at` with ``EJz, GAy`` (``psi = theta3``), ``u3`` and ``theta2``
+    with ``EJy, GAz`` and ``psi = -theta2`` (the shear strain ``u3' + theta2``)."""
+    L[:] = 0.0
+    ends = (1 - X, X) if order == 0 else ((-1 / h, 1 / h) if order == 1 else (0.0, 0.0))
+    y = cubic_plane_at(X, h, stiffness[5], stiffness[1], order)
+    z = cubic_plane_at(X, h, stiffness[4], stiffness[2], order)
+    for a in range(2):
+        r, j = 6 * a, 4 * a
+        L[r, 0] = ends[a]
+        L[r + 3, 3] = ends[a]
+        L[r + 1, 1], L[r + 1, 5] = y[j], y[j + 1]
+        L[r + 5, 1], L[r + 5, 5] = y[j + 2], y[j + 3]
+        L[r + 2, 2], L[r + 2, 4] = z[j], -z[j + 1]
+        L[r + 4, 2], L[r + 4, 4] = -z[j + 2], z[j + 3]
+
+
+@numba.njit(cache=True, inline="never")
+def to_global(frame: np.ndarray, B: np.ndarray) -> None:
+    """``B`` (n 6, 6) made global in place, block by block: ``Q B_a Q^T`` with
+    ``Q = blockdiag(R, R)``, ``R`` the section ``frame`` (3, 3), for each 6x6 block
+    ``B_a``."""
+    for a in range(B.shape[0] // 6):
+        r = 6 * a
+        for k in range(6):  # B_a Q^T, row by row
+            for half in range(2):
+                c = 3 * half
+                x0, x1, x2 = B[r + k, c], B[r + k, c + 1], B[r + k, c + 2]
+                for i in range(3):
+                    B[r + k, c + i] = frame[i, 0] * x0 + frame[i, 1] * x1 + frame[i, 2] * x2
+        for j in range(6):  # Q (B_a Q^T), column by column
+            for half in range(2):
+                c = r + 3 * half
+                x0, x1, x2 = B[c, j], B[c + 1, j], B[c + 2, j]
+                for i in range(3):
+                    B[c + i, j] = frame[i, 0] * x0 + frame[i, 1] * x1 + frame[i, 2] * x2
+
+
+@numba.njit(cache=True, inline="never")
+def cubic_blocks_at(
+    frame: np.ndarray, stiffness: np.ndarray, h: float, X: float, G: np.ndarray, dG: np.ndarray
+) -> None:
+    """The cubic element's test functions at ``X`` as load-transfer blocks ``G`` (12, 6) and
+    their ``xi``-derivatives ``dG`` (eqs. T6, T11): :func:`cubic_local_at` in global axes
+    (:func:`to_global`, ``frame`` the element's section frame).  Row ``6a + c`` is test
+    function ``c`` of node ``a`` as the 6-vector ``(w, psi)``, as for the other kinds; the
+    element is a Galerkin one, so these are its trial functions too."""
+    cubic_local_at(stiffness, h, X, 0, G)
+    cubic_local_at(stiffness, h, X, 1, dG)
+    to_global(frame, G)
+    to_global(frame, dG)
+
+
+@numba.njit(cache=True, inline="never")
+def _cantilever(
+    length: float, sign: float, EJ: float, GA: float, rate: bool
+) -> tuple[float, float, float]:
+    """Tip flexibility ``[[f_vv, f_vp], [f_vp, f_pp]]`` of a Timoshenko cantilever of
+    ``length`` in one bending plane (deflection and rotation ``psi`` under a tip force and
+    couple), ``sign`` -1 for one clamped at its far end (its tip looks back), or its
+    derivative in ``length`` (``rate``)."""
+    if rate:
+        return length * length / EJ + 1 / GA, sign * length / EJ, 1 / EJ
+    return (
+        length**3 / (3 * EJ) + length / GA,
+        sign * length * length / (2 * EJ),
+        length / EJ,
+    )
+
+
+@numba.njit(cache=True, inline="never")
+def _triple(
+    x: tuple[float, float, float], y: tuple[float, float, float], z: tuple[float, float, float]
+) -> tuple[float, float, float, float]:
+    """The product ``X Y Z`` of three symmetric 2x2 matrices given by their entries
+    ``(00, 01, 11)``: its entries ``00, 01, 10, 11``."""
+    p00, p01 = x[0] * y[0] + x[1] * y[1], x[0] * y[1] + x[1] * y[2]
+    p10, p11 = x[1] * y[0] + x[2] * y[1], x[1] * y[1] + x[2] * y[2]
+    return (
+        p00 * z[0] + p01 * z[1],
+        p00 * z[1] + p01 * z[2],
+        p10 * z[0] + p11 * z[1],
+        p10 * z[1] + p11 * z[2],
+    )
+
+
+@numba.njit(cache=True, inline="never")
+def _parallel(
+    a: float, b: float, EJ: float, GA: float
+) -> tuple[float, float, float, float, float, float, float, float]:
+    """One bending plane's compliance ``G = F_a (F_a + F_b)^-1 F_b`` at a point ``a`` from
+    one end and ``b`` from the other of a Timoshenko beam clamped at both (two cantilevers
+    joined at their tips, in parallel; eq. T13), ``F`` the cantilevers' tip flexibilities
+    (:func:`_cantilever`), and its derivative in ``a`` (``b = h - a``): the entries ``00,
+    01, 10, 11`` of each, ``G' = F_a' S^-1 F_b - F_a S^-1 S' S^-1 F_b + F_a S^-1 dF_b/da``
+    with ``S = F_a + F_b``.  Both vanish with ``a`` or ``b``: there is no division by
+    either."""
+    Fa, Fb = _cantilever(a, 1.0, EJ, GA, False), _cantilever(b, -1.0, EJ, GA, False)
+    dFa = _cantilever(a, 1.0, EJ, GA, True)
+    rate = _cantilever(b, -1.0, EJ, GA, True)
+    dFb = (-rate[0], -rate[1], -rate[2])
+    det = (Fa[0] + Fb[0]) * (Fa[2] + Fb[2]) - (Fa[1] + Fb[1]) ** 2
+    Si = ((Fa[2] + Fb[2]) / det, -(Fa[1] + Fb[1]) / det, (Fa[0] + Fb[0]) / det)
+    dS = (dFa[0] + dFb[0], dFa[1] + dFb[1], dFa[2] + dFb[2])
+    t = _triple(Si, dS, Si)  # symmetric: S^-1 dS S^-1
+    dSi = (-t[0], -t[1], -t[3])
+    g = _triple(Fa, Si, Fb)
+    d1, d2, d3 = _triple(dFa, Si, Fb), _triple(Fa, dSi, Fb), _triple(Fa, Si, dFb)
+    return (
+        g[0],
+        g[1],
+        g[2],
+        g[3],
+        d1[0] + d2[0] + d3[0],
+        d1[1] + d2[1] + d3[1],
+        d1[2] + d2[2] + d3[2],
+        d1[3] + d2[3] + d3[3],
+    )
+
+
+@numba.njit(cache=True, inline="never")
+def cubic_flex_at(
+    frame: np.ndarray,
+    stiffness: np.ndarray,
+    h: float,
+    X: float,
+    flex: np.ndarray,
+    flex_xi: np.ndarray,
+) -> None:
+    """The cubic element's compliance at ``X`` (eq. T13) into ``flex`` (6, 6) and its
+    ``xi``-derivative into ``flex_xi``, global axes: the displacement and rotation that a
+    force and couple ``[F; M]`` at the point add there to the element's interpolation of the
+    nodal values, the element's clamped-clamped Green's function at the load point.  The
+    axial and torsional parts are ``a b / (h EA)`` and ``a b / (h GJ)``, the bending ones
+    :func:`_parallel`, in the planes of :func:`cubic_local_at` (``stiffness`` (6,) as
+    there, ``a = X h``, ``b = h - a``)."""
+    a, b = X * h, (1 - X) * h
+    flex[:] = 0.0
+    flex_xi[:] = 0.0
+    for k, EJ in ((0, stiffness[0]), (3, stiffness[3])):
+        flex[k, k] = a * b / (h * EJ)
+        flex_xi[k, k] = (b - a) / (h * EJ)
+    y = _parallel(a, b, stiffness[5], stiffness[1])
+    z = _parallel(a, b, stiffness[4], stiffness[2])
+    for out, j in ((flex, 0), (flex_xi, 4)):
+        out[1, 1], out[1, 5], out[5, 1], out[5, 5] = y[j], y[j + 1], y[j + 2], y[j + 3]
+        out[2, 2], out[2, 4], out[4, 2], out[4, 4] = z[j], -z[j + 1], -z[j + 2], z[j + 3]
+    to_global(frame, flex)
+    to_global(frame, flex_xi)
+
+
+@numba.njit(cache=True, inline="never")
 def transfer_at(
-    fv: bool,
+    kind: int,
     regions: np.ndarray,
     nodes: np.ndarray,
+    frame: np.ndarray,
+    stiffness: np.ndarray,
     h: float,
     X: float,
     N: np.ndarray,
@@ -144,10 +373,15 @@ def transfer_at(
     dG: np.ndarray,
 ) -> None:
     """The test functions at ``X`` as load-transfer matrices ``G`` and ``dG/dxi``
-    (6 npe, 6), eq. T6: fv (``fv``, region bounds ``regions``) or Galerkin; ``N``, ``dN``,
-    ``d2N``, ``chi``, ``dchi`` (npe,) are scratch."""
+    (6 npe, 6), eq. T6, of an element of ``kind`` (:data:`LAGRANGE`, :data:`FINITE_VOLUME`
+    with the region bounds ``regions``, :data:`CUBIC` with its section ``frame`` (3, 3) and
+    the diagonal of its section stiffness ``stiffness`` (6,), which the others ignore);
+    ``N``, ``dN``, ``d2N``, ``chi``, ``dchi`` (npe,) are scratch."""
+    if kind == CUBIC:
+        cubic_blocks_at(frame, stiffness, h, X, G, dG)
+        return
     shape_at(X, nodes.shape[0], N, dN, d2N)
-    if fv:
+    if kind == FINITE_VOLUME:
         indicator_at(X, regions, chi)
         dchi[:] = 0.0
         rigid_blocks_at(nodes, h, N, dN, chi, dchi, G, dG)
@@ -171,9 +405,11 @@ def kernel_at(r: float, smearing: float, box: bool) -> tuple[float, float]:
 
 @numba.njit(cache=True, inline="never")
 def smeared_element(
-    fv: bool,
+    kind: int,
     regions: np.ndarray,
     nodes: np.ndarray,
+    frame: np.ndarray,
+    stiffness: np.ndarray,
     start: float,
     h: float,
     lo: float,
@@ -197,12 +433,14 @@ def smeared_element(
     """A smearing kernel integrated against the test functions (eq. T6) over the part
     ``[lo, hi]`` of one element, as :meth:`fvbeam.beam.Beam.kernel_transfer` integrates it.
 
-    The element has node positions ``nodes`` (npe, 3), starts at the abscissa ``start`` and
-    has length ``h``; the kernel :func:`kernel_at` sits at ``xi`` with half-width
-    ``smearing``.  ``[lo, hi]`` is split at the fv evaluation points (bounds of ``regions``,
-    when ``fv``) and the kernel's break points ``xi``, ``xi -+ smearing``; on each piece the
-    kernel times the test functions is a polynomial of degree at most 3 in the abscissa,
-    integrated exactly by the rule ``rule_x``, ``rule_w`` on [0, 1] (3-point Gauss).  Adds
+    The element of ``kind`` has node positions ``nodes`` (npe, 3), section ``frame`` and
+    ``stiffness`` (:func:`transfer_at`), starts at the abscissa ``start`` and has length
+    ``h``; the kernel :func:`kernel_at` sits at ``xi`` with half-width ``smearing``.
+    ``[lo, hi]`` is split at the fv evaluation points (bounds of ``regions``, for
+    :data:`FINITE_VOLUME`) and the kernel's break points ``xi``, ``xi -+ smearing``; on each
+    piece the kernel times the test functions is a polynomial of degree at most 3 (4 for
+    the cubic element under the hat) in the abscissa, integrated exactly by the rule
+    ``rule_x``, ``rule_w`` on [0, 1] (3-point Gauss, exact to degree 5).  Adds
     ``int K(s - xi) H(s) ds`` to ``A`` and ``-int K'(s - xi) H(s) ds`` to ``dA``
     (6 npe, 6), ``H`` the compiled transfer :func:`transfer_at`; returns ``int K ds`` and
     ``-int K' ds``.  ``breaks`` (at least ``2 npe + 5``), ``N``, ``dN``, ``d2N``, ``chi``,
@@ -211,7 +449,7 @@ def smeared_element(
     for value in (lo, hi, xi - smearing, xi, xi + smearing):
         breaks[n] = value
         n += 1
-    if fv:
+    if kind == FINITE_VOLUME:
         for a in range(regions.shape[0]):
             for side in range(2):
                 breaks[n] = start + h * regions[a, side]
@@ -232,7 +470,7 @@ def smeared_element(
             s, w = a + length * rule_x[g], length * rule_w[g]
             K, dK = kernel_at(s - xi, smearing, box)
             X = min(max((s - start) / h, 0.0), 1.0)
-            transfer_at(fv, regions, nodes, h, X, N, dN, d2N, chi, dchi, H, dH)
+            transfer_at(kind, regions, nodes, frame, stiffness, h, X, N, dN, d2N, chi, dchi, H, dH)
             for r in range(H.shape[0]):
                 for c in range(6):
                     A[r, c] += (w * K) * H[r, c]
@@ -280,17 +518,63 @@ def rigid_motions_many(
 
 @numba.njit(cache=True)
 def transfer_many(
-    fv: bool, regions: np.ndarray, nodes: np.ndarray, h: np.ndarray, X: np.ndarray
+    kind: int,
+    regions: np.ndarray,
+    nodes: np.ndarray,
+    frames: np.ndarray,
+    stiffness: np.ndarray,
+    h: np.ndarray,
+    X: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray]:
     """:func:`transfer_at` at the points ``X`` (P,) of elements ``nodes`` (P, npe, 3),
-    ``h`` (P,): (P, 6 npe, 6) each."""
+    section ``frames`` (P, 3, 3) and lengths ``h`` (P,): (P, 6 npe, 6) each."""
     P, npe = nodes.shape[0], nodes.shape[1]
     G, dG = np.empty((P, 6 * npe, 6)), np.empty((P, 6 * npe, 6))
     N, dN, d2N = np.empty(npe), np.empty(npe), np.empty(npe)
     chi, dchi = np.empty(npe), np.empty(npe)
     for p in range(P):
-        transfer_at(fv, regions, nodes[p], h[p], X[p], N, dN, d2N, chi, dchi, G[p], dG[p])
+        transfer_at(
+            kind,
+            regions,
+            nodes[p],
+            frames[p],
+            stiffness,
+            h[p],
+            X[p],
+            N,
+            dN,
+            d2N,
+            chi,
+            dchi,
+            G[p],
+            dG[p],
+        )
     return G, dG
+
+
+@numba.njit(cache=True)
+def cubic_many(
+    frames: np.ndarray, stiffness: np.ndarray, h: np.ndarray, X: np.ndarray, order: int
+) -> np.ndarray:
+    """The cubic element's functions (or their ``order``-th ``xi``-derivative) in global
+    axes at the points ``X`` (P,) of elements of section ``frames`` (P, 3, 3) and lengths
+    ``h`` (P,): (P, 12, 6), :func:`cubic_local_at` made global (:func:`to_global`)."""
+    out = np.empty((len(X), 12, 6))
+    for p in range(len(X)):
+        cubic_local_at(stiffness, h[p], X[p], order, out[p])
+        to_global(frames[p], out[p])
+    return out
+
+
+@numba.njit(cache=True)
+def cubic_flex_many(
+    frames: np.ndarray, stiffness: np.ndarray, h: np.ndarray, X: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`cubic_flex_at` at the points ``X`` (P,): (P, 6, 6) each."""
+    flex, flex_xi = np.empty((len(X), 6, 6)), np.empty((len(X), 6, 6))
+    for p in range(len(X)):
+        cubic_flex_at(frames[p], stiffness, h[p], X[p], flex[p], flex_xi[p])
+    return flex, flex_xi
 
 
 # -- numpy reference of the kernels above ----------------------------------------------------
@@ -361,14 +645,123 @@ def shape_blocks_reference(
     return np.kron(N[:, None], np.eye(6)), np.kron(dN[:, None] / h, np.eye(6))
 
 
+def cubic_plane_reference(h: float, EJ: float, GA: float) -> tuple[list, list]:
+    """:func:`cubic_plane_at` as the homogeneous solutions of the Timoshenko beam that take
+    unit nodal values: deflection ``v`` and rotation ``psi`` polynomials in the abscissa
+    ``s`` from the element's start (two lists of four, for ``v_0, psi_0, v_1, psi_1``).
+
+    Without loads, ``GA (v' - psi)`` is constant and ``EJ psi'' + GA (v' - psi) = 0``
+    (``docs/theory.md``, eq. T11): ``psi = c_1 + c_2 s + c_3 s^2`` and
+    ``v = c_0 + c_1 s + c_2 s^2 / 2 + c_3 (s^3 / 3 - 2 EJ s / GA)``.  The four ``c`` of each
+    shape function are those matching its nodal values (``v, psi`` at 0 and ``h``)."""
+    v = [
+        Polynomial([1.0]),
+        Polynomial([0.0, 1.0]),
+        Polynomial([0.0, 0.0, 0.5]),
+        Polynomial([0.0, -2 * EJ / GA, 0.0, 1 / 3]),
+    ]
+    psi = [
+        Polynomial([0.0]),
+        Polynomial([1.0]),
+        Polynomial([0.0, 1.0]),
+        Polynomial([0.0, 0.0, 1.0]),
+    ]
+    nodal = np.array([[f(0), g(0), f(h), g(h)] for f, g in zip(v, psi, strict=True)]).T
+    c = np.linalg.inv(nodal)  # column i: the coefficients of the function of nodal value i
+    deflection = [sum((c[j, i] * v[j] for j in range(4)), Polynomial([0.0])) for i in range(4)]
+    rotation = [sum((c[j, i] * psi[j] for j in range(4)), Polynomial([0.0])) for i in range(4)]
+    return deflection, rotation
+
+
+def _rotated(frame: np.ndarray, local: np.ndarray) -> np.ndarray:
+    """``Q B Q^T`` of each 6x6 block ``B`` of ``local`` (n 6, 6), ``Q = blockdiag(R, R)``."""
+    Q = np.kron(np.eye(2), frame)
+    blocks = local.reshape(-1, 6, 6)
+    return (Q @ blocks @ Q.T).reshape(local.shape)
+
+
+def cubic_reference(
+    frame: np.ndarray, stiffness: np.ndarray, h: float, X: float, order: int
+) -> np.ndarray:
+    """:func:`cubic_local_at` made global (:func:`cubic_many`): the ``order``-th
+    ``xi``-derivative at ``X`` of the cubic element's functions, rows ``6a + k`` the field
+    ``(u, theta)`` of node ``a``'s dof ``k`` (12, 6).  Section axes first: ``u_t`` and
+    ``theta_t`` linear, ``(u2, theta3)`` the plane of :func:`cubic_plane_reference` with
+    ``EJz, GAy``, ``(u3, -theta2)`` the one with ``EJy, GAz``; then ``Q L Q^T`` per node."""
+    s = X * h
+    linear = [Polynomial([1.0, -1.0 / h]), Polynomial([0.0, 1.0 / h])]
+    read = [f.deriv(order)(s) for f in linear]
+    planes = [cubic_plane_reference(h, stiffness[5], stiffness[1])]
+    planes.append(cubic_plane_reference(h, stiffness[4], stiffness[2]))
+    (vy, py), (vz, pz) = ([[f.deriv(order)(s) for f in fs] for fs in plane] for plane in planes)
+    local = np.zeros((12, 6))
+    for a in range(2):
+        r, j = 6 * a, 2 * a
+        local[r, 0] = local[r + 3, 3] = read[a]
+        local[r + 1, [1, 5]] = vy[j], py[j]
+        local[r + 5, [1, 5]] = vy[j + 1], py[j + 1]
+        local[r + 2, [2, 4]] = vz[j], -pz[j]
+        local[r + 4, [2, 4]] = -vz[j + 1], pz[j + 1]
+    return _rotated(frame, local)
+
+
+def cantilever_flexibility_reference(
+    length: complex, sign: float, stiffness: np.ndarray
+) -> np.ndarray:
+    """The tip flexibility (6, 6), section axes, of a cantilever of ``length`` whose tip looks
+    back along the axis (``sign`` -1) or forward (+1): ``int_0^length B^T C^-1 B dr``, ``C``
+    the diagonal section stiffness ``stiffness`` and ``B = [[I, 0], [skew(sign r e_1), I]]``
+    the internal force and moment at ``r`` from the tip of a unit tip force and couple
+    (virtual work).  The integrand is quadratic in ``r``: a 3-point Gauss rule is exact, and
+    takes a complex ``length`` (:func:`cubic_flex_reference`)."""
+    x, w = np.polynomial.legendre.leggauss(3)
+    out = np.zeros((6, 6), dtype=np.result_type(length, float))
+    for xg, wg in zip(x, w, strict=True):
+        r = length * (xg + 1) / 2
+        B = np.eye(6, dtype=out.dtype)
+        B[3:, :3] = sign * r * np.array([[0, 0, 0], [0, 0, -1], [0, 1, 0]])
+        out = out + wg * length / 2 * (B.T @ np.diag(1 / stiffness) @ B)
+    return out
+
+
+def cubic_flex_reference(
+    frame: np.ndarray, stiffness: np.ndarray, h: float, X: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`cubic_flex_at` (eq. T13): the clamped-clamped element's compliance at the load
+    point ``a = X h``, the two cantilevers ``[0, a]`` and ``[a, h]`` joined at their tips,
+    ``F_a (F_a + F_b)^-1 F_b`` (:func:`cantilever_flexibility_reference`), made global
+    (``Q G Q^T``), and its ``xi``-derivative by a complex step ``i delta`` in ``a``
+    (exact to roundoff: no difference is taken)."""
+    delta = 1e-30 * h
+
+    def compliance(a: complex) -> np.ndarray:
+        Fa = cantilever_flexibility_reference(a, 1.0, stiffness)
+        Fb = cantilever_flexibility_reference(h - a, -1.0, stiffness)
+        return Fa @ np.linalg.solve(Fa + Fb, Fb)
+
+    G = compliance(complex(X * h, delta))
+    return _rotated(frame, G.real), _rotated(frame, G.imag / delta)
+
+
 def transfer_reference(
-    fv: bool, regions: np.ndarray, nodes: np.ndarray, h: float, X: float
+    kind: int,
+    regions: np.ndarray,
+    nodes: np.ndarray,
+    frame: np.ndarray,
+    stiffness: np.ndarray,
+    h: float,
+    X: float,
 ) -> tuple[np.ndarray, np.ndarray]:
     """:func:`transfer_at`: the load-transfer matrix ``H`` (6 npe, 6) of a unit force and
     couple at ``X`` (eq. T6) and ``dH/dxi``, for fv (rigid motions of the regions, with the
-    indicators' derivative 0 away from the jumps) or Galerkin (shape functions)."""
+    indicators' derivative 0 away from the jumps), Galerkin (shape functions) or the cubic
+    element (:func:`cubic_reference`)."""
+    if kind == CUBIC:
+        return cubic_reference(frame, stiffness, h, X, 0), cubic_reference(
+            frame, stiffness, h, X, 1
+        )
     N, dN, _ = shape_reference(X, len(nodes))
-    if fv:
+    if kind == FINITE_VOLUME:
         chi = indicator_reference(X, regions)
         return rigid_blocks_reference(nodes, h, N, dN, chi, np.zeros_like(chi))
     return shape_blocks_reference(h, N, dN)

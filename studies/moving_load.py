@@ -88,15 +88,21 @@ L, EJ, GA, M_PER_LENGTH, F = (
 #: Speed: half the critical speed ``pi sqrt(EJ / m) / L`` of the Euler-Bernoulli beam.
 SPEED = VERIFICATION.speed
 CROSSING = VERIFICATION.crossing
-#: Mass matrix per formulation: fv lumped (its only kind), Galerkin consistent.
-MASS = {"fv2": "lumped", "fv3": "lumped", "galerkin-p1": "consistent", "galerkin-p2": "consistent"}
+#: Mass matrix per formulation: fv lumped (its only kind), Galerkin and cubic consistent.
+MASS = {
+    "fv2": "lumped",
+    "fv3": "lumped",
+    "galerkin-p1": "consistent",
+    "galerkin-p2": "consistent",
+    "cubic": "consistent",
+}
 #: How the force is applied: ``point_load``, the load vector of ``Beam.point_load`` at
 #: ``c t`` rebuilt every step; ``slider``, a massless body carrying the force, driven along
 #: the beam at ``c`` by a spherical slider (:class:`sliders.joints.drives.Ramp` from 0 to
 #: ``L`` over the crossing, then at rest on the end support).
 LOADINGS = ("point_load", "slider")
 #: Degree in the load's abscissa of a point load's vector between break points.
-LOAD_DEGREE = {"fv2": 1, "fv3": 1, "galerkin-p1": 1, "galerkin-p2": 2}
+LOAD_DEGREE = {"fv2": 1, "fv3": 1, "galerkin-p1": 1, "galerkin-p2": 2, "cubic": 3}
 
 
 @dataclass
@@ -297,19 +303,20 @@ def _load_breaks(m: Model) -> np.ndarray:
 def _polynomial_response(
     omega: np.ndarray, g: np.ndarray, q0: np.ndarray, v0: np.ndarray, s: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Exact ``q(s), q'(s)`` of ``q'' + omega^2 q = sum_i g_i s^i`` (degree <= 2) from
-    ``q0, v0``: the particular solution ``g / omega^2 - g'' / omega^4`` plus the free
-    oscillation that meets the initial values."""
-    g = np.pad(g, ((0, 0), (0, 3 - g.shape[1])))
-    w2 = omega**2
-    p0 = g[:, 0] / w2 - 2 * g[:, 2] / w2**2
-    dp0 = g[:, 1] / w2
-    A, B = q0 - p0, (v0 - dp0) / omega
+    """Exact ``q(s), q'(s)`` of ``q'' + omega^2 q = sum_i g_i s^i`` (degree <= 3) from
+    ``q0, v0``: the particular solution ``g / omega^2 - g'' / omega^4`` (the fourth
+    derivative of ``g`` vanishes) plus the free oscillation that meets the initial values."""
+    g = np.pad(g, ((0, 0), (0, 4 - g.shape[1])))
+    w2 = omega[:, None] ** 2
+    # the particular solution's coefficients in s, and its derivative's
+    curvature = np.pad(np.stack([2 * g[:, 2], 6 * g[:, 3]], axis=1), ((0, 0), (0, 2)))
+    p = g / w2 - curvature / w2**2
+    dp = p[:, 1:] * np.arange(1, 4)
+    powers = np.power.outer(s, np.arange(4))  # (len(s), 4)
+    A, B = q0 - p[:, 0], (v0 - dp[:, 0]) / omega
     ws = np.multiply.outer(omega, s)
     c, sn = np.cos(ws), np.sin(ws)
-    qp = (g[:, :1] + g[:, 1:2] * s + g[:, 2:] * s**2) / w2[:, None] - (2 * g[:, 2] / w2**2)[:, None]
-    vp = (g[:, 1:2] + 2 * g[:, 2:] * s) / w2[:, None]
     return (
-        A[:, None] * c + B[:, None] * sn + qp,
-        omega[:, None] * (B[:, None] * c - A[:, None] * sn) + vp,
+        A[:, None] * c + B[:, None] * sn + p @ powers.T,
+        omega[:, None] * (B[:, None] * c - A[:, None] * sn) + dp @ powers[:, :3].T,
     )

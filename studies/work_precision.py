@@ -68,7 +68,7 @@ from . import fig4_stiffness as fig4
 from . import moving_load as ml
 
 #: The formulations compared; a new element joins the study by its name here.
-FORMULATIONS: tuple[str, ...] = ("fv2", "fv3", "galerkin-p1", "galerkin-p2")
+FORMULATIONS: tuple[str, ...] = ("fv2", "fv3", "galerkin-p1", "galerkin-p2", "cubic")
 #: The moving-load sections (module docstring).
 CASES = {
     "euler-bernoulli": ml.Problem(L=1.0, EJ=1e4, GA=1e9, m=10.0, F=100.0, alpha=0.5),

@@ -4,7 +4,8 @@
 written by hand) and :mod:`sliders.joints.equations` (the paper's equations, vectorised) read
 the same inputs (:meth:`SliderBatch.joint_inputs`) and must give the same residuals and
 Jacobian blocks up to roundoff, for every slider kind, both orientation models, beam chains
-(fv2, fv3, galerkin-p2; smeared and not) and rigid lines (an arc, a helix), with the sliding
+(fv2, fv3, galerkin-p2, cubic, whose line has a compliance at the contact; smeared and not)
+and rigid lines (an arc, a helix), with the sliding
 point on the node and off it (the lever arm, which the pattern distinguishes), on chains
 with and without the section rotation dofs (the other option of the pattern).
 
@@ -44,7 +45,7 @@ JOINTS = [
     ("classical", "slope"),
 ]
 #: Lines: beam chains (formulation, smearing as a fraction of the element) and rigid lines.
-LINES = ["fv3", "fv3 smeared", "fv2", "galerkin-p2", "arc", "helix"]
+LINES = ["fv3", "fv3 smeared", "fv2", "galerkin-p2", "cubic", "cubic smeared", "arc", "helix"]
 OFFSETS = {"on the node": np.zeros(3), "off the node": np.array([0.02, -0.05, 0.03])}
 MEMBERS = 3
 
@@ -193,7 +194,7 @@ def test_kernel_equals_reference_on_random_states(kind, orientation, line, offse
 def test_kernel_equals_reference_on_random_inputs_and_writes_its_reach(
     kind, orientation, line, offset
 ):
-    """Every input drawn at random (the line state too: curvature, compliance, kink and
+    """Every input drawn at random (the line state too: curvature, compliances and
     ``l_/xixi`` that the states above leave zero on straight chains), on the shapes and dof
     maps of the batch, the kernel writing into a Jacobian with every block: it writes exactly
     the blocks of its reach (:func:`sliders.joints.kernel.reach`: nothing else, and each

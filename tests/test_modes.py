@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import fvbeam.modes
-from fvbeam import Beam, RigidBody, Section, Structure, Support, closed_forms, straight
+from fvbeam import Beam, RigidBody, Section, Structure, Support, closed_forms, formulation, straight
 from fvbeam.modes import natural_frequencies
 
 ROUNDOFF = 1e-12
@@ -45,7 +45,7 @@ CASES = [
 
 
 def npe(name: str) -> int:
-    return 2 if name in ("fv2", "galerkin-p1") else 3
+    return formulation(name).nodes_per_element
 
 
 def beam(

@@ -27,10 +27,13 @@ def close(a: np.ndarray, b: np.ndarray) -> None:
     assert np.abs(a - b).max() <= 10 * TOL * max(np.abs(b).max(), 1.0)
 
 
+@pytest.mark.parametrize("name", ["fv3", "cubic"])
 @pytest.mark.parametrize("kind", ["spherical", "classical", "spline"])
-def test_sliding_beams_in_their_plane(kind) -> None:
-    """The sliding beams (the piston's spin held by the plane), a tip force in xy."""
-    structure, supports, sliders, P = sliding_beams_model(0.37 * 0.6, 3, kind)
+def test_sliding_beams_in_their_plane(kind, name) -> None:
+    """The sliding beams (the piston's spin held by the plane), a tip force in xy; fv3, and
+    cubic chains (whose joints carry the contact compliance's diagonal blocks beside the
+    pinned multipliers')."""
+    structure, supports, sliders, P = sliding_beams_model(0.37 * 0.6, 3, kind, name)
     f = structure.gather(1, P.nodal_load("end", (40.0, 1.0e3, 0.0), (0.0, 0.0, 5.0)))
     full = SliderStatics(structure, supports, sliders).newton(f, None, TOL, 25)
     planar = SliderStatics(structure, supports, sliders, plane="xy")

@@ -11,8 +11,23 @@ Tolerances are roundoff bounds, ``EPS`` the machine epsilon:
   then differs by at most ``128 EPS`` times the sum of ``|x_b|`` (``|N_b| <= 1`` on [0, 1]) plus
   the roundings of the sums, ``256 EPS`` times ``scale = 1 + sum |x_b|`` in all (divided by
   ``h`` for the derivative).  Indicators are exact (0, 1/2 or 1) and compared exactly.
+* the cubic element (eq. T11): the kernel writes its functions' polynomials out
+  (:func:`fvbeam.pointwise.cubic_plane_at`), the reference solves for them as the homogeneous
+  solutions taking unit nodal values (a 4x4 system ``A c = e_i`` per bending plane).  A
+  backward-stable solve is within ``4 n kappa(A) EPS`` of the exact coefficients (Higham,
+  Accuracy and Stability of Numerical Algorithms, Thm. 9.4 with ``n = 4`` and the growth
+  factor of partial pivoting on a 4x4 below 8), which is at most ``128 kappa(A) EPS``; either
+  side's evaluation and rotation to global axes adds ``2 gamma_16`` of the magnitudes (at
+  most 16 operations per entry), so the two differ by at most ``(128 kappa(A) + 64) EPS``
+  times the largest magnitude of the entries' terms, taken as ``4`` times the largest entry
+  (at most four terms of a sum, each at most the largest of the unrotated values, rotated
+  by an orthogonal frame).  The compliance (eq. T13): the kernel's 2x2 closed form against
+  the reference's 6x6 solve of ``S = F_a + F_b`` (the same bound with ``kappa(S)`` and
+  ``n = 6``, on terms at most ``|S|``: the compliance lies below ``F_a`` and ``F_b``), and its
+  derivative against a complex step (no difference taken; its own error ``delta^2``
+  negligible), whose terms are at most ``3 |S| / h`` (cubics in ``a`` and ``b``).
 * the form and the compiled transfer integrated by an independent Gauss rule: both rules are
-  exact for the piecewise polynomial integrand (degree at most 3 on every piece), so they
+  exact for the piecewise polynomial integrand (degree at most 4 on every piece), so they
   differ by the roundings of their sums: each point's value (``256 EPS`` of the largest
   entry, as above) plus one rounding per term of each sum, ``(256 + n) EPS max|H|`` for ``n``
   terms in the two sums together; the normalisation by the kernel's mass adds a few roundings.
@@ -23,8 +38,17 @@ import pytest
 
 from fvbeam import Beam, Section, arc, straight
 from fvbeam.elements import evaluation_points, influence_regions
+from fvbeam.geometry import section_frames
 from fvbeam.pointwise import (
+    CUBIC,
+    FINITE_VOLUME,
+    LAGRANGE,
     TIE,
+    cantilever_flexibility_reference,
+    cubic_flex_many,
+    cubic_flex_reference,
+    cubic_many,
+    cubic_reference,
     indicator_at,
     indicator_reference,
     rigid_blocks_at,
@@ -40,7 +64,7 @@ from fvbeam.smearing import density
 
 EPS = np.finfo(float).eps
 SECTION = Section.diagonal(EA=10.0, GAy=2.0, GAz=3.0, GJ=1.0, EJy=1.5, EJz=0.8)
-FORMULATIONS = [("fv2", 2), ("fv3", 3), ("galerkin-p1", 2), ("galerkin-p2", 3)]
+FORMULATIONS = [("fv2", 2), ("fv3", 3), ("galerkin-p1", 2), ("galerkin-p2", 3), ("cubic", 2)]
 
 
 def reference_points(npe: int, rng: np.random.Generator) -> np.ndarray:
@@ -83,11 +107,74 @@ def test_kernels_equal_their_numpy_reference(npe):
         for kernel, reference in zip((G, dG), shape_blocks_reference(h, N, dN), strict=True):
             np.testing.assert_array_equal(kernel, reference)
 
-        for fv in (True, False):
-            transfer_at(fv, regions, nodes, h, X, N, dN, d2N, chi, dchi, G, dG)
-            G_ref, dG_ref = transfer_reference(fv, regions, nodes, h, X)
+        frame, stiffness = np.eye(3), np.ones(6)  # read by the cubic element only
+        for kind in (FINITE_VOLUME, LAGRANGE):
+            transfer_at(kind, regions, nodes, frame, stiffness, h, X, N, dN, d2N, chi, dchi, G, dG)
+            G_ref, dG_ref = transfer_reference(kind, regions, nodes, frame, stiffness, h, X)
             np.testing.assert_allclose(G, G_ref, rtol=0, atol=tol)
             np.testing.assert_allclose(dG, dG_ref, rtol=0, atol=tol / h)
+
+
+def random_cubic_element(rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray, float]:
+    """A random section frame, a section whose six stiffnesses span two decades each way
+    (shear parameters ``12 EJ / (GA h^2)`` from about 1e-5 to 1e5) and a random length."""
+    frame = section_frames(rng.standard_normal(3), rng.standard_normal(3))
+    return frame, 10 ** rng.uniform(-2, 2, 6), float(10 ** rng.uniform(-1, 0.5))
+
+
+def test_cubic_kernels_equal_their_numpy_reference():
+    """The cubic element's functions and their first three derivatives (:func:`cubic_many`,
+    :func:`transfer_at`) and its compliance with its derivative (:func:`cubic_flex_many`)
+    against the references at random and special points of random elements, within the
+    bounds of the module docstring."""
+    rng = np.random.default_rng(3)
+    regions, nodes = influence_regions(2), np.zeros((2, 3))
+    N, dN, d2N, chi, dchi = (np.empty(2) for _ in range(5))
+    G, dG = np.empty((12, 6)), np.empty((12, 6))
+    for _ in range(20):
+        frame, stiffness, h = random_cubic_element(rng)
+        kappa = max(
+            np.linalg.cond(nodal_matrix(h, EJ, GA))
+            for EJ, GA in ((stiffness[5], stiffness[1]), (stiffness[4], stiffness[2]))
+        )
+        for X in np.concatenate([[0.0, 1.0, 0.5], rng.random(5)]):
+            values = []
+            for order in range(4):
+                mine = cubic_many(frame[None], stiffness, np.array([h]), np.array([X]), order)[0]
+                theirs = cubic_reference(frame, stiffness, h, X, order)
+                tol = (128 * kappa + 64) * EPS * 4 * np.abs(theirs).max()
+                np.testing.assert_allclose(mine, theirs, rtol=0, atol=tol)
+                values.append(mine)
+            transfer_at(CUBIC, regions, nodes, frame, stiffness, h, X, N, dN, d2N, chi, dchi, G, dG)
+            np.testing.assert_array_equal(G, values[0])
+            np.testing.assert_array_equal(dG, values[1])
+            flex, flex_xi = cubic_flex_many(frame[None], stiffness, np.array([h]), np.array([X]))
+            a = X * h
+            S = cantilever_flexibility_reference(a, 1.0, stiffness) + (
+                cantilever_flexibility_reference(h - a, -1.0, stiffness)
+            )
+            # the compliance is at most min(F_a, F_b) <= S (positive definite order); its
+            # a-derivative's terms at most |S| / h over the cubics' three powers of a and b
+            tol = (192 * np.linalg.cond(S) + 64) * EPS * 4 * np.abs(S).max()
+            theirs = cubic_flex_reference(frame, stiffness, h, X)
+            np.testing.assert_allclose(flex[0], theirs[0], rtol=0, atol=tol)
+            np.testing.assert_allclose(flex_xi[0], theirs[1], rtol=0, atol=4 * tol / h)
+
+
+def nodal_matrix(h: float, EJ: float, GA: float) -> np.ndarray:
+    """The system the reference solves (:func:`fvbeam.pointwise.cubic_plane_reference`): the
+    nodal values ``v(0), psi(0), v(h), psi(h)`` (rows) of the homogeneous solutions
+    ``v = 1, s, s^2 / 2, s^3 / 3 - 2 EJ s / GA`` with ``psi = 0, 1, s, s^2`` (columns)."""
+    deflection = (
+        lambda s: 1.0,
+        lambda s: s,
+        lambda s: s * s / 2,
+        lambda s: s**3 / 3 - 2 * EJ * s / GA,
+    )
+    rotation = (lambda s: 0.0, lambda s: 1.0, lambda s: s, lambda s: s * s)
+    return np.array(
+        [[v(0.0), p(0.0), v(h), p(h)] for v, p in zip(deflection, rotation, strict=True)]
+    ).T
 
 
 def test_the_reference_reads_the_half_and_half_rule():

@@ -10,7 +10,7 @@ from itertools import pairwise
 import numpy as np
 import pytest
 
-from fvbeam import Beam, Section, Structure, Support, straight
+from fvbeam import Beam, Section, Structure, Support, formulation, straight
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
 from sliders.lines.rigid import CircularArc
@@ -26,7 +26,7 @@ def sliding_beams_model(s, n, kind, name="fv3", smearing=0.0, kernel="box", orie
     """Paper Sec. 6 (Figure 3): cylinder C on [0, L] clamped at 0, piston P on [s, s + L]
     with its axial translation and spin held at its bottom; A: P's bottom slides on C,
     B: C's top slides on P."""
-    npe = 2 if name in ("fv2", "galerkin-p1") else 3
+    npe = formulation(name).nodes_per_element
     C = Beam(straight((0, 0, 0), (L, 0, 0), n, npe), SECTION, name)
     P = Beam(straight((s, 0, 0), (s + L, 0, 0), n, npe), SECTION, name)
     structure = Structure([C, P])
@@ -79,7 +79,7 @@ def check_jacobian(slider, structure, seed, shift=0.0):
 @pytest.mark.parametrize(
     "kind,orientation", [("spherical", "section"), ("classical", "section"), ("classical", "slope")]
 )
-@pytest.mark.parametrize("name", ["fv2", "fv3", "galerkin-p1", "galerkin-p2"])
+@pytest.mark.parametrize("name", ["fv2", "fv3", "galerkin-p1", "galerkin-p2", "cubic"])
 @pytest.mark.parametrize("smearing,kernel", [(0.0, "box"), (0.02, "box"), (0.02, "hat")])
 @pytest.mark.parametrize("where", [0.013, 0.0])
 def test_joint_jacobian_matches_finite_differences(

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from test_sliders import SECTION, check_jacobian
 
-from fvbeam import Beam, Section, Structure, Support, straight
+from fvbeam import Beam, Section, Structure, Support, formulation, straight
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
 from sliders.lines.rigid import Helix, StraightLine
@@ -21,7 +21,7 @@ def line_with_body(name, n, a, T, formulation_body="fv3"):
     """Line beam on [0, 1] along x, clamped at 0; a body beam along y from (a, 0, 0), its
     start node sliding on the line with a spline slider, its axial position held (``ux``) so
     that it does not slide; a torque ``T`` about x at the body beam's free end."""
-    npe = 2 if name in ("fv2", "galerkin-p1") else 3
+    npe = formulation(name).nodes_per_element
     line = Beam(straight((0, 0, 0), (1, 0, 0), n, npe), TWIST_SECTION, name)
     body = Beam(straight((a, 0, 0), (a, 0.1, 0), 1, 3), TWIST_SECTION, formulation_body)
     structure = Structure([line, body])
@@ -31,7 +31,7 @@ def line_with_body(name, n, a, T, formulation_body="fv3"):
     return structure, supports, slider, f
 
 
-@pytest.mark.parametrize("name", ["fv2", "fv3", "galerkin-p2"])
+@pytest.mark.parametrize("name", ["fv2", "fv3", "galerkin-p2", "cubic"])
 @pytest.mark.parametrize("smearing", [0.0, 0.03])
 @pytest.mark.parametrize("a", [0.37, 0.5, 0.625])
 def test_spline_jacobian_matches_finite_differences(name, smearing, a):
@@ -42,14 +42,15 @@ def test_spline_jacobian_matches_finite_differences(name, smearing, a):
     check_jacobian(slider, structure, 2)
 
 
-@pytest.mark.parametrize("name", ["fv2", "fv3", "galerkin-p2"])
+@pytest.mark.parametrize("name", ["fv2", "fv3", "galerkin-p2", "cubic"])
 @pytest.mark.parametrize("a", [0.37, 0.5, 0.625])
 def test_twist_at_the_body_is_T_a_over_GJ(name, a):
     """The issue's twist test: the line's twist at the contact is T a / GJ (closed form of a
     shaft clamped at 0 under a torque at a), the body turns with the section, the clamp
     returns the torque.  Exact for every formulation: the torque is shared by the two nodes
-    around a, the nodal twists are exact for nodal torques, and the kink correction restores
-    the exact twist between them (relative tolerance 1e-9: roundoff of K ~ 1e10 against
+    around a, the nodal twists are exact for nodal torques, and the kink correction (the
+    cubic element's compliance, ``a b / (h GJ)`` in twist) restores the exact twist between
+    them (relative tolerance 1e-9: roundoff of K ~ 1e10 against
     rotations ~1e-5)."""
     T = 100.0
     structure, supports, slider, f = line_with_body(name, 4, a, T)

@@ -25,8 +25,18 @@ one-sided tangents, at most doubling it.  With ``h`` the shortest of the element
 ``Y`` the largest coordinate of the nodes read (reference or deformed; at least 1, for the
 Galerkin ``G`` which is the coefficients themselves): a coefficient of
 order ``k`` within ``2 gamma_16 2 TERMS / h^k``; a line quantity within that times
-``3 npe Y``.  The integers (dofs, beam, element) and the copied node positions are equal
-exactly, and so is ``X`` (both take ``xi`` off the same breaks by the same operations).
+``3 (3 npe + m) Y``, the reference line's sum over the nodes read and the displacement's
+over its ``m`` dofs (``Y`` then also bounds the dofs read).  The integers (dofs, beam,
+element) are equal exactly, and so is ``X`` (both take ``xi`` off the same breaks by the same
+operations).
+
+On cubic elements (chains with cubic beams, alone or beside galerkin-p1 ones) the
+coefficients are the element's functions (eq. T11) and its compliance (eq. T13): the bounds
+of ``tests/test_pointwise.py`` (the reference's 4x4 and 6x6 solves, ``(128 kappa + 64) EPS``
+and ``(192 kappa + 64) EPS`` of four times the largest entry), doubled for the recovered
+tangent's combination, plus the difference of the two sides' element frames (the stack's
+from the reference line at the element's middle, the reference's from the mesh), which
+moves each entry by at most ``2 dR`` of the largest, ``dR`` the frame's bound below.
 
 The frame ``R0``, its curvature ``k0`` and ``k0_/xi`` are functions of the reference line's
 ``l0`` and ``l0_/xi`` (the same numpy functions on both sides, on ``l0`` from the kernel or
@@ -53,11 +63,12 @@ roundoff bound of :meth:`Bounds.smeared`, and exactly zero on the other dofs it 
 import numpy as np
 import pytest
 from test_chain import SECTION, chain_of_three
+from test_pointwise import nodal_matrix
 
-from fvbeam import Beam, Section, Structure, straight
+from fvbeam import Beam, Section, Structure, formulation, straight
 from fvbeam.elements import evaluation_points
 from fvbeam.mesh import arc
-from fvbeam.pointwise import TIE
+from fvbeam.pointwise import CUBIC, TIE, cantilever_flexibility_reference, cubic_reference
 from sliders.lines import batched_reference as reference
 from sliders.lines.batched import ChainStack
 from sliders.lines.chain import BeamChain
@@ -93,6 +104,12 @@ CHAINS = {
     "fv3, galerkin-p2 arc, fv3": [("fv3", "straight"), ("galerkin-p2", "arc"), ("fv3", "straight")],
     "galerkin-p2 arc, galerkin-p2": [("galerkin-p2", "arc"), ("galerkin-p2", "straight")],
     "fv3 arc": [("fv3", "arc")],
+    "cubic": [("cubic", "straight")],
+    "cubic, galerkin-p1 arc, cubic arc": [
+        ("cubic", "straight"),
+        ("galerkin-p1", "arc"),
+        ("cubic", "arc"),
+    ],
 }
 
 
@@ -100,7 +117,7 @@ def random_beams(spec, rng):
     """Beams joined end to start, one per ``(formulation, shape)`` of ``spec``: straight
     (random direction and length) or a circular arc in a plane z = const (random radius,
     start angle and sweep), 1 to 3 elements each, each with its own random section."""
-    npe = 2 if spec[0][0] in ("fv2", "galerkin-p1") else 3
+    npe = formulation(spec[0][0]).nodes_per_element
     start, beams = rng.uniform(-1, 1, 3), []
     for name, shape in spec:
         n = int(rng.integers(1, 4))
@@ -162,24 +179,40 @@ class Bounds:
     def __init__(self, chain, xi, q):
         self.chain, self.xi = chain, xi
         _, element, X = reference.locate(chain, xi)
-        elements, _, _ = reference.recovered_tangent(chain, element, X)
+        elements = reference.recovered_tangent(chain, element, X)[0]
         self.h = min(reference.element_length(chain, e) for e in elements)
         line = reference.interpolation(chain, xi)
-        self.npe = len(line.N)
-        self.Y0 = max(np.abs(line.tangent_X).max(), 1.0)
-        self.Y = max(np.abs(line.tangent_X + q[line.tangent_dofs]).max(), self.Y0)
-        _, dN, d2N = reference.shape_functions(
-            X, reference.element_length(chain, element), self.npe
-        )
-        self.l0, self.l0_xi = np.linalg.norm(dN @ line.X), np.linalg.norm(d2N @ line.X)
+        self.npe, self.m = chain.beams[0].mesh.nodes_per_element, line.N.shape[1]
+        positions = np.concatenate([reference.element_nodes(chain, e)[1] for e in elements])
+        self.Y0 = max(np.abs(positions).max(), 1.0)
+        self.Y = self.Y0 + np.abs(q[line.tangent_dofs]).max()
+        self.l0, self.l0_xi = (np.linalg.norm(v) for v in line.reference[1:])
+        # the frames come from the reference line, a Lagrange interpolation of the nodes
+        self.cubic: list = []
+        self.dR = 10 * self.line(1, self.Y0) / (self.l0 * self._n(element)) + ROUNDING
+        self.cubic = [cubic_scales(chain, e, X) for e in elements if is_cubic(chain, e)]
+
+    def _n(self, element):
+        """``|n|``, ``n = up - (up . t) t`` of the element's frame (module docstring)."""
+        k, _ = reference.beam_element(self.chain, element)
+        up, t = self.chain.beams[k].mesh.up, reference.element_frame(self.chain, element)[:, 0]
+        return np.linalg.norm(up - (up @ t) * t)
 
     def coefficient(self, k):
-        """A coefficient of order ``k`` in ``1 / h``."""
-        return ROUNDING * 2 * TERMS / self.h**k
+        """A coefficient of order ``k`` in ``1 / h``: Lagrange, and on cubic elements the
+        bound of ``tests/test_pointwise.py`` (doubled by the recovered tangent's
+        combination) plus the frames' difference on both sides, ``2 dR`` of the scale."""
+        lagrange = ROUNDING * 2 * TERMS / self.h**k
+        cubic = [
+            2 * (128 * kappa + 64) * EPS * 4 * scale[k] + 2 * self.dR * scale[k]
+            for kappa, scale in self.cubic
+        ]
+        return max([lagrange, *cubic])
 
     def line(self, k, Y):
-        """A line quantity of order ``k`` on nodes of coordinates up to ``Y``."""
-        return self.coefficient(k) * 3 * self.npe * Y
+        """A line quantity of order ``k`` on nodes of coordinates (and dofs) up to ``Y``: the
+        reference line's sum over the nodes read and the displacement's over the dofs."""
+        return self.coefficient(k) * 3 * (3 * self.npe + self.m) * Y
 
     def smeared(self, smearing, kernel):
         """Bounds on ``|G - G_form|`` and ``|G' - G'_form|`` (entrywise) of the compiled smeared
@@ -272,7 +305,7 @@ class Bounds:
         return tol_G, tol_dG
 
     def frame(self, rotation, up):
-        """``R0``, ``k0``, ``k0_/xi`` and the compliance, of the reference's ``rotation``."""
+        """``R0``, ``k0`` and ``k0_/xi`` of the reference's ``rotation``."""
         t = rotation.R0[:, 0]
         n = np.linalg.norm(up - (up @ t) * t)
         dl, dl_xi = self.line(1, self.Y0), self.line(2, self.Y0)
@@ -280,8 +313,59 @@ class Bounds:
         k0 = np.linalg.norm(rotation.k0)
         dk = 10 * (dl_xi + self.l0_xi / self.l0 * dl) / (self.l0 * n) + ROUNDING * k0
         dk_xi = dk * self.l0_xi / self.l0 + ROUNDING * k0 * self.l0_xi * 1e4
-        dC = 9 * np.trace(rotation.compliance) * (2 * dR + ROUNDING)
-        return {"R0": dR, "k0": dk, "k0_xi": dk_xi, "compliance": dC}
+        return {"R0": dR, "k0": dk, "k0_xi": dk_xi}
+
+    def flex(self, beam, kink):
+        """``flex`` and ``flex_xi``: Lagrange ``kink C``, ``C = R0 C_s R0^T`` (9 terms), which
+        moves by ``9 max|C| (2 |dR0| + 2 gamma_16)``, ``max|C|`` at most the trace of the
+        compliance (positive definite, the trace invariant), and ``kink`` by its coefficient
+        bound; cubic: the bound of ``tests/test_pointwise.py`` on the compliance plus the
+        frames' ``2 dR``."""
+        if beam.formulation.kind == CUBIC:
+            kappa, scale = contact_scale(self.chain, self.xi)
+            tol = (192 * kappa + 64) * EPS * 4 * scale + 2 * self.dR * scale
+            return tol, 4 * tol / self.h
+        C = np.trace(np.linalg.inv(beam.section.stiffness)[3:, 3:])
+        dC = 9 * C * (2 * self.dR + ROUNDING)
+        return (
+            self.coefficient(-1) * C + abs(kink[0]) * dC,
+            self.coefficient(0) * C + abs(kink[1]) * dC,
+        )
+
+
+def is_cubic(chain, element):
+    """Whether the chain's ``element`` is a cubic one."""
+    k, _ = reference.beam_element(chain, element)
+    return chain.beams[k].formulation.kind == CUBIC
+
+
+def cubic_scales(chain, element, X):
+    """The condition of the reference's nodal systems of a cubic ``element`` (both bending
+    planes) and the largest entry of its functions' derivatives of each order (0 to 3) at
+    ``X`` and its ends (the points the recovered tangent reads)."""
+    k, _ = reference.beam_element(chain, element)
+    beam, h = chain.beams[k], reference.element_length(chain, element)
+    stiffness, frame = np.diag(beam.section.stiffness), reference.element_frame(chain, element)
+    kappa = max(
+        np.linalg.cond(nodal_matrix(h, EJ, GA))
+        for EJ, GA in ((stiffness[5], stiffness[1]), (stiffness[4], stiffness[2]))
+    )
+    scale = [
+        max(np.abs(cubic_reference(frame, stiffness, h, x, order)).max() for x in (X, 0.0, 1.0))
+        for order in range(4)
+    ]
+    return kappa, scale
+
+
+def contact_scale(chain, xi):
+    """The condition of ``S = F_a + F_b`` of the cubic element holding ``xi`` and ``max|S|``
+    (``tests/test_pointwise.py``)."""
+    k, element, X = reference.locate(chain, xi)
+    beam, h = chain.beams[k], reference.element_length(chain, element)
+    stiffness = np.diag(beam.section.stiffness)
+    S = cantilever_flexibility_reference(X * h, 1.0, stiffness)
+    S = S + cantilever_flexibility_reference(h - X * h, -1.0, stiffness)
+    return np.linalg.cond(S), np.abs(S).max()
 
 
 def kernel_mass(kernel, smearing, a, b):
@@ -317,22 +401,36 @@ def check_member(state, interp, rotation, transfer, b, chain, xi, q, smearing, k
     bound = Bounds(chain, xi, q)
     line = mine.interpolation
     for answer in (state.interpolation.member(b), interp.member(b)):
-        for name in ("dofs", "X", "tangent_dofs", "tangent_X"):
+        for name in ("dofs", "tangent_dofs"):
             np.testing.assert_array_equal(getattr(answer, name), getattr(line, name))
+        for k in range(3):
+            agree(answer.reference[k], line.reference[k], bound.line(k, bound.Y0))
+        for k in range(2):
+            agree(
+                answer.tangent_reference[k], line.tangent_reference[k], bound.line(k + 1, bound.Y0)
+            )
         for name, k in (("N", 0), ("dN", 1), ("d2N", 2), ("T", 1), ("T_xi", 2)):
             agree(getattr(answer, name), getattr(line, name), bound.coefficient(k))
     geometry = interp.member(b).geometry(q), interp.member(b).tangent(q)
     for k, name in enumerate(("x", "l", "l_xi")):
         for value in (getattr(state, name)[b], geometry[0][k]):
             agree(value, getattr(mine, name), bound.line(k, bound.Y))
+    agree(state.l_xixi[b], mine.l_xixi, bound.line(3, bound.Y))
     for k, name in ((1, "tangent"), (2, "tangent_xi")):
         for value in (getattr(state, name)[b], geometry[1][k - 1]):
             agree(value, getattr(mine, name), bound.line(k, bound.Y))
+    k_beam, _, _ = reference.locate(chain, xi)
+    beam = chain.beams[k_beam]
+    assert state.contact.shape[1:] == mine.contact.shape
+    if mine.contact.size:
+        tol, tol_xi = bound.flex(beam, None) if beam.formulation.kind == CUBIC else (0.0, 0.0)
+        agree(state.contact[b], mine.contact, tol)
+        agree(state.contact_xi[b], mine.contact_xi, tol_xi)
     for dofs, G, dG in ((state.load_dofs, state.G, state.dG), transfer):
         if smearing == 0:
             np.testing.assert_array_equal(dofs[b], mine.load_dofs)
-            agree(G[b], mine.G, bound.line(0, bound.Y0))
-            agree(dG[b], mine.dG, bound.line(1, bound.Y0))
+            agree(G[b], mine.G, max(bound.line(0, bound.Y0), bound.coefficient(0)))
+            agree(dG[b], mine.dG, max(bound.line(1, bound.Y0), bound.coefficient(1)))
         else:  # the kernel form's integral, compiled: on the chain's dofs, zero elsewhere
             tol_G, tol_dG = bound.smeared(smearing, kernel)
             assert np.isin(mine.load_dofs, dofs[b]).all()
@@ -341,14 +439,26 @@ def check_member(state, interp, rotation, transfer, b, chain, xi, q, smearing, k
             n = chain.structure.n_dofs
             for compiled, form, tol in ((G, mine.G, tol_G), (dG, mine.dG, tol_dG)):
                 agree(scattered(dofs[b], compiled[b], n), scattered(mine.load_dofs, form, n), tol)
-    k_beam = reference.locate(chain, xi)[0]
-    frame = bound.frame(mine.rotation, chain.beams[k_beam].mesh.up)
+    frame = bound.frame(mine.rotation, beam.mesh.up)
+    kink = kink_of(chain, xi)
+    tol_flex, tol_flex_xi = bound.flex(beam, kink)
     for answer in (state.rotation.member(b), rotation.member(b)):
         np.testing.assert_array_equal(answer.dofs, mine.rotation.dofs)
-        for name, k in (("w", 0), ("w_xi", 1), ("kink", -1), ("kink_xi", 0)):
+        for name, k in (("W", 0), ("W_xi", 1), ("W_xixi", 2)):
             agree(getattr(answer, name), getattr(mine.rotation, name), bound.coefficient(k))
+        agree(answer.flex, mine.rotation.flex, tol_flex)
+        agree(answer.flex_xi, mine.rotation.flex_xi, tol_flex_xi)
         for name, atol in frame.items():
             agree(getattr(answer, name), getattr(mine.rotation, name), atol)
+
+
+def kink_of(chain, xi):
+    """The kink correction ``kappa`` and ``kappa_/xi`` of a Lagrange element at ``xi``
+    (:func:`sliders.lines.batched_reference.rotation`: its ``flex`` over ``C``)."""
+    k, _, _ = reference.locate(chain, xi)
+    rotation = reference.rotation(chain, xi)
+    C = rotation.R0 @ np.linalg.inv(chain.beams[k].section.stiffness)[3:, 3:] @ rotation.R0.T
+    return rotation.flex[0, 0] / C[0, 0], rotation.flex_xi[0, 0] / C[0, 0]
 
 
 @pytest.mark.parametrize("name", CHAINS)
@@ -477,7 +587,8 @@ def test_stored_frames_of_straight_elements_equal_the_frames_at_xi(npe):
     close(rotation.R0, R0)
     assert not np.any(rotation.k0) and not np.any(rotation.k0_xi)
     beam = np.searchsorted(stack.first_element, element, side="right") - 1
-    close(rotation.compliance, R0 @ np.stack(stack.compliance)[beam] @ np.swapaxes(R0, 1, 2))
+    stored = stack.element_frames().compliance[np.arange(len(xi)), element]
+    close(stored, R0 @ np.stack(stack.compliance)[beam] @ np.swapaxes(R0, 1, 2))
     shifts = np.array([[(0.3, -0.2, 0.1)] * 3, [(5.0, 1.0, -2.0)] * 3])
     moved = ChainStack(chains[:1]).translated(shifts)
     for mine, theirs in zip(

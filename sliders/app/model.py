@@ -26,6 +26,7 @@ from functools import cached_property, partial
 import numpy as np
 
 from fvbeam import Beam, BeamMesh, RigidBody, Section, Structure, Support, arc, straight
+from fvbeam.formulations import formulation as get_formulation
 from fvbeam.mechanism import rigid_modes, unresisted
 from fvbeam.names import suggest
 from fvbeam.smearing import check_smearing
@@ -80,7 +81,6 @@ ON_LINE = 1e-6
 #: Ties join coincident nodes to this fraction of the scene's size (as fvbeam.Structure does
 #: for bodies).
 COINCIDENT = 1e-9
-TWO_NODE = ("fv2", "galerkin-p1")
 #: What holds a rigid motion left free at the static start of a dynamic study.
 START_REMEDY = (
     "a dynamic study starts from the static equilibrium at t = 0, which needs it held: a "
@@ -131,7 +131,7 @@ def _section(spec) -> Section:
 
 
 def _mesh(spec: BeamSpec, formulation: str) -> BeamMesh:
-    npe = 2 if formulation in TWO_NODE else 3
+    npe = get_formulation(formulation).nodes_per_element
     if spec.straight is not None:
         s = spec.straight
         return straight(s.start, s.end, s.elements, npe, up=spec.up, name=spec.name)

@@ -129,9 +129,9 @@ def _joint_equations(
         turn[:, groups.columns(g_body)] = groups.at(g_body, point, rotations=True)[3:]
         if isinstance(slider.line, BeamChain):
             interp = slider.line.interpolation(xi)
-            on_line = interp.N @ interp.X
-            position -= np.einsum("a,acz->cz", interp.N, groups.basis[interp.dofs])
-            turn -= groups.basis[interp.dofs[0] + 3]
+            on_line = interp.reference[0]
+            position -= interp.N @ groups.basis[interp.dofs]
+            turn -= groups.basis[interp.dofs[:3] + 3]  # the first node's rotations
         else:
             on_line = slider.line.at(xi).x
         axes = slider.frame[:, HELD_AXES[slider.kind]].T

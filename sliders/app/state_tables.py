@@ -110,7 +110,7 @@ def contact_point(slider: Slider, q: np.ndarray, y: np.ndarray) -> tuple[np.ndar
     xi = float(y[0])
     if isinstance(slider.line, BeamChain):
         interp = slider.line.interpolation(xi)
-        return interp.N @ interp.X, interp.N @ q[interp.dofs]
+        return interp.reference[0], interp.N @ q[interp.dofs]
     return slider.line.at(xi).x, np.zeros(3)
 
 

@@ -24,9 +24,12 @@ Notation (member axis first): the body node's displacement ``u_b`` and small rot
 ``theta_b``, the sliding point's offset ``f`` and the slider axes ``F = [e_1, e_2, e_3]``
 (columns), so ``x_b = X_b + f + u_b + theta_b x f`` and ``e_bj = e_j + theta_b x e_j``; the
 unknowns ``y = [xi, lambda, mu]``; the line at ``xi``: ``x``, ``l = x_/xi``, ``l_/xi``,
-``l_/xixi``, its shape functions ``N_a`` (``x = sum_a N_a x_a`` on a chain) and the test
-functions read as a load transfer ``G`` (``(k, 6)``: the load dofs' share of a force and a
-couple at ``xi``, theory (T6)).  The reference uses arithmetic only (no conversion of
+``l_/xixi``, its interpolation matrix ``N`` (``x = x_0 + N q_interp`` on a chain: the
+reference line plus the displacement of the element's dofs) and the test functions read as
+a load transfer ``G`` (``(k, 6)``: the load dofs' share of a force and a couple at ``xi``,
+theory (T6)); on a chain of cubic elements, the line's compliance at ``xi``: the position
+``x + G_uu lambda_L + G_u theta m_L`` under the force ``lambda_L`` and couple ``m_L`` the
+line takes there (theory (T13)).  The reference uses arithmetic only (no conversion of
 dtype), so it evaluates on any number type numpy holds in an object array.
 """
 
@@ -45,9 +48,9 @@ class JointInputs(NamedTuple):
     :func:`sliders.joints.kernel.joint_equations` in its order (gathered by
     :meth:`sliders.joints.slider.SliderBatch.joint_inputs`).
 
-    ``npe`` shape functions, ``k`` load dofs, ``p`` tangent nodes (``3 p`` tangent slots, the
-    first ``3 npe`` the interpolation's), ``a`` section-rotation nodes (2 for the ``section``
-    orientation on a chain, else 0).
+    ``m`` interpolation dofs, ``k`` load dofs, ``p`` tangent dofs (the first ``m`` the
+    interpolation's), ``r`` section-rotation dofs (two nodes' for the ``section`` orientation
+    on a chain, else 0), ``c`` contact rows (3 on a chain of cubic elements, else 0).
     """
 
     #: The sliding point ``f`` on the body node (3,) and the slider axes ``F`` (3, 3), columns.
@@ -64,33 +67,39 @@ class JointInputs(NamedTuple):
     l: np.ndarray
     l_xi: np.ndarray
     l_xixi: np.ndarray
-    #: Shape functions and their first two ``xi``-derivatives (B, npe).
+    #: The interpolation's matrix and its first two ``xi``-derivatives (B, 3, m): ``x`` of the
+    #: interpolated dofs.
     N: np.ndarray
     dN: np.ndarray
     d2N: np.ndarray
     #: Load transfer and its ``xi``-derivative (B, k, 6): force columns, then couple columns.
     G: np.ndarray
     dG: np.ndarray
-    #: The tangent of the frictionless condition ``l~`` and ``l~_/xi`` (B, 3) and its
-    #: coefficient on each tangent node's displacement (B, p).
+    #: The tangent of the frictionless condition ``l~`` and ``l~_/xi`` (B, 3) and its matrix
+    #: on the tangent dofs (B, 3, p).
     tangent: np.ndarray
     tangent_xi: np.ndarray
     T: np.ndarray
-    #: The section rotation ``theta_L = sum_a w_a theta_a``: the nodes' rotation dofs
-    #: (B, a, 3), weights and their ``xi``-derivatives (B, a); the kink correction ``kappa``
-    #: and its derivative (B,); the section compliance ``C`` in global axes (B, 3, 3).
+    #: The line's position compliance at ``xi``, ``[G_uu, G_u theta]`` (B, c, 6), and its
+    #: ``xi``-derivative (theory (T13); ``c = 0`` where the line has none).
+    contact: np.ndarray
+    contact_xi: np.ndarray
+    #: The section rotation ``theta_L = W q_rotation``: its dofs (B, r), matrix and its first
+    #: two ``xi``-derivatives (B, 3, r); its compliance ``C_L`` under a couple at ``xi`` (the kink
+    #: correction ``kappa C``; the cubic element's ``G_theta theta``) and its derivative
+    #: (B, 3, 3).
     rotation_dofs: np.ndarray
-    w: np.ndarray
-    w_xi: np.ndarray
-    kink: np.ndarray
-    kink_xi: np.ndarray
-    compliance: np.ndarray
+    W: np.ndarray
+    W_xi: np.ndarray
+    W_xixi: np.ndarray
+    flex: np.ndarray
+    flex_xi: np.ndarray
     #: The line's reference frame ``R_0 = [t_0, ...]`` (B, 3, 3), its curvature ``k_0`` and
     #: ``k_0/xi`` (B, 3): ``R_0/xi = k_0 x R_0``.
     R0: np.ndarray
     k0: np.ndarray
     k0_xi: np.ndarray
-    #: The multipliers in ``y`` are ``scale`` times the physical ones (the kink compliance is
+    #: The multipliers in ``y`` are ``scale`` times the physical ones (the compliances are
     #: divided by it).
     scale: float
 
@@ -116,7 +125,10 @@ def spherical(s: JointInputs) -> Equations:
     the line's load dofs ``-G lambda`` (the test functions at ``xi``, theory (T6)), the
     frictionless condition ``-l~ . lambda`` on the recovered tangent ``l~``
     (``docs/sliders.md``, "Corners of the interpolated chain") and the position constraint.
-    Every other kind adds its orientation constraints to these.
+    On a line with a position compliance (a chain of cubic elements, theory (T13)) the
+    constraint reads the line where the force ``lambda`` it takes puts it,
+    ``x + G_uu lambda``: a compliance of the constraint rows, never a load.  Every other
+    kind adds its orientation constraints to these.
     """
     B = len(s.y)
     u_b, theta_b = _body(s)
@@ -132,6 +144,8 @@ def spherical(s: JointInputs) -> Equations:
         "xi": -_dot(s.tangent, lam)[:, None],
         "lam": s.reference + u_b + f_b - s.x,
     }
+    n_interp = s.N.shape[2]
+    tangent = -np.einsum("bc,bcp->bp", lam, s.T)[:, None, :]
     jacobian = {
         ("body", "lam"): identity,
         ("turn", "lam"): _skew(arm),
@@ -141,13 +155,20 @@ def spherical(s: JointInputs) -> Equations:
         ("load", "lam"): -F_lam,
         ("xi", "xi"): -_dot(s.tangent_xi, lam)[:, None, None],
         ("xi", "lam"): -s.tangent[:, None, :],
-        **_tangent_columns("xi", -_nodal(s.T[:, None, :, None] * lam[:, None, None, :]), s),
+        ("xi", "interp"): tangent[:, :, :n_interp],
+        ("xi", "beside"): tangent[:, :, n_interp:],
         ("lam", "body"): identity,
         ("lam", "turn"): -np.broadcast_to(_skew(s.offset), (B, 3, 3)),
         ("lam", "xi"): -s.l[:, :, None],
-        # x = sum_a N_a x_a: d x / d x_a = N_a I
-        ("lam", "interp"): -_nodal(s.N[:, None, :, None] * np.eye(3)[None, :, None, :]),
+        # x = x_0 + N q_interp: d x / d q_interp = N
+        ("lam", "interp"): -s.N,
     }
+    if s.contact.shape[1]:  # x + G_uu lambda
+        G_uu = s.contact[:, :, :3] / s.scale
+        residual["lam"] = residual["lam"] - np.einsum("bcd,bd->bc", G_uu, lam)
+        jacobian["lam", "lam"] = -G_uu
+        rate = np.einsum("bcd,bd->bc", s.contact_xi[:, :, :3] / s.scale, lam)
+        jacobian["lam", "xi"] = jacobian["lam", "xi"] - rate[:, :, None]
     return Equations(residual, jacobian)
 
 
@@ -205,13 +226,11 @@ def _slope(s: JointInputs) -> Equations:
     m = np.einsum("bj,bjc->bc", mu, couples)
     G_m, dG_m = s.G[:, :, 3:], s.dG[:, :, 3:]
     # the couple's derivatives: d(e_bj x l) = (d theta_b x e_j) x l + e_bj x dl, with
-    # l = sum_a dN_a x_a and l_/xi = sum_a d2N_a x_a
+    # l = l_0 + dN q_interp and l_/xi = l_0/xi + d2N q_interp
     m_theta = np.einsum("bj,bcd,jde->bce", mu, _skew(s.l), _skew(e))
     m_xi = np.einsum("bj,bjc->bc", mu, np.cross(e_b, s.l_xi[:, None, :]))
     m_mu = np.swapaxes(couples, 1, 2)
-    m_interp = _nodal(
-        np.einsum("bj,bjcd->bcd", mu, _skew(e_b))[:, :, None, :] * s.dN[:, None, :, None]
-    )
+    m_interp = np.einsum("bj,bjcd,bdk->bck", mu, _skew(e_b), s.dN)
     turn = {"turn": m_theta, "xi": m_xi[:, :, None], "mu": m_mu, "interp": m_interp}
     load = {key: -G_m @ value for key, value in turn.items()}
     load["xi"] = load["xi"] - np.einsum("bkc,bc->bk", dG_m, m)[:, :, None]
@@ -228,12 +247,10 @@ def _slope(s: JointInputs) -> Equations:
         ("xi", "turn"): np.einsum("bj,bjc->bc", mu, np.cross(e, s.l_xi[:, None, :]))[:, None],
         ("xi", "xi"): _dot(mu, np.einsum("bjc,bc->bj", e_b, s.l_xixi))[:, None, None],
         ("xi", "mu"): along[:, None, :],
-        ("xi", "interp"): _nodal(
-            np.einsum("bj,bjc->bc", mu, e_b)[:, None, None, :] * s.d2N[:, None, :, None]
-        ),
+        ("xi", "interp"): np.einsum("bj,bjc,bck->bk", mu, e_b, s.d2N)[:, None, :],
         ("mu", "turn"): np.cross(e, s.l[:, None, :]),
         ("mu", "xi"): along[:, :, None],
-        ("mu", "interp"): _nodal(e_b[:, :, None, :] * s.dN[:, None, :, None]),
+        ("mu", "interp"): np.einsum("bjc,bck->bjk", e_b, s.dN),
     }
     return Equations(residual, jacobian)
 
@@ -264,53 +281,65 @@ def _section(s: JointInputs, g: list[np.ndarray], n: list[np.ndarray]) -> Equati
     """The orientation constraints on the section frame and their virtual work.
 
     ``g = [g0, g0_/xi, g0_/xixi]`` (B, J) and ``n = [n, n_/xi, n_/xixi]`` (B, J, 3) define
-    ``g_j = g0_j(xi) + n_j(xi) . (theta_b - theta_L - kappa C m)`` (:func:`classical_section`,
-    :func:`spline_section`).  The virtual work of ``sum_j mu_j g_j`` without the kink term
-    gives the couple ``m = sum_j mu_j n_j`` on the body, ``-w_a m`` on the two nodes that
-    carry ``theta_L = sum_a w_a theta_a`` and the ``xi`` row
-    ``sum_j mu_j (g0_j/xi + n_j/xi . (theta_b - theta_L) - n_j . theta_L/xi)``: the kink
-    correction ``kappa C m`` is a compliance of the constraint rows, never a load.
-    ``theta_L`` is linear in ``xi`` between the two nodes (``w_/xixi = 0``).
+    ``g_j = g0_j(xi) + n_j(xi) . (theta_b - theta_L - C_L m - G_theta u lambda)``
+    (:func:`classical_section`, :func:`spline_section`).  The virtual work of
+    ``sum_j mu_j g_j`` without the compliance terms gives the couple ``m = sum_j mu_j n_j``
+    on the body, ``-W^T m`` on the dofs that carry ``theta_L = W q_rotation`` and the ``xi``
+    row ``sum_j mu_j (g0_j/xi + n_j/xi . (theta_b - theta_L) - n_j . theta_L/xi)``: the
+    rotation the couple ``m`` and the force ``lambda`` the line takes at ``xi`` add there,
+    ``C_L m + G_theta u lambda`` (the kink correction ``kappa C m``; a cubic element's own,
+    theory (T13)), is a compliance of the constraint rows, never a load.  On a line with a
+    position compliance the position rows read ``G_u theta m`` too (:func:`spherical`).
     """
-    B = len(s.y)
     _, theta_b = _body(s)
+    lam = s.y[:, 1:4]
     mu = s.y[:, 4:]
     g0, g1, g2 = g
     n0, n1, n2 = n
-    n_mu = n0.shape[1]
-    nodal = np.take_along_axis(s.q, s.rotation_dofs.reshape(B, -1), axis=1)
-    nodal = nodal.reshape(s.rotation_dofs.shape)
-    theta_L = np.einsum("ba,bac->bc", s.w, nodal)
-    theta_L_xi = np.einsum("ba,bac->bc", s.w_xi, nodal)
-    C = s.compliance / s.scale
+    nodal = np.take_along_axis(s.q, s.rotation_dofs, axis=1)
+    theta_L = np.einsum("bcr,br->bc", s.W, nodal)
+    theta_L_xi = np.einsum("bcr,br->bc", s.W_xi, nodal)
+    theta_L_xixi = np.einsum("bcr,br->bc", s.W_xixi, nodal)
+    C, C_xi = s.flex / s.scale, s.flex_xi / s.scale
     m = np.einsum("bj,bjc->bc", mu, n0)
     m_xi = np.einsum("bj,bjc->bc", mu, n1)
     d = theta_b - theta_L
-    shift = s.kink[:, None] * np.einsum("bcd,bd->bc", C, m)  # kappa C m
-    shift_xi = np.einsum("bcd,bd->bc", C, s.kink_xi[:, None] * m + s.kink[:, None] * m_xi)
-    along = g1 + _rows(n1, d) - _rows(n0, theta_L_xi)  # d g_j / d xi without the kink's
+    shift = np.einsum("bcd,bd->bc", C, m)  # C_L m
+    shift_xi = np.einsum("bcd,bd->bc", C_xi, m) + np.einsum("bcd,bd->bc", C, m_xi)
+    along = g1 + _rows(n1, d) - _rows(n0, theta_L_xi)  # d g_j / d xi without the shift's
     n0_T = np.swapaxes(n0, 1, 2)
-    on_nodes = -(s.w[:, :, None] * m_xi[:, None, :] + s.w_xi[:, :, None] * m[:, None, :])
+    on_rotation = -(np.einsum("bcr,bc->br", s.W, m_xi) + np.einsum("bcr,bc->br", s.W_xi, m))
     residual = {
         "turn": m,
-        "rotation": -(s.w[:, :, None] * m[:, None, :]).reshape(B, -1),
+        "rotation": -np.einsum("bcr,bc->br", s.W, m),
         "xi": _dot(mu, along)[:, None],
-        "mu": g0 + _rows(n0, d - shift),
     }
     jacobian = {
         ("turn", "xi"): m_xi[:, :, None],
         ("turn", "mu"): n0_T,
-        ("rotation", "xi"): on_nodes.reshape(B, -1, 1),
-        ("rotation", "mu"): -(s.w[:, :, None, None] * n0_T[:, None]).reshape(B, -1, n_mu),
+        ("rotation", "xi"): on_rotation[:, :, None],
+        ("rotation", "mu"): -np.einsum("bcr,bjc->brj", s.W, n0),
         ("xi", "turn"): m_xi[:, None, :],
-        ("xi", "rotation"): on_nodes.reshape(B, 1, -1),
-        ("xi", "xi"): _dot(mu, g2 + _rows(n2, d) - 2 * _rows(n1, theta_L_xi))[:, None, None],
+        ("xi", "rotation"): on_rotation[:, None, :],
+        ("xi", "xi"): _dot(
+            mu, g2 + _rows(n2, d) - 2 * _rows(n1, theta_L_xi) - _rows(n0, theta_L_xixi)
+        )[:, None, None],
         ("xi", "mu"): along[:, None, :],
         ("mu", "turn"): n0,
-        ("mu", "rotation"): -(n0[:, :, None, :] * s.w[:, None, :, None]).reshape(B, n_mu, -1),
-        ("mu", "xi"): (along - _rows(n1, shift) - _rows(n0, shift_xi))[:, :, None],
-        ("mu", "mu"): -s.kink[:, None, None] * np.einsum("bic,bcd,bjd->bij", n0, C, n0),
+        ("mu", "rotation"): -np.einsum("bjc,bcr->bjr", n0, s.W),
+        ("mu", "mu"): -np.einsum("bic,bcd,bjd->bij", n0, C, n0),
     }
+    if s.contact.shape[1]:  # G_theta u lambda in the rotation, G_u theta m in the position
+        G_ut, G_ut_xi = s.contact[:, :, 3:] / s.scale, s.contact_xi[:, :, 3:] / s.scale
+        shift = shift + np.einsum("bdc,bd->bc", G_ut, lam)
+        shift_xi = shift_xi + np.einsum("bdc,bd->bc", G_ut_xi, lam)
+        residual["lam"] = -np.einsum("bcd,bd->bc", G_ut, m)
+        rate = np.einsum("bcd,bd->bc", G_ut_xi, m) + np.einsum("bcd,bd->bc", G_ut, m_xi)
+        jacobian["lam", "xi"] = -rate[:, :, None]
+        jacobian["lam", "mu"] = -np.einsum("bcd,bjd->bcj", G_ut, n0)
+        jacobian["mu", "lam"] = -np.einsum("bjc,bdc->bjd", n0, G_ut)
+    residual["mu"] = g0 + _rows(n0, d - shift)
+    jacobian["mu", "xi"] = (along - _rows(n1, shift) - _rows(n0, shift_xi))[:, :, None]
     return Equations(residual, jacobian)
 
 
@@ -351,20 +380,6 @@ def _body(s: JointInputs) -> tuple[np.ndarray, np.ndarray]:
     """The body node's displacement ``u_b`` and rotation ``theta_b`` (B, 3) each."""
     dofs = np.take_along_axis(s.q, s.body, axis=1)
     return dofs[:, :3], dofs[:, 3:]
-
-
-def _tangent_columns(
-    row: str, block: np.ndarray, s: JointInputs
-) -> dict[tuple[str, str], np.ndarray]:
-    """A block on the tangent slots split into the interpolation's (the first ``3 npe``)
-    and the others (``beside``)."""
-    n_interp = 3 * s.N.shape[1]
-    return {(row, "interp"): block[..., :n_interp], (row, "beside"): block[..., n_interp:]}
-
-
-def _nodal(blocks: np.ndarray) -> np.ndarray:
-    """Per-node blocks (B, rows, nodes, 3) as columns ``3 a + c`` (B, rows, 3 nodes)."""
-    return blocks.reshape(blocks.shape[0], blocks.shape[1], -1)
 
 
 def _skew(v: np.ndarray) -> np.ndarray:

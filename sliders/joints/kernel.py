@@ -18,7 +18,11 @@ per layout (a block written outside the pattern would land at offset -1).
 
 Slot groups, in this order (their first slot ``start`` and ``size``): ``body`` (3), ``turn``
 (3, the body's rotations), ``load``, ``rotation``, ``interp``, ``beside``, then the joint's
-unknowns ``xi`` (1), ``lam`` (3), ``mu``.
+unknowns ``xi`` (1), ``lam`` (3), ``mu``.  The line's interpolation, recovered tangent and
+section rotation are matrices on their slots (``N``, ``T``, ``W``: the Lagrange ``N_a I`` on the
+translations, or a cubic element's functions on all six dofs of its nodes); on a cubic chain
+the constraint rows read the line's compliance at the contact too (``contact``, theory T13,
+the blocks ``(lam, lam)``, ``(lam, mu)``, ``(mu, lam)``).
 """
 
 from __future__ import annotations
@@ -64,6 +68,11 @@ _SECTION = (
     ("mu", "mu"),
 )
 _SECTION_ROTATION = (("rotation", "xi"), ("rotation", "mu"), ("xi", "rotation"), ("mu", "rotation"))
+#: Written on a line with a position compliance (a chain of cubic elements, theory (T13)):
+#: the position rows read ``G_uu lambda``; with the ``section`` orientation they read
+#: ``G_u theta m`` and the orientation rows ``G_theta u lambda`` too.
+_COMPLIANT = (("lam", "lam"),)
+_COMPLIANT_SECTION = (("lam", "mu"), ("mu", "lam"))
 #: Written by the ``slope`` orientation (:func:`_slope`: the couple on the line's gradient).
 _SLOPE = (
     ("turn", "turn"),
@@ -82,16 +91,20 @@ _SLOPE = (
 
 
 @cache
-def reach(kind: str, orientation: str, lever: bool, rotation: bool) -> tuple[tuple[str, str], ...]:
+def reach(
+    kind: str, orientation: str, lever: bool, rotation: bool, compliant: bool = False
+) -> tuple[tuple[str, str], ...]:
     """The ``(row group, column group)`` blocks :func:`joint_equations` writes for a ``kind``
     slider with the ``orientation`` model: every joint's, the lever arm's (``lever``: a
-    sliding point off the node) and its orientation's (``rotation``: with a chain's section
-    rotation dofs), each once, in that order."""
-    blocks = _BASE + (_LEVER if lever else ())
+    sliding point off the node), the position compliance's (``compliant``: on a chain of
+    cubic elements) and its orientation's (``rotation``: with a chain's section rotation
+    dofs), each once, in that order."""
+    blocks = _BASE + (_LEVER if lever else ()) + (_COMPLIANT if compliant else ())
     if kind != "spherical" and orientation == "slope":
         blocks += _SLOPE
     elif kind != "spherical":
         blocks += _SECTION + (_SECTION_ROTATION if rotation else ())
+        blocks += _COMPLIANT_SECTION if compliant else ()
     return tuple(dict.fromkeys(blocks))
 
 
@@ -154,12 +167,14 @@ def joint_equations(
     tangent,
     tangent_xi,
     T,
+    contact,
+    contact_xi,
     rotation_dofs,
-    w,
-    w_xi,
-    kink,
-    kink_xi,
-    compliance,
+    W,
+    W_xi,
+    W_xixi,
+    flex,
+    flex_xi,
     R0,
     k0,
     k0_xi,
@@ -200,7 +215,8 @@ def joint_equations(
         for c in range(3):
             axes[j, c] = frame[c, j + 1]
     lever = offset[0] != 0.0 or offset[1] != 0.0 or offset[2] != 0.0
-    n_load, n_tangent, npe = G.shape[1], T.shape[1], N.shape[1]
+    compliant = contact.shape[1] > 0
+    n_load, n_tangent, n_interp = G.shape[1], T.shape[2], N.shape[2]
     for b in range(B):
         for c in range(3):
             lam[c] = y[b, 1 + c]
@@ -211,6 +227,9 @@ def joint_equations(
             # body force (eq. 3) and position constraint (eq. 1)
             r[b, c] += lam[c]
             r[b, t + 1 + c] = reference[b, c] + q[b, body[b, c]] + v[c] - x[b, c]
+            if compliant:  # the line where the force it takes puts it (theory T13)
+                for e in range(3):
+                    r[b, t + 1 + c] -= contact[b, c, e] / scale * lam[e]
         _cross(arm, lam, v)
         for c in range(3):
             r[b, 3 + c] += v[c]  # body moment (eq. 3)
@@ -226,6 +245,13 @@ def joint_equations(
                     _add(values, b, where, size, TURN, LAM, i, c, S1[i, c])
                 _add(values, b, where, size, LAM, XI, i, 0, -l[b, i])
                 _add(values, b, where, size, XI, LAM, 0, i, -tangent[b, i])
+            if compliant:
+                for i in range(3):
+                    s = 0.0
+                    for c in range(3):
+                        s += contact_xi[b, i, c] * lam[c]
+                        _add(values, b, where, size, LAM, LAM, i, c, -contact[b, i, c] / scale)
+                    _add(values, b, where, size, LAM, XI, i, 0, -s / scale)
             if lever:
                 _skew(lam, S1)
                 _skew(offset, S2)
@@ -257,26 +283,15 @@ def joint_equations(
                     + tangent_xi[b, 2] * lam[2]
                 ),
             )
-            for a in range(n_tangent):
+            for col in range(n_tangent):
+                s = -(T[b, 0, col] * lam[0] + T[b, 1, col] * lam[1] + T[b, 2, col] * lam[2])
+                if col < n_interp:
+                    _add(values, b, where, size, XI, INTERP, 0, col, s)
+                else:
+                    _add(values, b, where, size, XI, BESIDE, 0, col - n_interp, s)
+            for col in range(n_interp):
                 for c in range(3):
-                    col = 3 * a + c
-                    if col < size[INTERP]:
-                        _add(values, b, where, size, XI, INTERP, 0, col, -T[b, a] * lam[c])
-                    else:
-                        _add(
-                            values,
-                            b,
-                            where,
-                            size,
-                            XI,
-                            BESIDE,
-                            0,
-                            col - size[INTERP],
-                            -T[b, a] * lam[c],
-                        )
-            for a in range(npe):
-                for c in range(3):
-                    _add(values, b, where, size, LAM, INTERP, c, 3 * a + c, -N[b, a])
+                    _add(values, b, where, size, LAM, INTERP, c, col, -N[b, c, col])
     if kind != 0 and slope:
         _slope(
             jacobian,
@@ -306,12 +321,14 @@ def joint_equations(
             body,
             q,
             y,
+            contact,
+            contact_xi,
             rotation_dofs,
-            w,
-            w_xi,
-            kink,
-            kink_xi,
-            compliance,
+            W,
+            W_xi,
+            W_xixi,
+            flex,
+            flex_xi,
             R0,
             k0,
             k0_xi,
@@ -348,12 +365,14 @@ def _section(
     body,
     q,
     y,
+    contact,
+    contact_xi,
     rotation_dofs,
-    w,
-    w_xi,
-    kink,
-    kink_xi,
-    compliance,
+    W,
+    W_xi,
+    W_xixi,
+    flex,
+    flex_xi,
     R0,
     k0,
     k0_xi,
@@ -371,15 +390,19 @@ def _section(
     ``n = t0`` -- eqs. (4), (5) and Sec. 4 linearised, with ``R0 = [t0, ...]`` the line's
     reference frame, ``t1, t2`` the first two ``xi``-derivatives of ``t0`` and ``F`` the
     slider frame.  The virtual work of ``sum mu_j g_j`` gives the couple ``m = sum mu_j n_j``
-    on the body, ``-w_a m`` on the two line nodes that carry ``theta_L`` and the ``xi`` row.
-    The constraint reads ``theta_L`` plus ``kink C m``: the exact rotation at a couple lies
-    off the linear interpolation of its nodal values by that much (``docs/sliders.md``).
+    on the body, ``-W^T m`` on the dofs that carry ``theta_L = W q_rotation`` and the ``xi``
+    row.  The constraint reads ``theta_L`` plus ``C_L m`` (``flex``: the exact rotation at a
+    couple lies off the interpolation of its nodal values by that much, ``docs/sliders.md``)
+    and, on a line with a position compliance, ``G_theta u lambda`` (``contact``, whose
+    position rows then read ``G_u theta m``; theory T13).
     """
     t = start[XI]
     n_mu = size[MU]
-    n_w = w.shape[1]
+    n_w = W.shape[2]
+    compliant = contact.shape[1] > 0
     mu = np.empty(n_mu)
-    theta, theta_L, theta_L_xi = np.empty(3), np.empty(3), np.empty(3)
+    lam = np.empty(3)
+    theta, theta_L, theta_L_xi, theta_L_xixi = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
     t0, t1, t2, v, d = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
     m, m_xi, shift, rate, Cn = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
     a0, a1, a2 = np.empty(3), np.empty(3), np.empty(3)
@@ -394,18 +417,21 @@ def _section(
         np.empty((3, 3)),
         np.empty((3, 3)),
     )
-    C = np.empty((3, 3))
+    C, C_xi = np.empty((3, 3)), np.empty((3, 3))
     for b in range(len(y)):
         for j in range(n_mu):
             mu[j] = y[b, 4 + j]
         for c in range(3):
+            lam[c] = y[b, 1 + c]
             theta[c] = q[b, body[b, 3 + c]]
             theta_L[c] = 0.0
             theta_L_xi[c] = 0.0
+            theta_L_xixi[c] = 0.0
             for a in range(n_w):
-                value = q[b, rotation_dofs[b, a, c]]
-                theta_L[c] += w[b, a] * value
-                theta_L_xi[c] += w_xi[b, a] * value
+                value = q[b, rotation_dofs[b, a]]
+                theta_L[c] += W[b, c, a] * value
+                theta_L_xi[c] += W_xi[b, c, a] * value
+                theta_L_xixi[c] += W_xixi[b, c, a] * value
             t0[c] = R0[b, c, 0]
         _cross(k0[b], t0, t1)
         _cross(k0_xi[b], t0, t2)
@@ -447,53 +473,51 @@ def _section(
                 m[c] += mu[j] * n0[j, c]
                 m_xi[c] += mu[j] * n1[j, c]
             for i in range(3):
-                C[c, i] = compliance[b, c, i] / scale
+                C[c, i] = flex[b, c, i] / scale
+                C_xi[c, i] = flex_xi[b, c, i] / scale
+        # shift = C_L m (+ G_theta u lambda), rate its xi-derivative at fixed multipliers
         _matvec(C, m, shift)
+        _matvec(C_xi, m, rate)
+        _matvec(C, m_xi, v)
         for c in range(3):
-            shift[c] *= kink[b]
+            rate[c] += v[c]
+            if compliant:
+                for e in range(3):
+                    shift[c] += contact[b, e, 3 + c] / scale * lam[e]
+                    rate[c] += contact_xi[b, e, 3 + c] / scale * lam[e]
+                    # the position rows: - G_u theta m
+                    r[b, t + 1 + c] -= contact[b, c, 3 + e] / scale * m[e]
         for j in range(n_mu):
             along[j] = g1[j] + _dot(n1[j], d) - _dot(n0[j], theta_L_xi)
             r[b, t] += mu[j] * along[j]
             r[b, t + 4 + j] = g0[j] + _dot(n0[j], d) - _dot(n0[j], shift)
         for c in range(3):
             r[b, 3 + c] += m[c]
-            for a in range(n_w):
-                r[b, start[ROTATION] + 3 * a + c] -= w[b, a] * m[c]
+        for a in range(n_w):
+            r[b, start[ROTATION] + a] -= W[b, 0, a] * m[0] + W[b, 1, a] * m[1] + W[b, 2, a] * m[2]
         if not jacobian:
             continue
         s = 0.0
         for j in range(n_mu):
-            s += mu[j] * (g2[j] + _dot(n2[j], d) - 2 * _dot(n1[j], theta_L_xi))
+            s += mu[j] * (
+                g2[j] + _dot(n2[j], d) - 2 * _dot(n1[j], theta_L_xi) - _dot(n0[j], theta_L_xixi)
+            )
         _add(values, b, where, size, XI, XI, 0, 0, s)
-        for c in range(3):
-            v[c] = kink_xi[b] * m[c] + kink[b] * m_xi[c]
-        _matvec(C, v, rate)
         for c in range(3):
             _add(values, b, where, size, TURN, XI, c, 0, m_xi[c])
             _add(values, b, where, size, XI, TURN, 0, c, m_xi[c])
-            for a in range(n_w):
-                _add(
-                    values,
-                    b,
-                    where,
-                    size,
-                    ROTATION,
-                    XI,
-                    3 * a + c,
-                    0,
-                    -(w_xi[b, a] * m[c] + w[b, a] * m_xi[c]),
-                )
-                _add(
-                    values,
-                    b,
-                    where,
-                    size,
-                    XI,
-                    ROTATION,
-                    0,
-                    3 * a + c,
-                    -(w[b, a] * m_xi[c] + w_xi[b, a] * m[c]),
-                )
+        for a in range(n_w):
+            s = 0.0
+            for c in range(3):
+                s -= W_xi[b, c, a] * m[c] + W[b, c, a] * m_xi[c]
+            _add(values, b, where, size, ROTATION, XI, a, 0, s)
+            _add(values, b, where, size, XI, ROTATION, 0, a, s)
+        if compliant:
+            for c in range(3):
+                s = 0.0
+                for e in range(3):
+                    s += (contact_xi[b, c, 3 + e] * m[e] + contact[b, c, 3 + e] * m_xi[e]) / scale
+                _add(values, b, where, size, LAM, XI, c, 0, -s)
         for j in range(n_mu):
             _add(values, b, where, size, XI, MU, 0, j, along[j])
             _add(
@@ -509,13 +533,21 @@ def _section(
             )
             _matvec(C, n0[j], Cn)
             for i in range(n_mu):
-                _add(values, b, where, size, MU, MU, i, j, -kink[b] * _dot(n0[i], Cn))
+                _add(values, b, where, size, MU, MU, i, j, -_dot(n0[i], Cn))
             for c in range(3):
                 _add(values, b, where, size, TURN, MU, c, j, n0[j, c])
                 _add(values, b, where, size, MU, TURN, j, c, n0[j, c])
-                for a in range(n_w):
-                    _add(values, b, where, size, ROTATION, MU, 3 * a + c, j, -w[b, a] * n0[j, c])
-                    _add(values, b, where, size, MU, ROTATION, j, 3 * a + c, -w[b, a] * n0[j, c])
+            for a in range(n_w):
+                s = -(W[b, 0, a] * n0[j, 0] + W[b, 1, a] * n0[j, 1] + W[b, 2, a] * n0[j, 2])
+                _add(values, b, where, size, ROTATION, MU, a, j, s)
+                _add(values, b, where, size, MU, ROTATION, j, a, s)
+            if compliant:
+                for c in range(3):
+                    s = 0.0
+                    for e in range(3):
+                        s += contact[b, c, 3 + e] * n0[j, e]
+                    _add(values, b, where, size, LAM, MU, c, j, -s / scale)
+                    _add(values, b, where, size, MU, LAM, j, c, -s / scale)
 
 
 @numba.njit(cache=True)
@@ -526,8 +558,8 @@ def _slope(
     couple ``m = sum mu_j e_bj x l`` on the body, carried to the line's rotation dofs by the
     test functions (the rotational columns of ``G``)."""
     t = start[XI]
-    n_load, npe = G.shape[1], dN.shape[1]
-    theta, m, v = np.empty(3), np.empty(3), np.empty(3)
+    n_load, n_interp = G.shape[1], dN.shape[2]
+    theta, m, v, w = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
     e_b = np.empty((2, 3))
     L, E0, E, dm_dtheta = np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3))
     dm_dxi, dm_dmu = np.empty(3), np.empty(3)
@@ -574,19 +606,19 @@ def _slope(
                 _add(values, b, where, size, TURN, MU, i, j, dm_dmu[i])
                 for c in range(3):
                     _add(values, b, where, size, TURN, TURN, i, c, dm_dtheta[i, c])
-                for a in range(npe):
-                    for c in range(3):
-                        _add(
-                            values,
-                            b,
-                            where,
-                            size,
-                            TURN,
-                            INTERP,
-                            i,
-                            3 * a + c,
-                            mu_j * E[i, c] * dN[b, a],
-                        )
+            # d m / d q_interp = mu_j e_bj x dN (l = l_0 + dN q_interp)
+            for col in range(n_interp):
+                for c in range(3):
+                    v[c] = dN[b, c, col]
+                _matvec(E, v, w)
+                for i in range(3):
+                    _add(values, b, where, size, TURN, INTERP, i, col, mu_j * w[i])
+                for k in range(n_load):
+                    g = G[b, k, 3:]
+                    _add(values, b, where, size, LOAD, INTERP, k, col, -mu_j * _dot(g, w))
+                d2 = d2N[b, 0, col] * e[0] + d2N[b, 1, col] * e[1] + d2N[b, 2, col] * e[2]
+                _add(values, b, where, size, XI, INTERP, 0, col, mu_j * d2)
+                _add(values, b, where, size, MU, INTERP, j, col, _dot(e, v))
             for k in range(n_load):
                 g = G[b, k, 3:]
                 _add(values, b, where, size, LOAD, XI, k, 0, -_dot(g, dm_dxi))
@@ -603,18 +635,6 @@ def _slope(
                         c,
                         -(g[0] * dm_dtheta[0, c] + g[1] * dm_dtheta[1, c] + g[2] * dm_dtheta[2, c]),
                     )
-                    for a in range(npe):
-                        _add(
-                            values,
-                            b,
-                            where,
-                            size,
-                            LOAD,
-                            INTERP,
-                            k,
-                            3 * a + c,
-                            -mu_j * dN[b, a] * (g[0] * E[0, c] + g[1] * E[1, c] + g[2] * E[2, c]),
-                        )
             _cross(e0, l_xi[b], v)
             for c in range(3):
                 _add(values, b, where, size, XI, TURN, 0, c, mu_j * v[c])
@@ -624,7 +644,3 @@ def _slope(
             for c in range(3):
                 _add(values, b, where, size, MU, TURN, j, c, v[c])
             _add(values, b, where, size, MU, XI, j, 0, _dot(e, l_xi[b]))
-            for a in range(npe):
-                for c in range(3):
-                    _add(values, b, where, size, XI, INTERP, 0, 3 * a + c, mu_j * d2N[b, a] * e[c])
-                    _add(values, b, where, size, MU, INTERP, j, 3 * a + c, dN[b, a] * e[c])

@@ -44,8 +44,8 @@ from sliders.lines.rigid_kernel import curvature_rate_at, frame_at, line_at
 
 # The columns of a joint's row of :attr:`JointPack.head` (integers).
 KIND, SLOPE, SECTION, CHAIN, SMEARED, BOX, END_STOPS, DRIVEN = range(8)
-UNKNOWNS, SLOTS, WIDTH, NPE, LOAD, ROTATION, TANGENT, SHAPE, CURVED = range(8, 17)
-HEAD = 17
+UNKNOWNS, SLOTS, WIDTH, NPE, LOAD, ROTATION, TANGENT, SHAPE, CURVED, NODE_DOFS = range(8, 18)
+HEAD = 18
 # The columns of a joint's row of :attr:`JointPack.values` (floats).
 SMEARING, LENGTH = range(2)
 # The arrays of a joint, in the order of its descriptors (:attr:`JointPack.fields`).
@@ -61,6 +61,7 @@ FIELDS = (
     "lag",
     "regions",
     "ends",
+    "stiffness",
     "R0_of",
     "compliance_of",
     "up",
@@ -79,7 +80,7 @@ FIELDS = (
     "maps",
     "cells",
     "first_element",
-    "rigid",
+    "kinds",
     "straight",
     "start",
     "size",
@@ -98,6 +99,7 @@ FIELDS = (
     LAG,
     REGIONS,
     ENDS,
+    STIFFNESS,
     R0_OF,
     COMPLIANCE_OF,
     UP,
@@ -115,7 +117,7 @@ FIELDS = (
     MAPS,
     CELLS,
     FIRST_ELEMENT,
-    RIGID,
+    KINDS_OF,
     STRAIGHT,
     START,
     SIZE,
@@ -140,7 +142,8 @@ class JointPack:
         Per joint: kind code, slope orientation, section rotation read, line is a chain,
         smeared, box kernel, end stops, driven; unknowns ``m``, structure slots ``t``,
         Jacobian entries ``width``, nodes per element, load / rotation / tangent slots, rigid
-        line shape, chain with curved elements.
+        line shape, chain with curved elements, the dofs of a node the chain's
+        interpolation reads (3, or 6 with cubic elements).
     values : (J, 2) float64
         Per joint: smearing and line length.
     fields : (J, len(FIELDS), 5) int64
@@ -320,13 +323,15 @@ def _joint_arrays(
             chain.h,
             chain.lag,
         )
-        arrays["rigid"], arrays["regions"], arrays["ends"] = chain.rigid, chain.regions, chain._ends
+        arrays["kinds"], arrays["regions"], arrays["ends"] = chain.kinds, chain.regions, chain._ends
+        arrays["stiffness"] = chain.stiffness
         arrays["R0_of"], arrays["compliance_of"] = frames.R0, frames.compliance
         arrays["straight"], arrays["up"] = frames.straight[0], chain.up
         arrays["beam_compliance"] = np.stack(chain.compliance)
-        head[NPE], head[CURVED] = npe, not frames.straight.all()
+        head[NPE], head[CURVED], head[NODE_DOFS] = npe, not frames.straight.all(), chain.width
         head[LOAD] = _load_slots(chain, slider.smearing) if slider.smearing > 0 else 6 * npe
-        head[ROTATION], head[TANGENT] = (6 if section else 0), 9 * npe
+        head[ROTATION] = 2 * chain.width if section else 0
+        head[TANGENT] = 3 * chain.width * npe
         arrays["step_r"], arrays["step_jump"] = (
             steps(slider.smearing, slider.kernel) if slider.smearing > 0 else (np.zeros(0),) * 2
         )
@@ -343,13 +348,15 @@ def _joint_arrays(
         arrays["grid"] = np.linspace(0, line.length, PROJECTION_GRID)
         arrays["grid_points"] = np.array([line.derivatives(xi)[0] for xi in arrays["grid"]])
         arrays["grid_dofs"] = np.full((PROJECTION_GRID, 3), -1)
-    interp = 3 * head[NPE]
+    interp = head[NODE_DOFS] * head[NPE]
     layout = _Layout(interp, head[LOAD], head[ROTATION], head[TANGENT], head[UNKNOWNS])
     arrays["pinned"] = np.asarray(pinned, dtype=np.int64)
     diagonal: tuple[tuple[str, str], ...] = (("lam", "lam"),) if any(k <= 3 for k in pinned) else ()
     diagonal += (("mu", "mu"),) if any(k > 3 for k in pinned) else ()
-    jacobian = layout.jacobian(1, batch.pattern + diagonal)
-    writes = reach(batch.kind, batch.orientation, bool(np.any(batch.offset)), section)
+    # once each: a cubic chain's joint has the (lam, lam) block already
+    jacobian = layout.jacobian(1, tuple(dict.fromkeys(batch.pattern + diagonal)))
+    compliant = head[NODE_DOFS] == 6
+    writes = reach(batch.kind, batch.orientation, bool(np.any(batch.offset)), section, compliant)
     arrays["start"], arrays["size"], arrays["where"] = jacobian.index(GROUPS, writes)
     head[SLOTS], head[WIDTH] = layout.t, jacobian.values.shape[1]
     return arrays, head, layout, jacobian
@@ -442,7 +449,7 @@ def evaluate_joint(
     hd, d = head[j], fields[j]
     smearing, length = values_of[j, 0], values_of[j, 1]
     kind, m, t, npe = hd[KIND], hd[UNKNOWNS], hd[SLOTS], hd[NPE]
-    n_load, n_rot = hd[LOAD], hd[ROTATION]
+    n_load, n_rot, width = hd[LOAD], hd[ROTATION], hd[NODE_DOFS]
     xi_raw = y[0]
     xi = min(max(xi_raw, 0.0), length) if hd[END_STOPS] else xi_raw
     # within 1e-12 of the length beyond an end is at the end (fvbeam.geometry.locate_abscissa)
@@ -457,19 +464,20 @@ def evaluate_joint(
     x, l, l_xi, l_xixi = np.zeros((1, 3)), np.zeros((1, 3)), np.zeros((1, 3)), np.zeros((1, 3))
     tangent, tangent_xi = np.zeros((1, 3)), np.zeros((1, 3))
     R0, k0, k0_xi = np.zeros((1, 3, 3)), np.zeros((1, 3)), np.zeros((1, 3))
-    compliance = np.zeros((1, 3, 3))
-    kink, kink_xi = np.zeros(1), np.zeros(1)
+    flex, flex_xi = np.zeros((1, 3, 3)), np.zeros((1, 3, 3))
     G, dG = np.zeros((1, n_load, 6)), np.zeros((1, n_load, 6))
     load_dofs = np.zeros((1, n_load), np.int64)
-    n_rot_nodes = n_rot // 3
-    rotation_dofs = np.zeros((1, n_rot_nodes, 3), np.int64)
-    w, w_xi = np.zeros((1, n_rot_nodes)), np.zeros((1, n_rot_nodes))
+    rotation_dofs = np.zeros((1, n_rot), np.int64)
+    W, W_xi, W_xixi = np.zeros((1, 3, n_rot)), np.zeros((1, 3, n_rot)), np.zeros((1, 3, n_rot))
+    # the position's compliance at the contact: rows on a chain with cubic elements
+    rows = 3 if hd[CHAIN] and width == 6 else 0
+    contact, contact_xi = np.zeros((1, rows, 6)), np.zeros((1, rows, 6))
     if hd[CHAIN]:
         member_map, maps, cells = _f1(I, d[MEMBER_MAP]), _f4(I, d[MAPS]), _f2(I, d[CELLS])
         points, breaks = _f3(F, d[POINTS]), _f2(F, d[BREAKS])
         vertex_s, first_element, h = _f2(F, d[VERTEX_S]), _f1(I, d[FIRST_ELEMENT]), _f2(F, d[H])
-        rigid = _f1(I, d[RIGID]) != 0
-        regions, ends = _f2(F, d[REGIONS]), _f2(F, d[ENDS])
+        kinds, stiffness = _f1(I, d[KINDS_OF]), _f2(F, d[STIFFNESS])
+        regions, ends, R0_of = _f2(F, d[REGIONS]), _f2(F, d[ENDS]), _f4(F, d[R0_OF])
         (
             beam,
             element,
@@ -479,21 +487,25 @@ def evaluate_joint(
             N,
             dN,
             d2N,
-            tangent_dofs,
+            tangent_flat,
             _,
             T,
             _,
             geometry,
+            contact_,
+            contact_xi_,
             point_dofs,
             point_G,
             point_dG,
             rot_dofs,
-            w_,
-            w_xi_,
+            W_,
+            W_xi_,
+            W_xixi_,
             kink_,
             kink_xi_,
+            flex_,
+            flex_xi_,
             R0_,
-            compliance_,
         ) = line_state(
             xs,
             qb,
@@ -506,17 +518,25 @@ def evaluate_joint(
             first_element,
             h,
             _f1(F, d[LAG]),
-            rigid,
+            kinds,
             regions,
             ends,
-            _f4(F, d[R0_OF]),
+            stiffness,
+            width,
+            R0_of,
             _f4(F, d[COMPLIANCE_OF]),
             True,
             not hd[SMEARED],
             hd[SECTION] != 0,
         )
-        x[0], l[0], l_xi[0] = geometry[0, 0], geometry[0, 1], geometry[0, 2]
-        tangent[0], tangent_xi[0] = geometry[0, 3], geometry[0, 4]
+        x[0], l[0], l_xi[0], l_xixi[0] = (
+            geometry[0, 0],
+            geometry[0, 1],
+            geometry[0, 2],
+            geometry[0, 3],
+        )
+        tangent[0], tangent_xi[0] = geometry[0, 4], geometry[0, 5]
+        contact[:], contact_xi[:] = contact_, contact_xi_
         if hd[SMEARED]:
             sd, sG, sdG = smeared_transfer(
                 xs,
@@ -534,8 +554,10 @@ def evaluate_joint(
                 vertex_s,
                 first_element,
                 h,
-                rigid,
+                kinds,
                 regions,
+                stiffness,
+                R0_of,
             )
             k = sd.shape[1]
             if k > n_load:
@@ -546,12 +568,11 @@ def evaluate_joint(
         else:
             load_dofs[:], G[:], dG[:] = point_dofs, point_G, point_dG
         if hd[SECTION]:
-            rotation_dofs[:], w[:], w_xi[:] = rot_dofs, w_, w_xi_
-            kink[:], kink_xi[:] = kink_, kink_xi_
+            rotation_dofs[:], W[:], W_xi[:], W_xixi[:] = rot_dofs, W_, W_xi_, W_xixi_
             e = element[0]
             if _f1(I, d[STRAIGHT])[e]:
-                R0[:], compliance[:] = R0_, compliance_
-            else:
+                R0[:], flex[:], flex_xi[:] = R0_, flex_, flex_xi_
+            else:  # curved: Lagrange 3-node elements only (a cubic element is straight)
                 nodes = np.empty((1, npe, 3))
                 for a in range(npe):
                     nodes[0, a] = points[0, cells[e, a]]
@@ -559,9 +580,8 @@ def evaluate_joint(
                 up = _f2(F, d[UP])[e]
                 frame_at(l0[0], l0_xi[0], up, R0[0], k0[0])
                 curvature_rate_at(l0[0], l0_xi[0], np.zeros(3), up, k0_xi[0])
-                C = _f3(F, d[BEAM_COMPLIANCE])[beam[0]]
-                compliance[0] = R0[0] @ C @ R0[0].T
-        tangent_flat = tangent_dofs.reshape((1, tangent_dofs.shape[1] * 3))
+                C = R0[0] @ _f3(F, d[BEAM_COMPLIANCE])[beam[0]] @ R0[0].T
+                flex[0], flex_xi[0] = kink_[0] * C, kink_xi_[0] * C
     else:
         derivatives = np.empty((4, 3))
         at = min(max(xi, 0.0), length)  # a rigid line is read at the end (RigidLine.at)
@@ -576,8 +596,8 @@ def evaluate_joint(
         up = _f1(F, d[UP])
         frame_at(l[0], l_xi[0], up, R0[0], k0[0])
         curvature_rate_at(l[0], l_xi[0], l_xixi[0], up, k0_xi[0])
-        N, dN, d2N = np.zeros((1, 0)), np.zeros((1, 0)), np.zeros((1, 0))
-        T = np.zeros((1, 0))
+        N, dN, d2N = np.zeros((1, 3, 0)), np.zeros((1, 3, 0)), np.zeros((1, 3, 0))
+        T = np.zeros((1, 3, 0))
         tangent_flat = np.zeros((1, 0), np.int64)
     at = 0
     for c in range(6):
@@ -586,9 +606,8 @@ def evaluate_joint(
     for c in range(n_load):
         dofs[at + c] = load_dofs[0, c]
     at += n_load
-    for a in range(n_rot_nodes):
-        for c in range(3):
-            dofs[at + 3 * a + c] = rotation_dofs[0, a, c]
+    for c in range(n_rot):
+        dofs[at + c] = rotation_dofs[0, c]
     at += n_rot
     for c in range(tangent_flat.shape[1]):
         dofs[at + c] = tangent_flat[0, c]
@@ -617,12 +636,14 @@ def evaluate_joint(
         tangent,
         tangent_xi,
         T,
+        contact,
+        contact_xi,
         rotation_dofs,
-        w,
-        w_xi,
-        kink,
-        kink_xi,
-        compliance,
+        W,
+        W_xi,
+        W_xixi,
+        flex,
+        flex_xi,
         R0,
         k0,
         k0_xi,
@@ -740,9 +761,11 @@ def _curve(
             _f1(I, d[FIRST_ELEMENT]),
             _f2(F, d[H]),
             _f1(F, d[LAG]),
-            _f1(I, d[RIGID]) != 0,
+            _f1(I, d[KINDS_OF]),
             _f2(F, d[REGIONS]),
             _f2(F, d[ENDS]),
+            _f2(F, d[STIFFNESS]),
+            hd[NODE_DOFS],
             _f4(F, d[R0_OF]),
             _f4(F, d[COMPLIANCE_OF]),
             True,

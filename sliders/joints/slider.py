@@ -16,7 +16,7 @@ body moment            ``+ f_b x lambda + m``, ``f_b = theta_b x offset``   eqs.
 line beams             ``- G(xi) lambda`` (test functions, smeared; T6)     Sec. 4
                        and ``- m`` shared by the nodes (below)
 xi                     ``- l . lambda + sum_j mu_j d g_j / d xi``           eqs. 3-5
-position               ``x_b - x(xi)``                                      eq. 1
+position               ``x_b - x(xi)`` (plus a compliance: cubic chain)     eq. 1
 orientation            ``g_j``                                              Secs. 3.2-3.3
 =====================  ==================================================  =============
 
@@ -24,9 +24,11 @@ Two orientation models (``docs/sliders.md`` compares them):
 
 * ``section`` (default; classical and spline): the constraints hold the body's axes to the
   line's *section frame*, the reference frame turned by the section rotation ``theta_L(xi)``
-  interpolated linearly between the two nodes around ``xi``; the couple goes to those two
-  nodes with the same weights (consistent virtual work).  A correction for the kink that the
-  couple itself puts in the rotation makes the constraint second-order accurate.
+  interpolated linearly between the two nodes around ``xi`` (on a cubic chain: the element's
+  own rotation); the couple goes to those nodes with the same weights (consistent virtual
+  work).  A correction for the kink that the couple itself puts in the rotation makes the
+  constraint second-order accurate (on a cubic chain, exact: ``docs/sliders.md``, "The cubic
+  chain").
 * ``slope`` (classical only): the paper's eq. (4) on the gradient ``l`` of the interpolated
   centreline, the couple ``m = sum_j mu_j e_bj x l`` carried to the rotation dofs by the
   test functions, as the reference implementation does; first-order accurate, and singular
@@ -270,6 +272,7 @@ class SliderBatch:
             self.orientation,
             bool(np.any(self.offset)),
             self.section and self.chains is not None,
+            self.chains is not None and self.chains.width == 6,
         )
 
     @classmethod
@@ -375,18 +378,20 @@ class SliderBatch:
                 s.x,
                 s.l,
                 s.l_xi,
-                np.zeros((B, 3)),
+                s.l_xixi,
                 interp.N,
                 interp.dN,
                 interp.d2N,
                 s.load_dofs,
                 s.G,
                 s.dG,
+                s.contact,
+                s.contact_xi,
                 s.rotation,
                 None,
                 s.tangent,
                 s.tangent_xi,
-                interp.tangent_dofs.reshape(B, -1),
+                interp.tangent_dofs,
                 interp.T,
                 interp.T_xi,
             )
@@ -395,7 +400,7 @@ class SliderBatch:
             np.array([getattr(a, f) for a in p])
             for f in ("x", "l", "l_xi", "l_xixi", "R", "k", "k_xi")
         )
-        none, empty = np.zeros((B, 0), dtype=int), np.zeros((B, 0))
+        none, empty = np.zeros((B, 0), dtype=int), np.zeros((B, 3, 0))
         return _LineState(
             x,
             l,
@@ -405,6 +410,8 @@ class SliderBatch:
             empty,
             empty,
             none,
+            np.zeros((B, 0, 6)),
+            np.zeros((B, 0, 6)),
             np.zeros((B, 0, 6)),
             np.zeros((B, 0, 6)),
             None,
@@ -434,10 +441,11 @@ class SliderBatch:
         ``jacobian``: False for the residuals alone (a convergence check).
 
         Each member's local arrays have fixed slots: the body (6), the line's load (k),
-        rotation (6, section orientation on a chain) and recovered-tangent (9 npe) dofs,
-        whose first 3 npe are the interpolation's (the element's nodes), then ``xi``,
-        ``lambda`` and the multipliers.  A dof may hold several slots (sum them, e.g.
-        :meth:`Slider.assemble`); padded slots carry zeros.  The joint equations are
+        rotation (two nodes' rotations, or their six dofs on a cubic chain; section
+        orientation on a chain) and recovered-tangent (3 m) dofs, whose first m are the
+        interpolation's (the element's nodes' translations, or their six dofs on a cubic
+        chain), then ``xi``, ``lambda`` and the multipliers.  A dof may hold several slots
+        (sum them, e.g. :meth:`Slider.assemble`); padded slots carry zeros.  The joint equations are
         :meth:`joint_equations` at :meth:`joint_inputs`; end stops and drives then replace
         the ``xi`` equation where they act.
 
@@ -477,23 +485,21 @@ class SliderBatch:
         except ValueError as exc:
             raise ValueError(f"slider {self.sliders[0].name!r}: {exc}") from exc
         rot = line.rotation
-        rotation_dofs = rot.dofs if rot is not None else np.zeros((B, 0, 3), dtype=np.int64)
-        dofs = np.concatenate(
-            [self.body, line.load_dofs, rotation_dofs.reshape(B, -1), line.tangent_dofs], axis=1
-        )
+        rotation_dofs = rot.dofs if rot is not None else np.zeros((B, 0), dtype=np.int64)
+        dofs = np.concatenate([self.body, line.load_dofs, rotation_dofs, line.tangent_dofs], axis=1)
         if rot is not None:
             frame = (rot.R0, rot.k0, rot.k0_xi)
-            section = (rot.w, rot.w_xi, rot.kink, rot.kink_xi, rot.compliance)
+            section = (rot.W, rot.W_xi, rot.W_xixi, rot.flex, rot.flex_xi)
         else:
             frame = line.frame or (np.zeros((B, 3, 3)), np.zeros((B, 3)), np.zeros((B, 3)))
             section = (
-                np.zeros((B, 0)),
-                np.zeros((B, 0)),
-                np.zeros(B),
-                np.zeros(B),
+                np.zeros((B, 3, 0)),
+                np.zeros((B, 3, 0)),
+                np.zeros((B, 3, 0)),
+                np.zeros((B, 3, 3)),
                 np.zeros((B, 3, 3)),
             )
-        w, w_xi, kink, kink_xi, compliance = section
+        W, W_xi, W_xixi, flex, flex_xi = section
         R0, k0, k0_xi = frame
         inputs = JointInputs(
             self.offset,
@@ -514,12 +520,14 @@ class SliderBatch:
             _c(line.tangent),
             _c(line.tangent_xi),
             _c(line.T),
+            _c(line.contact),
+            _c(line.contact_xi),
             np.ascontiguousarray(rotation_dofs, dtype=np.int64),
-            _c(w),
-            _c(w_xi),
-            _c(kink),
-            _c(kink_xi),
-            _c(compliance),
+            _c(W),
+            _c(W_xi),
+            _c(W_xixi),
+            _c(flex),
+            _c(flex_xi),
             _c(R0),
             _c(k0),
             _c(k0_xi),
@@ -542,10 +550,10 @@ class SliderBatch:
         """
         B = len(inputs.y)
         at = _Layout(
-            3 * inputs.N.shape[1],
+            inputs.N.shape[2],
             inputs.G.shape[1],
-            3 * inputs.rotation_dofs.shape[1],
-            3 * inputs.T.shape[1],
+            inputs.rotation_dofs.shape[1],
+            inputs.T.shape[2],
             self.n_unknowns,
         )
         writes = reach(
@@ -553,6 +561,7 @@ class SliderBatch:
             self.orientation,
             bool(inputs.offset.any()),
             inputs.rotation_dofs.shape[1] > 0,
+            inputs.contact.shape[1] > 0,
         )
         try:
             J = at.jacobian(B if jacobian else 0, self.pattern)
@@ -606,11 +615,12 @@ def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 @dataclass(frozen=True)
 class _LineState:
     """What the joint needs of the lines at ``xi``, per member (leading axis B): geometry,
-    the interpolation's shape functions (chains), the load transfer, the section rotation
-    (chains, section orientation) or the rigid line's frame ``(R, k, k_xi)``, and the tangent
-    of the frictionless condition with its dofs and coefficients (chains: the recovered
-    tangent, :meth:`sliders.lines.batched.ChainStack.interpolation`, whose first ``3 npe`` dofs are
-    the interpolation's; rigid lines: ``l``, no dofs)."""
+    the interpolation's matrices (chains), the load transfer, the position's compliance
+    (chains of cubic elements), the section rotation (chains, section orientation) or the
+    rigid line's frame ``(R, k, k_xi)``, and the tangent of the frictionless condition with
+    its dofs and matrices (chains: the recovered tangent,
+    :meth:`sliders.lines.batched.ChainStack.interpolation`, whose first ``m`` dofs are the
+    interpolation's; rigid lines: ``l``, no dofs)."""
 
     x: np.ndarray
     l: np.ndarray
@@ -622,6 +632,8 @@ class _LineState:
     load_dofs: np.ndarray
     G: np.ndarray
     dG: np.ndarray
+    contact: np.ndarray
+    contact_xi: np.ndarray
     rotation: LineRotation | None
     frame: tuple[np.ndarray, np.ndarray, np.ndarray] | None
     tangent: np.ndarray

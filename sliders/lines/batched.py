@@ -7,12 +7,17 @@ formulations and sections, differing only in the reference node positions.  A
 their queries at abscissae ``xi`` of shape ``(B,)`` (one per member) with arrays of leading
 dimension ``B``:
 
-* :meth:`ChainStack.interpolation`: the element holding ``xi``, its shape functions
-  ``x(xi) = sum N_i (X_i + u_i)`` and the recovered tangent
-  ``l~ = l + (1 - X) (l_a - l(a)) + X (l_b - l(b))`` (``docs/sliders.md``), its neighbours
-  padded with zero coefficients at the chain's ends (fixed ``3 npe`` entries);
-* :meth:`ChainStack.rotation`: the section rotation interpolated between the two nodes around
-  ``xi``, the kink correction ``kappa = w0 w1 l + lag h w_mid^2`` and the reference frame;
+* :meth:`ChainStack.interpolation`: the element holding ``xi`` and how it interpolates the
+  line, ``x(xi) = x0(xi) + N q[dofs]`` (the reference line ``x0 = sum N_i X_i`` and the
+  displacement of the nodes' dofs: ``N = [N_i I]`` on the translations for the Lagrange
+  elements; on a chain with cubic elements, on all six dofs of each node, eq. T11), and the
+  recovered tangent ``l~ = l + (1 - X) (l_a - l(a)) + X (l_b - l(b))``
+  (``docs/sliders.md``), its neighbours padded with zero coefficients at the chain's ends
+  (fixed ``3 m`` entries);
+* :meth:`ChainStack.rotation`: the section rotation at ``xi`` (interpolated between the two
+  nodes around it; the cubic element's own), its compliance under a couple there (the kink
+  correction ``kappa C``, ``kappa = w0 w1 l + lag h w_mid^2``; the cubic element's, eq. T13)
+  and the reference frame;
 * :meth:`ChainStack.transfer`: the test functions at ``xi`` read as load-transfer matrices
   ``G(xi)`` (eq. T6) and ``dG/dxi``; with smearing, the kernel integrated against them as
   :meth:`~sliders.lines.chain.BeamChain.transfer` integrates it by the kernel form
@@ -20,7 +25,8 @@ dimension ``B``:
   rows;
 * :meth:`ChainStack.project`: the initial ``xi`` by projection;
 * :meth:`ChainStack.line_state`: all a joint needs at once on the states ``q`` (the deformed
-  line, the recovered tangent, the load transfer and the section rotation).
+  line, the recovered tangent, the position's compliance under a load at ``xi`` on a cubic
+  chain, the load transfer and the section rotation).
 
 Every query is one call of the compiled kernel :func:`sliders.lines.batched_kernel.line_state`
 (and, for a smeared load, one of :func:`~sliders.lines.batched_kernel.smeared_transfer`).
@@ -42,6 +48,7 @@ from fvbeam.elements import influence_regions
 from fvbeam.formulations import FiniteVolume, gauss
 from fvbeam.geometry import locate_abscissa
 from fvbeam.mesh import shape_functions
+from fvbeam.pointwise import CUBIC
 from fvbeam.smearing import KERNEL_GAUSS_POINTS, check_smearing, steps
 from fvbeam.structure import Structure
 from sliders.lines import batched_kernel as stack_kernel
@@ -90,39 +97,44 @@ def gather(q: np.ndarray, dofs: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class ElementInterpolation:
-    """The line near ``xi``: translational ``dofs`` (..., npe, 3) of the element holding it,
-    node positions ``X`` (..., npe, 3), and the shape functions ``N`` with their first and
-    second derivatives in ``xi`` (..., npe).  The leading axis, if any, runs over the members
-    of a :class:`ChainStack`."""
+    """The line near ``xi``: ``x = x0 + N q[dofs]``, the dofs ``dofs`` (..., m) that the
+    element holding it interpolates (its nodes' first ``width`` dofs, node after node), the
+    reference line's ``x0``, ``l0``, ``l0_/xi`` at ``xi`` (``reference`` (..., 3, 3)), and
+    the displacement's matrices ``N``, ``dN``, ``d2N`` (..., 3, m) and their first and
+    second derivatives in ``xi``.  The leading axis, if any, runs over the members of a
+    :class:`ChainStack`."""
 
     dofs: np.ndarray
-    X: np.ndarray
+    reference: np.ndarray
     N: np.ndarray
     dN: np.ndarray
     d2N: np.ndarray
 
     def geometry(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``x``, ``l`` and ``l_/xi`` of the deformed line."""
-        x, l, l_xi = _weighted(np.stack([self.N, self.dN, self.d2N], axis=-2), self.X, q, self.dofs)
+        x, l, l_xi = _weighted(
+            np.stack([self.N, self.dN, self.d2N], axis=-3), self.reference, q, self.dofs
+        )
         return x, l, l_xi
 
 
 @dataclass(frozen=True)
 class Interpolation(ElementInterpolation):
-    """:class:`ElementInterpolation` with the recovered tangent's dofs (..., m, 3), node
-    positions (..., m, 3) and coefficients ``T``, ``T_xi`` (..., m), ``m = 3 npe`` (the
-    element, the one before and the one after; zero coefficients where there is none): the
-    first ``3 npe`` are the element's."""
+    """:class:`ElementInterpolation` with the recovered tangent's dofs (..., 3 m), its
+    reference values ``l~0``, ``l~0_/xi`` (``tangent_reference`` (..., 2, 3)) and its
+    displacement's matrices ``T``, ``T_xi`` (..., 3, 3 m) (the element, the one before and
+    the one after; zero columns where there is none): the first ``m`` dofs are the
+    element's."""
 
     tangent_dofs: np.ndarray
-    tangent_X: np.ndarray
+    tangent_reference: np.ndarray
     T: np.ndarray
     T_xi: np.ndarray
 
     def tangent(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The recovered tangent ``l~`` and ``l~_/xi`` of the deformed line."""
         l, l_xi = _weighted(
-            np.stack([self.T, self.T_xi], axis=-2), self.tangent_X, q, self.tangent_dofs
+            np.stack([self.T, self.T_xi], axis=-3), self.tangent_reference, q, self.tangent_dofs
         )
         return l, l_xi
 
@@ -133,19 +145,22 @@ class Interpolation(ElementInterpolation):
 
 @dataclass(frozen=True)
 class LineRotation:
-    """Section rotation of the line at ``xi``: ``theta = w @ q[dofs]``, with ``dofs`` (2, 3)
-    the rotation dofs of the bracketing nodes, ``w`` their weights and ``w_xi`` their
-    derivatives; ``kink = w0 w1 span`` and ``kink_xi`` its derivative (the correction for a
-    couple at ``xi``, :class:`sliders.joints.slider.Slider`); the section ``compliance`` (3, 3); the
-    reference frame ``R0``, its curvature vector ``k0`` and ``k0_xi``.  Stacked: a leading
-    member axis on every field."""
+    """Section rotation of the line at ``xi``: ``theta = W q[dofs]``, with ``dofs`` (r,) the
+    dofs it reads (the two nodes around ``xi``: their rotations, or on a cubic chain their
+    six dofs), ``W`` (3, r) and ``W_xi``, ``W_xixi`` its derivatives (the second zero but
+    on cubic elements); ``flex`` (3, 3), the rotation a
+    unit couple at ``xi`` adds there to it (the kink correction ``kappa C``, ``C`` the
+    section's bending-and-torsion compliance, or the cubic element's, eq. T13;
+    :class:`sliders.joints.slider.Slider`) and ``flex_xi``; the reference frame ``R0``, its
+    curvature vector ``k0`` and ``k0_xi``.  Stacked: a leading member axis on every
+    field."""
 
     dofs: np.ndarray
-    w: np.ndarray
-    w_xi: np.ndarray
-    kink: np.ndarray
-    kink_xi: np.ndarray
-    compliance: np.ndarray
+    W: np.ndarray
+    W_xi: np.ndarray
+    W_xixi: np.ndarray
+    flex: np.ndarray
+    flex_xi: np.ndarray
     R0: np.ndarray
     k0: np.ndarray
     k0_xi: np.ndarray
@@ -168,16 +183,23 @@ class ElementFrames(NamedTuple):
 class LineState(NamedTuple):
     """All a joint needs of its chains at ``xi`` on the states ``q``, per member (leading
     axis B, :meth:`ChainStack.line_state`): the interpolation with the recovered tangent,
-    the deformed line ``x``, ``l``, ``l_/xi``, the recovered tangent ``l~`` and ``l~_/xi``
-    (3,), the load transfer (``load_dofs``, ``G``, ``dG``, :meth:`ChainStack.transfer`) and
-    the section rotation (None unless asked)."""
+    the deformed line ``x``, ``l``, ``l_/xi``, ``l_/xixi`` (zero but on cubic elements), the
+    recovered tangent ``l~`` and ``l~_/xi`` (3,), the position's compliance under a force
+    and couple at ``xi`` (``contact`` (c, 6): the rows ``[G_uu, G_u theta]`` of eq. T13 with
+    ``c = 3`` on a chain with cubic elements, none (``c = 0``) otherwise) and
+    ``contact_xi``, the load transfer
+    (``load_dofs``, ``G``, ``dG``, :meth:`ChainStack.transfer`) and the section rotation
+    (None unless asked)."""
 
     interpolation: Interpolation
     x: np.ndarray
     l: np.ndarray
     l_xi: np.ndarray
+    l_xixi: np.ndarray
     tangent: np.ndarray
     tangent_xi: np.ndarray
+    contact: np.ndarray
+    contact_xi: np.ndarray
     load_dofs: np.ndarray
     G: np.ndarray
     dG: np.ndarray
@@ -191,25 +213,29 @@ class _Answer(NamedTuple):
     element: np.ndarray
     X: np.ndarray
     dofs: np.ndarray
-    nodes: np.ndarray
+    reference: np.ndarray
     N: np.ndarray
     dN: np.ndarray
     d2N: np.ndarray
     tangent_dofs: np.ndarray
-    tangent_nodes: np.ndarray
+    tangent_reference: np.ndarray
     T: np.ndarray
     T_xi: np.ndarray
     geometry: np.ndarray
+    contact: np.ndarray
+    contact_xi: np.ndarray
     load_dofs: np.ndarray
     G: np.ndarray
     dG: np.ndarray
     rotation_dofs: np.ndarray
-    w: np.ndarray
-    w_xi: np.ndarray
+    W: np.ndarray
+    W_xi: np.ndarray
+    W_xixi: np.ndarray
     kink: np.ndarray
     kink_xi: np.ndarray
+    flex: np.ndarray
+    flex_xi: np.ndarray
     R0: np.ndarray
-    compliance: np.ndarray
 
 
 class ChainStack:
@@ -286,7 +312,17 @@ class ChainStack:
         # the rotational block of each beam's inverse section stiffness, in section axes
         # (in global axes: R C R^T, the section stiffness rotating by blockdiag(R, R))
         self.compliance = [np.linalg.inv(beam.section.stiffness)[3:, 3:] for beam in self.beams]
-        self.rigid = np.array([beam.formulation.rigid_test for beam in self.beams])
+        self.kinds = np.array([beam.formulation.kind for beam in self.beams], dtype=np.int64)
+        #: The dofs of a node the line's displacement reads: its translations, or all six on
+        #: a chain with cubic elements (eq. T11).
+        self.width = 6 if np.any(self.kinds == CUBIC) else 3
+        # the diagonal of each element's section stiffness (the cubic element's, eq. T11)
+        self.stiffness = np.concatenate(
+            [
+                np.tile(np.diag(beam.section.stiffness), (n, 1))
+                for beam, n in zip(self.beams, counts, strict=True)
+            ]
+        )
         self.regions = influence_regions(self.npe)
         self.members = np.arange(len(self.chains))
         self._ends = np.ascontiguousarray(shape_functions(np.array([0.0, 1.0]), self.npe)[1].T)
@@ -403,19 +439,20 @@ class ChainStack:
         """:func:`sliders.lines.batched_kernel.line_state` at ``xi`` (B,): the deformed line on the
         states ``q`` (B, n) unless None, the load transfer and the rotation if asked."""
         xi = self._checked(xi)
-        frames = self.element_frames() if rotation else None
-        none = np.zeros((0, 0, 3, 3))
+        frames = self.element_frames()
         return _Answer(
             *stack_kernel.line_state(
                 xi,
                 np.zeros((len(xi), 0)) if q is None else np.ascontiguousarray(q, dtype=float),
                 *self._chain_arrays,
                 self.lag,
-                self.rigid,
+                self.kinds,
                 self.regions,
                 self._ends,
-                none if frames is None else frames.R0,
-                none if frames is None else frames.compliance,
+                self.stiffness,
+                self.width,
+                frames.R0,
+                frames.compliance,
                 q is not None,
                 transfer,
                 rotation,
@@ -443,6 +480,9 @@ class ChainStack:
             g[:, 2],
             g[:, 3],
             g[:, 4],
+            g[:, 5],
+            a.contact,
+            a.contact_xi,
             *load,
             self._rotation(a) if rotation else None,
         )
@@ -451,7 +491,15 @@ class ChainStack:
     def _interpolation(a: _Answer) -> Interpolation:
         """The interpolation of a kernel answer."""
         return Interpolation(
-            a.dofs, a.nodes, a.N, a.dN, a.d2N, a.tangent_dofs, a.tangent_nodes, a.T, a.T_xi
+            a.dofs,
+            a.reference,
+            a.N,
+            a.dN,
+            a.d2N,
+            a.tangent_dofs,
+            a.tangent_reference,
+            a.T,
+            a.T_xi,
         )
 
     def _nodes(self, element: np.ndarray) -> np.ndarray:
@@ -467,18 +515,21 @@ class ChainStack:
     def rotation(self, xi: np.ndarray) -> LineRotation:
         """The section rotation at ``xi`` and its reference frame, per member.
 
-        The rotation is interpolated linearly between the two consecutive nodes that bracket
-        ``xi`` (the element's vertices, and its mid-node for 3-node elements), whatever the
-        beam formulation: the weights are continuous along the chain, so a couple carried by
-        them never jumps.  ``kink`` is how far the exact rotation at a couple ``M`` lies off
-        that interpolation, per unit ``C M``: ``w0 w1 span`` for exact nodal rotations, plus
-        ``MID_NODE_LAG h w_mid^2`` on a 3-node element, whose mid-node rotation lags by that
-        much under the share ``w_mid M`` it carries (``docs/sliders.md``).  The reference
-        frame ``R0``, its curvature ``k0`` and ``k0_/xi`` come from the element's reference
-        interpolation and the mesh's ``up``.  ``C`` is the section's bending-and-torsion
-        compliance (the rotational block of the inverse section stiffness) in global axes,
-        taken in the element's reference frame at ``xi``.  When every member's element is
-        straight, both are read from :meth:`element_frames` (``k0 = k0_/xi = 0``).
+        On a Lagrange element (fv, Galerkin) the rotation is interpolated linearly between the
+        two consecutive nodes that bracket ``xi`` (the element's vertices, and its mid-node
+        for 3-node elements): the weights are continuous along the chain, so a couple carried
+        by them never jumps.  Its compliance ``flex = kink C``: ``kink`` is how far the exact
+        rotation at a couple ``M`` lies off that interpolation, per unit ``C M``:
+        ``w0 w1 span`` for exact nodal rotations, plus ``MID_NODE_LAG h w_mid^2`` on a 3-node
+        element, whose mid-node rotation lags by that much under the share ``w_mid M`` it
+        carries (``docs/sliders.md``); ``C`` is the section's bending-and-torsion compliance
+        (the rotational block of the inverse section stiffness) in global axes, taken in the
+        element's reference frame at ``xi``.  On a cubic element the rotation is the
+        element's own (eq. T11, on its nodes' six dofs) and ``flex`` the rotational block of
+        its compliance (eq. T13), exact.  The reference frame ``R0``, its curvature ``k0``
+        and ``k0_/xi`` come from the element's reference interpolation and the mesh's
+        ``up``.  When every member's element is straight, ``R0`` and ``C`` are read from
+        :meth:`element_frames` (``k0 = k0_/xi = 0``).
         """
         return self._rotation(self._query(xi, None, False, True))
 
@@ -486,9 +537,10 @@ class ChainStack:
         """The rotation of a kernel answer; off straight elements, the frame, curvature and
         compliance computed at ``xi`` (:meth:`rotation`)."""
         beam, element, X = a.beam, a.element, a.X
-        R0, compliance = a.R0, a.compliance
+        R0, flex, flex_xi = a.R0, a.flex, a.flex_xi
         k0 = k0_xi = np.zeros((len(X), 3))
         if not self.element_frames().straight[self.members, element].all():
+            # curved: Lagrange 3-node elements only (a cubic element is straight)
             l0, l0_xi = self._reference_line(element, X)
             R0, k0 = frame_and_curvature(l0, l0_xi, self.up[element])
             k0_xi = curvature_rate(l0, l0_xi, np.zeros(3), self.up[element])
@@ -496,9 +548,9 @@ class ChainStack:
             for b in np.unique(beam):
                 on = beam == b
                 compliance[on] = R0[on] @ self.compliance[b] @ np.swapaxes(R0[on], 1, 2)
-        return LineRotation(
-            a.rotation_dofs, a.w, a.w_xi, a.kink, a.kink_xi, compliance, R0, k0, k0_xi
-        )
+            flex = a.kink[:, None, None] * compliance
+            flex_xi = a.kink_xi[:, None, None] * compliance
+        return LineRotation(a.rotation_dofs, a.W, a.W_xi, a.W_xixi, flex, flex_xi, R0, k0, k0_xi)
 
     def _reference_line(self, element: np.ndarray, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The reference line's ``l0`` and ``l0_/xi`` at the reference coordinates ``X``
@@ -556,8 +608,10 @@ class ChainStack:
                 *steps(smearing, kernel),
                 *KERNEL_RULE,
                 *self._chain_arrays,
-                self.rigid,
+                self.kinds,
                 self.regions,
+                self.stiffness,
+                self.element_frames().R0,
             )
         a = self._query(xi, None, True, False)
         return a.load_dofs, a.G, a.dG
@@ -637,26 +691,21 @@ def _tied(a: np.ndarray, b: np.ndarray) -> bool:
 
 
 def _weighted(
-    f: np.ndarray,
-    nodes: np.ndarray,
-    q: np.ndarray,
-    dofs: np.ndarray,
-    rows: np.ndarray | None = None,
+    f: np.ndarray, reference: np.ndarray, q: np.ndarray, dofs: np.ndarray
 ) -> tuple[np.ndarray, ...]:
-    """``sum_a f_ja (nodes_a + q[dofs_a])`` for each ``j`` of coefficients ``f`` (..., k, m),
-    nodes (..., m, 3) and dofs (..., m, 3): on one state ``q`` (n,), or on each member's own
-    (``q`` (B, n), leading axis of ``f`` B), or on the states ``q[rows]`` for flattened
-    leading axes (:func:`sliders.lines.batched_kernel.weighted_current`).  Returns ``k`` arrays
+    """``reference_j + f_j q[dofs]`` for each ``j`` of matrices ``f`` (..., k, 3, m),
+    reference values (..., k, 3) and dofs (..., m): on one state ``q`` (n,), or on each
+    member's own (``q`` (B, n), leading axis of ``f`` B)
+    (:func:`sliders.lines.batched_kernel.weighted_current`).  Returns ``k`` arrays
     (..., 3)."""
-    lead, (k, m) = f.shape[:-2], f.shape[-2:]
+    lead, (k, m) = f.shape[:-3], (f.shape[-3], f.shape[-1])
     P = int(np.prod(lead))
-    if rows is None:
-        rows = np.arange(P) if q.ndim == 2 else np.zeros(P, dtype=np.int64)
+    rows = np.arange(P) if q.ndim == 2 else np.zeros(P, dtype=np.int64)
     out = stack_kernel.weighted_current(
-        np.ascontiguousarray(f, dtype=float).reshape(P, k, m),
-        np.ascontiguousarray(nodes, dtype=float).reshape(P, m, 3),
+        np.ascontiguousarray(f, dtype=float).reshape(P, k, 3, m),
+        np.ascontiguousarray(reference, dtype=float).reshape(P, k, 3),
         np.ascontiguousarray(np.atleast_2d(q), dtype=float),
         rows,
-        np.ascontiguousarray(dofs, dtype=np.int64).reshape(P, m, 3),
+        np.ascontiguousarray(dofs, dtype=np.int64).reshape(P, m),
     ).reshape(lead + (k, 3))
     return tuple(out[..., j, :] for j in range(k))

@@ -3,11 +3,21 @@
 One call of :func:`line_state` answers every query of :class:`sliders.lines.batched.ChainStack` for
 ``B`` members at once, member by member without temporaries: where ``xi`` lies
 (:func:`locate_one`), the element interpolation and the recovered tangent
-(``docs/sliders.md``, :func:`interpolation_one`), the deformed line (:func:`weighted`), the
-load transfer (eq. T6, :func:`fvbeam.pointwise.transfer_at`) and the section rotation with
-its kink correction (:func:`rotation_one`).  A smeared load transfer is one call of
-:func:`smeared_transfer`: the kernel form of :meth:`sliders.lines.chain.BeamChain.transfer`
-integrated by the same rule on the same pieces, compiled.  The stack's arrays are described in
+(``docs/sliders.md``, :func:`interpolation_one`), the deformed line (:func:`weighted`,
+:func:`displaced`), the load transfer (eq. T6, :func:`fvbeam.pointwise.transfer_at`), the
+section rotation with its compliance at the contact (:func:`rotation_one`) and, on a chain of
+cubic elements, the compliance of the line's position under a load at the contact (eq. T13,
+:func:`fvbeam.pointwise.cubic_flex_at`).
+
+The deformed line is ``x(xi) = x0(xi) + N(xi) q[dofs]``: the reference line ``x0`` (the
+Lagrange interpolation of the node positions) plus the displacement the element interpolates
+from its nodes' dofs, ``N`` a (3, m) matrix on ``m = width npe`` dofs, ``width`` of each
+node: its 3 translations for the Lagrange elements (``N = [N_a I]``), its 6 dofs on a chain
+with cubic elements (eq. T11: the deflection reads the nodal rotations too).
+
+A smeared load transfer is one call of :func:`smeared_transfer`: the kernel form of
+:meth:`sliders.lines.chain.BeamChain.transfer` integrated by the same rule on the same pieces,
+compiled.  The stack's arrays are described in
 :class:`sliders.lines.batched.ChainStack`; the kernels expect them C-contiguous, float64 and int64.
 """
 
@@ -16,7 +26,15 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from fvbeam.pointwise import shape_at, smeared_element, transfer_at
+from fvbeam.pointwise import (
+    CUBIC,
+    cubic_flex_at,
+    cubic_local_at,
+    shape_at,
+    smeared_element,
+    to_global,
+    transfer_at,
+)
 
 
 @numba.njit(cache=True, inline="never")
@@ -60,6 +78,41 @@ def element_shape(X: float, he: float, N: np.ndarray, dN: np.ndarray, d2N: np.nd
 
 
 @numba.njit(cache=True, inline="never")
+def element_line(
+    kind: int,
+    frame: np.ndarray,
+    stiffness: np.ndarray,
+    he: float,
+    X: float,
+    order: int,
+    out: np.ndarray,
+    shape: np.ndarray,
+    block: np.ndarray,
+) -> None:
+    """The ``order``-th ``xi``-derivative of the displacement an element of ``kind`` and
+    length ``he`` interpolates at ``X``, as its matrix ``out`` (3, width npe) on its nodes'
+    first ``width`` dofs (module docstring): Lagrange ``N_a I`` on the translations
+    (:func:`element_shape`); cubic the translation rows of the element's functions
+    (:func:`fvbeam.pointwise.cubic_local_at` in global axes, section ``frame`` and
+    ``stiffness``).  ``shape`` (3, npe) and ``block`` (12, 6) are scratch."""
+    out[:] = 0.0
+    width = out.shape[1] // shape.shape[1]
+    if kind == CUBIC:
+        cubic_local_at(stiffness, he, X, order, block)
+        to_global(frame, block)
+        for j in range(12):
+            for c in range(3):
+                out[c, j] = block[j, c]
+        return
+    if order > 2:  # Lagrange elements of degree at most 2
+        return
+    element_shape(X, he, shape[0], shape[1], shape[2])
+    for a in range(shape.shape[1]):
+        for c in range(3):
+            out[c, width * a + c] = shape[order, a]
+
+
+@numba.njit(cache=True, inline="never")
 def interpolation_one(
     element: int,
     X: float,
@@ -78,7 +131,8 @@ def interpolation_one(
     the elements before and after at the shared vertices, averaged (weights 1/2), zero where
     there is none; ``neighbours`` (2,) receives those elements (``element`` itself where
     there is none).  ``ends`` (2, npe): ``dN/dX`` at ``X = 0`` and ``1``; ``h``: the
-    member's element lengths (E,)."""
+    member's element lengths (E,).  The reference line's coefficients on the node positions
+    (the displacement's are :func:`displacement_one`'s)."""
     npe = len(N)
     he = h[element]
     element_shape(X, he, N, dN, d2N)
@@ -102,6 +156,89 @@ def interpolation_one(
 
 
 @numba.njit(cache=True, inline="never")
+def displacement_one(
+    elements: np.ndarray,
+    X: float,
+    kinds: np.ndarray,
+    first_element: np.ndarray,
+    frames: np.ndarray,
+    stiffness: np.ndarray,
+    h: np.ndarray,
+    N: np.ndarray,
+    dN: np.ndarray,
+    d2N: np.ndarray,
+    T: np.ndarray,
+    T_xi: np.ndarray,
+    end: np.ndarray,
+    shape: np.ndarray,
+    block: np.ndarray,
+) -> None:
+    """The displacement's interpolation at ``X`` of ``elements[0]`` (its neighbours before
+    and after in ``elements[1:]``, itself where there is none) as matrices on the nodes'
+    dofs (:func:`element_line`): ``N``, ``dN``, ``d2N`` (3, m) and the recovered tangent's
+    ``T``, ``T_xi`` (3, 3 m) on the three elements' dofs in turn, the same combination of
+    one-sided tangents as :func:`interpolation_one`'s.  ``kinds`` (n_beams,) and
+    ``first_element`` find each element's kind; ``frames`` (E, 3, 3), ``stiffness`` (E, 6)
+    and ``h`` (E,) are the member's; ``end`` (3, m), ``shape`` and ``block`` scratch."""
+    element = elements[0]
+    m = N.shape[1]
+    he = h[element]
+    kind, frame = kinds[beam_of(first_element, element)], frames[element]
+    for order, out in ((0, N), (1, dN), (2, d2N)):
+        element_line(kind, frame, stiffness[element], he, X, order, out, shape, block)
+    T[:] = 0.0
+    T_xi[:] = 0.0
+    for c in range(3):
+        for j in range(m):
+            T[c, j], T_xi[c, j] = dN[c, j], d2N[c, j]
+    for side in range(2):
+        other = elements[1 + side]
+        if other == element:
+            continue
+        weight = 0.5 * (1 - X) if side == 0 else 0.5 * X
+        weight_xi = 0.5 * (-1 / he) if side == 0 else 0.5 * (1 / he)
+        at = 0.0 if side == 0 else 1.0
+        element_line(kind, frame, stiffness[element], he, at, 1, end, shape, block)
+        for c in range(3):
+            for j in range(m):
+                T[c, j] -= weight * end[c, j]
+                T_xi[c, j] -= weight_xi * end[c, j]
+        k = kinds[beam_of(first_element, other)]
+        element_line(k, frames[other], stiffness[other], h[other], 1.0 - at, 1, end, shape, block)
+        for c in range(3):
+            for j in range(m):
+                T[c, (side + 1) * m + j] = weight * end[c, j]
+                T_xi[c, (side + 1) * m + j] = weight_xi * end[c, j]
+
+
+@numba.njit(cache=True, inline="never")
+def lagrange_matrices(
+    shape: np.ndarray,
+    T_scalar: np.ndarray,
+    T_scalar_xi: np.ndarray,
+    N: np.ndarray,
+    dN: np.ndarray,
+    d2N: np.ndarray,
+    T: np.ndarray,
+    T_xi: np.ndarray,
+) -> None:
+    """On a chain of Lagrange elements (``width`` 3), the displacement's matrices from the
+    shape functions ``shape`` (3, npe) and the recovered tangent's coefficients ``T_scalar``,
+    ``T_scalar_xi`` (3 npe,) of :func:`interpolation_one`: ``N_a I`` on each node's
+    translations (:func:`displacement_one`'s matrices for these elements, without
+    evaluating them again), written into zero matrices on their nonzero entries."""
+    for a in range(shape.shape[1]):
+        for c in range(3):
+            N[c, 3 * a + c] = shape[0, a]
+            dN[c, 3 * a + c] = shape[1, a]
+            d2N[c, 3 * a + c] = shape[2, a]
+    for a in range(len(T_scalar)):
+        for c in range(3):
+            T[c, 3 * a + c] = T_scalar[a]
+            T_xi[c, 3 * a + c] = T_scalar_xi[a]
+
+
+@numba.njit(cache=True, inline="never")
 def current(nodes: np.ndarray, q: np.ndarray, dofs: np.ndarray, out: np.ndarray) -> None:
     """Deformed node positions ``nodes + q[dofs]`` (m, 3) into ``out``."""
     for a in range(nodes.shape[0]):
@@ -111,8 +248,9 @@ def current(nodes: np.ndarray, q: np.ndarray, dofs: np.ndarray, out: np.ndarray)
 
 @numba.njit(cache=True, inline="never")
 def weighted(f: np.ndarray, points: np.ndarray, out: np.ndarray) -> None:
-    """``sum_a f_a points_a`` (3,) into ``out``: the line interpolated from its nodes
-    ``x = sum N_a x_a`` (paper Sec. 4) and its derivatives, or the recovered tangent."""
+    """``sum_a f_a points_a`` (3,) into ``out``: the reference line interpolated from its
+    nodes ``x0 = sum N_a x_a`` (paper Sec. 4) and its derivatives, or the recovered
+    tangent."""
     out[:] = 0.0
     for a in range(len(f)):
         for c in range(3):
@@ -120,13 +258,27 @@ def weighted(f: np.ndarray, points: np.ndarray, out: np.ndarray) -> None:
 
 
 @numba.njit(cache=True, inline="never")
+def displaced(
+    reference: np.ndarray, f: np.ndarray, q: np.ndarray, dofs: np.ndarray, out: np.ndarray
+) -> None:
+    """``reference + f q[dofs]`` (3,) into ``out``: the deformed line, its derivatives or the
+    recovered tangent, from the reference one and the displacement's matrix ``f`` (3, m) on
+    the dofs ``dofs`` (m,) (module docstring)."""
+    for c in range(3):
+        value = reference[c]
+        for j in range(f.shape[1]):
+            value += f[c, j] * q[dofs[j]]
+        out[c] = value
+
+
+@numba.njit(cache=True, inline="never")
 def rotation_one(
     X: float, he: float, lag: float, npe: int, pair: np.ndarray, w: np.ndarray, w_xi: np.ndarray
 ) -> tuple[float, float]:
-    """The section rotation's interpolation at ``X`` of an element of length ``he``
-    (:meth:`sliders.lines.batched.ChainStack.rotation`): the two consecutive nodes around ``X``
-    (``pair``, local indices, along the element: end 0, mid node, end 1), their weights
-    ``w`` and ``w_xi``; returns ``kink = t (1 - t) span + lag h w_mid^2`` and its
+    """The section rotation's interpolation at ``X`` of a Lagrange element of length ``he``
+    (:meth:`sliders.lines.batched.ChainStack.rotation`): the two consecutive nodes around
+    ``X`` (``pair``, local indices, along the element: end 0, mid node, end 1), their
+    weights ``w`` and ``w_xi``; returns ``kink = t (1 - t) span + lag h w_mid^2`` and its
     derivative in ``xi``."""
     if npe == 2:
         pair[0], pair[1], a0, a1 = 0, 1, 0.0, 1.0
@@ -175,9 +327,11 @@ def line_state(
     first_element: np.ndarray,
     h: np.ndarray,
     lag: np.ndarray,
-    rigid: np.ndarray,
+    kinds: np.ndarray,
     regions: np.ndarray,
     ends: np.ndarray,
+    stiffness: np.ndarray,
+    width: int,
     R0_of: np.ndarray,
     compliance_of: np.ndarray,
     state: bool,
@@ -188,36 +342,53 @@ def line_state(
     stack's arrays (:class:`sliders.lines.batched.ChainStack`): ``member_map`` (B,) into ``maps``
     (M, E, npe, 6), ``cells`` (E, npe), ``points`` (B, n_nodes, 3), ``breaks``
     (B, n_beams + 1), ``vertex_s`` (B, E + n_beams), ``first_element`` (n_beams + 1,), ``h``
-    (B, E), ``lag`` (E,), ``rigid`` (n_beams,) fv beams, ``regions`` (npe, 2) the fv
-    influence regions, ``ends`` (2, npe) ``dN/dX`` at the element ends, the stored element
-    frames ``R0_of`` and compliances ``compliance_of`` (B, E, 3, 3).
+    (B, E), ``lag`` (E,), ``kinds`` (n_beams,) each beam's kind of element
+    (:data:`fvbeam.pointwise.LAGRANGE`, ...), ``regions`` (npe, 2) the fv influence regions,
+    ``ends`` (2, npe) ``dN/dX`` at the element ends, ``stiffness`` (E, 6) the diagonal of
+    each element's section stiffness, ``width`` the dofs of a node the displacement reads
+    (3, or 6 on a chain with cubic elements; module docstring), the element frames
+    ``R0_of`` (B, E, 3, 3) and compliances ``compliance_of`` (B, E, 3, 3) (R0 C R0^T).
 
     ``state``: the deformed line ``x``, ``l``, ``l_/xi`` and the recovered tangent with its
-    derivative; ``transfer``: the load dofs, ``G`` and ``dG`` (eq. T6); ``rotation``: the
-    rotation dofs, weights and kink (:func:`rotation_one`) and the stored frame and
-    compliance of the element.  The arrays of what is not asked have a zero size.
+    derivative (with ``width`` 6, the position's compliance at the contact too);
+    ``transfer``: the load dofs, ``G`` and ``dG`` (eq. T6); ``rotation``: the rotation's
+    dofs ``(6 - width) .. 5`` of the two nodes around ``xi`` and the matrices ``W``,
+    ``W_xi`` (3, 2 width) that read it of them, its compliance ``flex`` at a couple there and
+    ``flex_xi`` (a Lagrange element's: the weights of :func:`rotation_one` and ``kink C``;
+    a cubic element's: its own rotation, eq. T11, and the rotational block of eq. T13), the
+    kink and the stored frame.  The arrays of what is not asked have a zero size.
 
-    Returns the tuple ``beam, element, X, dofs, nodes, N, dN, d2N, tangent_dofs,
-    tangent_nodes, T, T_xi, geometry (B, 5, 3): x, l, l_xi, l~, l~_xi, load_dofs, G, dG,
-    rotation_dofs, w, w_xi, kink, kink_xi, R0, compliance``.
+    Returns the tuple ``beam, element, X, dofs (B, m), reference (B, 3, 3): x0, l0, l0_xi,
+    N, dN, d2N (B, 3, m), tangent_dofs (B, 3 m), tangent_reference (B, 2, 3): l~0, l~0_xi,
+    T, T_xi (B, 3, 3 m), geometry (B, 6, 3): x, l, l_xi, l_xixi, l~, l~_xi, contact,
+    contact_xi (B, 3, 6): the position's compliance rows ``[G_uu, G_u theta]`` and their
+    derivative, load_dofs, G, dG, rotation_dofs, W, W_xi, W_xixi, kink, kink_xi, flex,
+    flex_xi, R0`` (``m = width npe``).
     """
     B, npe = len(xi), cells.shape[1]
-    m = 3 * npe
+    m = width * npe
     nb, nt, nr = (B if state else 0), (B if transfer else 0), (B if rotation else 0)
+    nc = 3 if width == 6 else 0  # contact rows
     beam, element, X = np.empty(B, np.int64), np.empty(B, np.int64), np.empty(B)
-    dofs, nodes = np.empty((B, m, 3), np.int64), np.empty((B, m, 3))
-    N, dN, d2N = np.empty((B, npe)), np.empty((B, npe)), np.empty((B, npe))
-    T, T_xi = np.empty((B, m)), np.empty((B, m))
-    geometry = np.empty((nb, 5, 3))
+    dofs, tangent_dofs = np.empty((B, m), np.int64), np.empty((B, 3 * m), np.int64)
+    reference, tangent_reference = np.empty((B, 3, 3)), np.empty((B, 2, 3))
+    # zero: the Lagrange elements' matrices are written on their nonzero entries only
+    N, dN, d2N = np.zeros((B, 3, m)), np.zeros((B, 3, m)), np.zeros((B, 3, m))
+    T, T_xi = np.zeros((B, 3, 3 * m)), np.zeros((B, 3, 3 * m))
+    geometry = np.empty((nb, 6, 3))
+    contact, contact_xi = np.zeros((nb, nc, 6)), np.zeros((nb, nc, 6))
     load_dofs, G, dG = (
         np.empty((nt, 6 * npe), np.int64),
         np.empty((nt, 6 * npe, 6)),
         np.empty((nt, 6 * npe, 6)),
     )
-    rotation_dofs, w, w_xi = np.empty((nr, 2, 3), np.int64), np.empty((nr, 2)), np.empty((nr, 2))
-    kink, kink_xi = np.empty(nr), np.empty(nr)
-    R0, compliance = np.empty((nr, 3, 3)), np.empty((nr, 3, 3))
-    neighbours, pair = np.empty(2, np.int64), np.empty(2, np.int64)
+    r = 2 * width
+    rotation_dofs = np.empty((nr, r), np.int64)
+    W, W_xi, W_xixi = np.zeros((nr, 3, r)), np.zeros((nr, 3, r)), np.zeros((nr, 3, r))
+    kink, kink_xi = np.zeros(nr), np.zeros(nr)
+    flex, flex_xi = np.empty((nr, 3, 3)), np.empty((nr, 3, 3))
+    R0 = np.empty((nr, 3, 3))
+    three, pair = np.empty(3, np.int64), np.empty(2, np.int64)
     n, dn, d2n, chi, dchi = (
         np.empty(npe),
         np.empty(npe),
@@ -225,80 +396,172 @@ def line_state(
         np.empty(npe),
         np.empty(npe),
     )
-    moved = np.empty((m, 3))
+    Ns, Ts, Ts_xi = np.empty((3, npe)), np.empty(3 * npe), np.empty(3 * npe)
+    nodes, moved = np.empty((3 * npe, 3)), np.empty((3 * npe, 3))
+    translations = np.empty((3 * npe, 3), np.int64)
+    end, shape, block = np.empty((3, m)), np.empty((3, npe)), np.empty((12, 6))
+    G_b = np.empty((12, 6))
+    compliance6, compliance6_xi = np.empty((6, 6)), np.empty((6, 6))
+    w, w_xi, zero = np.empty(2), np.empty(2), np.zeros(3)
     for b in range(B):
         k, e, Xb = locate_one(xi[b], breaks[b], vertex_s[b], first_element, h[b])
         beam[b], element[b], X[b] = k, e, Xb
-        interpolation_one(e, Xb, h[b], N[b], dN[b], d2N[b], ends, T[b], T_xi[b], neighbours)
+        kind, frame = kinds[k], R0_of[b, e]
+        interpolation_one(e, Xb, h[b], Ns[0], Ns[1], Ns[2], ends, Ts, Ts_xi, three[1:])
+        three[0] = e
         dof_map = maps[member_map[b]]
         for slot in range(3):
-            el = e if slot == 0 else neighbours[slot - 1]
+            el = three[slot]
             for a in range(npe):
                 node = cells[el, a]
                 for c in range(3):
-                    dofs[b, slot * npe + a, c] = dof_map[el, a, c]
-                    nodes[b, slot * npe + a, c] = points[b, node, c]
-        if state:
-            current(nodes[b], q[b], dofs[b], moved)
-            weighted(N[b], moved[:npe], geometry[b, 0])
-            weighted(dN[b], moved[:npe], geometry[b, 1])
-            weighted(d2N[b], moved[:npe], geometry[b, 2])
-            weighted(T[b], moved, geometry[b, 3])
-            weighted(T_xi[b], moved, geometry[b, 4])
+                    nodes[slot * npe + a, c] = points[b, node, c]
+                for c in range(width):
+                    tangent_dofs[b, slot * m + width * a + c] = dof_map[el, a, c]
+        for j in range(m):
+            dofs[b, j] = tangent_dofs[b, j]
+        weighted(Ns[0], nodes[:npe], reference[b, 0])
+        weighted(Ns[1], nodes[:npe], reference[b, 1])
+        weighted(Ns[2], nodes[:npe], reference[b, 2])
+        weighted(Ts, nodes, tangent_reference[b, 0])
+        weighted(Ts_xi, nodes, tangent_reference[b, 1])
+        if width == 3:  # Lagrange elements only: N_a I on the translations
+            lagrange_matrices(Ns, Ts, Ts_xi, N[b], dN[b], d2N[b], T[b], T_xi[b])
+        else:
+            displacement_one(
+                three,
+                Xb,
+                kinds,
+                first_element,
+                R0_of[b],
+                stiffness,
+                h[b],
+                N[b],
+                dN[b],
+                d2N[b],
+                T[b],
+                T_xi[b],
+                end,
+                shape,
+                block,
+            )
+        if state and width == 3:  # x = sum N_a (X_a + u_a): the scalar coefficients
+            for j in range(3 * npe):
+                for c in range(3):
+                    translations[j, c] = tangent_dofs[b, 3 * j + c]
+            current(nodes, q[b], translations, moved)
+            weighted(Ns[0], moved[:npe], geometry[b, 0])
+            weighted(Ns[1], moved[:npe], geometry[b, 1])
+            weighted(Ns[2], moved[:npe], geometry[b, 2])
+            geometry[b, 3] = 0.0  # degree at most 2
+            weighted(Ts, moved, geometry[b, 4])
+            weighted(Ts_xi, moved, geometry[b, 5])
+        elif state:
+            displaced(reference[b, 0], N[b], q[b], dofs[b], geometry[b, 0])
+            displaced(reference[b, 1], dN[b], q[b], dofs[b], geometry[b, 1])
+            displaced(reference[b, 2], d2N[b], q[b], dofs[b], geometry[b, 2])
+            # l_/xixi: zero on Lagrange elements (degree at most 2), the reference line's too
+            element_line(kind, frame, stiffness[e], h[b, e], Xb, 3, end, shape, block)
+            displaced(zero, end, q[b], dofs[b], geometry[b, 3])
+            displaced(tangent_reference[b, 0], T[b], q[b], tangent_dofs[b], geometry[b, 4])
+            displaced(tangent_reference[b, 1], T_xi[b], q[b], tangent_dofs[b], geometry[b, 5])
+            if nc and kind == CUBIC:
+                cubic_flex_at(frame, stiffness[e], h[b, e], Xb, compliance6, compliance6_xi)
+                for i in range(3):
+                    for c in range(6):
+                        contact[b, i, c] = compliance6[i, c]
+                        contact_xi[b, i, c] = compliance6_xi[i, c]
         if transfer:
             for a in range(npe):
                 for c in range(6):
                     load_dofs[b, 6 * a + c] = dof_map[e, a, c]
             transfer_at(
-                rigid[k], regions, nodes[b, :npe], h[b, e], Xb, n, dn, d2n, chi, dchi, G[b], dG[b]
+                kind,
+                regions,
+                nodes[:npe],
+                frame,
+                stiffness[e],
+                h[b, e],
+                Xb,
+                n,
+                dn,
+                d2n,
+                chi,
+                dchi,
+                G[b],
+                dG[b],
             )
         if rotation:
-            kink[b], kink_xi[b] = rotation_one(Xb, h[b, e], lag[e], npe, pair, w[b], w_xi[b])
+            R0[b] = frame
+            if kind == CUBIC:  # the element's own rotation and its compliance (eq. T13)
+                pair[0], pair[1] = 0, 1
+                for order, out in ((0, W[b]), (1, W_xi[b]), (2, W_xixi[b])):
+                    cubic_local_at(stiffness[e], h[b, e], Xb, order, G_b)
+                    to_global(frame, G_b)
+                    for j in range(12):
+                        for c in range(3):
+                            out[c, j] = G_b[j, 3 + c]
+                cubic_flex_at(frame, stiffness[e], h[b, e], Xb, compliance6, compliance6_xi)
+                for i in range(3):
+                    for c in range(3):
+                        flex[b, i, c] = compliance6[3 + i, 3 + c]
+                        flex_xi[b, i, c] = compliance6_xi[3 + i, 3 + c]
+            else:
+                kink[b], kink_xi[b] = rotation_one(Xb, h[b, e], lag[e], npe, pair, w, w_xi)
+                for s in range(2):
+                    for c in range(3):
+                        W[b, c, width * s + width - 3 + c] = w[s]
+                        W_xi[b, c, width * s + width - 3 + c] = w_xi[s]
+                for i in range(3):
+                    for c in range(3):
+                        flex[b, i, c] = kink[b] * compliance_of[b, e, i, c]
+                        flex_xi[b, i, c] = kink_xi[b] * compliance_of[b, e, i, c]
             for s in range(2):
-                for c in range(3):
-                    rotation_dofs[b, s, c] = dof_map[e, pair[s], 3 + c]
-            R0[b] = R0_of[b, e]
-            compliance[b] = compliance_of[b, e]
+                for c in range(width):
+                    rotation_dofs[b, width * s + c] = dof_map[e, pair[s], 6 - width + c]
     return (
         beam,
         element,
         X,
-        dofs[:, :npe],
-        nodes[:, :npe],
+        dofs,
+        reference,
         N,
         dN,
         d2N,
-        dofs,
-        nodes,
+        tangent_dofs,
+        tangent_reference,
         T,
         T_xi,
         geometry,
+        contact,
+        contact_xi,
         load_dofs,
         G,
         dG,
         rotation_dofs,
-        w,
-        w_xi,
+        W,
+        W_xi,
+        W_xixi,
         kink,
         kink_xi,
+        flex,
+        flex_xi,
         R0,
-        compliance,
     )
 
 
 @numba.njit(cache=True)
 def weighted_current(
-    f: np.ndarray, nodes: np.ndarray, q: np.ndarray, rows: np.ndarray, dofs: np.ndarray
+    f: np.ndarray, reference: np.ndarray, q: np.ndarray, rows: np.ndarray, dofs: np.ndarray
 ) -> np.ndarray:
-    """``sum_a f_ja (nodes_a + q[dofs_a])`` (P, k, 3) for coefficients ``f`` (P, k, m) at
-    points with nodes ``nodes`` and dofs ``dofs`` (P, m, 3), on the states ``q[rows]``
-    (``q`` (R, n), ``rows`` (P,)): :func:`weighted` on :func:`current`."""
-    P, k, m = f.shape
-    out, moved = np.empty((P, k, 3)), np.empty((m, 3))
+    """``reference_j + f_j q[dofs]`` (P, k, 3) for matrices ``f`` (P, k, 3, m) at points with
+    reference values ``reference`` (P, k, 3) and dofs ``dofs`` (P, m), on the states
+    ``q[rows]`` (``q`` (R, n), ``rows`` (P,)): :func:`displaced` at each."""
+    P, k = f.shape[0], f.shape[1]
+    out = np.empty((P, k, 3))
     for p in range(P):
-        current(nodes[p], q[rows[p]], dofs[p], moved)
         for j in range(k):
-            weighted(f[p, j], moved, out[p, j])
+            displaced(reference[p, j], f[p, j], q[rows[p]], dofs[p], out[p, j])
     return out
 
 
@@ -379,13 +642,16 @@ def smeared_transfer(
     vertex_s: np.ndarray,
     first_element: np.ndarray,
     h: np.ndarray,
-    rigid: np.ndarray,
+    kinds: np.ndarray,
     regions: np.ndarray,
+    stiffness: np.ndarray,
+    R0_of: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The smeared load transfer of each member at ``xi`` (B,) on the stack's arrays (as
-    :func:`line_state`), as :meth:`sliders.lines.chain.BeamChain.transfer` gives it from the
-    kernel form: ``G = A / m`` and ``G' = (A' - G m') / m`` with ``A = int K(s - xi) H(s) ds``
-    and ``m = int K(s - xi) ds`` over the chain ``[0, L]``, ``A' = -int K' H ds`` (eq. T6).
+    :func:`line_state`: ``kinds``, ``stiffness`` and the element frames ``R0_of``), as
+    :meth:`sliders.lines.chain.BeamChain.transfer` gives it from the kernel form:
+    ``G = A / m`` and ``G' = (A' - G m') / m`` with ``A = int K(s - xi) H(s) ds`` and
+    ``m = int K(s - xi) ds`` over the chain ``[0, L]``, ``A' = -int K' H ds`` (eq. T6).
 
     The kernel (box if ``box``, else hat; half-width ``smearing > 0``) is integrated on each
     element of each beam it touches, over its part inside the beam and the kernel
@@ -446,9 +712,11 @@ def smeared_transfer(
             A[:] = 0.0
             dA[:] = 0.0
             m, dm = smeared_element(
-                rigid[k],
+                kinds[k],
                 regions,
                 nodes,
+                R0_of[b, e],
+                stiffness[e],
                 start,
                 h[b, e],
                 max(lo, start),
@@ -478,7 +746,22 @@ def smeared_transfer(
             if 0 < at < breaks[b, -1]:
                 k, e, X = locate_one(at, breaks[b], vertex_s[b], first_element, h[b])
                 element_nodes(points[b], cells[e], nodes)
-                transfer_at(rigid[k], regions, nodes, h[b, e], X, N, dN, d2N, chi, dchi, H, dH)
+                transfer_at(
+                    kinds[k],
+                    regions,
+                    nodes,
+                    R0_of[b, e],
+                    stiffness[e],
+                    h[b, e],
+                    X,
+                    N,
+                    dN,
+                    d2N,
+                    chi,
+                    dchi,
+                    H,
+                    dH,
+                )
                 add_block(H, -step_jump[i], e - first, dG[b])
                 dmass -= step_jump[i]
         used = 6 * ((span[b, 1] - first + 1) * (npe - 1) + 1)

@@ -18,6 +18,7 @@ from functools import cached_property
 import numpy as np
 
 from fvbeam import Beam, Section, Structure, Support, straight
+from fvbeam.formulations import formulation as get_formulation
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
 from sliders.solve.statics import SliderSolution, SliderStatics, solve_translated
@@ -66,7 +67,7 @@ class SlidingBeams:
         orientation: str = "section",
         setup: Setup = PAPER,
     ) -> None:
-        npe = 2 if formulation in ("fv2", "galerkin-p1") else 3
+        npe = get_formulation(formulation).nodes_per_element
         self.setup = setup
         L = setup.length
         self.cylinder = Beam(
