@@ -305,14 +305,17 @@ class Model:
         problems.raise_if_any(source)
         self._previous: SliderStatics | None = None
 
-    def _slider(self, spec: SliderSpec, structure: Structure) -> Slider:
+    def _line(self, spec: SliderSpec, structure: Structure) -> BeamChain | RigidLine:
+        """The line of the slider ``spec`` on ``structure``: a rigid line, or a chain of
+        the structure's beams."""
         if spec.line[0] in self.lines:
-            line = self.lines[spec.line[0]]
-        else:
-            line = BeamChain(structure, spec.line)
+            return self.lines[spec.line[0]]
+        return BeamChain(structure, spec.line)
+
+    def _slider(self, spec: SliderSpec, structure: Structure) -> Slider:
         return Slider(
             spec.kind,
-            line,
+            self._line(spec, structure),
             spec.body,
             np.array(spec.offset),
             np.array(spec.frame).T,
@@ -662,8 +665,15 @@ class Model:
                 dataclasses.replace(b, position=b.position + shift) if b.name in moved else b
                 for b in self.bodies
             ]
-            structure = Structure(beams, self.ties, bodies)
-            sliders = [self._slider(s, structure) for s in self.scene.slider]
+            if self._previous is None:
+                structure = Structure(beams, self.ties, bodies)
+                sliders = [self._slider(s, structure) for s in self.scene.slider]
+            else:  # the last point's parts moved: its numbering and checked sliders kept
+                structure = self._previous.structure.moved(beams, bodies)
+                sliders = [
+                    slider.moved(self._line(spec, structure))
+                    for slider, spec in zip(self._previous.sliders, self.scene.slider, strict=True)
+                ]
             self._previous = SliderStatics(
                 structure,
                 self.supports,
