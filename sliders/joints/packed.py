@@ -370,8 +370,8 @@ def _moved(new: Slider, old: Slider) -> bool:
         _equations(new) == _equations(old)
         and new.kind == old.kind
         and (new.drive is None) == (old.drive is None)
-        and np.array_equal(new.offset, old.offset)
-        and np.array_equal(new.frame, old.frame)
+        and (new.offset is old.offset or np.array_equal(new.offset, old.offset))
+        and (new.frame is old.frame or np.array_equal(new.frame, old.frame))
     ):
         return False
     if isinstance(new.line, BeamChain) and isinstance(old.line, BeamChain):

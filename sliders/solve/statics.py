@@ -125,12 +125,14 @@ class SliderStatics:
             raise ValueError(f"slider names must be unique, got {names}")
         self.plane = plane
         self._supports = list(supports)
-        if reuse is not None and reuse._same_supports(structure, self._supports, plane):
-            fixed = reuse._fixed  # the same nodes held: a structure moved (Structure.moved)
+        moved = reuse is not None and reuse._same_supports(structure, self._supports, plane)
+        if reuse is not None and moved:  # the same nodes held: a structure moved
+            fixed, self._held = reuse._fixed, reuse._held
         else:
             fixed = structure.support_dofs(supports)
-            if plane is not None:  # a planar solve holds the out-of-plane dofs
-                fixed = np.union1d(fixed, out_of_plane(structure, plane))
+            self._held = out_of_plane(structure, plane) if plane is not None else None
+            if self._held is not None:  # a planar solve holds the out-of-plane dofs
+                fixed = np.union1d(fixed, self._held)
         self._fixed = fixed
         if reuse is not None and operator is None and reuse._same_operator(structure, fixed):
             self.K, self.free, self.K_free = reuse.K, reuse.free, reuse.K_free
@@ -146,7 +148,13 @@ class SliderStatics:
             self.K_free = self.K[self.free][:, self.free].tocoo()
             self._condensed = None
         if plane is not None:  # a reused operator's coupling was checked where it was built
-            check(structure, self.sliders, plane, [self.K] if reuse is None else [])
+            check(
+                structure,
+                self.sliders,
+                plane,
+                [self.K] if reuse is None else [],
+                reuse.sliders if reuse is not None and moved else (),
+            )
         self._auto = method == "auto"
         if method == "auto":
             method = self.method = self._automatic()
@@ -267,7 +275,7 @@ class SliderStatics:
         if f.shape != (self.structure.n_dofs,) or not np.isfinite(f).all():
             raise ValueError(f"load vector must be finite with {self.structure.n_dofs} rows")
         if self.plane is not None:
-            check_load(self.structure, f, self.plane)
+            check_load(self.structure, f, self.plane, held=self._held)
         if not (isinstance(load_steps, (int, np.integer)) and load_steps >= 1):
             raise ValueError(f"load_steps must be a positive integer, got {load_steps!r}")
         state, counts = start, []
