@@ -102,7 +102,7 @@ def check(
     if off.size:
         name = structure.dof_name(6 * int(off[0])).rsplit(" ", 1)[0]
         raise ValueError(f"{name} lies off the plane {plane} of the structure's first node")
-    previous: list[Slider | None] = list(checked)[: len(sliders)]
+    previous: list[Slider | None] = [*checked[: len(sliders)]]
     previous += [None] * (len(sliders) - len(previous))
     for slider, old in zip(sliders, previous, strict=True):
         point = structure.node_position(slider.body) + slider.offset

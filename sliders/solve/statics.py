@@ -101,6 +101,8 @@ class SliderStatics:
     K_free: sp.coo_matrix
     _position: np.ndarray
     _condensed: CondensedOperator | None
+    _fixed: np.ndarray
+    _held: np.ndarray | None
 
     def __init__(
         self,
