@@ -16,8 +16,8 @@ Run as ``python -m studies.fig7_landing_gear --out DIR``; writes
 * ``DIR/fig7_landing_gear_summary.csv``: per model the peaks with their times, the spin-up,
   lift-off and spring-back, and the peak bearing friction over the peak vertical load with
   ``mu = 0.02`` on both sliders, post-processed from the slider reactions
-  (``friction_post_fraction``); ``friction_dynamic_fraction``, the friction in the dynamics,
-  stays empty until the sliders carry friction (:func:`friction_in_dynamics`);
+  (``friction_post_fraction``), and in the dynamics (``friction_dynamic_fraction``, a second
+  run of each model with friction on its sliders: :func:`friction_in_dynamics`);
 * ``DIR/fig7_render.png``: the finest model at its spin-up peak, deflections magnified
   (pyvista, when installed).
 
@@ -82,13 +82,12 @@ SUMMARY = (
 
 
 def friction_in_dynamics(model: str, slider: str, step: float, t_end: float) -> float:
-    """The peak friction along the strut over the peak vertical load with ``mu = 0.02`` on
-    both sliders *in the dynamics*: NaN until the sliders carry friction (issue 14's slider
-    friction, added to the joint kernel).  The hook: run ``GearModel(model, slider=slider)``
-    with friction on its sliders and return the peak of ``|l . lambda|`` summed over both
-    sliders (their reactions' part along the line, which friction alone gives) over its peak
-    vertical load."""
-    return math.nan
+    """The peak bearing friction along the strut over the peak vertical load, with
+    ``mu_b = 0.02`` on both sliders in the dynamics (:class:`sliders.joints.friction.Friction`
+    on the sliders of ``GearModel(model, slider=slider, friction=True)``): the friction is
+    the reactions' part along the lines (:func:`sliders.gear.outputs.friction_along`)."""
+    run = GearModel(model, slider=slider, friction=True).simulate(t_end, step)
+    return run.peak("friction")[0] / run.peak("ground_vertical")[0]
 
 
 def simulate(

@@ -27,8 +27,28 @@ pair of forces whose size depends on the bearing's length, which the joint does 
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
+
 import numba
 import numpy as np
+
+
+@dataclass(frozen=True)
+class Friction:
+    """A slider's bearing friction: coefficient ``mu`` (``>= 0``) and regularisation
+    velocity ``v_eps`` [m/s] (``> 0``; the law is viscous, of coefficient ``mu N / v_eps``,
+    below it: :func:`sliders.forces.laws.coulomb_friction`).  It acts in dynamics; statics,
+    at rest, sees none (``tanh 0 = 0``)."""
+
+    mu: float
+    v_eps: float = 1.0e-3
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.mu) and self.mu >= 0):
+            raise ValueError(f"friction mu must be a finite number >= 0, got {self.mu!r}")
+        if not (math.isfinite(self.v_eps) and self.v_eps > 0):
+            raise ValueError(f"friction v_eps must be a finite number > 0, got {self.v_eps!r}")
 
 
 def friction_term(
