@@ -36,7 +36,8 @@ from sliders.joints.friction import Friction, friction_term
 from sliders.joints.packed import JointPack
 from sliders.joints.slider import Slider
 from sliders.lines.rigid import StraightLine
-from sliders.solve.dynamics import Dynamics
+from sliders.solve.dynamics import Dynamics, DynamicsError
+from sliders.solve.integrator import State
 
 EPS = np.finfo(float).eps
 FRICTION = Friction(0.3, 0.5)
@@ -129,10 +130,10 @@ def test_the_sliding_velocity_is_relative_to_the_line(line) -> None:
     assert abs(got - expected) <= 64 * EPS * max(abs(expected), np.abs(y).max())
 
 
-def test_a_bead_pressed_on_a_line_decelerates_at_mu_p_over_m() -> None:
-    """The closed form of the module docstring."""
-    m, P, mu, v0, steps = 2.0, 10.0, 0.2, 1.0, 50
-    decel = mu * P / m  # 1 m/s^2: v falls from 1 to 0.5 in 0.5 s
+def bead(m: float, P: float, mu: float, v0: float) -> tuple[Dynamics, State]:
+    """A bead of mass ``m`` on a straight rigid rail along x, pressed on it by ``P`` (along
+    -y), friction ``mu`` (``v_eps = 1e-3``), launched at ``v0`` along the rail with the
+    consistent deceleration ``mu P / m``; its dynamics and start."""
     line = StraightLine((-1.0, 0.0, 0.0), (5.0, 0.0, 0.0), name="rail")
     structure = Structure([], bodies=[RigidBody("bead", np.zeros(3), mass=m)])
     slider = Slider("spherical", line, "bead", friction=Friction(mu, 1e-3), name="bead")
@@ -140,9 +141,35 @@ def test_a_bead_pressed_on_a_line_decelerates_at_mu_p_over_m() -> None:
     f[1] = -P
     dynamics = Dynamics(structure, [Support("bead", kind="rx+ry+rz")], [slider], f)
     v, qdd = np.zeros(structure.n_dofs), np.zeros(structure.n_dofs)
-    v[0], qdd[0] = v0, -decel
+    v[0], qdd[0] = v0, -mu * P / m
+    return dynamics, dynamics.state(np.zeros(structure.n_dofs), v, qdd=qdd)
+
+
+def test_a_bead_stops_and_sticks_in_split_steps() -> None:
+    """The bead decelerates at 1 m/s^2 from 1 m/s and stops at 0.5 m after 1 s.  Steps of
+    0.01 s cross the friction's band (the speed changes by 10 v_eps in a step): the step
+    across the stop fails Newton (it cycles between the two signs of the speed) and is
+    taken in halves (:meth:`Dynamics.split_step`).  The bead then rests: only the viscous
+    part of the friction acts, decaying the speed with ``tau = m v_eps / (mu P) = 1 ms``, so
+    speed and reaction along the rail vanish to Newton's tolerance.  The stop: the
+    acceleration jumps inside one step, where the scheme errs by at most ``decel h^2``."""
+    m, P, mu, v0, h = 2.0, 10.0, 0.2, 1.0, 0.01
+    dynamics, start = bead(m, P, mu, v0)
+    before = dynamics.run(start, 0.995, h, progress=False)
+    with pytest.raises(DynamicsError):
+        dynamics.step(before, h)
+    end = dynamics.run(before, 1.5, h, progress=False)
+    decel = mu * P / m
+    assert abs(end.q[0] - v0**2 / (2 * decel)) <= decel * h**2
+    assert abs(end.v[0]) <= 1e-8 * v0 and abs(end.unknowns[0][1]) <= 1e-8 * P
+
+
+def test_a_bead_pressed_on_a_line_decelerates_at_mu_p_over_m() -> None:
+    """The closed form of the module docstring."""
+    m, P, mu, v0, steps = 2.0, 10.0, 0.2, 1.0, 50
+    decel = mu * P / m  # 1 m/s^2: v falls from 1 to 0.5 in 0.5 s
+    dynamics, start = bead(m, P, mu, v0)
     T = 0.5
-    start = dynamics.state(np.zeros(structure.n_dofs), v, qdd=qdd)
     recorder = Recorder()
     end = dynamics.run(start, T, T / steps, recorder=recorder, progress=False)
     x, speed = end.q[0], end.v[0]

@@ -37,7 +37,6 @@ from fvbeam.smearing import steps
 from fvbeam.structure import Structure
 from sliders.joints.blocks import SlotJacobian
 from sliders.joints.friction import friction_at
-from sliders.joints.kernel import BODY as BODY_GROUP
 from sliders.joints.kernel import (
     BESIDE,
     GROUPS,
@@ -50,6 +49,7 @@ from sliders.joints.kernel import (
     joint_equations,
     reach,
 )
+from sliders.joints.kernel import BODY as BODY_GROUP
 from sliders.joints.slider import Slider, SliderBatch, _equations, _Layout
 from sliders.lines.batched import KERNEL_RULE, ChainStack
 from sliders.lines.batched_kernel import line_state, reference_line, smeared_transfer
@@ -282,7 +282,13 @@ class JointPack:
             return np.ascontiguousarray(np.atleast_2d(a), dtype=float)
 
         return frictions(
-            self.head, self.values, self.fields, self.floats, self.ints, rows(Q), rows(V),
+            self.head,
+            self.values,
+            self.fields,
+            self.floats,
+            self.ints,
+            rows(Q),
+            rows(V),
             rows(unknowns),
         )
 
