@@ -322,7 +322,7 @@ class Model:
             spec.orientation,
             spec.end_stops,
             self.slider_drives.get(spec.name),
-            Friction(spec.friction.mu, spec.friction.v_eps) if spec.friction else None,
+            Friction(**spec.friction.model_dump()) if spec.friction else None,
             spec.name,
         )
 

@@ -256,10 +256,13 @@ LineSpec = Annotated[
 
 class FrictionSpec(Table):
     """A slider's bearing friction (``sliders.joints.friction.Friction``): coefficient ``mu``
-    and regularisation velocity ``v_eps`` (m/s)."""
+    and regularisation velocity ``v_eps`` (m/s); stick-slip: the static coefficient
+    ``mu_static`` and the Stribeck speed ``v_stribeck`` (m/s)."""
 
     mu: NonNegative
     v_eps: Positive = 1.0e-3
+    mu_static: NonNegative | None = None
+    v_stribeck: Positive = 1.0e-2
 
 
 class SliderSpec(Table):

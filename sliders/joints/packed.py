@@ -63,7 +63,9 @@ UNKNOWNS, SLOTS, WIDTH, NPE, LOAD, ROTATION, TANGENT, SHAPE, CURVED, NODE_DOFS =
 FRICTION = 18
 HEAD = 19
 # The columns of a joint's row of :attr:`JointPack.values` (floats).
-SMEARING, LENGTH, MU_F, V_EPS = range(4)
+SMEARING, LENGTH = range(2)
+#: The friction law's columns (:attr:`sliders.joints.friction.Friction.law`).
+FRICTION_LAW = slice(2, 6)
 #: The blocks the bearing friction's term writes beyond a joint's own (its ``xi`` row reads
 #: the body's velocity; the rest of the row is in every joint's pattern).
 FRICTION_BLOCKS = (("xi", "body"), ("xi", "turn"))
@@ -163,8 +165,9 @@ class JointPack:
         Jacobian entries ``width``, nodes per element, load / rotation / tangent slots, rigid
         line shape, chain with curved elements, the dofs of a node the chain's
         interpolation reads (3, or 6 with cubic elements), bearing friction.
-    values : (J, 4) float64
-        Per joint: smearing, line length, friction coefficient and velocity.
+    values : (J, 6) float64
+        Per joint: smearing, line length, the friction law (:attr:`sliders.joints.friction.
+        Friction.law`; zero coefficients without friction).
     fields : (J, len(FIELDS), 5) int64
         Per joint and array of :data:`FIELDS`: offset into ``floats`` or ``ints`` and shape
         (up to four dimensions, trailing ones 1).
@@ -189,7 +192,7 @@ class JointPack:
         sizes = [0, 0]
         J = len(self.sliders)
         self.head = np.zeros((J, HEAD), dtype=np.int64)
-        self.values = np.zeros((J, 4))
+        self.values = np.zeros((J, 6))
         self.fields = np.zeros((J, len(FIELDS), 5), dtype=np.int64)
         self.layouts: list[tuple[_Layout, SlotJacobian]] = []
         #: Per joint on a chain, the node of the chain at each projection sample.
@@ -198,8 +201,8 @@ class JointPack:
             arrays, head, layout, jacobian = _joint_arrays(slider, structure, pins[j])
             self.grid_nodes.append(arrays.pop("grid_nodes", np.zeros(0, dtype=int)))
             self.head[j] = head
-            friction = (slider.friction.mu, slider.friction.v_eps) if slider.friction else (0, 1)
-            self.values[j] = slider.smearing, slider.line.length, *friction
+            law = slider.friction.law if slider.friction else (0.0, 1.0, 0.0, 1.0)
+            self.values[j] = slider.smearing, slider.line.length, *law
             self.layouts.append((layout, jacobian))
             for f, name in enumerate(FIELDS):
                 integer = f >= INTEGER_FIELDS
@@ -709,8 +712,7 @@ def evaluate_joint(
     )
     if hd[FRICTION]:
         friction[0] = _friction(
-            values_of[j, MU_F],
-            values_of[j, V_EPS],
+            values_of[j, FRICTION_LAW],
             velocity,
             q,
             y,
@@ -752,8 +754,7 @@ def evaluate_joint(
 
 @numba.njit(cache=True, inline="never")
 def _friction(
-    mu: float,
-    v_eps: float,
+    law: np.ndarray,
     velocity: tuple[np.ndarray, np.ndarray, float],
     q: np.ndarray,
     y: np.ndarray,
@@ -774,7 +775,9 @@ def _friction(
 ) -> float:
     """The bearing friction's term ``e`` of the ``xi`` equation (:func:`sliders.joints.
     friction.friction_at`) added to ``r``, and with ``jacobian`` its derivatives to
-    ``values`` (1, width); returns the friction force ``F``.  Through what it reads:
+    ``values`` (1, width); returns the friction force ``F``.  ``law``: ``mu, v_eps,
+    mu_static, v_stribeck`` (:attr:`sliders.joints.friction.Friction.law`).  Through what it
+    reads:
 
     * the recovered tangent ``l~ = T q + l~_0`` (its ``xi`` derivative ``l~_/xi``; ``T`` on the
       ``interp`` and ``beside`` slots);
@@ -801,7 +804,8 @@ def _friction(
             w[c] -= N[c, col] * rate
             line_xi[c] -= dN[c, col] * rate
     d_l, d_w, d_lam = np.zeros(3), np.zeros(3), np.zeros(3)
-    e, force = friction_at(tangent, w, y[1:4], mu, v_eps, d_l, d_w, d_lam)
+    mu, v_eps, mu_static, v_stribeck = law
+    e, force = friction_at(tangent, w, y[1:4], mu, v_eps, mu_static, v_stribeck, d_l, d_w, d_lam)
     r[t] += e
     if not jacobian:
         return force
