@@ -60,6 +60,7 @@ from sliders.forces.elements import AxialForce, ForceElement, Tyre
 from sliders.forces.laws import Strut
 from sliders.joints.drives import DofDrive, Linear, Ramp, Tabulated, initial_rate
 from sliders.joints.friction import Friction
+from sliders.joints.packed import JointPack
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
 from sliders.lines.rigid import (
@@ -192,13 +193,21 @@ def _rigid_line(spec) -> RigidLine:
 
 class _Probe:
     """Distances from points to a slider's line in its reference configuration (``zero``:
-    no displacement), and the on-line tolerance (module docstring)."""
+    no displacement), and the on-line tolerance (module docstring); ``pack``: the slider
+    packed alone (:class:`sliders.joints.packed.JointPack`), whose compiled line geometry
+    then takes the place of the chain's (the same numbers, a sixth of the time)."""
 
-    def __init__(self, line: BeamChain | RigidLine, zero: np.ndarray) -> None:
+    def __init__(
+        self, line: BeamChain | RigidLine, zero: np.ndarray, pack: JointPack | None = None
+    ) -> None:
         self.curve: Callable[[float], tuple[np.ndarray, ...]]
         self.project: Callable[[np.ndarray], float]
         if isinstance(line, BeamChain):
-            self.curve = lambda xi: line.geometry(xi, zero)
+            self.curve = (
+                (lambda xi: line.geometry(xi, zero))
+                if pack is None
+                else (lambda xi: pack.curve(0, zero, xi))
+            )
             self.project = lambda point: line.project(point, zero)
         else:
             self.curve = lambda xi: line.derivatives(xi)[:3]
@@ -474,7 +483,11 @@ class Model:
             sign = (part_of(self.scene.slider[i].body) in moved) - self._line_moves(i, moved)
             if not moved or sign == 0:
                 continue
-            probe = _Probe(slider.line, np.zeros(self.structure.n_dofs))
+            # a chain read compiled: the slider's joint packed (its line's geometry)
+            pack = (
+                JointPack([slider], self.structure) if isinstance(slider.line, BeamChain) else None
+            )
+            probe = _Probe(slider.line, np.zeros(self.structure.n_dofs), pack)
             point, xi, bad = slider.reference_point(self.structure), None, []
             for v in values:
                 gap, tol, xi = probe.gap(point + sign * self.offset(v), xi)
