@@ -22,7 +22,8 @@ Three studies, each a grid of runs; every run gives one row (:data:`COLUMNS`):
     (:data:`studies.moving_load.LOADINGS`): ``point_load`` (its load vector rebuilt every
     step) on the whole grid, and ``slider`` (a massless body driven along the beam by a
     spherical slider) on a smaller one.  Timed: :func:`studies.moving_load.simulate`
-    (assembly, factorisation of the step operator, every step).
+    (assembly, factorisation of the step operator, every step), on a model (mesh, section,
+    beam, supports) built before the timing, as the peer builds its items before its.
 ``fig2``
     The Figure 2 scene (:mod:`studies.fig2_smearing`, damped, 100 periods) per smearing
     level over steps per period, on the paper's fv3 element and, at smearing 0, on one cubic
@@ -319,12 +320,15 @@ class Study:
         problem = CASES[case]
         exact = self.exact_midspan(case, steps)
         t_end = WINDOW * problem.crossing
-
-        def run() -> np.ndarray:
-            m = ml.model(formulation, n, problem=problem)
-            return ml.simulate(m, steps, rho_inf, t_end, loading)[1]
-
-        w, wall, cpu = timed(run, self.grid.repeats)
+        wall, cpu, w = math.inf, math.inf, np.empty(0)
+        for _ in range(self.grid.repeats):
+            m = ml.model(formulation, n, problem=problem)  # untimed, like the peer's items
+            w, once_wall, once_cpu = timed(
+                lambda m=m: ml.simulate(m, steps, rho_inf, t_end, loading)[1], 1
+            )
+            wall, cpu = min(wall, once_wall), min(cpu, once_cpu)
+            if once_cpu > LONG_RUN:
+                break
         error = ml.relative_error(w, exact)
         return moving_load_row(case, formulation, loading, n, steps, rho_inf, (wall, cpu), error)
 
