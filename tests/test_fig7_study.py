@@ -31,11 +31,15 @@ def test_files_and_columns(written):
         "rigid",
         "fv3-1",
     ]
-    # the rigid leg has no spring-back frequency, the friction in the dynamics is not yet run
-    assert (
-        summary[0]["spring_back_frequency"] == "" and summary[0]["friction_dynamic_fraction"] == ""
-    )
+    # the rigid leg has no spring-back frequency, the flexible one has
+    assert summary[0]["spring_back_frequency"] == ""
     assert float(summary[1]["spring_back_frequency"]) > 0
+    # the friction in the dynamics is mu N tanh <= mu N, N the run's own transverse reaction:
+    # the post-processed friction of the frictionless run to the friction's feedback on the
+    # loads (the ODEs: 1.6 % on the friction's peak, docs/landing_gear.md), within 5 %
+    for row in summary:
+        dynamic, post = (float(row[f"friction_{k}_fraction"]) for k in ("dynamic", "post"))
+        assert 0 < dynamic and abs(dynamic / post - 1) <= 0.05
     for name in ("fig7_landing_gear.png", "fig7_render.png"):
         data = (out / name).read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000

@@ -14,6 +14,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from sliders.forces.laws import stribeck_friction
 from sliders.joints.friction import friction_at, friction_term
 
 EPS = np.finfo(float).eps
@@ -21,16 +22,28 @@ vectors = st.lists(st.floats(-2.0, 2.0), min_size=3, max_size=3).map(np.array)
 
 
 @settings(max_examples=150, deadline=None, derandomize=True)
-@given(vectors, vectors, vectors, st.floats(0.01, 0.5), st.floats(0.05, 1.0))
-def test_compiled_equals_reference_and_partials_are_derivatives(l, w, lam, mu, v_eps) -> None:
+@given(
+    vectors,
+    vectors,
+    vectors,
+    st.floats(0.01, 0.5),
+    st.floats(0.05, 1.0),
+    st.floats(0.0, 0.5),
+    st.floats(0.1, 1.0),
+)
+def test_compiled_equals_reference_and_partials_are_derivatives(
+    l, w, lam, mu, v_eps, rise, v_stribeck
+) -> None:
+    """Coulomb's law (``rise = 0``) and the Stribeck curve (``mu_static = mu + rise``)."""
+    law = (mu, v_eps, mu + rise, v_stribeck)
     l = l + np.array([1.0, 0.0, 0.0]) * (np.linalg.norm(l) < 0.5)  # a line: |l| away from 0
     across = lam - (lam @ l) * l / (l @ l)
     if np.linalg.norm(across) < 0.1:  # a transverse reaction: |N| away from 0 (its kink)
         perp = max((np.cross(l, e) for e in np.eye(3)), key=np.linalg.norm)
         lam = lam + perp / np.linalg.norm(perp)
-    e, d_l, d_w, d_lam, F = friction_term(l, w, lam, mu, v_eps)
+    e, d_l, d_w, d_lam, F = friction_term(l, w, lam, *law)
     got = [np.zeros(3), np.zeros(3), np.zeros(3)]
-    e2, F2 = friction_at(l, w, lam, mu, v_eps, *got)
+    e2, F2 = friction_at(l, w, lam, *law, *got)
     scale = max(abs(e), np.abs(np.concatenate([d_l, d_w, d_lam])).max(), 1.0)
     assert abs(e2 - e) <= 16 * EPS * scale and abs(F2 - F) <= 16 * EPS * scale
     for a, b in zip(got, (d_l, d_w, d_lam), strict=True):
@@ -43,10 +56,21 @@ def test_compiled_equals_reference_and_partials_are_derivatives(l, w, lam, mu, v
             args = [l, w, lam]
             plus = [a + step if i == index else a for i, a in enumerate(args)]
             minus = [a - step if i == index else a for i, a in enumerate(args)]
-            fd = (friction_term(*plus, mu, v_eps)[0] - friction_term(*minus, mu, v_eps)[0]) / (
-                2 * h
-            )
+            fd = (friction_term(*plus, *law)[0] - friction_term(*minus, *law)[0]) / (2 * h)
             assert abs(fd - partial[c]) <= 1e-7 * scale
+
+
+def test_the_stribeck_curve_is_the_force_laws() -> None:
+    """With stick-slip the joint's friction is :func:`sliders.forces.laws.stribeck_friction`
+    of the sliding speed along the line and the transverse reaction, to roundoff."""
+    l, lam = np.array([0.0, 2.0, 0.0]), np.array([3.0, 0.5, -4.0])  # N = 5
+    for slide in (-0.3, -2e-3, 1e-4, 5e-3, 0.05):
+        w = np.array([0.4, slide, -0.2])
+        F = friction_term(l, w, lam, 0.1, 1e-3, 0.25, 0.02)[4]
+        law = stribeck_friction(
+            slide, 5.0, mu_static=0.25, mu_kinetic=0.1, v_stribeck=0.02, v_eps=1e-3
+        )
+        assert abs(F - float(law[0])) <= 16 * EPS * 0.25 * 5.0
 
 
 def test_the_friction_opposes_the_sliding_and_is_bounded() -> None:

@@ -48,14 +48,20 @@ def test_check_and_a_short_run_through_the_command(tmp_path, capsys):
     assert abs(float(first["stroke"]) - S0) <= 2 * g.tyre_stiffness * abs(S0) / 1e8
 
 
-def test_the_scene_is_the_python_models_gear():
+@pytest.mark.parametrize("friction", [False, True])
+def test_the_scene_is_the_python_models_gear(friction):
     """The scene's run against ``GearModel("fv3-3")`` at the scene's step: the tyre's force
     within twice the start's preload k_t |S0|, the stroke within 2 |S0|, the spin and the
-    airframe's speed within ten times that preload relative to the peak vertical load."""
-    outcome = run(Model(parse_scene(gear(t_end=0.06), SCENES, "landing_gear.toml")), False)
-    table = outcome.recorder.table()
-    ours = GearModel("fv3-3").simulate(0.06, 2e-4).outputs
+    airframe's speed within ten times that preload relative to the peak vertical load; with
+    the bearing friction on both sliders (``friction = {mu, v_eps}`` in the scene) too."""
     g = GearModel("fv3-3").gear
+    scene = gear(t_end=0.06)
+    if friction:
+        for slider in scene["slider"]:
+            slider["friction"] = {"mu": g.bearing_mu, "v_eps": g.bearing_v_eps}
+    outcome = run(Model(parse_scene(scene, SCENES, "landing_gear.toml")), False)
+    table = outcome.recorder.table()
+    ours = GearModel("fv3-3", friction=friction).simulate(0.06, 2e-4).outputs
     S0 = abs(ode.initial_stroke(g))
     preload = g.tyre_stiffness * S0
     assert np.abs(table["F_z"] - ours["ground_vertical"])[1:].max() <= 2 * preload
@@ -84,6 +90,15 @@ def test_force_problems_are_named():
     scene["force"][0]["law"]["pressur"] = 4.1e5
     paths = {p.path: p.message for p in problems(scene)}
     assert "force[2]" in str(paths) and "force[0].law.pressur" in paths, paths
+
+
+def test_friction_problems_are_named():
+    scene = data("landing_gear")
+    scene["slider"][0]["friction"] = {"mu": -0.02}
+    scene["slider"][1]["friction"] = {"mu": 0.02, "v_esp": 1e-3}
+    paths = {p.path: p.message for p in problems(scene)}
+    assert ">= 0" in paths["slider[0].friction.mu"]
+    assert "unknown key" in paths["slider[1].friction.v_esp"]
 
 
 def test_start_and_velocity_problems_are_named():

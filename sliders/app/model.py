@@ -59,6 +59,7 @@ from sliders.app.state_tables import CHOICES, FORCE_NAMES, KEY_COLUMNS, Selectio
 from sliders.forces.elements import AxialForce, ForceElement, Tyre
 from sliders.forces.laws import Strut
 from sliders.joints.drives import DofDrive, Linear, Ramp, Tabulated, initial_rate
+from sliders.joints.friction import Friction
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
 from sliders.lines.rigid import (
@@ -321,6 +322,7 @@ class Model:
             spec.orientation,
             spec.end_stops,
             self.slider_drives.get(spec.name),
+            Friction(**spec.friction.model_dump()) if spec.friction else None,
             spec.name,
         )
 

@@ -254,6 +254,17 @@ LineSpec = Annotated[
 ]
 
 
+class FrictionSpec(Table):
+    """A slider's bearing friction (``sliders.joints.friction.Friction``): coefficient ``mu``
+    and regularisation velocity ``v_eps`` (m/s); stick-slip: the static coefficient
+    ``mu_static`` and the Stribeck speed ``v_stribeck`` (m/s)."""
+
+    mu: NonNegative
+    v_eps: Positive = 1.0e-3
+    mu_static: NonNegative | None = None
+    v_stribeck: Positive = 1.0e-2
+
+
 class SliderSpec(Table):
     """``[[slider]]``: a node sliding on a line (``sliders.joints.slider.Slider``)."""
 
@@ -267,6 +278,7 @@ class SliderSpec(Table):
     kernel: Literal["box", "hat"] = "box"
     orientation: Literal["section", "slope"] = "section"
     end_stops: Flag = False
+    friction: FrictionSpec | None = None
 
 
 class Wrench(Table):

@@ -41,6 +41,7 @@ from fvbeam import Beam, RigidBody, Section, Structure, Support, straight
 from sliders.forces.elements import AxialForce, Tyre
 from sliders.gear.outputs import GearRecorder, GearRun
 from sliders.gear.parameters import ISSUE_14, Gear
+from sliders.joints.friction import Friction
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
 from sliders.solve.dynamics import Dynamics
@@ -103,6 +104,10 @@ class GearModel:
         ``zeta`` of the first fore-aft bending mode.
     rigid_factor
         The rigid model's section is the tube's times this factor.
+    friction
+        Bearing friction on both sliders in the dynamics (``mu_b``, ``v_eps`` of ``gear``:
+        :class:`~sliders.joints.friction.Friction`); without it, the frictionless gear whose
+        friction the outputs post-process.
     strut
         The strut's lower node: ``head`` (the piston's top, ``extended = s_ext``: the gas
         pushes the piston's head, along the cylinder) or ``axle`` (the piston's lower end,
@@ -118,6 +123,7 @@ class GearModel:
         smearing: float = 0.01,
         damping_ratio: float = 0.0175,
         rigid_factor: float = 1e5,
+        friction: bool = False,
         strut: str = "head",
     ) -> None:
         self.model, self.gear, self.n_elements = model, gear, elements(model)
@@ -167,6 +173,7 @@ class GearModel:
                 body,
                 frame=FRAME,
                 smearing=smearing,
+                friction=Friction(g.bearing_mu, g.bearing_v_eps) if friction else None,
                 name=name,
             )
             for name, line, body in (("top", "C", "P.start"), ("bottom", "P", "C.end"))

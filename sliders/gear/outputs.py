@@ -35,6 +35,8 @@ import numpy as np
 from fvbeam.structure import Structure
 from sliders.forces.elements import AxialForce, Tyre
 from sliders.gear.parameters import Gear
+from sliders.joints.packed import JointPack
+from sliders.joints.slider import Slider
 from sliders.solve.integrator import State
 
 if TYPE_CHECKING:
@@ -50,6 +52,7 @@ class Parts(Protocol):
     structure: Structure
     strut: AxialForce
     tyre: Tyre
+    sliders: list[Slider]
 
 
 #: The issue's output columns after ``model, t`` (Figure 7 study), in order.
@@ -65,8 +68,9 @@ COLUMNS = (
 #: Further outputs: the strut element's stroke (its chord's), velocities (airframe, axle, the
 #: strut's stroke rate), the sliders' abscissae and
 #: couples (the classical sliders' orientation multipliers), the bearings' normal force
-#: ``|R_top| + |R_bot|`` and its friction ``mu_b N`` (post-processing), and the tyre's
-#: deflection.
+#: ``|R_top| + |R_bot|`` and its friction ``mu_b N`` (post-processing), the bearing friction
+#: in the dynamics (:func:`friction_along`, both sliders' summed; zero without it), and the
+#: tyre's deflection.
 EXTRA = (
     "strut_stroke",
     "airframe_forward_speed",
@@ -80,6 +84,7 @@ EXTRA = (
     "bottom_couple",
     "bearing_normal",
     "friction_post",
+    "friction",
     "tyre_deflection",
 )
 #: Spin-up: the wheel reaches this fraction of the rolling speed ``u / R0`` (issue 14).
@@ -165,11 +170,23 @@ class GearRecorder:
             "bottom_couple": couples[:, 1],
             "bearing_normal": normal,
             "friction_post": g.bearing_mu * normal,
+            "friction": friction_along(model, q, v, y),
             "tyre_deflection": tyre["deflection"],
         }
         return GearRun(
             model.model, model.slider_kind, g.radius, t, outputs, iterations, seconds, self.states
         )
+
+
+def friction_along(model: Parts, q: np.ndarray, v: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """The bearing friction in the dynamics at each state (``q``, ``v`` (k, n), the
+    sliders' unknowns ``y`` (k, J, m)): the sum over the sliders of the magnitude of the
+    friction force along the line (:meth:`sliders.joints.packed.JointPack.frictions`); zero
+    for sliders without friction."""
+    if all(s.friction is None for s in model.sliders):
+        return np.zeros(len(q))
+    pack = JointPack(model.sliders, model.structure)
+    return np.abs(pack.frictions(q, v, y.reshape(len(y), -1))).sum(axis=1)
 
 
 @dataclass

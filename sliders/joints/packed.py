@@ -17,7 +17,9 @@ member in Python:
    (:func:`sliders.lines.rigid_kernel.line_at`, :func:`~sliders.lines.rigid_kernel.frame_at`);
 2. the joint equations (:func:`sliders.joints.kernel.joint_equations`, paper eqs. 1-5,
    Sec. 4) on the joint's slots;
-3. an end stop or a drive replacing the ``xi`` equation where it acts.
+3. the bearing friction's term of the ``xi`` equation (:mod:`sliders.joints.friction`), in
+   dynamics, from the velocities of the body and of the line's nodes;
+4. an end stop or a drive replacing the ``xi`` equation where it acts.
 
 ``tests/test_packed_joints.py`` holds it equal to :meth:`SliderBatch.evaluate`, the
 reference, to roundoff, for every kind, orientation, line, smearing, end stop and drive.
@@ -34,7 +36,20 @@ import numpy as np
 from fvbeam.smearing import steps
 from fvbeam.structure import Structure
 from sliders.joints.blocks import SlotJacobian
-from sliders.joints.kernel import GROUPS, KINDS, LAM, MU, XI, joint_equations, reach
+from sliders.joints.friction import friction_at
+from sliders.joints.kernel import (
+    BESIDE,
+    GROUPS,
+    INTERP,
+    KINDS,
+    LAM,
+    MU,
+    TURN,
+    XI,
+    joint_equations,
+    reach,
+)
+from sliders.joints.kernel import BODY as BODY_GROUP
 from sliders.joints.slider import Slider, SliderBatch, _equations, _Layout
 from sliders.lines.batched import KERNEL_RULE, ChainStack
 from sliders.lines.batched_kernel import line_state, reference_line, smeared_transfer
@@ -45,9 +60,15 @@ from sliders.lines.rigid_kernel import curvature_rate_at, frame_at, line_at
 # The columns of a joint's row of :attr:`JointPack.head` (integers).
 KIND, SLOPE, SECTION, CHAIN, SMEARED, BOX, END_STOPS, DRIVEN = range(8)
 UNKNOWNS, SLOTS, WIDTH, NPE, LOAD, ROTATION, TANGENT, SHAPE, CURVED, NODE_DOFS = range(8, 18)
-HEAD = 18
+FRICTION = 18
+HEAD = 19
 # The columns of a joint's row of :attr:`JointPack.values` (floats).
 SMEARING, LENGTH = range(2)
+#: The friction law's columns (:attr:`sliders.joints.friction.Friction.law`).
+FRICTION_LAW = slice(2, 6)
+#: The blocks the bearing friction's term writes beyond a joint's own (its ``xi`` row reads
+#: the body's velocity; the rest of the row is in every joint's pattern).
+FRICTION_BLOCKS = (("xi", "body"), ("xi", "turn"))
 # The arrays of a joint, in the order of its descriptors (:attr:`JointPack.fields`).
 FIELDS = (
     # floats
@@ -143,9 +164,10 @@ class JointPack:
         smeared, box kernel, end stops, driven; unknowns ``m``, structure slots ``t``,
         Jacobian entries ``width``, nodes per element, load / rotation / tangent slots, rigid
         line shape, chain with curved elements, the dofs of a node the chain's
-        interpolation reads (3, or 6 with cubic elements).
-    values : (J, 2) float64
-        Per joint: smearing and line length.
+        interpolation reads (3, or 6 with cubic elements), bearing friction.
+    values : (J, 6) float64
+        Per joint: smearing, line length, the friction law (:attr:`sliders.joints.friction.
+        Friction.law`; zero coefficients without friction).
     fields : (J, len(FIELDS), 5) int64
         Per joint and array of :data:`FIELDS`: offset into ``floats`` or ``ints`` and shape
         (up to four dimensions, trailing ones 1).
@@ -170,7 +192,7 @@ class JointPack:
         sizes = [0, 0]
         J = len(self.sliders)
         self.head = np.zeros((J, HEAD), dtype=np.int64)
-        self.values = np.zeros((J, 2))
+        self.values = np.zeros((J, 6))
         self.fields = np.zeros((J, len(FIELDS), 5), dtype=np.int64)
         self.layouts: list[tuple[_Layout, SlotJacobian]] = []
         #: Per joint on a chain, the node of the chain at each projection sample.
@@ -179,7 +201,8 @@ class JointPack:
             arrays, head, layout, jacobian = _joint_arrays(slider, structure, pins[j])
             self.grid_nodes.append(arrays.pop("grid_nodes", np.zeros(0, dtype=int)))
             self.head[j] = head
-            self.values[j] = slider.smearing, slider.line.length
+            law = slider.friction.law if slider.friction else (0.0, 1.0, 0.0, 1.0)
+            self.values[j] = slider.smearing, slider.line.length, *law
             self.layouts.append((layout, jacobian))
             for f, name in enumerate(FIELDS):
                 integer = f >= INTEGER_FIELDS
@@ -253,6 +276,25 @@ class JointPack:
         y = np.concatenate([np.asarray(u, dtype=float) for u in unknowns] + [np.zeros(0)])
         return violations(self.head, self.values, self.fields, self.floats, self.ints, q, y, drives)
 
+    def frictions(self, Q: np.ndarray, V: np.ndarray, unknowns: np.ndarray) -> np.ndarray:
+        """Each joint's friction force on its body along its line at each state (``Q``,
+        ``V`` (k, n); ``unknowns`` (k, m), the joints' physical unknowns side by side): (k, J),
+        by :func:`frictions` (one compiled call); zero for a joint without friction."""
+
+        def rows(a: np.ndarray) -> np.ndarray:
+            return np.ascontiguousarray(np.atleast_2d(a), dtype=float)
+
+        return frictions(
+            self.head,
+            self.values,
+            self.fields,
+            self.floats,
+            self.ints,
+            rows(Q),
+            rows(V),
+            rows(unknowns),
+        )
+
     def evaluate(
         self,
         j: int,
@@ -261,11 +303,13 @@ class JointPack:
         drive: float = 0.0,
         scale: float = 1.0,
         jacobian: bool = True,
+        velocity: tuple[np.ndarray, np.ndarray, float] | None = None,
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Joint ``j`` at the state ``q`` (n,) and unknowns ``y``: its slots' global dofs,
         residual (slots, then its own equations) and Jacobian entries (laid out as its
         :class:`~sliders.joints.blocks.SlotJacobian`), by :func:`evaluate_joint`; ``drive``:
-        the driven abscissa at this time (read only for a driven joint)."""
+        the driven abscissa at this time (read only for a driven joint); ``velocity``:
+        ``(v_hat, q_hat, c_v)`` of a dynamic step, which the friction reads (None: at rest)."""
         t, m, width = self.slots[j], self.unknowns[j], self.widths[j]
         dofs = np.zeros(t, dtype=np.int64)
         r, values = np.zeros(t + m), np.zeros(width)
@@ -278,12 +322,14 @@ class JointPack:
             self.ints,
             np.ascontiguousarray(q, dtype=float),
             np.ascontiguousarray(y, dtype=float),
+            velocity if velocity is not None else (np.zeros(len(q)), np.zeros(len(q)), 0.0),
             float(drive),
             float(scale),
             jacobian,
             dofs,
             r,
             values,
+            np.zeros(1),
         )
         if status == 2:
             raise RuntimeError(f"slider {self.sliders[j].name!r}: more load slots than laid out")
@@ -311,6 +357,7 @@ def _joint_arrays(
     head[SMEARED], head[BOX] = batch.smearing > 0, batch.kernel == "box"
     head[END_STOPS], head[DRIVEN] = batch.end_stops, batch.drives[0] is not None
     head[UNKNOWNS] = batch.n_unknowns
+    head[FRICTION] = slider.friction is not None
     arrays["offset"], arrays["frame"] = batch.offset, batch.frame
     arrays["reference"], arrays["body"] = batch.reference, batch.body
     if chain is not None:
@@ -353,10 +400,12 @@ def _joint_arrays(
     arrays["pinned"] = np.asarray(pinned, dtype=np.int64)
     diagonal: tuple[tuple[str, str], ...] = (("lam", "lam"),) if any(k <= 3 for k in pinned) else ()
     diagonal += (("mu", "mu"),) if any(k > 3 for k in pinned) else ()
+    diagonal += FRICTION_BLOCKS if slider.friction is not None else ()
     # once each: a cubic chain's joint has the (lam, lam) block already
     jacobian = layout.jacobian(1, tuple(dict.fromkeys(batch.pattern + diagonal)))
     compliant = head[NODE_DOFS] == 6
     writes = reach(batch.kind, batch.orientation, bool(np.any(batch.offset)), section, compliant)
+    writes += FRICTION_BLOCKS if slider.friction is not None else ()
     arrays["start"], arrays["size"], arrays["where"] = jacobian.index(GROUPS, writes)
     head[SLOTS], head[WIDTH] = layout.t, jacobian.values.shape[1]
     return arrays, head, layout, jacobian
@@ -372,6 +421,7 @@ def _moved(new: Slider, old: Slider) -> bool:
         and (new.drive is None) == (old.drive is None)
         and np.array_equal(new.offset, old.offset)
         and np.array_equal(new.frame, old.frame)
+        and new.friction == old.friction
     ):
         return False
     if isinstance(new.line, BeamChain) and isinstance(old.line, BeamChain):
@@ -433,18 +483,24 @@ def evaluate_joint(
     I: np.ndarray,
     q: np.ndarray,
     y: np.ndarray,
+    velocity: tuple[np.ndarray, np.ndarray, float],
     drive: float,
     scale: float,
     jacobian: bool,
     dofs: np.ndarray,
     r: np.ndarray,
     values: np.ndarray,
+    friction: np.ndarray,
 ) -> int:
     """Joint ``j`` of a :class:`JointPack` at the state ``q`` (n,) and its unknowns ``y``
     (m,): the global dof of each slot into ``dofs`` (t,), the residual into ``r`` (t + m,)
     and, with ``jacobian``, the Jacobian entries into ``values`` (width,), all overwritten
-    (module docstring).  ``drive``: the driven abscissa; ``scale``: the multipliers in ``y``
-    are ``scale`` times the physical ones.  Returns 0, or 1 when ``xi`` lies off the line
+    (module docstring); a joint with friction writes its force on the body along the line,
+    ``F`` of :mod:`sliders.joints.friction` (physical when ``scale`` is 1), into
+    ``friction`` (1,).  ``velocity``: ``(v_hat, q_hat, c_v)``, the velocities ``v_hat +
+    c_v (q - q_hat)`` the friction reads (the integrator's prediction and ``gamma'``; zeros
+    and 0 at rest); ``drive``: the driven abscissa; ``scale``: the multipliers in ``y`` are
+    ``scale`` times the physical ones.  Returns 0, or 1 when ``xi`` lies off the line
     (without end stops), nothing written then."""
     hd, d = head[j], fields[j]
     smearing, length = values_of[j, 0], values_of[j, 1]
@@ -654,6 +710,27 @@ def evaluate_joint(
         rb,
         vb,
     )
+    if hd[FRICTION]:
+        friction[0] = _friction(
+            values_of[j, FRICTION_LAW],
+            velocity,
+            q,
+            y,
+            dofs,
+            _f1(F, d[OFFSET]),
+            6 + n_load + n_rot,
+            N[0],
+            dN[0],
+            T[0],
+            tangent[0],
+            tangent_xi[0],
+            jacobian,
+            start,
+            size,
+            where,
+            r,
+            vb,
+        )
     if hd[END_STOPS]:
         along = l[0, 0] * y[1] + l[0, 1] * y[2] + l[0, 2] * y[3]
         for side in range(2):
@@ -673,6 +750,83 @@ def evaluate_joint(
         if jacobian:
             _pin(k, size, where, values)
     return 0
+
+
+@numba.njit(cache=True, inline="never")
+def _friction(
+    law: np.ndarray,
+    velocity: tuple[np.ndarray, np.ndarray, float],
+    q: np.ndarray,
+    y: np.ndarray,
+    dofs: np.ndarray,
+    offset: np.ndarray,
+    interp: int,
+    N: np.ndarray,
+    dN: np.ndarray,
+    T: np.ndarray,
+    tangent: np.ndarray,
+    tangent_xi: np.ndarray,
+    jacobian: bool,
+    start: np.ndarray,
+    size: np.ndarray,
+    where: np.ndarray,
+    r: np.ndarray,
+    values: np.ndarray,
+) -> float:
+    """The bearing friction's term ``e`` of the ``xi`` equation (:func:`sliders.joints.
+    friction.friction_at`) added to ``r``, and with ``jacobian`` its derivatives to
+    ``values`` (1, width); returns the friction force ``F``.  ``law``: ``mu, v_eps,
+    mu_static, v_stribeck`` (:attr:`sliders.joints.friction.Friction.law`).  Through what it
+    reads:
+
+    * the recovered tangent ``l~ = T q + l~_0`` (its ``xi`` derivative ``l~_/xi``; ``T`` on the
+      ``interp`` and ``beside`` slots);
+    * the multipliers ``lambda = y[1:4]``;
+    * the sliding velocity ``w = u_b' + theta_b' x f + ... - N q'`` of the body's point
+      (``u_b + theta_b x f`` with ``f`` the offset, as the position constraint reads it) relative
+      to the line's material point at ``xi`` (``N`` on the ``interp`` slots; zero on a rigid
+      line), with ``q' = v_hat + c_v (q - q_hat)``: ``dw/dq = c_v dw/dq'``, and
+      ``dw/dxi = -N_/xi q'``.
+    """
+    v_hat, q_hat, c_v = velocity
+    t = start[XI]
+    w, line_xi = np.zeros(3), np.zeros(3)
+    for c in range(3):
+        b, turn = dofs[c], dofs[3 + c]
+        w[c] += v_hat[b] + c_v * (q[b] - q_hat[b])
+        rate = v_hat[turn] + c_v * (q[turn] - q_hat[turn])
+        w[(c + 1) % 3] -= rate * offset[(c + 2) % 3]  # theta' x f: e_c x f per component
+        w[(c + 2) % 3] += rate * offset[(c + 1) % 3]
+    for col in range(N.shape[1]):
+        dof = dofs[interp + col]
+        rate = v_hat[dof] + c_v * (q[dof] - q_hat[dof])
+        for c in range(3):
+            w[c] -= N[c, col] * rate
+            line_xi[c] -= dN[c, col] * rate
+    d_l, d_w, d_lam = np.zeros(3), np.zeros(3), np.zeros(3)
+    mu, v_eps, mu_static, v_stribeck = law
+    e, force = friction_at(tangent, w, y[1:4], mu, v_eps, mu_static, v_stribeck, d_l, d_w, d_lam)
+    r[t] += e
+    if not jacobian:
+        return force
+    o = where[XI, XI]
+    for c in range(3):
+        values[0, o] += d_l[c] * tangent_xi[c] + d_w[c] * line_xi[c]
+        values[0, where[XI, LAM] + c] += d_lam[c]
+        values[0, where[XI, BODY_GROUP] + c] += c_v * d_w[c]
+        # d (d_w . (theta' x f)) / d theta' = f x d_w
+        values[0, where[XI, TURN] + c] += c_v * (
+            offset[(c + 1) % 3] * d_w[(c + 2) % 3] - offset[(c + 2) % 3] * d_w[(c + 1) % 3]
+        )
+    n_interp = N.shape[1]
+    for col in range(T.shape[1]):
+        s = d_l[0] * T[0, col] + d_l[1] * T[1, col] + d_l[2] * T[2, col]
+        if col < n_interp:
+            s -= c_v * (d_w[0] * N[0, col] + d_w[1] * N[1, col] + d_w[2] * N[2, col])
+            values[0, where[XI, INTERP] + col] += s
+        else:
+            values[0, where[XI, BESIDE] + col - n_interp] += s
+    return force
 
 
 @numba.njit(cache=True, inline="never")
@@ -707,6 +861,8 @@ def violations(
     J = len(head)
     out = np.empty(J)
     at = 0
+    rest = (np.zeros(len(q)), np.zeros(len(q)), 0.0)  # the friction's row is not read here
+    scratch = np.zeros(1)
     for j in range(J):
         t, m = head[j, SLOTS], head[j, UNKNOWNS]
         dofs, r, values = np.zeros(t, np.int64), np.zeros(t + m), np.zeros(0)
@@ -719,12 +875,14 @@ def violations(
             I,
             q,
             y[at : at + m],
+            rest,
             drives[j],
             1.0,
             False,
             dofs,
             r,
             values,
+            scratch,
         )
         worst = np.nan if status else 0.0
         if not status:
@@ -732,6 +890,53 @@ def violations(
                 worst = max(worst, abs(r[c]))
         out[j] = worst
         at += m
+    return out
+
+
+@numba.njit(cache=True)
+def frictions(
+    head: np.ndarray,
+    values_of: np.ndarray,
+    fields: np.ndarray,
+    F: np.ndarray,
+    I: np.ndarray,
+    Q: np.ndarray,
+    V: np.ndarray,
+    Y: np.ndarray,
+) -> np.ndarray:
+    """Each joint's friction force ``F`` on its body along its line (:mod:`sliders.joints.
+    friction`; zero without friction) at each of ``k`` states: displacements ``Q`` and
+    velocities ``V`` (k, n), the joints' physical unknowns side by side ``Y`` (k, m); (k, J),
+    NaN for a joint whose ``xi`` lies off its line."""
+    J = len(head)
+    out = np.zeros((len(Q), J))
+    force = np.zeros(1)
+    for k in range(len(Q)):
+        at = 0
+        for j in range(J):
+            t, m = head[j, SLOTS], head[j, UNKNOWNS]
+            if head[j, FRICTION]:
+                dofs, r = np.zeros(t, np.int64), np.zeros(t + m)
+                status = evaluate_joint(
+                    j,
+                    head,
+                    values_of,
+                    fields,
+                    F,
+                    I,
+                    Q[k],
+                    Y[k, at : at + m],
+                    (V[k], Q[k], 0.0),
+                    0.0,
+                    1.0,
+                    False,
+                    dofs,
+                    r,
+                    np.zeros(0),
+                    force,
+                )
+                out[k, j] = np.nan if status else force[0]
+            at += m
     return out
 
 

@@ -60,6 +60,7 @@ from fvbeam.structure import Structure
 from sliders.joints.blocks import SlotJacobian
 from sliders.joints.drives import Motion
 from sliders.joints.equations import JointInputs
+from sliders.joints.friction import Friction
 from sliders.joints.kernel import GROUPS, joint_equations, reach
 from sliders.joints.kernel import KINDS as KERNEL_KINDS
 from sliders.lines.batched import ChainStack, LineRotation, gather
@@ -102,6 +103,10 @@ class Slider:
         A prescribed abscissa ``xi_d(t)`` (:mod:`sliders.joints.drives`): the frictionless
         equation ``l . lambda = 0`` becomes ``xi = xi_d(t)``, and ``l . lambda`` is the force
         pushing the sliding point along the line.  Statics holds ``xi`` at ``xi_d(0)``.
+    friction
+        Bearing friction along the line (:class:`sliders.joints.friction.Friction`), its
+        normal force the joint's transverse reaction: the ``xi`` equation carries it in
+        dynamics (:mod:`sliders.joints.friction`), on the condensed back end.
     name
         Label used in error messages.
     """
@@ -116,6 +121,7 @@ class Slider:
     orientation: str = "section"
     end_stops: bool = False
     drive: Motion | None = None
+    friction: Friction | None = None
     name: str = "slider"
 
     def __post_init__(self) -> None:
@@ -136,6 +142,15 @@ class Slider:
             raise ValueError(
                 f"{self.name}: orientation 'slope' is the classical slider's "
                 f"(paper eq. 4); a {self.kind} slider needs 'section'"
+            )
+        if self.friction is not None and not isinstance(self.friction, Friction):
+            raise ValueError(
+                f"{self.name}: friction must be a sliders.joints.friction.Friction, "
+                f"got {self.friction!r}"
+            )
+        if self.friction is not None and self.drive is not None:
+            raise ValueError(
+                f"{self.name}: a driven slider has no friction (its xi equation is the drive)"
             )
         parse_node(self.body, f"{self.name}: body")
         on = f"line {self.line.name!r} of slider {self.name!r}"

@@ -105,6 +105,8 @@ Checkpoint = Callable[[Cursor], None]
 #: are recorded, and the most steps in a chunk (:meth:`Dynamics._chunks`).
 CHUNK_ENTRIES = 4_000_000
 MAX_CHUNK = 500
+#: The most times a fixed step whose Newton fails is halved (:meth:`Dynamics.split_step`).
+MAX_HALVINGS = 4
 
 #: A load: a fixed global vector, or a function of time returning one.
 Load = np.ndarray | Callable[[float], np.ndarray]
@@ -431,6 +433,22 @@ class Dynamics:
         )
         return p.complete(t, q, unknowns, self.scheme.beta, iterations)
 
+    def split_step(self, state: State, h: float, halvings: int = MAX_HALVINGS) -> State:
+        """A fixed step of size ``h`` from ``state``; where its Newton fails, the step is
+        taken as two half steps instead, recursively down to ``h / 2^halvings``, and the state
+        at ``t + h`` returned (a fixed-step run keeps its grid; the state's ``h`` is its last
+        substep's).  A regularised friction crossing its band of ``v_eps`` within one step
+        needs it: from the saturated side the tangent does not see the band, and Newton
+        cycles between the two signs of the sliding speed.  :class:`DynamicsError` from the
+        smallest step when even that fails."""
+        try:
+            return self.step(state, h)
+        except DynamicsError:
+            if halvings == 0:
+                raise
+        half = self.split_step(state, h / 2, halvings - 1)
+        return self.split_step(half, h / 2, halvings - 1)
+
     def constraint_forces(self, state: State) -> np.ndarray:
         """What the supports, drives and joints exert on the structure:
         ``M qdd + C v + K q - f`` (zero on the dofs nothing holds, to the solver's
@@ -656,7 +674,7 @@ class Dynamics:
                 state = self._accepted(new, state, h, steps - 1 - i, recorder, bar, checkpoint)
             steps -= done
             if status != CONVERGED:
-                new = self.step(state, h)  # raises the step's DynamicsError
+                new = self.split_step(state, h)  # in halves, or raises its DynamicsError
                 state = self._accepted(new, state, h, steps - 1, recorder, bar, checkpoint)
                 steps -= 1
                 q, v, a, qdd = (np.array(x) for x in (new.q, new.v, new.a, new.qdd))
@@ -697,7 +715,7 @@ class Dynamics:
     def _advance(self, state: State, h: float, adaptive: Adaptive | None) -> tuple[State, float]:
         """One accepted step and the next step size."""
         if adaptive is None:
-            return self.step(state, h), h
+            return self.split_step(state, h), h
         while True:
             try:
                 new = self.step(state, h)

@@ -147,7 +147,8 @@ def newton(
         (max_iterations + 1,): the scaled residual of each evaluation.
     velocity
         ``(v_hat, q_hat, c_v)``: the velocities ``v = v_hat + c_v (q - q_hat)`` the force
-        elements read (the integrator's prediction and ``gamma'``; zeros and 0 in statics).
+        elements and the sliders' friction read (the integrator's prediction and ``gamma'``;
+        zeros and 0 in statics).
     violation
         (J,): each joint's largest position and orientation constraint violation at the
         converged state (the residual rows after its ``xi`` equation), written on
@@ -198,6 +199,7 @@ def newton(
     dofs = np.zeros(t_all, np.int64)
     slots = np.zeros(t_all, np.int64)
     r_joint = np.zeros(t_all + m)
+    friction = np.zeros(1)  # a joint's friction force, not read here
     values = np.zeros(width)
     R = np.zeros(n)
     r_free = np.zeros((1, nf))
@@ -232,12 +234,14 @@ def newton(
                 I,
                 q,
                 y[y0 : y0 + mj],
+                velocity,
                 drives[j],
                 scale,
                 not done,
                 dofs[s0 : s0 + t],
                 r_joint[s0 + y0 : s0 + y0 + t + mj],
                 values[v0 : v0 + wj],
+                friction,
             )
             if status:
                 return (OFF_LINE if status == 1 else OVERFLOW), iteration, j

@@ -312,6 +312,12 @@ class SliderStatics:
                 "force elements and planar solves run on the condensed back end (method "
                 "'condensed' or 'auto')"
             )
+        rubbing = [s.name for s in self.sliders if s.friction is not None]
+        if rubbing and velocity is not None:
+            raise ValueError(
+                f"slider {rubbing[0]!r}: slider friction runs on the condensed back end "
+                "(method 'condensed' or 'auto')"
+            )
         batches = [s.batch(self.structure) for s in self.sliders]
         return newton_many([self], batches, f[None], [start], tol, max_iterations, time, scale)[0]
 
