@@ -54,7 +54,7 @@ from sliders.solve.integrator import GeneralizedAlpha, Prediction, State
 from sliders.solve.jumps import VelocityJump, VelocityJumpWarning, velocity_jumps
 from sliders.solve.mechanism import MASSLESS_REMEDY, free_motion
 from sliders.solve.newton import CompiledNewton
-from sliders.solve.newton_kernel import CONVERGED
+from sliders.solve.newton_kernel import CONVERGED, NOT_CONVERGED_MESSAGE
 from sliders.solve.planar import check, check_load, out_of_plane
 from sliders.solve.statics import SliderStatics
 
@@ -118,6 +118,11 @@ class DynamicsError(RuntimeError):
     def __init__(self, message: str, state: State) -> None:
         super().__init__(message)
         self.state = state
+
+
+class NotConverged(DynamicsError):
+    """A step whose Newton iterations did not converge (nothing else failed): a smaller step
+    may (:meth:`Dynamics.split_step`)."""
 
 
 @dataclass(frozen=True)
@@ -408,7 +413,8 @@ class Dynamics:
         except ValueError as exc:
             raise DynamicsError(f"t = {t:.6g}: {exc}", last) from exc
         if isinstance(outcome, str):
-            raise DynamicsError(f"t = {t:.6g}: {outcome}", last)
+            failure = NotConverged if outcome.startswith(NOT_CONVERGED_MESSAGE) else DynamicsError
+            raise failure(f"t = {t:.6g}: {outcome}", last)
         q, scaled, residuals = outcome
         return q, [_scale_multipliers(y, 1.0 / scale) for y in scaled], len(residuals) - 1
 
@@ -441,10 +447,11 @@ class Dynamics:
         band of ``v_eps`` within one step needs it: from the saturated side the tangent does
         not see the band, and Newton cycles between the two signs of the sliding speed.
         :class:`DynamicsError` naming the step's failure and the smallest substep's, with
-        ``state`` (the last state of the fixed grid), when even that fails."""
+        ``state`` (the last state of the fixed grid), when even that fails; any other failure
+        (a singular configuration, a slider off its line) at once."""
         try:
             return self.step(state, h)
-        except DynamicsError as exc:
+        except NotConverged as exc:
             first = exc
         try:
             return self._in_halves(state, h, MAX_HALVINGS)
@@ -459,7 +466,7 @@ class Dynamics:
         for _ in range(2):
             try:
                 state = self.step(state, h / 2)
-            except DynamicsError:
+            except NotConverged:
                 if halvings == 1:
                     raise
                 state = self._in_halves(state, h / 2, halvings - 1)
