@@ -52,7 +52,16 @@ from pathlib import Path
 
 import numpy as np
 
-from fvbeam import Beam, RigidBody, Section, Structure, Support, closed_forms, straight
+from fvbeam import (
+    Beam,
+    RigidBody,
+    Section,
+    Structure,
+    Support,
+    closed_forms,
+    formulation,
+    straight,
+)
 from fvbeam.io import write_atomic
 from fvbeam.modes import natural_frequencies
 from sliders.app.history import Recorder
@@ -76,6 +85,11 @@ STEPS_PER_PERIOD = 40
 #: The evaluation point crossed, ``b = L (1 + 1/sqrt(3)) / 2`` (recovery point 1).
 EVALUATION_POINT = L * (1 + 1 / np.sqrt(3)) / 2
 COLUMNS = ("smearing", "t", "xi", "shear_eval_point", "tip_displacement_norm")
+#: The element's formulation and its mass: the paper's fv3 (lumped, its only kind) and, beside
+#: it in the work-precision study, the cubic element (consistent), whose load vector is smooth
+#: in the load's abscissa (no evaluation point to cross: smearing and the overshoot of the
+#: shear at ``b`` are fv's).
+FORMULATIONS = {"fv3": "lumped", "cubic": "consistent"}
 
 
 @dataclass(frozen=True)
@@ -109,19 +123,26 @@ def section() -> Section:
     )
 
 
-def element() -> Beam:
-    """One fv3 element on ``[0, L]`` along x."""
-    return Beam(straight((0, 0, 0), (L, 0, 0), 1, 3), section(), "fv3")
+def element(name: str = "fv3") -> Beam:
+    """One element of formulation ``name`` (:data:`FORMULATIONS`) on ``[0, L]`` along x."""
+    if name not in FORMULATIONS:
+        raise ValueError(f"formulation must be one of {', '.join(FORMULATIONS)}, got {name!r}")
+    npe = formulation(name).nodes_per_element
+    return Beam(straight((0, 0, 0), (L, 0, 0), 1, npe), section(), name)
 
 
-def first_frequency() -> float:
-    """``omega_1`` (rad/s) of the clamped element with the lumped mass."""
-    return float(natural_frequencies(Structure([element()]), [Support(0, 0, "clamp")], 1).omega[0])
+def first_frequency(name: str = "fv3") -> float:
+    """``omega_1`` (rad/s) of the clamped element with its mass (:data:`FORMULATIONS`)."""
+    modes = natural_frequencies(
+        Structure([element(name)]), [Support(0, 0, "clamp")], 1, mass=FORMULATIONS[name]
+    )
+    return float(modes.omega[0])
 
 
-def speed(periods: float) -> float:
-    """Constant sliding speed that covers ``[XI_START, XI_END]`` in ``periods`` periods."""
-    return (XI_END - XI_START) * first_frequency() / (2 * np.pi * periods)
+def speed(periods: float, name: str = "fv3") -> float:
+    """Constant sliding speed that covers ``[XI_START, XI_END]`` in ``periods`` periods of
+    the ``name`` element."""
+    return (XI_END - XI_START) * first_frequency(name) / (2 * np.pi * periods)
 
 
 def static_shear_and_tip(xi: float, smearing: float) -> tuple[float, float]:
@@ -144,10 +165,28 @@ def static_shear_and_tip(xi: float, smearing: float) -> tuple[float, float]:
     return (F if mean > EVALUATION_POINT else 0.0), float(flexural + shear) * EJ / (F * L**3)
 
 
+def static_tip(xi: float, smearing: float, name: str = "fv3") -> float:
+    """The static tip displacement (units of ``F L^3 / EJ``) for the load at ``xi`` on the
+    ``name`` element: fv3's from :func:`static_shear_and_tip`; the cubic element's is the
+    Timoshenko cantilever's, ``xi^2 (3 L - xi) / (6 EJ) + xi / GA`` times ``F``
+    (:func:`fvbeam.closed_forms.cantilever_exact`), exact at its nodes for a load anywhere
+    (``docs/theory.md`` Sec. 9), for a point load only (smearing 0)."""
+    if name == "fv3":
+        return static_shear_and_tip(xi, smearing)[1]
+    if name != "cubic" or smearing:
+        raise ValueError(
+            f"static tip of the {name!r} element at smearing {smearing}: fv3 at any smearing, "
+            "cubic at smearing 0"
+        )
+    flexural, shear, _ = closed_forms.cantilever_exact(xi, L=L, EJ=EJ, GA=GA, F=F)
+    return float(flexural + shear) * EJ / (F * L**3)
+
+
 class Crossing:
     """The scene at one smearing level (total width ``smearing L``), damping ratio ``zeta``
     and crossing time ``periods`` T_1; ``xi_start`` (default ``XI_START``) starts the same
-    motion later, from the static equilibrium there (the tests' shorter windows)."""
+    motion later, from the static equilibrium there (the tests' shorter windows); ``name``
+    the element's formulation (:data:`FORMULATIONS`, the paper's fv3 by default)."""
 
     def __init__(
         self,
@@ -155,16 +194,17 @@ class Crossing:
         zeta: float = ZETA,
         periods: float = PERIODS,
         xi_start: float = XI_START,
+        name: str = "fv3",
     ) -> None:
         if not 0 <= smearing < 1:
             raise ValueError(
                 f"smearing must be a fraction of the element length in [0, 1), got {smearing}"
             )
-        self.smearing, self.xi_start, self.omega_1 = smearing, xi_start, first_frequency()
+        self.smearing, self.xi_start, self.omega_1 = smearing, xi_start, first_frequency(name)
         self.period = 2 * np.pi / self.omega_1
-        self.velocity = speed(periods)
+        self.velocity = speed(periods, name)
         self.t_end = (XI_END - xi_start) / self.velocity
-        self.beam = element()
+        self.beam = element(name)
         self.structure = Structure(
             [self.beam], bodies=[RigidBody("body", (xi_start, 0, 0), mass=0.0)]
         )
@@ -184,6 +224,7 @@ class Crossing:
             [slider],
             self.structure.nodal_load("body", (0, F, 0)),
             damping=2 * zeta / self.omega_1,
+            mass=FORMULATIONS[name],
             rho_inf=RHO_INF,
             method="condensed",
         )

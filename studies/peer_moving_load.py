@@ -85,7 +85,7 @@ FULL = Grid(
     wp.FULL.rho_infs,
     LOADINGS,
     wp.FULL.repeats,
-    fine=((16, 3200, 0.8), (32, 3200, 0.8)),
+    fine=wp.FINE_RUNS,
 )
 QUICK = Grid((4, 8), (200,), (0.8,), LOADINGS, 1)
 

@@ -64,6 +64,22 @@ def test_sweep_benchmark_reports_time_iterations_and_error():
     for a, b in zip(scene, per_point, strict=True):
         assert a["setup_seconds"] > 0 and a["singular_positions"] == b["singular_positions"] == 0
         assert abs(a["max_abs_rel_error"] - b["max_abs_rel_error"]) <= 2e-4
+    general = result["general_path"]
+    assert general["seconds"] == result["total_seconds"]["continuation"]
+    assert general["positions"] == 192 and general["cpu_seconds"] > 0
+
+
+def test_fig2_benchmark_reports_step_times_with_and_without_recording():
+    """Shape of the Figure 2 benchmark on the 10-period crossing: per level the recorded and
+    the bare time per step (wall and CPU) beside the end errors (never a speed threshold)."""
+    from studies.bench_dynamics import fig2_dynamics
+
+    result = fig2_dynamics("fast", levels=(0.01,))
+    (row,) = result["rows"]
+    assert not result["interrupted"] and row["steps"] == 400
+    for key in ("", "cpu_", "bare_", "bare_cpu_"):
+        assert row[f"{key}seconds_per_step"] > 0
+    assert row["end_tip_error"] >= 0 and row["mean_iterations"] >= 1
 
 
 def test_batched_sweep_benchmark_reports_the_main_sweep():

@@ -8,7 +8,10 @@ Where each asserted number comes from:
   ``[0.5, 0.7]``, lies in ``[a, b]``), ``F`` at ``xi = 0.95 L``.  There the tip displacement is
   :func:`fvbeam.closed_forms.cantilever_fv3`, linear in the load's station on ``[b, L]``, so a
   smeared load acts at its kernel's mean: ``0.95 L`` up to 10 % (the 10 % kernel just reaches
-  ``L``), ``0.925 L`` for 20 % (``[0.85, 1.05]`` cut at ``L``).
+  ``L``), ``0.925 L`` for 20 % (``[0.85, 1.05]`` cut at ``L``).  On one cubic element (the
+  work-precision study's comparison) the tip is the Timoshenko cantilever's,
+  :func:`fvbeam.closed_forms.cantilever_exact`: its nodal statics are exact for a load
+  anywhere on it (``docs/theory.md`` Sec. 9).
 * **Overshoot cut by an order of magnitude** (the paper's claim for 1 % smearing, asserted as
   a ratio >= 10).  Why it must hold with a margin: a load switched over a ramp of duration
   ``tau`` instead of a jump leaves each mode's transient multiplied by
@@ -106,6 +109,20 @@ def test_end_on_the_static_values(level):
 def test_bad_smearing_is_named():
     with pytest.raises(ValueError, match="smearing"):
         fig2.Crossing(1.5)
+    with pytest.raises(ValueError, match="smearing 0.01"):
+        fig2.static_tip(0.95, 0.01, "cubic")
+    with pytest.raises(ValueError, match="galerkin-p2"):
+        fig2.element("galerkin-p2")
+
+
+def test_cubic_static_end_is_the_timoshenko_cantilever():
+    """The cubic element's nodal statics are exact for a load anywhere on it (``docs/theory.md``
+    Sec. 9): the tip under the body at rest at ``XI_END`` is the continuum's."""
+    end = fig2.Crossing(0.0, xi_start=fig2.XI_END, name="cubic")
+    q = end.dynamics.static_state().q
+    flexural, shear, _ = closed_forms.cantilever_exact(fig2.XI_END)
+    assert end.tip(q) == pytest.approx(flexural + shear, abs=1e-10)
+    assert fig2.static_tip(fig2.XI_END, 0.0, "cubic") == pytest.approx(flexural + shear)
 
 
 def test_ctrl_c_writes_the_levels_computed(monkeypatch, tmp_path):

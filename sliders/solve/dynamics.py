@@ -45,7 +45,7 @@ from fvbeam.mechanism import rigid_modes, unresisted
 from fvbeam.structure import Structure
 from fvbeam.support import DOF_NAMES, Support, complement
 from sliders.forces.elements import ForceElement
-from sliders.joints.drives import DofDrive
+from sliders.joints.drives import DofDrive, Motion
 from sliders.joints.packed import JointPack
 from sliders.joints.slider import Slider
 from sliders.solve.dynamics_kernel import advance
@@ -54,7 +54,7 @@ from sliders.solve.integrator import GeneralizedAlpha, Prediction, State
 from sliders.solve.jumps import VelocityJump, VelocityJumpWarning, velocity_jumps
 from sliders.solve.mechanism import MASSLESS_REMEDY, free_motion
 from sliders.solve.newton import CompiledNewton
-from sliders.solve.newton_kernel import CONVERGED
+from sliders.solve.newton_kernel import CONVERGED, NOT_CONVERGED_MESSAGE
 from sliders.solve.planar import check, check_load, out_of_plane
 from sliders.solve.statics import SliderStatics
 
@@ -118,6 +118,11 @@ class DynamicsError(RuntimeError):
     def __init__(self, message: str, state: State) -> None:
         super().__init__(message)
         self.state = state
+
+
+class NotConverged(DynamicsError):
+    """A step whose Newton iterations did not converge (nothing else failed): a smaller step
+    may (:meth:`Dynamics.split_step`)."""
 
 
 @dataclass(frozen=True)
@@ -408,7 +413,8 @@ class Dynamics:
         except ValueError as exc:
             raise DynamicsError(f"t = {t:.6g}: {exc}", last) from exc
         if isinstance(outcome, str):
-            raise DynamicsError(f"t = {t:.6g}: {outcome}", last)
+            failure = NotConverged if outcome.startswith(NOT_CONVERGED_MESSAGE) else DynamicsError
+            raise failure(f"t = {t:.6g}: {outcome}", last)
         q, scaled, residuals = outcome
         return q, [_scale_multipliers(y, 1.0 / scale) for y in scaled], len(residuals) - 1
 
@@ -433,21 +439,38 @@ class Dynamics:
         )
         return p.complete(t, q, unknowns, self.scheme.beta, iterations)
 
-    def split_step(self, state: State, h: float, halvings: int = MAX_HALVINGS) -> State:
+    def split_step(self, state: State, h: float) -> State:
         """A fixed step of size ``h`` from ``state``; where its Newton fails, the step is
-        taken as two half steps instead, recursively down to ``h / 2^halvings``, and the state
-        at ``t + h`` returned (a fixed-step run keeps its grid; the state's ``h`` is its last
-        substep's).  A regularised friction crossing its band of ``v_eps`` within one step
-        needs it: from the saturated side the tangent does not see the band, and Newton
-        cycles between the two signs of the sliding speed.  :class:`DynamicsError` from the
-        smallest step when even that fails."""
+        taken in halves instead, each halved again where it fails, down to ``h /
+        2^MAX_HALVINGS``, and the state at ``t + h`` returned (a fixed-step run keeps its
+        grid; the state's ``h`` is its last substep's).  A regularised friction crossing its
+        band of ``v_eps`` within one step needs it: from the saturated side the tangent does
+        not see the band, and Newton cycles between the two signs of the sliding speed.
+        :class:`DynamicsError` naming the step's failure and the smallest substep's, with
+        ``state`` (the last state of the fixed grid), when even that fails; any other failure
+        (a singular configuration, a slider off its line) at once."""
         try:
             return self.step(state, h)
-        except DynamicsError:
-            if halvings == 0:
-                raise
-        half = self.split_step(state, h / 2, halvings - 1)
-        return self.split_step(half, h / 2, halvings - 1)
+        except NotConverged as exc:
+            first = exc
+        try:
+            return self._in_halves(state, h, MAX_HALVINGS)
+        except DynamicsError as exc:
+            raise DynamicsError(
+                f"{first}; and in steps down to h / {2**MAX_HALVINGS} ({exc})", state
+            ) from exc
+
+    def _in_halves(self, state: State, h: float, halvings: int) -> State:
+        """Two steps of ``h / 2`` from ``state``, each in halves again where it fails
+        (``halvings`` times at most)."""
+        for _ in range(2):
+            try:
+                state = self.step(state, h / 2)
+            except NotConverged:
+                if halvings == 1:
+                    raise
+                state = self._in_halves(state, h / 2, halvings - 1)
+        return state
 
     def constraint_forces(self, state: State) -> np.ndarray:
         """What the supports, drives and joints exert on the structure:
@@ -626,8 +649,11 @@ class Dynamics:
             if not finite.all():  # up to the first bad load; its step raises below
                 size = int(np.argmin(finite)) if len(loads) > 1 else 0
                 times, loads = times[:size], loads[:size]
-            driven = np.array([[d.motion(t)[0] for d in self.drives] for t in times])
-            drives = np.array([[_abscissa(s, t) for s in self.sliders] for t in times])
+            driven = _table([d.motion for d in self.drives], times)
+            drives = np.zeros((len(times), len(self.sliders)))
+            for j, slider in enumerate(self.sliders):
+                if slider.drive is not None:
+                    drives[:, j] = _table([slider.drive], times)[:, 0]
             Q, V, A, QDD = (np.empty((size, n)) for _ in range(4))
             Y, iterations = np.empty((size, m)), np.zeros(size, dtype=np.int64)
             violations = np.zeros((size, len(self.sliders)))
@@ -658,20 +684,23 @@ class Dynamics:
                 iterations,
                 violations,
             )
+            # each step's state reads rows of this chunk's own arrays (new ones per chunk); the
+            # progress bar moves once per chunk
+            shown = state.t
             for i in range(done):
-                unknowns = [Y[i, a:b].copy() for a, b in bounds]
                 new = State(
                     float(times[i]),
-                    Q[i].copy(),
-                    V[i].copy(),
-                    A[i].copy(),
-                    QDD[i].copy(),
-                    unknowns,
+                    Q[i],
+                    V[i],
+                    A[i],
+                    QDD[i],
+                    [Y[i, a:b] for a, b in bounds],
                     h,
                     int(iterations[i]),
                     violations[i],
                 )
-                state = self._accepted(new, state, h, steps - 1 - i, recorder, bar, checkpoint)
+                state = self._accepted(new, state, h, steps - 1 - i, recorder, None, checkpoint)
+            bar.update(state.t - shown)
             steps -= done
             if status != CONVERGED:
                 new = self.split_step(state, h)  # in halves, or raises its DynamicsError
@@ -688,13 +717,15 @@ class Dynamics:
         h: float,
         steps: int,
         recorder: "Recorder | None",
-        bar: tqdm,
+        bar: tqdm | None,
         checkpoint: "Checkpoint | None",
     ) -> State:
-        """An accepted step recorded, shown and checkpointed (``steps``: those left)."""
+        """An accepted step recorded, shown (unless ``bar`` is None) and checkpointed
+        (``steps``: those left)."""
         if recorder is not None:
             recorder.record(self, new, old)
-        bar.update(new.t - old.t)
+        if bar is not None:
+            bar.update(new.t - old.t)
         if checkpoint is not None:
             checkpoint(Cursor(new, h, steps))
         return new
@@ -739,9 +770,12 @@ class Dynamics:
         return h / 2
 
 
-def _abscissa(slider: Slider, t: float) -> float:
-    """A slider's driven abscissa at ``t`` (0 when it is not driven)."""
-    return slider.drive(t)[0] if slider.drive is not None else 0.0
+def _table(motions: Sequence[Motion], times: np.ndarray) -> np.ndarray:
+    """The values of ``motions`` at ``times``: (len(times), len(motions))."""
+    out = np.zeros((len(times), len(motions)))
+    for j, motion in enumerate(motions):
+        out[:, j] = [motion(float(t))[0] for t in times]
+    return out
 
 
 def _joined(unknowns: Sequence[np.ndarray]) -> np.ndarray:

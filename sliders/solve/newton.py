@@ -35,6 +35,7 @@ from sliders.solve.mechanism import joint_parts
 from sliders.solve.newton_kernel import (
     CONVERGED,
     NOT_CONVERGED,
+    NOT_CONVERGED_MESSAGE,
     OFF_LINE,
     OVERFLOW,
     SINGULAR,
@@ -283,7 +284,7 @@ class CompiledNewton:
         )
         return statics._diagnose(
             first,
-            f"Newton did not converge in {max_iterations} iterations "
+            f"{NOT_CONVERGED_MESSAGE} in {max_iterations} iterations "
             f"(scaled residual {history[max_iterations]:.3g})",
             not np.any(y0[multipliers]),
         )

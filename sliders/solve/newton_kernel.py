@@ -32,6 +32,9 @@ from sliders.solve.condensed_kernel import condensed_step
 from sliders.solve.factor import factor_solve
 
 CONVERGED, SINGULAR, NOT_CONVERGED, OFF_LINE, OVERFLOW = range(5)
+#: How the message of a Newton loop that did not converge begins (unless a diagnosis names
+#: a free motion first; :class:`sliders.solve.dynamics.NotConverged`).
+NOT_CONVERGED_MESSAGE = "Newton did not converge"
 
 
 @numba.njit(cache=True, inline="never")

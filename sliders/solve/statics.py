@@ -53,6 +53,7 @@ from sliders.solve.mechanism import (
     member_parts,
 )
 from sliders.solve.newton import ColumnStorageError, CompiledNewton
+from sliders.solve.newton_kernel import NOT_CONVERGED_MESSAGE
 from sliders.solve.planar import check, check_load, out_of_plane, pinned
 
 METHODS = ("auto", "bordered", "condensed")
@@ -687,7 +688,7 @@ def newton_many(
         )
         outcome[b] = members[b]._diagnose(
             first,
-            f"Newton did not converge in {max_iterations} iterations "
+            f"{NOT_CONVERGED_MESSAGE} in {max_iterations} iterations "
             f"(scaled residual {history[last[b], b]:.3g})",
             not np.any(Y0[b, multipliers]),
         )
