@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Sequence
 from functools import cached_property
 from itertools import combinations
@@ -49,6 +50,7 @@ class Structure:
         self, beams: Sequence[Beam], ties: Sequence[tuple] = (), bodies: Sequence[RigidBody] = ()
     ) -> None:
         self.beams, self.bodies = list(beams), list(bodies)
+        self._ties = list(ties)
         if not self.beams and not self.bodies:
             raise ValueError("a structure needs at least one beam or body")
         for i, body in enumerate(self.bodies):
@@ -87,6 +89,36 @@ class Structure:
             ).ravel()
             for i in range(len(self.beams))
         ]
+
+    def moved(self, beams: Sequence[Beam], bodies: Sequence[RigidBody] = ()) -> "Structure":
+        """This structure with its beams and bodies replaced by ``beams`` and ``bodies``, each
+        the one it replaces moved rigidly (:meth:`fvbeam.beam.Beam.translated`, a body's
+        position changed): the same ties, node numbering and dof maps, shared, not built
+        again (a sweep over positions).  The ties that join a body are checked again (a body
+        tied at a point it has left); ``ValueError`` when a beam or body is not a moved copy
+        of the one it replaces (other stiffness, mesh size or name)."""
+        beams, bodies = list(beams), list(bodies)
+        if len(beams) != len(self.beams) or len(bodies) != len(self.bodies):
+            raise ValueError(
+                f"a moved structure has {len(self.beams)} beams and {len(self.bodies)} "
+                f"bodies, got {len(beams)} and {len(bodies)}"
+            )
+        for i, (new, old) in enumerate(zip(beams, self.beams, strict=True)):
+            if new is not old and (
+                new.stiffness is not old.stiffness or new.mesh.n_nodes != old.mesh.n_nodes
+            ):
+                raise ValueError(f"beams[{i}] is not beam {i} moved rigidly (Beam.translated)")
+        for i, (body, was) in enumerate(zip(bodies, self.bodies, strict=True)):
+            if not isinstance(body, RigidBody) or body.name != was.name:
+                raise ValueError(f"bodies[{i}] is not body {was.name!r} moved")
+        out = copy.copy(self)
+        out.beams, out.bodies = beams, bodies
+        out._beam_names = [beam.mesh.name for beam in beams]
+        for tie in self._ties:
+            a, b = (out.resolve_node(ref) for ref in out._tie_ends(tie))
+            if isinstance(a, str) or isinstance(b, str):
+                out._check_coincident(tie, a, b)
+        return out
 
     @staticmethod
     def _tie_ends(tie: tuple) -> tuple[NodeRef, NodeRef]:

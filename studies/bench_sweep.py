@@ -21,6 +21,12 @@ ways of running the positions:
 ``cold``
     :meth:`SlidingBeams.stiffness` per position, Newton from the projected abscissae.
     These two build every position's statics (:meth:`SlidingBeams.problem`) inside the time.
+``scene``
+    The scene ``studies/scenes/fig4_sliding_beams.toml`` with the same meshes, slider kinds
+    and stations, run as ``fvslider run`` runs a sweep (:func:`sliders.app.run.run` on its
+    :class:`~sliders.app.model.Model`: every position's statics built from the scene, solved
+    in continuation).  ``seconds`` is the run; ``setup_seconds`` building the model (which
+    checks every position's sliders on their lines).
 
 The compiled kernels (numba) are compiled, or loaded from their cache, before any timing
 (:func:`warm_up`, ``warmup_seconds``: :func:`sliders.sliding_beams.model.compile_kernels` and
@@ -52,6 +58,10 @@ from typing import Any
 
 import numpy as np
 
+from sliders.app.model import Model
+from sliders.app.run import Results
+from sliders.app.run import run as run_scene
+from sliders.app.scene import load_scene, parse_scene
 from sliders.sliding_beams.exact import sliding_beams
 from sliders.sliding_beams.model import KINDS, SlidingBeams, compile_kernels
 from sliders.solve.sweep import sweep
@@ -59,9 +69,14 @@ from sliders.solve.sweep import sweep
 from .bench import environment, write_merged
 from .fig4_stiffness import EJ, GA, STATIONS, L
 
+#: The scene's tip force (``[[load]]`` of :data:`SCENE`).
+SETUP_FORCE = 1.0
+
 KEY = "fig4_sweep"
+#: The Figures 4-5 sweep as a scene (the ``scene`` mode).
+SCENE = Path(__file__).parent / "scenes" / "fig4_sliding_beams.toml"
 #: The per-position modes (the default of :func:`bench`); ``main`` runs ``batched`` first.
-MODES = ("continuation", "cold")
+MODES = ("continuation", "cold", "scene")
 ALL_MODES = ("batched",) + MODES
 #: Passes of the batched sweeps in ``main`` (the machine's other jobs slow some of them).
 REPEATS = 7
@@ -97,8 +112,37 @@ def run(kind: str, n: int, mode: str) -> tuple[float, float, float | None, np.nd
             if solution is not None:
                 k[i] = model.tip_stiffness(model._previous, solution)
         return elapsed, cpu, None, k, [s.iterations for s in solutions if s is not None]
+    if mode == "scene":
+        return scene(kind, n, k)
     _, elapsed, cpu = timed(lambda: cold(model, k))
     return elapsed, cpu, None, k, model.iterations
+
+
+def scene(kind: str, n: int, k: np.ndarray) -> tuple[float, float, float, np.ndarray, list[int]]:
+    """The ``scene`` mode (module docstring): :data:`SCENE` with ``n`` elements per beam,
+    sliders of ``kind``, a piston position per station, no output tables."""
+    data = load_scene(SCENE).model_dump(mode="python", exclude_none=True)
+    for beam in data["beam"]:
+        beam["straight"]["elements"] = n
+    for slider in data["slider"]:
+        slider["kind"] = kind
+    data["study"]["range"] = None
+    data["study"]["values"] = tuple(float(s * L) for s in STATIONS)
+    data["output"] = {}
+    spec = parse_scene(data)
+    model, setup, _ = timed(lambda: Model(spec))
+    result, elapsed, cpu = timed(lambda: run_scene(model, progress=False))
+    assert isinstance(result, Results)  # a sweep
+    if result.interrupted:
+        raise KeyboardInterrupt
+    iterations = []
+    for i, sample in enumerate(result.samples):
+        if sample.solution is not None and sample.statics is not None:
+            structure = sample.statics.structure
+            tip = structure.beams[1].displacements(structure.local(1, sample.solution.q), L)
+            k[i] = SETUP_FORCE / tip[0, 1] * L**3 / EJ
+            iterations.append(sample.solution.iterations)
+    return elapsed, cpu, setup, k, iterations
 
 
 def cold(model: SlidingBeams, k: np.ndarray) -> None:

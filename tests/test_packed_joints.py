@@ -129,3 +129,25 @@ def test_projection_equals_the_batch(line) -> None:
     reference = batch.subset(np.array([0])).initial_unknowns(q[None])[0]
     (packed,) = pack.initial_unknowns(q)
     assert np.abs(packed - reference).max() <= 8 * EPS * slider.line.length
+
+
+def test_curve_equals_the_chain_geometry() -> None:
+    """:meth:`JointPack.curve` (compiled) against :meth:`BeamChain.geometry` (numpy around the
+    same line kernels) on the arched chain, across the junction, on a deformed state: the
+    same ``x, l`` to a few ulp of their scale, and ``l_/xi`` (the second derivatives of the
+    quadratic shape functions, whose magnitudes sum to 16 / h^2, times the node positions) to
+    a few ulp of ``16 |x| / h^2`` on the shortest element."""
+    a = Beam(arc((0, 0, 0), 1.0, 0.0, 0.8, 3, 3, name="a"), SECTION, "fv3")
+    b = Beam(arc((0, 0, 0), 1.0, 0.8, 1.6, 2, 3, name="b"), SECTION, "fv3")
+    tip = Beam(arc((0, 0, 0), 1.0, 0.3, 0.35, 1, 3, name="tip"), SECTION, "fv3")
+    structure = Structure([a, b, tip], ties=[("a.end", "b.start")])
+    slider = Slider("spherical", BeamChain(structure, ["a", "b"], "arch"), "tip.end", name="s")
+    pack = JointPack([slider], structure)
+    q = np.random.default_rng(10).standard_normal(structure.n_dofs) * 1e-3
+    h = min(np.diff(beam.mesh.vertex_s).min() for beam in (a, b))
+    for xi in (0.0, 0.2, 0.8, 1.3, slider.line.length):
+        compiled = np.array(pack.curve(0, q, xi))
+        reference = np.array(slider.line.geometry(xi, q)[:3])
+        scale = np.abs(reference[:2]).max(axis=1)
+        bound = 8 * EPS * np.array([scale[0], scale[1], 16 * scale[0] / h**2])
+        assert np.all(np.abs(compiled - reference).max(axis=1) <= bound)

@@ -268,6 +268,13 @@ class JointPack:
             out.append(np.concatenate([[x], np.zeros(m - 1)]))
         return out
 
+    def curve(self, j: int, q: np.ndarray, xi: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``x``, ``l``, ``l_/xi`` of joint ``j``'s line at ``xi`` on the state ``q``, compiled
+        (:func:`_curve`; on a chain, :meth:`sliders.lines.chain.BeamChain.geometry`)."""
+        out = np.empty((3, 3))
+        _curve(j, self.head, self.fields, self.floats, self.ints, q, float(xi), out)
+        return out[0], out[1], out[2]
+
     def violations(self, q: np.ndarray, unknowns: Sequence[np.ndarray], time: float) -> np.ndarray:
         """The largest constraint violation of each joint at the state ``q`` and its physical
         ``unknowns`` (drives read at ``time``), by :func:`violations`: one compiled call for
@@ -419,8 +426,8 @@ def _moved(new: Slider, old: Slider) -> bool:
         _equations(new) == _equations(old)
         and new.kind == old.kind
         and (new.drive is None) == (old.drive is None)
-        and np.array_equal(new.offset, old.offset)
-        and np.array_equal(new.frame, old.frame)
+        and (new.offset is old.offset or np.array_equal(new.offset, old.offset))
+        and (new.frame is old.frame or np.array_equal(new.frame, old.frame))
         and new.friction == old.friction
     ):
         return False

@@ -48,7 +48,7 @@ from __future__ import annotations
 
 import copy
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import cast
 
 import numpy as np
@@ -158,6 +158,17 @@ class Slider:
         self.offset = vector3(self.offset, f"{self.name}: offset")
         self.frame = orthonormal3(self.frame, f"{self.name}: frame")
         self._batch: SliderBatch | None = None
+
+    def moved(self, line: BeamChain | RigidLine) -> "Slider":
+        """This slider on ``line``, its line moved rigidly (a chain of translated copies of
+        its beams, :meth:`fvbeam.structure.Structure.moved`; or the same rigid line), its
+        options taken as they were checked when it was made; a line of another length is
+        checked as a new slider's."""
+        if line.length != self.line.length:
+            return replace(self, line=line)
+        out = copy.copy(self)
+        out.line, out._batch = line, None
+        return out
 
     @property
     def n_unknowns(self) -> int:

@@ -25,6 +25,8 @@ from sliders.solve.statics import SliderSolution, SliderStatics, solve_translate
 
 #: The two slider kinds the paper compares on this setup.
 KINDS = ("spherical", "classical")
+#: The sliders: the beam of the line, its name, the sliding node and the slider's name.
+LAYOUT = ((0, "C", (1, "start"), "A"), (1, "P", (0, "end"), "B"))
 
 
 @dataclass(frozen=True)
@@ -83,18 +85,26 @@ class SlidingBeams:
         """The statics (condensed back end) and the tip load with the piston at
         ``s = s_over_L L``."""
         piston = self.cylinder.translated((s_over_L * self.setup.length, 0, 0))
-        structure = Structure([self.cylinder, piston])
-        sliders = [
-            Slider(
-                self.kind,
-                BeamChain(structure, [k], line),
-                body,
-                name=name,
-                smearing=self.smearing,
-                orientation=self.orientation,
-            )
-            for k, line, body, name in ((0, "C", (1, "start"), "A"), (1, "P", (0, "end"), "B"))
-        ]
+        previous = self._previous
+        if previous is None:
+            structure = Structure([self.cylinder, piston])
+            sliders = [
+                Slider(
+                    self.kind,
+                    BeamChain(structure, [k], line),
+                    body,
+                    name=name,
+                    smearing=self.smearing,
+                    orientation=self.orientation,
+                )
+                for k, line, body, name in LAYOUT
+            ]
+        else:  # the last position's, moved
+            structure = previous.structure.moved([self.cylinder, piston])
+            sliders = [
+                slider.moved(BeamChain(structure, [k], line))
+                for slider, (k, line, _, _) in zip(previous.sliders, LAYOUT, strict=True)
+            ]
         statics = SliderStatics(
             structure, self.supports, sliders, reuse=self._previous, method="condensed"
         )

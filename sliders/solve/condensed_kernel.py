@@ -184,22 +184,32 @@ def _columns(
     G: np.ndarray,
     Y: np.ndarray,
     Y_z: np.ndarray,
+    Yt: np.ndarray,
+    read: np.ndarray,
 ) -> None:
     """``Y = B^{-1}[rd, fd] G`` and ``Y_z = B^{-1}[n:, fd] G`` from the stored columns of
     ``B^{-1}`` (rows of ``store``; ``column``: the row of each free dof), over the nonzeros
-    of ``G``."""
-    Y[:n_r, :] = 0.0
+    of ``G``.  Each stored column is read once at the read dofs (``read``) and added into
+    ``Yt = Y^T`` (contiguous rows), then transposed: every entry sums its terms in the
+    order of the force dofs."""
+    ncm = G.shape[1]
+    Yt[:, :n_r] = 0.0
     Y_z[:, :] = 0.0
     for f in range(n_f):
         at = column[fd[f]]
-        for j in range(G.shape[1]):
+        for r in range(n_r):
+            read[r] = store[at, rd[r]]
+        for j in range(ncm):
             g = G[f, j]
             if g == 0.0:
                 continue
             for r in range(n_r):
-                Y[r, j] += store[at, rd[r]] * g
+                Yt[j, r] += read[r] * g
             for z in range(Y_z.shape[0]):
                 Y_z[z, j] += store[at, n + z] * g
+    for r in range(n_r):
+        for j in range(ncm):
+            Y[r, j] = Yt[j, r]
 
 
 @numba.njit(inline="never")
@@ -411,6 +421,7 @@ def condensed_step(
     rd = np.empty(size, dtype=np.int64)
     c_dof = np.empty(nc, dtype=np.int64)
     G, Y = np.empty((size, ncm)), np.empty((size, ncm))
+    Yt, read = np.empty((ncm, size)), np.empty(size)
     Ct, D, Y_z = np.empty((size, m)), np.empty((m, m)), np.empty((k, ncm))
     A, inverse = np.empty((ncm + k, ncm + k)), np.empty((ncm + k, ncm + k))
     rhs, rows, cols = np.empty(ncm + k), np.empty(ncm + k), np.empty(ncm + k)
@@ -440,7 +451,7 @@ def condensed_step(
             c_dof,
         )
         n_f, n_r = counts[0], counts[1]
-        _columns(store, column, n, fd, n_f, rd, n_r, G, Y, Y_z)
+        _columns(store, column, n, fd, n_f, rd, n_r, G, Y, Y_z, Yt, read)
         _small(base[b], r_y[b], phi, c_dof, where_r, rd, n_r, Y, Y_z, Ct, D, A, rhs)
         regular[b] = _equilibrated_solve(A, rhs, threshold, z[b], inverse, swaps, rows, cols)
         for f in range(n_f):

@@ -159,6 +159,9 @@ class CompiledNewton:
         positions = node_positions(structure)
         self.resolution = 4 * np.finfo(float).eps * max(1.0, np.abs(positions).max())
         self.sizes = [s.n_unknowns for s in sliders]
+        #: Each joint's first and last-plus-one unknown among the joints' side by side.
+        starts = np.cumsum([0] + self.sizes)[:-1].tolist()
+        self.bounds = [(a, a + m) for a, m in zip(starts, self.sizes, strict=True)]
         #: What :func:`sliders.solve.newton_kernel.newton` reads of the problem, in its order.
         self.problem: tuple = (
             *self.operator,
@@ -250,7 +253,7 @@ class CompiledNewton:
             velocity if velocity is not None else (np.zeros(len(q)), q0, 0.0),
             np.zeros(len(self.sizes)),
         )
-        split = np.split(y, np.cumsum(self.sizes)[:-1]) if self.sizes else []
+        split = [y[a:b] for a, b in self.bounds]
         if status == CONVERGED:
             return q, split, history[:evaluations].tolist()
         if status in (OFF_LINE, OVERFLOW):

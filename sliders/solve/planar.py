@@ -85,11 +85,15 @@ def check(
     sliders: Sequence[Slider],
     plane: str,
     matrices: Sequence[sp.spmatrix],
+    checked: Sequence[Slider] = (),
 ) -> None:
     """``ValueError`` naming the first thing that leaves ``plane``: a node off the plane of
     the others, a sliding point or a rigid line off it, a slider whose axes mix the planes,
     a stiffness, mass or damping (``matrices``, on all dofs) coupling an in-plane dof with an
-    out-of-plane one beyond :data:`TIE` of its largest entry."""
+    out-of-plane one beyond :data:`TIE` of its largest entry.  ``checked``: the sliders of a
+    problem this one is moved from (:meth:`~sliders.joints.slider.Slider.moved`), slider by
+    slider; a slider's rigid line and axes are not checked again where they are that
+    slider's (the same objects)."""
     c = normal(plane)
     positions = node_positions(structure)
     size = max(1.0, float(np.abs(positions).max(initial=0.0)))
@@ -98,10 +102,14 @@ def check(
     if off.size:
         name = structure.dof_name(6 * int(off[0])).rsplit(" ", 1)[0]
         raise ValueError(f"{name} lies off the plane {plane} of the structure's first node")
-    for slider in sliders:
+    previous: list[Slider | None] = [*checked[: len(sliders)]]
+    previous += [None] * (len(sliders) - len(previous))
+    for slider, old in zip(sliders, previous, strict=True):
         point = structure.node_position(slider.body) + slider.offset
         if abs(point[c] - level) > TIE * size:
             raise ValueError(f"slider {slider.name!r}: its sliding point is off plane {plane}")
+        if old is not None and slider.line is old.line and slider.frame is old.frame:
+            continue
         if isinstance(slider.line, RigidLine):
             xi = np.linspace(0.0, slider.line.length, 33)
             heights = [slider.line.derivatives(float(x))[0][c] for x in xi]
@@ -122,10 +130,16 @@ def check(
             )
 
 
-def check_load(structure: Structure, f: np.ndarray, plane: str, what: str = "the load") -> None:
+def check_load(
+    structure: Structure,
+    f: np.ndarray,
+    plane: str,
+    what: str = "the load",
+    held: np.ndarray | None = None,
+) -> None:
     """``ValueError`` naming the first out-of-plane dof ``f`` loads (beyond :data:`TIE` of
-    its largest entry)."""
-    held = out_of_plane(structure, plane)
+    its largest entry); ``held``: :func:`out_of_plane` of the structure, when known."""
+    held = out_of_plane(structure, plane) if held is None else held
     big = float(np.abs(f).max(initial=0.0))
     bad = held[np.abs(f[held]) > TIE * big]
     if bad.size:

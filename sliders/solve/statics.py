@@ -102,6 +102,8 @@ class SliderStatics:
     K_free: sp.coo_matrix
     _position: np.ndarray
     _condensed: CondensedOperator | None
+    _fixed: np.ndarray
+    _held: np.ndarray | None
 
     def __init__(
         self,
@@ -125,9 +127,15 @@ class SliderStatics:
         if len(set(names)) != len(names):
             raise ValueError(f"slider names must be unique, got {names}")
         self.plane = plane
-        fixed = structure.support_dofs(supports)
-        if plane is not None:  # a planar solve holds the out-of-plane dofs
-            fixed = np.union1d(fixed, out_of_plane(structure, plane))
+        self._supports = list(supports)
+        moved = reuse is not None and reuse._same_supports(structure, self._supports, plane)
+        if reuse is not None and moved:  # the same nodes held: a structure moved
+            fixed, self._held = reuse._fixed, reuse._held
+        else:
+            fixed = structure.support_dofs(supports)
+            self._held = out_of_plane(structure, plane) if plane is not None else None
+            if self._held is not None:  # a planar solve holds the out-of-plane dofs
+                fixed = np.union1d(fixed, self._held)
         self._fixed = fixed
         if reuse is not None and operator is None and reuse._same_operator(structure, fixed):
             self.K, self.free, self.K_free = reuse.K, reuse.free, reuse.K_free
@@ -143,7 +151,13 @@ class SliderStatics:
             self.K_free = self.K[self.free][:, self.free].tocoo()
             self._condensed = None
         if plane is not None:  # a reused operator's coupling was checked where it was built
-            check(structure, self.sliders, plane, [self.K] if reuse is None else [])
+            check(
+                structure,
+                self.sliders,
+                plane,
+                [self.K] if reuse is None else [],
+                reuse.sliders if reuse is not None and moved else (),
+            )
         self._auto = method == "auto"
         if method == "auto":
             method = self.method = self._automatic()
@@ -197,6 +211,18 @@ class SliderStatics:
         parts = joint_parts(self.structure, self.sliders, q, unknowns)
         return free_motion(self.rigid, self._position, parts, self.sliders, remedy or self.remedy)
 
+    def _same_supports(
+        self, structure: Structure, supports: list[Support], plane: str | None
+    ) -> bool:
+        """Whether ``supports`` hold the dofs this problem's supports hold, known without
+        locating them again: the same supports and plane on a structure sharing this one's
+        node numbering (:meth:`fvbeam.structure.Structure.moved`)."""
+        return (
+            structure.dof_maps is self.structure.dof_maps
+            and plane == self.plane
+            and supports == self._supports
+        )
+
     def _same_operator(self, structure: Structure, fixed: np.ndarray) -> bool:
         old = self.structure
         return (
@@ -204,11 +230,15 @@ class SliderStatics:
             and all(
                 a.stiffness is b.stiffness for a, b in zip(old.beams, structure.beams, strict=True)
             )
-            and all(
-                np.array_equal(a, b) for a, b in zip(old.dof_maps, structure.dof_maps, strict=True)
+            and (
+                structure.dof_maps is old.dof_maps
+                or all(
+                    np.array_equal(a, b)
+                    for a, b in zip(old.dof_maps, structure.dof_maps, strict=True)
+                )
             )
             and structure.n_dofs == old.n_dofs
-            and np.array_equal(fixed, self._fixed)
+            and (fixed is self._fixed or np.array_equal(fixed, self._fixed))
         )
 
     def initial_unknowns(self, q: np.ndarray) -> list[np.ndarray]:
@@ -245,16 +275,17 @@ class SliderStatics:
         when there are several).
         """
         f = np.asarray(f, dtype=float)
-        if f.shape != (self.structure.n_dofs,) or not np.all(np.isfinite(f)):
+        if f.shape != (self.structure.n_dofs,) or not np.isfinite(f).all():
             raise ValueError(f"load vector must be finite with {self.structure.n_dofs} rows")
         if self.plane is not None:
-            check_load(self.structure, f, self.plane)
+            check_load(self.structure, f, self.plane, held=self._held)
         if not (isinstance(load_steps, (int, np.integer)) and load_steps >= 1):
             raise ValueError(f"load_steps must be a positive integer, got {load_steps!r}")
         state, counts = start, []
         for k in range(1, load_steps + 1):
             try:
-                q, ys, residuals = self._newton(f * (k / load_steps), state, tol, max_iterations)
+                load = f if load_steps == 1 else f * (k / load_steps)
+                q, ys, residuals = self._newton(load, state, tol, max_iterations)
             except ValueError as exc:
                 if load_steps == 1:
                     raise
