@@ -106,9 +106,7 @@ def simulate(
     try:
         for name in tqdm(models, desc="models", unit="model", disable=None if progress else True):
             run = GearModel(name, slider=slider).simulate(t_end, step, False, keep == name)
-            run.friction_dynamic = friction_in_dynamics(name, slider, step, t_end) * float(
-                run.peak("ground_vertical")[0]
-            )
+            run.friction_dynamic_fraction = friction_in_dynamics(name, slider, step, t_end)
             runs[name] = run
     except KeyboardInterrupt:
         print(f"interrupted: writing the {len(runs)} models finished")

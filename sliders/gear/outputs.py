@@ -202,9 +202,9 @@ class GearRun:
     seconds: float = math.nan
     #: Every step's time, displacements and slider unknowns, when the recorder kept them.
     states: list[tuple[float, np.ndarray, list[np.ndarray]]] | None = None
-    #: Set by the study when the lead's slider friction lands (the "in the dynamics"
-    #: column): the peak friction force along the strut in a run with friction.
-    friction_dynamic: float = field(default=math.nan)
+    #: The peak bearing friction over the peak vertical load of the same model run with
+    #: friction on its sliders (set by the Figure 7 study; NaN until then).
+    friction_dynamic_fraction: float = field(default=math.nan)
 
     def peak(
         self, name: str, sign: float = 0.0, start: float = -math.inf, stop: float = math.inf
@@ -290,7 +290,7 @@ class GearRun:
             out[key], out[f"{key}_time"] = self.peak(name, -1.0, stop=spin_up)
         vertical = float(out["ground_vertical"])
         out["friction_post_fraction"] = float(out["friction_post"]) / vertical
-        out["friction_dynamic_fraction"] = self.friction_dynamic / vertical
+        out["friction_dynamic_fraction"] = self.friction_dynamic_fraction
         out["spin_up_time"] = spin_up
         out["lift_off_time"] = self.lift_off_time()
         forward, when, frequency = self.spring_back()
