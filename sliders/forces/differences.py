@@ -15,7 +15,9 @@ smooth over the stencil the last estimate's truncation error is ``2^-8`` times t
 one's, so ``|D_k - f'|`` is about ``e_k / 255``: ``2 e_k`` holds it also before that
 asymptotic regime is reached.  The second term bounds the roundoff: the stencil's weights sum
 to ``1.69 / h_min`` in magnitude (below 2), and a law's value, tens of floating-point
-operations, carries up to 32 ulps of ``|f|`` (its largest at ``x - h, x, x + h``).
+operations, carries up to 32 ulps of ``|f|`` (its largest at ``x - h, x, x + h``) -- or of
+a larger ``scale`` the caller gives, where the law subtracts operands larger than its value
+(a slip ratio near zero carries ulps of the speeds it is the difference of).
 
 scipy halves the step up to nine times, so a kink farther from ``x`` than about ``step / 512``
 may be resolved (the stencil ends on one side of it).  An estimate that has not settled by then
@@ -46,6 +48,7 @@ def central_difference(
     x: ArrayLike,
     step: ArrayLike,
     args: tuple[ArrayLike, ...] = (),
+    scale: ArrayLike = 0.0,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The derivative of an elementwise scalar ``function`` at ``x`` by central differences,
     and the tolerance an exact derivative must meet against it (module docstring).
@@ -63,6 +66,9 @@ def central_difference(
         which ``f`` changes, clear of any kink.
     args : tuple of array_like
         Further arguments of ``function``, held fixed, broadcast with ``x``.
+    scale : array_like
+        A magnitude whose ulps bound the function's rounding where that exceeds 32 ulps of
+        its value (module docstring); the larger of the two is used.
 
     Returns
     -------
@@ -87,7 +93,7 @@ def central_difference(
     result = derivative(f, x, args=fixed, initial_step=h, order=ORDER)
     value = np.max([np.abs(f(x + sign * h, *fixed)) for sign in (-1.0, 0.0, 1.0)], axis=0)
     h_min = h / 2.0 ** (result.nit - 1) / 2.0 ** (ORDER // 2 - 1)
-    roundoff = 64.0 * EPS * value / h_min
+    roundoff = 64.0 * EPS * np.maximum(value, scale) / h_min
     unsettled = ~np.isfinite(result.df) | (result.error > UNSETTLED * np.abs(result.df) + roundoff)
     if np.any(unsettled):
         j = np.unravel_index(int(np.argmax(unsettled)), shape)
