@@ -101,10 +101,7 @@ class SlidingBeams:
             ]
         else:  # the last position's, moved
             structure = previous.structure.moved([self.cylinder, piston])
-            sliders = [
-                slider.moved(BeamChain(structure, [k], line))
-                for slider, (k, line, _, _) in zip(previous.sliders, LAYOUT, strict=True)
-            ]
+            sliders = [slider.moved(structure) for slider in previous.sliders]
         statics = SliderStatics(
             structure, self.supports, sliders, reuse=self._previous, method="condensed"
         )
