@@ -323,10 +323,11 @@ class Structure:
         return total
 
     def gather(self, beam: int | str, f_local: np.ndarray) -> np.ndarray:
-        """A beam's (index or name) load vector as a global one."""
-        f = np.zeros(self.n_dofs)
-        np.add.at(f, self.dof_maps[self.beam_index(beam)], f_local)
-        return f
+        """A beam's (index or name) load vector as a global one (the entries of tied dofs
+        summed)."""
+        return np.bincount(
+            self.dof_maps[self.beam_index(beam)], weights=f_local, minlength=self.n_dofs
+        )
 
     def local(self, beam: int | str, q: ArrayLike) -> np.ndarray:
         """A beam's (index or name) share of a global dof vector."""

@@ -450,7 +450,6 @@ def _moved(new: Slider, old: Slider) -> bool:
     stiffness and arc lengths, :meth:`fvbeam.beam.Beam.translated`)."""
     if not (
         _equations(new) == _equations(old)
-        and new.kind == old.kind
         and (new.drive is None) == (old.drive is None)
         and (new.offset is old.offset or np.array_equal(new.offset, old.offset))
         and (new.frame is old.frame or np.array_equal(new.frame, old.frame))

@@ -71,6 +71,8 @@ from sliders.lines.rigid import RigidLine
 KINDS = ("spherical", "classical", "spline")
 ORIENTATIONS = ("section", "slope")
 UNKNOWNS = ("xi", "lambda_x", "lambda_y", "lambda_z", "mu_2", "mu_3", "mu_1")
+#: The number of unknowns of each kind (:attr:`Slider.n_unknowns`).
+N_UNKNOWNS = {"spherical": 4, "classical": 6, "spline": 7}
 
 
 @dataclass
@@ -177,7 +179,7 @@ class Slider:
     def n_unknowns(self) -> int:
         """``xi``, ``lambda``; ``mu_2, mu_3`` for the classical and spline sliders; ``mu_1``
         for the spline slider."""
-        return {"spherical": 4, "classical": 6, "spline": 7}[self.kind]
+        return N_UNKNOWNS[self.kind]
 
     @property
     def unknown_names(self) -> tuple[str, ...]:

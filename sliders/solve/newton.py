@@ -230,9 +230,8 @@ class CompiledNewton:
         statics = self.statics
         if statics is None:
             raise ValueError("a compiled Newton loop without its statics does not solve")
-        q = np.array(q, dtype=float)
-        y = np.concatenate([np.asarray(u, dtype=float) for u in unknowns] + [np.zeros(0)])
-        q0, y0 = q.copy(), y.copy()
+        q0, y0 = np.asarray(q, dtype=float), np.concatenate([*unknowns, ()], dtype=float)
+        q, y = q0.copy(), y0.copy()  # the start kept for the diagnosis of a failure
         drives = np.array(
             [s.drive(time)[0] if s.drive is not None else 0.0 for s in statics.sliders]
         )
