@@ -31,14 +31,17 @@ region's balance, ``docs/theory.md`` eq. T7).
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numba
 import numpy as np
 import scipy.sparse as sp
 
 from fvbeam.elements import jumps
-from fvbeam.formulations import FiniteVolume, Formulation, Galerkin
+from fvbeam.formulations import FiniteVolume, Formulation, Galerkin, gauss
 from fvbeam.mesh import BeamMesh
-from fvbeam.pointwise import shape_at
+from fvbeam.pointwise import cubic_local_at, shape_at
+from fvbeam.section import Section
 
 
 def compiled(formulation: Formulation) -> bool:
@@ -206,14 +209,168 @@ def element_blocks(
                     # eps . sigma of N_a e_k: dN_a/ds F_k; of a rotation, dN_a/ds M_k minus
                     # N_a (e_k x t) . F = N_a e_k . (t x F)
                     add_work(Ke, 6 * a, sigma, slope, (-value * t0, -value * t1, -value * t2))
-        for a in range(npe):
-            A = cells[e, a]
-            width = 6 * (indptr[A + 1] - indptr[A])
-            for b in range(npe):
-                start = 36 * indptr[A] + 6 * (block[e, a, b] - indptr[A])
-                for i in range(6):
-                    for j in range(6):
-                        data[start + i * width + j] += Ke[6 * a + i, 6 * b + j]
+        add_element(Ke, e, cells, block, indptr, data)
+
+
+@numba.njit(cache=True, inline="never")
+def add_element(
+    Ke: np.ndarray,
+    e: int,
+    cells: np.ndarray,
+    block: np.ndarray,
+    indptr: np.ndarray,
+    data: np.ndarray,
+) -> None:
+    """Add element ``e``'s matrix ``Ke`` (6 npe, 6 npe) into the CSR values ``data`` of the
+    pattern :func:`dof_pattern`, node block by node block (:func:`node_blocks`)."""
+    npe = cells.shape[1]
+    for a in range(npe):
+        A = cells[e, a]
+        width = 6 * (indptr[A + 1] - indptr[A])
+        for b in range(npe):
+            start = 36 * indptr[A] + 6 * (block[e, a, b] - indptr[A])
+            for i in range(6):
+                for j in range(6):
+                    data[start + i * width + j] += Ke[6 * a + i, 6 * b + j]
+
+
+@numba.njit(cache=True, inline="never")
+def rotated_blocks(R: np.ndarray, A: np.ndarray, scratch: np.ndarray) -> None:
+    """``A`` (3k, 3k) replaced by ``T A T^T``, ``T`` the block diagonal of the rotation
+    ``R`` (3, 3): each 3x3 block ``A_IJ`` by ``R A_IJ R^T`` (``scratch`` (3, 3))."""
+    for I in range(0, A.shape[0], 3):
+        for J in range(0, A.shape[1], 3):
+            for i in range(3):
+                for j in range(3):
+                    total = 0.0
+                    for k in range(3):
+                        total += A[I + i, J + k] * R[j, k]
+                    scratch[i, j] = total  # A_IJ R^T
+            for i in range(3):
+                for j in range(3):
+                    A[I + i, J + j] = (
+                        R[i, 0] * scratch[0, j] + R[i, 1] * scratch[1, j] + R[i, 2] * scratch[2, j]
+                    )
+
+
+@numba.njit(cache=True)
+def cubic_blocks(
+    mass: bool,
+    X: np.ndarray,
+    W: np.ndarray,
+    h: np.ndarray,
+    frames: np.ndarray,
+    diagonal: np.ndarray,
+    S: np.ndarray,
+    m: float,
+    J: np.ndarray,
+    cells: np.ndarray,
+    block: np.ndarray,
+    indptr: np.ndarray,
+    data: np.ndarray,
+) -> None:
+    """Add every cubic element's stiffness, or with ``mass`` its consistent mass, into the
+    CSR values ``data`` of the pattern :func:`dof_pattern`.
+
+    The element's twelve functions ``(u, theta)`` in its section axes
+    (:func:`fvbeam.pointwise.cubic_local_at`, eq. T11: they read the ``diagonal`` (6,) of the
+    section stiffness) give, at each point ``X`` (nq,) of the rule ``W`` on [0, 1], the
+    strains ``[u' + e1 x theta; theta']`` (eq. T1 with ``t = e1``) whose work through the
+    section stiffness ``S`` (6, 6, section frame) sums to the stiffness (eq. T3), or the
+    fields whose kinetic energy through ``m`` and the section inertia ``J`` (3, 3) sums to
+    the mass (eq. T12); each element's matrix is then turned to global axes by its section
+    frame (``frames`` (nel, 3, 3), the element's own, as the functions take it) and added.
+    ``h`` (nel,): the element lengths."""
+    L0, L1 = np.empty((12, 6)), np.empty((12, 6))
+    strain, force = np.empty((12, 6)), np.empty((12, 6))
+    Ke, block3 = np.empty((12, 12)), np.empty((3, 3))
+    for e in range(len(h)):
+        Ke[:] = 0.0
+        for q in range(len(X)):
+            weight = W[q] * h[e]
+            cubic_local_at(diagonal, h[e], X[q], 0, L0)
+            if mass:
+                for i in range(12):
+                    for c in range(3):
+                        strain[i, c] = m * L0[i, c]
+                        strain[i, 3 + c] = (
+                            J[c, 0] * L0[i, 3] + J[c, 1] * L0[i, 4] + J[c, 2] * L0[i, 5]
+                        )
+                for i in range(12):
+                    for j in range(12):
+                        total = 0.0
+                        for c in range(6):
+                            total += L0[i, c] * strain[j, c]
+                        Ke[i, j] += weight * total
+                continue
+            cubic_local_at(diagonal, h[e], X[q], 1, L1)
+            for i in range(12):
+                strain[i, 0] = L1[i, 0]
+                strain[i, 1] = L1[i, 1] - L0[i, 5]
+                strain[i, 2] = L1[i, 2] + L0[i, 4]
+                for c in range(3, 6):
+                    strain[i, c] = L1[i, c]
+            for i in range(12):
+                for c in range(6):
+                    total = 0.0
+                    for k in range(6):
+                        total += S[c, k] * strain[i, k]
+                    force[i, c] = total
+            for i in range(12):
+                for j in range(12):
+                    total = 0.0
+                    for c in range(6):
+                        total += strain[i, c] * force[j, c]
+                    Ke[i, j] += weight * total
+        rotated_blocks(frames[e], Ke, block3)
+        add_element(Ke, e, cells, block, indptr, data)
+
+
+def matrix(
+    mesh: BeamMesh, fill: Callable[[np.ndarray, np.ndarray, np.ndarray], None]
+) -> sp.csr_matrix:
+    """A beam matrix on the node blocks of ``mesh`` (six dofs per node, node ``k`` owning
+    ``6k .. 6k + 5``): ``fill(block, indptr, data)`` adds the elements into the CSR values
+    ``data`` (:func:`add_element`); a CSR matrix without explicit zeros (as ``skfem.asm``
+    gives it)."""
+    indptr, indices, block = node_blocks(mesh.cells, mesh.n_nodes)
+    dof_indptr, dof_indices = dof_pattern(indptr, indices)
+    data = np.zeros(len(dof_indices))
+    fill(block, indptr, data)
+    n = 6 * mesh.n_nodes
+    K = sp.csr_matrix((data, dof_indices, dof_indptr), shape=(n, n))
+    K.eliminate_zeros()
+    return K
+
+
+def cubic(mesh: BeamMesh, section: Section, kind: str) -> sp.csr_matrix:
+    """The cubic element's ``stiffness`` (2-point Gauss rule: its shear strain is constant
+    and its curvature linear, so exact) or ``consistent`` mass (4 points: exact for the
+    product of two cubic deflections) by :func:`cubic_blocks`; the definitions are
+    scikit-fem's forms on :class:`fvbeam.elements.ElementBeamCubic`
+    (:meth:`fvbeam.beam.Beam.reference_stiffness`, :func:`fvbeam.mass.reference_consistent`),
+    which it equals to round-off (``tests/test_assembly.py``)."""
+    X, W = gauss(2 if kind == "stiffness" else 4)
+    frames = mesh.frames(np.arange(mesh.n_elements), np.full(mesh.n_elements, 0.5))
+
+    def fill(block: np.ndarray, indptr: np.ndarray, data: np.ndarray) -> None:
+        cubic_blocks(
+            kind != "stiffness",
+            X,
+            W,
+            np.ascontiguousarray(mesh.element_length),
+            np.ascontiguousarray(frames),
+            np.ascontiguousarray(np.diag(section.stiffness)),
+            np.ascontiguousarray(section.stiffness, dtype=float),
+            float(section.mass_per_length),
+            np.ascontiguousarray(section.inertia, dtype=float),
+            mesh.cells,
+            block,
+            indptr,
+            data,
+        )
+
+    return matrix(mesh, fill)
 
 
 def stiffness(
@@ -238,25 +395,22 @@ def stiffness(
     npe = mesh.nodes_per_element
     fv = isinstance(formulation, FiniteVolume)
     step = jumps(npe) if fv else np.zeros((npe, len(X)))
-    indptr, indices, block = node_blocks(mesh.cells, mesh.n_nodes)
-    dof_indptr, dof_indices = dof_pattern(indptr, indices)
-    data = np.zeros(len(dof_indices))
-    element_blocks(
-        fv,
-        X,
-        W,
-        np.ascontiguousarray(step, dtype=float),
-        np.ascontiguousarray(mesh.points[mesh.cells]),
-        np.ascontiguousarray(mesh.element_length),
-        np.ascontiguousarray(frames),
-        np.ascontiguousarray(metric),
-        np.ascontiguousarray(section, dtype=float),
-        mesh.cells,
-        block,
-        indptr,
-        data,
-    )
-    n = 6 * mesh.n_nodes
-    K = sp.csr_matrix((data, dof_indices, dof_indptr), shape=(n, n))
-    K.eliminate_zeros()
-    return K
+
+    def fill(block: np.ndarray, indptr: np.ndarray, data: np.ndarray) -> None:
+        element_blocks(
+            fv,
+            X,
+            W,
+            np.ascontiguousarray(step, dtype=float),
+            np.ascontiguousarray(mesh.points[mesh.cells]),
+            np.ascontiguousarray(mesh.element_length),
+            np.ascontiguousarray(frames),
+            np.ascontiguousarray(metric),
+            np.ascontiguousarray(section, dtype=float),
+            mesh.cells,
+            block,
+            indptr,
+            data,
+        )
+
+    return matrix(mesh, fill)

@@ -21,7 +21,7 @@ from fvbeam import assembly
 from fvbeam import mass as beam_mass
 from fvbeam.copies import shallow_copy
 from fvbeam.forms import distributed_load, generalised_strain, internal_work
-from fvbeam.formulations import Formulation, composite_gauss
+from fvbeam.formulations import Cubic, Formulation, composite_gauss
 from fvbeam.formulations import formulation as get_formulation
 from fvbeam.geometry import section_frames, sized, vector3, wrench
 from fvbeam.mesh import BeamMesh
@@ -168,9 +168,10 @@ class Beam:
     @cached_property
     def stiffness(self) -> sp.csr_matrix:
         """Tangent stiffness K (unsymmetric for fv test functions), assembled once: by the
-        compiled element blocks of :mod:`fvbeam.assembly` for the fv and Galerkin
-        formulations, which equal :meth:`reference_stiffness` to round-off
-        (``tests/test_assembly.py``), otherwise by that method."""
+        compiled element blocks of :mod:`fvbeam.assembly` (fv, Galerkin and cubic), which
+        equal :meth:`reference_stiffness` to round-off (``tests/test_assembly.py``)."""
+        if isinstance(self.formulation, Cubic):
+            return assembly.cubic(self.mesh, self.section, "stiffness")
         if not assembly.compiled(self.formulation):
             return self.reference_stiffness()
         frames, metric = self.centreline(self._quadrature[0])

@@ -23,9 +23,10 @@ offset centre of mass is not modelled (the section has no such offset).
     frequencies, against the fourth of the consistent mass (``docs/theory.md`` Sec. 9).
 ``consistent``
     Galerkin and cubic: ``int N_a . N_b`` of the trial functions, ``N_a`` the field
-    ``(u, theta)`` of dof ``a``, weighted by ``(m I, R J R^T)``, assembled with scikit-fem
-    (:func:`fvbeam.forms.inertia`) on a Gauss rule exact for the product of two trial
-    functions on straight elements (``degree + 1`` points).  The cubic element's deflections
+    ``(u, theta)`` of dof ``a``, weighted by ``(m I, R J R^T)``, on a Gauss rule exact for
+    the product of two trial functions on straight elements (``degree + 1`` points):
+    assembled with scikit-fem (:func:`fvbeam.forms.inertia`), the cubic element's compiled
+    (:func:`fvbeam.assembly.cubic`).  The cubic element's deflections
     read its nodal rotations, so its mass couples them (eq. T12).  The fv test functions are
     not the trial ones, so a "consistent" fv mass would be a Petrov-Galerkin product; it is
     not offered.
@@ -39,9 +40,10 @@ import numpy as np
 import scipy.sparse as sp
 from skfem import CellBasis, MeshLine1, asm
 
+from fvbeam import assembly
 from fvbeam.elements import indicator
 from fvbeam.forms import inertia
-from fvbeam.formulations import FiniteVolume, Formulation, gauss
+from fvbeam.formulations import Cubic, FiniteVolume, Formulation, gauss
 from fvbeam.mesh import BeamMesh, shape_functions
 from fvbeam.section import Section
 
@@ -113,8 +115,17 @@ def lumped(beam: MassSource) -> sp.csr_matrix:
 
 
 def consistent(beam: MassSource) -> sp.csr_matrix:
+    """Galerkin mass ``int N_a . (m I, R J R^T) N_b ds`` on the trial functions: the cubic
+    element's compiled (:func:`fvbeam.assembly.cubic`, equal to :func:`reference_consistent`
+    to round-off), the others' by :func:`reference_consistent`."""
+    if isinstance(beam.formulation, Cubic):
+        return assembly.cubic(beam.mesh, beam.section, "consistent")
+    return reference_consistent(beam)
+
+
+def reference_consistent(beam: MassSource) -> sp.csr_matrix:
     """Galerkin mass ``int N_a . (m I, R J R^T) N_b ds`` (scikit-fem, :func:`forms.inertia`)
-    on the trial functions, Gauss rule of ``degree + 1`` points."""
+    on the trial functions, Gauss rule of ``degree + 1`` points: the definition."""
     X, W = gauss(beam.formulation.degree + 1)
     basis = CellBasis(
         beam.skfem_mesh,

@@ -14,10 +14,12 @@ over the absolute values of every term (:func:`magnitude`), and the two within `
 import numpy as np
 import pytest
 import scipy.sparse as sp
-from skfem import BilinearForm, asm
+from skfem import BilinearForm, CellBasis, asm
 
 from fvbeam import Beam, RigidBody, Section, Structure, arc, from_curve, straight
 from fvbeam.assembly import compiled, node_blocks
+from fvbeam.formulations import gauss
+from fvbeam.mass import reference_consistent
 
 EPS = np.finfo(float).eps
 #: Roundings on either path (module docstring), twice.
@@ -141,3 +143,90 @@ def test_structure_sums_the_beams_matrices_on_the_global_dofs(ties):
     scale = coordinate_sum(structure, [abs(beam.stiffness) for beam in beams])
     assert np.all(np.abs(K.toarray() - expected) <= 2 * EPS * scale)
     assert K.has_canonical_format
+
+
+#: The cubic element's section: distinct stiffnesses and a full section inertia (its
+#: functions read the stiffness's diagonal, eq. T11; its mass the inertia, eq. T12).
+CUBIC_SECTION = Section(
+    np.diag([40.0, 9.0, 11.0, 3.0, 5.0, 4.0]),
+    mass_per_length=2.5,
+    inertia=np.array([[0.7, 0.1, -0.05], [0.1, 0.4, 0.02], [-0.05, 0.02, 0.3]]),
+)
+
+
+@BilinearForm
+def inertia_magnitude(u, v, w):
+    """:func:`fvbeam.forms.inertia` with every product and sum in absolute value: the scale
+    of its round-off."""
+    u, v = np.abs(np.asarray(u)), np.abs(np.asarray(v))
+    J = np.abs(np.asarray(w.J))
+    rotary = np.einsum("ij...,j...->i...", J, u[3:])
+    return (
+        w.m * np.einsum("i...,i...->...", v[:3], u[:3]) + np.einsum("i...,i...->...", v[3:], rotary)
+    ) * w.metric
+
+
+def test_cubic_compiled_matrices_equal_the_scikit_fem_forms():
+    """Stiffness (2 Gauss points) and consistent mass (4) of cubic elements of unequal
+    lengths along x, whose section frames are the coordinate axes (turning them rounds
+    nothing), against scikit-fem's forms on the element's functions: within ``64 EPS B`` of
+    the module docstring (the mass's terms pass through fewer roundings than the
+    stiffness's: the fields, ``m u`` or ``J theta`` (5), the product (11), weights and sum)."""
+    mesh = from_curve(lambda u: np.column_stack([u + 0.6 * u**2, 0 * u, 0 * u]), 5, 2)
+    beam = Beam(mesh, CUBIC_SECTION, "cubic")
+    frames = mesh.frames(np.arange(mesh.n_elements), np.full(mesh.n_elements, 0.5))
+    assert np.all(np.isin(frames, (-1.0, 0.0, 1.0)))  # the premise: exact turns
+    K, reference = beam.stiffness, beam.reference_stiffness()
+    bound = asm(
+        magnitude, beam.trial_basis, beam.test_basis, **beam.geometry(beam._quadrature[0])[0]
+    )
+    assert np.all(np.abs((K - reference).toarray()) <= ROUNDINGS * EPS * bound.toarray())
+    assert K.has_canonical_format and not np.any(K.data == 0)
+    M, reference = beam.mass("consistent"), reference_consistent(beam)
+    X, W = gauss(4)
+    basis = CellBasis(
+        beam.skfem_mesh,
+        beam.formulation.trial_element(mesh, CUBIC_SECTION),
+        quadrature=(X[None, :], W),
+        disable_doflocs=True,
+    )
+    bound = asm(
+        inertia_magnitude,
+        basis,
+        m=np.full((mesh.n_elements, 4), CUBIC_SECTION.mass_per_length),
+        J=np.broadcast_to(CUBIC_SECTION.inertia[:, :, None, None], (3, 3, mesh.n_elements, 4)),
+        metric=np.ones((mesh.n_elements, 4)),
+    )
+    assert np.all(np.abs((M - reference).toarray()) <= ROUNDINGS * EPS * bound.toarray())
+
+
+def test_cubic_matrices_turn_with_the_beam():
+    """The same cubic beam along x and along an oblique direction: the oblique matrices are
+    ``T A T^T``, ``T`` the block diagonal of its section frame ``R`` (the x beam's is the
+    identity).  Each side turns each term through 2 three-term products (6 roundings), the
+    element lengths, computed from the node positions within 2 EPS, enter the stiffness at
+    most cubed: ``32 EPS |T| B |T|^T``, ``B`` the sum of the elements' ``|A_e|`` (the
+    assembled ``A`` cancels between neighbours, its terms do not).  Each element's own
+    frame is ``R + E`` with ``|E| <= delta`` (measured, a few EPS), which adds
+    ``E A_e R^T + R A_e E^T + E A_e E^T``: at most ``delta (O B |T|^T + |T| B O^T + delta O B
+    O^T)``, ``O`` the block diagonal of 3x3 ones."""
+    length, n = 1.7, 4
+    d = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])
+    start = np.array([0.2, 0.1, -0.3])
+    along_x = Beam(straight((0, 0, 0), (length, 0, 0), n, 2), CUBIC_SECTION, "cubic")
+    oblique = Beam(straight(start, start + length * d, n, 2), CUBIC_SECTION, "cubic")
+    element = Beam(straight((0, 0, 0), (length / n, 0, 0), 1, 2), CUBIC_SECTION, "cubic")
+    frames = oblique.mesh.frames(np.arange(n), np.full(n, 0.5))
+    R = frames[0]
+    delta = np.abs(frames - R).max()
+    assert delta <= 4 * EPS  # the premise: one frame, to round-off
+    assert np.array_equal(along_x.mesh.frames(np.array([0]), np.array([0.5]))[0], np.eye(3))
+    R_T = sp.block_diag([R] * (2 * (n + 1))).toarray()
+    T, O = np.abs(R_T), sp.block_diag([np.ones((3, 3))] * (2 * (n + 1))).toarray()
+    for matrix in (lambda b: b.stiffness, lambda b: b.mass("consistent")):
+        A, turned = matrix(along_x).toarray(), matrix(oblique).toarray()
+        B = np.zeros_like(A)
+        for e in range(n):
+            B[6 * e : 6 * e + 12, 6 * e : 6 * e + 12] += np.abs(matrix(element).toarray())
+        frame = 32 * EPS * T @ B @ T.T + delta * (O @ B @ T.T + T @ B @ O.T + delta * O @ B @ O.T)
+        assert np.all(np.abs(turned - R_T @ A @ R_T.T) <= frame)
