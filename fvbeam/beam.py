@@ -6,7 +6,6 @@ axes, node ``k`` of the :class:`~fvbeam.mesh.BeamMesh` owning dofs ``6k .. 6k + 
 
 from __future__ import annotations
 
-import copy
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cached_property, partial
@@ -20,6 +19,7 @@ from skfem.assembly import Dofs
 
 from fvbeam import assembly
 from fvbeam import mass as beam_mass
+from fvbeam.copies import shallow_copy
 from fvbeam.forms import distributed_load, generalised_strain, internal_work
 from fvbeam.formulations import Cubic, Formulation, composite_gauss
 from fvbeam.formulations import formulation as get_formulation
@@ -90,7 +90,7 @@ class Beam:
         unchanged (bases, stiffness): they are assembled here, once.  Its mesh is named
         ``name`` (default: this beam's)."""
         _ = self.stiffness
-        moved = copy.copy(self)
+        moved = shallow_copy(self)
         moved.mesh = self.mesh.translated(vector3(offset, "offset"), name)
         return moved
 

@@ -45,7 +45,7 @@ def number(
 def vector3(value: ArrayLike, name: str) -> np.ndarray:
     """``value`` as a finite 3-vector, or ``ValueError`` naming ``name``."""
     v = _floats(value)
-    if v.shape != (3,) or not np.all(np.isfinite(v)):
+    if v.shape != (3,) or not np.isfinite(v).all():
         raise ValueError(f"{name} must be a finite 3-vector, got {value!r}")
     return v
 

@@ -9,7 +9,6 @@ coordinate (``vertex_s``), see ``../shared/notes`` and ``docs/architecture.md``.
 
 from __future__ import annotations
 
-import copy
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from numbers import Real
@@ -19,6 +18,7 @@ from typing import Any
 import meshio
 import numpy as np
 
+from fvbeam.copies import shallow_copy
 from fvbeam.geometry import (
     check_up,
     closest_to_up,
@@ -161,7 +161,7 @@ class BeamMesh:
         neither is run again: the lengths are the original ones exactly (recomputed from the
         moved nodes they would differ by roundoff).
         """
-        moved = copy.copy(self)
+        moved = shallow_copy(self)
         object.__setattr__(moved, "points", self.points + offset)
         if name is not None:
             object.__setattr__(moved, "name", name)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import copy
 from collections.abc import Sequence
 from functools import cached_property
 from itertools import combinations
@@ -14,6 +13,7 @@ from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 from fvbeam.beam import Beam
 from fvbeam.body import RigidBody
+from fvbeam.copies import shallow_copy
 from fvbeam.geometry import sized, wrench
 from fvbeam.names import NodeRef, is_index, known, parse_node, suggest
 from fvbeam.support import DOF_NAMES, Support
@@ -93,10 +93,10 @@ class Structure:
     def moved(self, beams: Sequence[Beam], bodies: Sequence[RigidBody] = ()) -> "Structure":
         """This structure with its beams and bodies replaced by ``beams`` and ``bodies``, each
         the one it replaces moved rigidly (:meth:`fvbeam.beam.Beam.translated`, a body's
-        position changed): the same ties, node numbering and dof maps, shared, not built
-        again (a sweep over positions).  The ties that join a body are checked again (a body
-        tied at a point it has left); ``ValueError`` when a beam or body is not a moved copy
-        of the one it replaces (other stiffness, mesh size or name)."""
+        position changed): the same ties, names, node numbering and dof maps, shared, not
+        built again (a sweep over positions).  The ties that join a body are checked again (a
+        body tied at a point it has left); ``ValueError`` when a beam or body is not a moved
+        copy of the one it replaces (other stiffness, mesh size or name)."""
         beams, bodies = list(beams), list(bodies)
         if len(beams) != len(self.beams) or len(bodies) != len(self.bodies):
             raise ValueError(
@@ -105,15 +105,16 @@ class Structure:
             )
         for i, (new, old) in enumerate(zip(beams, self.beams, strict=True)):
             if new is not old and (
-                new.stiffness is not old.stiffness or new.mesh.n_nodes != old.mesh.n_nodes
+                new.stiffness is not old.stiffness
+                or new.mesh.n_nodes != old.mesh.n_nodes
+                or new.mesh.name != old.mesh.name
             ):
                 raise ValueError(f"beams[{i}] is not beam {i} moved rigidly (Beam.translated)")
         for i, (body, was) in enumerate(zip(bodies, self.bodies, strict=True)):
             if not isinstance(body, RigidBody) or body.name != was.name:
                 raise ValueError(f"bodies[{i}] is not body {was.name!r} moved")
-        out = copy.copy(self)
+        out = shallow_copy(self)
         out.beams, out.bodies = beams, bodies
-        out._beam_names = [beam.mesh.name for beam in beams]
         for tie in self._ties:
             a, b = (out.resolve_node(ref) for ref in out._tie_ends(tie))
             if isinstance(a, str) or isinstance(b, str):
@@ -208,6 +209,17 @@ class Structure:
     def node_dofs(self, ref: NodeRef) -> np.ndarray:
         """The six global dofs ``ux uy uz rx ry rz`` of a node (:meth:`resolve_node`)."""
         return 6 * int(self._node_number[self._slot(self.resolve_node(ref))]) + np.arange(6)
+
+    def node_slot(self, ref: NodeRef) -> int:
+        """The row of a node (:meth:`resolve_node`) in :meth:`slot_points`."""
+        return self._slot(self.resolve_node(ref))
+
+    def slot_points(self) -> np.ndarray:
+        """Reference positions of the nodes before ties merge them, ``(slots, 3)``: each
+        beam's mesh nodes in their order, beam after beam, then the bodies (a moved
+        structure, :meth:`moved`, keeps the rows)."""
+        bodies = [np.reshape(body.position, (1, 3)) for body in self.bodies]
+        return np.concatenate([beam.mesh.points for beam in self.beams] + bodies)
 
     def node_position(self, ref: NodeRef) -> np.ndarray:
         """Reference position of a node (:meth:`resolve_node`)."""
@@ -311,10 +323,11 @@ class Structure:
         return total
 
     def gather(self, beam: int | str, f_local: np.ndarray) -> np.ndarray:
-        """A beam's (index or name) load vector as a global one."""
-        f = np.zeros(self.n_dofs)
-        np.add.at(f, self.dof_maps[self.beam_index(beam)], f_local)
-        return f
+        """A beam's (index or name) load vector as a global one (the entries of tied dofs
+        summed)."""
+        return np.bincount(
+            self.dof_maps[self.beam_index(beam)], weights=f_local, minlength=self.n_dofs
+        )
 
     def local(self, beam: int | str, q: ArrayLike) -> np.ndarray:
         """A beam's (index or name) share of a global dof vector."""

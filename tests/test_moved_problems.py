@@ -19,6 +19,7 @@ from fvbeam import Beam, Structure, straight
 from fvbeam.body import RigidBody
 from sliders.app.model import Model
 from sliders.app.scene import load_scene, parse_scene
+from sliders.joints.slider import Slider
 from sliders.sliding_beams.model import PAPER
 
 SCENE = Path(__file__).parents[1] / "studies" / "scenes" / "fig4_sliding_beams.toml"
@@ -85,3 +86,96 @@ def test_structure_moved_keeps_the_numbering_and_checks_what_a_move_can_break():
         structure.moved([a.translated(shift)], [hub])
     with pytest.raises(ValueError, match="1 beams and 1 bodies"):
         structure.moved([a, a], [hub])
+
+
+def _models(kind: str = "classical"):
+    """The sliding-beams statics at ``s / L``, each built anew on one model's beams (their
+    stiffness shared: the piston is the cylinder translated)."""
+    from sliders.sliding_beams.model import SlidingBeams
+
+    model = SlidingBeams("fv3", 3, kind, smearing=0.3)
+
+    def fresh(s: float):
+        model._previous = None
+        return model.problem(s)[0]
+
+    return fresh
+
+
+@pytest.mark.parametrize("kind", ["spherical", "classical"])
+def test_moved_joints_pack_as_fresh_ones(kind):
+    """``JointPack.moved``: the joints of a moved problem packed as a pack built anew on it
+    (every float and integer equal, bit for bit: the node positions are copied, the sliding
+    points' offsets added as the fresh pack adds them), from the placement made once, and
+    from one made again when the structure is not a moved copy (built anew, same beams);
+    the template's pack is left as it was."""
+    from sliders.joints.packed import JointPack
+
+    fresh_at = _models(kind)
+    first = fresh_at(0.0)
+    joints = [dataclasses.replace(x, offset=(0.0, 0.01, 0.002)) for x in first.sliders]
+    pack = JointPack(joints, first.structure)
+    for s in (0.09, 0.51):
+        fresh = fresh_at(s)
+        moved_structure = first.structure.moved(fresh.structure.beams)
+        sliders = [slider.moved(moved_structure) for slider in joints]
+        rebuilt = Structure(fresh.structure.beams)
+        again = [Slider(**{**vars_of(x), "line": x.line.moved(rebuilt)}) for x in joints]
+        expected = JointPack(
+            [dataclasses.replace(x, offset=joints[0].offset) for x in fresh.sliders],
+            fresh.structure,
+        )
+        for structure, on_it in ((moved_structure, sliders), (rebuilt, again)):
+            moved = pack.moved(on_it, structure)
+            assert moved is not None
+            np.testing.assert_array_equal(moved.floats, expected.floats)
+            np.testing.assert_array_equal(moved.ints, expected.ints)
+        assert pack.moved(sliders, moved_structure)._placement is pack._placement
+    np.testing.assert_array_equal(pack.floats, JointPack(joints, first.structure).floats)
+
+
+def vars_of(slider):
+    """The constructor arguments of a slider (its dataclass fields)."""
+    return {f.name: getattr(slider, f.name) for f in dataclasses.fields(slider)}
+
+
+def test_moved_chain_is_the_chain_of_the_moved_beams():
+    """``BeamChain.moved`` on a moved structure: the chain of the same beams built anew
+    there (same beams, abscissae, name); on a structure built anew, a chain built and
+    checked anew."""
+    from sliders.lines.chain import BeamChain
+
+    fresh_at = _models()
+    first, fresh = fresh_at(0.0), fresh_at(0.3)
+    for slider, new in zip(first.sliders, fresh.sliders, strict=True):
+        for structure in (first.structure.moved(fresh.structure.beams), fresh.structure):
+            chain = slider.line.moved(structure)
+            assert isinstance(chain, BeamChain) and chain.structure is structure
+            assert chain.beams == [structure.beams[i] for i in new.line.indices]
+            assert chain.name == new.line.name and chain.length == new.line.length
+            np.testing.assert_array_equal(chain.offsets, new.line.offsets)
+            x = chain.geometry(0.2, np.zeros(structure.n_dofs))[0]
+            np.testing.assert_array_equal(x, new.line.geometry(0.2, np.zeros(structure.n_dofs))[0])
+
+
+def test_slot_points_hold_every_node_before_ties():
+    """``Structure.slot_points`` and ``node_slot``: the row of a beam's node or a body is its
+    reference position (:meth:`Structure.node_position`), tied nodes keep a row each."""
+    a, b = _beam(0.0), _beam(1.0)
+    hub = RigidBody("hub", np.array([2.0, 0.0, 0.0]))
+    structure = Structure([a, b], ties=[(0, "end", 1, "start"), ((1, "end"), "hub")], bodies=[hub])
+    points = structure.slot_points()
+    assert points.shape == (a.mesh.n_nodes + b.mesh.n_nodes + 1, 3)
+    for ref in [(0, "start"), (0, "end"), (1, "start"), (1, 3), "hub"]:
+        np.testing.assert_array_equal(
+            points[structure.node_slot(ref)], structure.node_position(ref)
+        )
+
+
+def test_structure_moved_refuses_a_renamed_beam():
+    """A beam renamed on the way (``Beam.translated(..., name=)``) is not the beam it
+    replaces moved: node references by name would name other nodes."""
+    a = _beam(0.0)
+    structure = Structure([a])
+    with pytest.raises(ValueError, match=r"beams\[0\] is not beam 0 moved"):
+        structure.moved([a.translated((0.0, 0.5, 0.0), name="P")])

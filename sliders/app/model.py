@@ -685,10 +685,7 @@ class Model:
                 sliders = [self._slider(s, structure) for s in self.scene.slider]
             else:  # the last point's parts moved: its numbering and checked sliders kept
                 structure = self._previous.structure.moved(beams, bodies)
-                sliders = [
-                    slider.moved(self._line(spec, structure))
-                    for slider, spec in zip(self._previous.sliders, self.scene.slider, strict=True)
-                ]
+                sliders = [slider.moved(structure) for slider in self._previous.sliders]
             self._previous = SliderStatics(
                 structure,
                 self.supports,

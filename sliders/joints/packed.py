@@ -27,12 +27,13 @@ reference, to roundoff, for every kind, orientation, line, smearing, end stop an
 
 from __future__ import annotations
 
-import copy
 from collections.abc import Sequence
+from typing import NamedTuple
 
 import numba
 import numpy as np
 
+from fvbeam.copies import shallow_copy
 from fvbeam.smearing import steps
 from fvbeam.structure import Structure
 from sliders.joints.blocks import SlotJacobian
@@ -213,33 +214,58 @@ class JointPack:
                 sizes[integer] += a.size
         self.floats = np.concatenate(floats) if floats else np.zeros(0)
         self.ints = np.concatenate(ints) if ints else np.zeros(0, dtype=np.int64)
+        self._placement = self._place(self.sliders, structure)
 
     def moved(self, sliders: Sequence[Slider], structure: Structure) -> JointPack | None:
         """This pack for ``sliders`` on ``structure`` when they are this pack's moved rigidly
         (a sweep over positions: the same joints on translated copies of the same beams,
         :meth:`fvbeam.beam.Beam.translated`), with only the node positions and the sliding
-        points' reference positions read anew; None when they are not (build a new pack)."""
+        points' reference positions read anew (:meth:`_place`); None when they are not
+        (build a new pack)."""
         sliders = list(sliders)
         if len(sliders) != len(self.sliders):
             return None
         for new, old in zip(sliders, self.sliders, strict=True):
             if not _moved(new, old):
                 return None
-        out = copy.copy(self)
+        out = shallow_copy(self)
         out.sliders = sliders
+        if not self._placement.fits(structure, sliders):
+            out._placement = self._place(sliders, structure)
+        place = out._placement
         out.floats = self.floats.copy()
-        for j, slider in enumerate(sliders):
-            d = self.fields[j, REFERENCE]
-            reference = structure.node_position(slider.body) + slider.offset
-            out.floats[d[0] : d[0] + 3] = reference
-            if isinstance(slider.line, BeamChain):
-                d = self.fields[j, POINTS]
-                points = np.concatenate([beam.mesh.points for beam in slider.line.beams])
-                out.floats[d[0] : d[0] + points.size] = points.ravel()
-                d = self.fields[j, GRID_POINTS]
-                grid = points[self.grid_nodes[j]]
-                out.floats[d[0] : d[0] + grid.size] = grid.ravel()
+        out.floats[place.targets] = structure.slot_points().ravel()[place.sources]
+        out.floats[place.references] += place.offsets
         return out
+
+    def _place(self, sliders: list[Slider], structure: Structure) -> Placement:
+        """Where the node positions of ``sliders`` on ``structure`` go in :attr:`floats`:
+        each joint's sliding point, its chain's nodes and its projection grid's nodes."""
+        targets, sources, references = [], [], []
+        for j, slider in enumerate(sliders):
+            body = 3 * structure.node_slot(slider.body) + np.arange(3)
+            references.append(self.fields[j, REFERENCE, 0] + np.arange(3))
+            targets.append(references[-1])
+            sources.append(body)
+            if isinstance(slider.line, BeamChain):
+                line = slider.line
+                nodes = np.concatenate(
+                    [
+                        structure.node_slot((i, 0)) + np.arange(beam.mesh.n_nodes)
+                        for i, beam in zip(line.indices, line.beams, strict=True)
+                    ]
+                )
+                for field, of in ((POINTS, nodes), (GRID_POINTS, nodes[self.grid_nodes[j]])):
+                    targets.append(self.fields[j, field, 0] + np.arange(3 * len(of)))
+                    sources.append((3 * of[:, None] + np.arange(3)).ravel())
+        return Placement(
+            structure.dof_maps,
+            _holds(sliders),
+            np.concatenate(targets + [np.zeros(0, dtype=np.int64)]),
+            np.concatenate(sources + [np.zeros(0, dtype=np.int64)]),
+            np.concatenate(references + [np.zeros(0, dtype=np.int64)]),
+            np.concatenate([s.offset for s in sliders] + [np.zeros(0)]),
+        )
 
     @property
     def unknowns(self) -> np.ndarray:
@@ -424,7 +450,6 @@ def _moved(new: Slider, old: Slider) -> bool:
     stiffness and arc lengths, :meth:`fvbeam.beam.Beam.translated`)."""
     if not (
         _equations(new) == _equations(old)
-        and new.kind == old.kind
         and (new.drive is None) == (old.drive is None)
         and (new.offset is old.offset or np.array_equal(new.offset, old.offset))
         and (new.frame is old.frame or np.array_equal(new.frame, old.frame))
@@ -437,6 +462,34 @@ def _moved(new: Slider, old: Slider) -> bool:
             for a, b in zip(new.line.beams, old.line.beams, strict=True)
         )
     return new.line is old.line
+
+
+def _holds(sliders: list[Slider]) -> list:
+    """What a :class:`Placement` reads of its joints besides the structure's numbering:
+    each joint's body and line beams."""
+    return [(s.body, s.line.indices if isinstance(s.line, BeamChain) else None) for s in sliders]
+
+
+class Placement(NamedTuple):
+    """Where a structure's node positions go in a pack's floats (the entries a rigid move
+    changes, :meth:`JointPack.moved`): the structure's node ``numbering`` (dof maps) and
+    what each joint ``holds`` (:func:`_holds`) it was made for; the entries ``targets`` of
+    the floats and the entries ``sources`` of the structure's raveled
+    :meth:`~fvbeam.structure.Structure.slot_points` they are read from; the entries
+    ``references`` of the sliding points, to which the joints' ``offsets`` are added."""
+
+    numbering: list[np.ndarray]
+    holds: list
+    targets: np.ndarray
+    sources: np.ndarray
+    references: np.ndarray
+    offsets: np.ndarray
+
+    def fits(self, structure: Structure, sliders: list[Slider]) -> bool:
+        """Whether this placement places ``sliders`` on ``structure``: the same numbering
+        (a moved structure, :meth:`fvbeam.structure.Structure.moved`, keeps it and its
+        names) and joints on the same bodies and beams."""
+        return structure.dof_maps is self.numbering and _holds(sliders) == self.holds
 
 
 def _load_slots(chain: ChainStack, smearing: float) -> int:

@@ -53,6 +53,7 @@ from typing import cast
 
 import numpy as np
 
+from fvbeam.copies import shallow_copy
 from fvbeam.geometry import orthonormal3, vector3
 from fvbeam.names import NodeRef, parse_node
 from fvbeam.smearing import check_smearing
@@ -70,6 +71,8 @@ from sliders.lines.rigid import RigidLine
 KINDS = ("spherical", "classical", "spline")
 ORIENTATIONS = ("section", "slope")
 UNKNOWNS = ("xi", "lambda_x", "lambda_y", "lambda_z", "mu_2", "mu_3", "mu_1")
+#: The number of unknowns of each kind (:attr:`Slider.n_unknowns`).
+N_UNKNOWNS = {"spherical": 4, "classical": 6, "spline": 7}
 
 
 @dataclass
@@ -159,14 +162,16 @@ class Slider:
         self.frame = orthonormal3(self.frame, f"{self.name}: frame")
         self._batch: SliderBatch | None = None
 
-    def moved(self, line: BeamChain | RigidLine) -> "Slider":
-        """This slider on ``line``, its line moved rigidly (a chain of translated copies of
-        its beams, :meth:`fvbeam.structure.Structure.moved`; or the same rigid line), its
-        options taken as they were checked when it was made; a line of another length is
-        checked as a new slider's."""
+    def moved(self, structure: Structure) -> "Slider":
+        """This slider on ``structure``, a moved copy of its line's structure
+        (:meth:`fvbeam.structure.Structure.moved`): on a chain, the chain of the same beams
+        moved (:meth:`sliders.lines.chain.BeamChain.moved`); a rigid line stays.  Its
+        options are taken as they were checked when it was made; a line of another length
+        is checked as a new slider's."""
+        line = self.line.moved(structure) if isinstance(self.line, BeamChain) else self.line
         if line.length != self.line.length:
             return replace(self, line=line)
-        out = copy.copy(self)
+        out = shallow_copy(self)
         out.line, out._batch = line, None
         return out
 
@@ -174,7 +179,7 @@ class Slider:
     def n_unknowns(self) -> int:
         """``xi``, ``lambda``; ``mu_2, mu_3`` for the classical and spline sliders; ``mu_1``
         for the spline slider."""
-        return {"spherical": 4, "classical": 6, "spline": 7}[self.kind]
+        return N_UNKNOWNS[self.kind]
 
     @property
     def unknown_names(self) -> tuple[str, ...]:

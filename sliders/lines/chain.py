@@ -23,6 +23,7 @@ from itertools import pairwise
 
 import numpy as np
 
+from fvbeam.copies import shallow_copy
 from fvbeam.geometry import locate_abscissa
 from fvbeam.smearing import check_smearing, density, slope, steps
 from fvbeam.structure import Structure
@@ -80,6 +81,19 @@ class BeamChain:
         self.offsets = np.concatenate([[0.0], np.cumsum([b.mesh.length for b in self.beams])])
         self.length = float(self.offsets[-1])
         self._memo: dict = {}
+
+    def moved(self, structure: Structure) -> BeamChain:
+        """This chain on ``structure``, a moved copy of its structure
+        (:meth:`fvbeam.structure.Structure.moved`: the same numbering, each beam a translated
+        copy, of the same lengths): the same beams by index, abscissae and name, not checked
+        again; on another structure, the chain of the same beams built and checked anew."""
+        if structure.dof_maps is not self.structure.dof_maps:
+            return BeamChain(structure, self.indices, self.name)
+        out = shallow_copy(self)
+        out.structure, out.beams = structure, [structure.beams[i] for i in self.indices]
+        out._memo = {}
+        out.__dict__.pop("_stack", None)  # the cached stack reads the beams' nodes
+        return out
 
     def locate(self, xi: float) -> tuple[int, float]:
         """Position in the chain of the beam holding ``xi``, and ``xi`` along that beam."""

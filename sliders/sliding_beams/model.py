@@ -79,15 +79,20 @@ class SlidingBeams:
         self.orientation = orientation if kind == "classical" else "section"
         self.supports = [Support(0, "start"), Support(1, "start", "ux+rx")]
         self._previous: SliderStatics | None = None
+        #: The tip load on the structure of :attr:`_previous` and of every structure moved
+        #: from it (the same dof numbering).
+        self._load = np.zeros(0)
         self.iterations: list[int] = []
 
     def problem(self, s_over_L: float) -> tuple[SliderStatics, np.ndarray]:
         """The statics (condensed back end) and the tip load with the piston at
-        ``s = s_over_L L``."""
+        ``s = s_over_L L``; the last position's moved (its numbering, checked sliders and
+        condensed operator kept, and so its tip load)."""
         piston = self.cylinder.translated((s_over_L * self.setup.length, 0, 0))
         previous = self._previous
         if previous is None:
             structure = Structure([self.cylinder, piston])
+            self._load = structure.gather(1, piston.nodal_load("end", (0, self.setup.force, 0)))
             sliders = [
                 Slider(
                     self.kind,
@@ -99,17 +104,14 @@ class SlidingBeams:
                 )
                 for k, line, body, name in LAYOUT
             ]
-        else:  # the last position's, moved
+        else:
             structure = previous.structure.moved([self.cylinder, piston])
-            sliders = [
-                slider.moved(BeamChain(structure, [k], line))
-                for slider, (k, line, _, _) in zip(previous.sliders, LAYOUT, strict=True)
-            ]
+            sliders = [slider.moved(structure) for slider in previous.sliders]
         statics = SliderStatics(
             structure, self.supports, sliders, reuse=self._previous, method="condensed"
         )
         self._previous = statics
-        return statics, structure.gather(1, piston.nodal_load("end", (0, self.setup.force, 0)))
+        return statics, self._load.copy()
 
     @cached_property
     def template(self) -> tuple[SliderStatics, np.ndarray]:

@@ -17,13 +17,13 @@ Python code on the state where the loop stopped.
 
 from __future__ import annotations
 
-import copy
 from collections.abc import Sequence
 from typing import Protocol
 
 import numpy as np
 import scipy.sparse as sp
 
+from fvbeam.copies import shallow_copy
 from fvbeam.mechanism import node_positions
 from fvbeam.structure import Structure
 from sliders.forces.elements import ForceElement
@@ -195,14 +195,11 @@ class CompiledNewton:
         pack = self.pack.moved(statics.sliders, statics.structure)
         if pack is None or len(statics.forces) != len(self.elements[0]):
             return None
-        out = copy.copy(self)
+        out = shallow_copy(self)
         out.statics, out.pack = statics, pack
-        packed = [e.packed(statics.structure) for e in statics.forces]
-        out.elements = (
-            *self.elements[:2],
-            np.concatenate([np.zeros(0)] + packed),
-            self.elements[3],
-        )
+        if statics.forces:  # without force elements, their (empty) constants are kept
+            packed = [e.packed(statics.structure) for e in statics.forces]
+            out.elements = (*self.elements[:2], np.concatenate(packed), self.elements[3])
         F, element_values = 13, 17  # their places in the problem tuple
         out.problem = (
             *self.problem[:F],
@@ -233,9 +230,8 @@ class CompiledNewton:
         statics = self.statics
         if statics is None:
             raise ValueError("a compiled Newton loop without its statics does not solve")
-        q = np.array(q, dtype=float)
-        y = np.concatenate([np.asarray(u, dtype=float) for u in unknowns] + [np.zeros(0)])
-        q0, y0 = q.copy(), y.copy()
+        q0, y0 = np.asarray(q, dtype=float), np.concatenate([*unknowns, ()], dtype=float)
+        q, y = q0.copy(), y0.copy()  # the start kept for the diagnosis of a failure
         drives = np.array(
             [s.drive(time)[0] if s.drive is not None else 0.0 for s in statics.sliders]
         )

@@ -116,6 +116,14 @@ def check(
             if np.abs(np.array(heights) - level).max() > TIE * size:
                 raise ValueError(f"slider {slider.name!r}: its line leaves plane {plane}")
         pinned(slider, plane)
+    if matrices:  # none on a moved problem, whose operator was checked where it was built
+        _check_coupling(structure, plane, matrices)
+
+
+def _check_coupling(structure: Structure, plane: str, matrices: Sequence[sp.spmatrix]) -> None:
+    """:func:`check`'s ``ValueError`` naming the first pair of dofs, one in ``plane`` and
+    one out of it, that one of ``matrices`` couples beyond :data:`TIE` of its largest
+    entry."""
     outside = np.zeros(structure.n_dofs, dtype=bool)
     outside[out_of_plane(structure, plane)] = True
     for A in matrices:

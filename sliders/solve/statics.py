@@ -99,7 +99,7 @@ class SliderStatics:
 
     K: sp.csr_matrix
     free: np.ndarray
-    K_free: sp.coo_matrix
+    _K_free: sp.coo_matrix | None
     _position: np.ndarray
     _condensed: CondensedOperator | None
     _fixed: np.ndarray
@@ -138,7 +138,7 @@ class SliderStatics:
                 fixed = np.union1d(fixed, self._held)
         self._fixed = fixed
         if reuse is not None and operator is None and reuse._same_operator(structure, fixed):
-            self.K, self.free, self.K_free = reuse.K, reuse.free, reuse.K_free
+            self.K, self.free, self._K_free = reuse.K, reuse.free, reuse._K_free
             self._position, self._condensed = reuse._position, reuse._condensed
         else:
             reuse = None
@@ -148,7 +148,7 @@ class SliderStatics:
             self.free = complement(structure.n_dofs, fixed)
             self._position = np.full(structure.n_dofs, -1)
             self._position[self.free] = np.arange(len(self.free))
-            self.K_free = self.K[self.free][:, self.free].tocoo()
+            self._K_free = None
             self._condensed = None
         if plane is not None:  # a reused operator's coupling was checked where it was built
             check(
@@ -182,6 +182,16 @@ class SliderStatics:
             except ValueError:
                 return "bordered"
         return "condensed"
+
+    @property
+    def K_free(self) -> sp.coo_matrix:
+        """The operator on the free dofs, taken out when first asked for (the bordered back
+        end and the free motions of the time integrator's operator read it; the condensed
+        one takes it out itself); a problem that reuses this one's operator takes it too
+        once it is out."""
+        if self._K_free is None:
+            self._K_free = self.K[self.free][:, self.free].tocoo()
+        return self._K_free
 
     @property
     def rigid(self) -> RigidModes:
