@@ -253,6 +253,18 @@ def rotated_blocks(R: np.ndarray, A: np.ndarray, scratch: np.ndarray) -> None:
                     )
 
 
+@numba.njit(cache=True, inline="never")
+def add_products(Ke: np.ndarray, weight: float, A: np.ndarray, B: np.ndarray) -> None:
+    """``Ke += weight A B^T`` (``A``, ``B`` (n, 6)): the work of each row of ``B`` on each
+    row of ``A`` at one quadrature point."""
+    for i in range(A.shape[0]):
+        for j in range(B.shape[0]):
+            total = 0.0
+            for c in range(6):
+                total += A[i, c] * B[j, c]
+            Ke[i, j] += weight * total
+
+
 @numba.njit(cache=True)
 def cubic_blocks(
     mass: bool,
@@ -289,19 +301,14 @@ def cubic_blocks(
         for q in range(len(X)):
             weight = W[q] * h[e]
             cubic_local_at(diagonal, h[e], X[q], 0, L0)
-            if mass:
+            if mass:  # the fields' momenta (m u, J theta)
                 for i in range(12):
                     for c in range(3):
-                        strain[i, c] = m * L0[i, c]
-                        strain[i, 3 + c] = (
+                        force[i, c] = m * L0[i, c]
+                        force[i, 3 + c] = (
                             J[c, 0] * L0[i, 3] + J[c, 1] * L0[i, 4] + J[c, 2] * L0[i, 5]
                         )
-                for i in range(12):
-                    for j in range(12):
-                        total = 0.0
-                        for c in range(6):
-                            total += L0[i, c] * strain[j, c]
-                        Ke[i, j] += weight * total
+                add_products(Ke, weight, L0, force)
                 continue
             cubic_local_at(diagonal, h[e], X[q], 1, L1)
             for i in range(12):
@@ -316,12 +323,7 @@ def cubic_blocks(
                     for k in range(6):
                         total += S[c, k] * strain[i, k]
                     force[i, c] = total
-            for i in range(12):
-                for j in range(12):
-                    total = 0.0
-                    for c in range(6):
-                        total += strain[i, c] * force[j, c]
-                    Ke[i, j] += weight * total
+            add_products(Ke, weight, strain, force)
         rotated_blocks(frames[e], Ke, block3)
         add_element(Ke, e, cells, block, indptr, data)
 
