@@ -17,7 +17,8 @@ ways of running the positions:
     fastest pass (the run least slowed by other jobs on the shared cores), with the median
     and every pass beside it; ``main_sweep`` also gives each whole pass's CPU time.
 ``continuation``
-    :func:`sliders.solve.sweep.sweep`, each position from the secant prediction of the last two;
+    :func:`sliders.solve.sweep.sweep`, each position from the secant prediction of the last two
+    (the general path: run :data:`REPEATS` times like ``batched``, each row its fastest pass);
 ``cold``
     :meth:`SlidingBeams.stiffness` per position, Newton from the projected abscissae.
     These two build every position's statics (:meth:`SlidingBeams.problem`) inside the time.
@@ -78,6 +79,8 @@ SCENE = Path(__file__).parent / "scenes" / "fig4_sliding_beams.toml"
 #: The per-position modes (the default of :func:`bench`); ``main`` runs ``batched`` first.
 MODES = ("continuation", "cold", "scene")
 ALL_MODES = ("batched",) + MODES
+#: The modes whose sweeps are run ``repeats`` times, each row its fastest pass.
+REPEATED = ("batched", "continuation")
 #: Passes of the batched sweeps in ``main`` (the machine's other jobs slow some of them).
 REPEATS = 7
 
@@ -162,10 +165,11 @@ def bench(
 ) -> dict[str, Any]:
     """Time, iterations and worst error of each (mode, kind, elements) sweep.
 
-    ``repeats``: passes of the ``batched`` sweeps (each on models built anew, its setup
-    untimed); a batched row keeps the smallest time of its passes (``seconds``,
-    ``cpu_seconds``: the run least disturbed by other jobs on the machine) and the median
-    and every pass's CPU time beside it.  ``total_seconds`` maps each mode to the sum of its
+    ``repeats``: passes of the ``batched`` and ``continuation`` sweeps (the main sweep and
+    the general path; each on models built anew, the batched setup untimed); such a row
+    keeps the smallest time of its passes (``seconds``, ``cpu_seconds``: the run least
+    disturbed by other jobs on the machine) and the median and every pass's CPU time
+    beside it.  ``total_seconds`` maps each mode to the sum of its
     rows; ``interrupted`` is set when Ctrl-C ended the benchmark (the rows completed so far
     are kept).
     """
@@ -180,7 +184,7 @@ def bench(
     jobs = [
         (mode, kind, n)
         for mode in modes
-        for _ in range(repeats if mode == "batched" else 1)
+        for _ in range(repeats if mode in REPEATED else 1)
         for kind in KINDS
         for n in elements
     ]
@@ -211,8 +215,14 @@ def bench(
             )
     except KeyboardInterrupt:
         interrupted = True
-    passes = _passes([r for r in rows if r["mode"] == "batched"], len(KINDS) * len(elements))
-    rows = _fastest(passes) + [r for r in rows if r["mode"] != "batched"]
+    per_pass = len(KINDS) * len(elements)
+    passes = _passes([r for r in rows if r["mode"] == "batched"], per_pass)
+    general = _passes([r for r in rows if r["mode"] == "continuation"], per_pass)
+    rows = (
+        _fastest(passes)
+        + (_fastest(general) if general else [])
+        + [r for r in rows if r["mode"] not in REPEATED]
+    )
     total = {mode: sum(r["seconds"] for r in rows if r["mode"] == mode) for mode in modes}
     return {
         "rows": rows,
@@ -255,9 +265,9 @@ def general_path(rows: list[dict[str, Any]]) -> dict[str, Any] | None:
     }
 
 
-def _passes(batched: list[dict[str, Any]], per_pass: int) -> list[list[dict[str, Any]]]:
-    """The batched rows cut into complete passes (an interrupted pass is dropped)."""
-    return [batched[i : i + per_pass] for i in range(0, len(batched) - per_pass + 1, per_pass)]
+def _passes(rows: list[dict[str, Any]], per_pass: int) -> list[list[dict[str, Any]]]:
+    """One mode's rows cut into complete passes (an interrupted pass is dropped)."""
+    return [rows[i : i + per_pass] for i in range(0, len(rows) - per_pass + 1, per_pass)]
 
 
 def _fastest(passes: list[list[dict[str, Any]]]) -> list[dict[str, Any]]:
