@@ -36,6 +36,7 @@ import argparse
 import datetime as dt
 import gc
 import json
+import math
 import os
 import platform
 import subprocess
@@ -147,6 +148,22 @@ def timed(fn: Callable[[], T], cpu: dict[str, float], stage: str) -> tuple[float
     result = fn()
     cpu[stage] = time.process_time() - start_cpu
     return time.perf_counter() - start, result
+
+
+def least_time(
+    call: Callable[[], T], repeats: int = 1, long_run: float = math.inf
+) -> tuple[T, float, float]:
+    """``call()``'s last result and its least wall-clock and CPU seconds over ``repeats``
+    calls (the runs least slowed by other jobs on the machine); once a call has taken more
+    than ``long_run`` CPU seconds, no more."""
+    wall, cpu = math.inf, math.inf
+    for _ in range(repeats):
+        w, c = time.perf_counter(), time.process_time()
+        result = call()
+        wall, cpu = min(wall, time.perf_counter() - w), min(cpu, time.process_time() - c)
+        if cpu > long_run:
+            break
+    return result, wall, cpu
 
 
 def run_once(n_elements: int, section: Section, formulation: str = "fv3") -> dict[str, float]:

@@ -36,16 +36,14 @@ keeps and writes the rows completed so far, marked ``interrupted``.
 from __future__ import annotations
 
 import argparse
-import math
 import tempfile
 import time
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 from . import fig2_smearing as fig2
 from . import moving_load as ml
-from .bench import environment, read_existing, summary, write_merged
+from .bench import environment, least_time, read_existing, summary, write_merged
 
 KEY = "moving_load"
 ELEMENTS, STEPS, RHO_INF, REPEATS = 16, 2000, 0.8, 3
@@ -121,16 +119,6 @@ FIG2_LEVELS = (0.0, 0.01)
 FIG2_REPEATS = 3
 
 
-def least_time(call: Callable[[], Any], repeats: int) -> tuple[Any, float, float]:
-    """``call()``'s last result and its least wall and CPU seconds over ``repeats`` calls."""
-    wall, cpu, result = math.inf, math.inf, None
-    for _ in range(repeats):
-        w, c = time.perf_counter(), time.process_time()
-        result = call()
-        wall, cpu = min(wall, time.perf_counter() - w), min(cpu, time.process_time() - c)
-    return result, wall, cpu
-
-
 def bare_run(crossing: fig2.Crossing, steps_per_period: int) -> None:
     """The crossing's steps without a recorder (what the recording costs is left out)."""
     d = crossing.dynamics
@@ -141,7 +129,7 @@ def whole_study() -> dict[str, Any]:
     """Wall and CPU seconds of :func:`studies.fig2_smearing.reproduce` (every variant and
     level, CSVs and PNGs written into a temporary directory)."""
     with tempfile.TemporaryDirectory() as out:
-        _, wall, cpu = least_time(lambda: fig2.reproduce(Path(out), progress=False), 1)
+        _, wall, cpu = least_time(lambda: fig2.reproduce(Path(out), progress=False))
     return {
         "variants": list(fig2.VARIANTS),
         "levels": list(fig2.LEVELS),

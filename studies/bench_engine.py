@@ -27,8 +27,6 @@ results/bench.json`` (``make bench``).
 from __future__ import annotations
 
 import argparse
-import time
-from collections.abc import Callable
 from functools import partial
 from pathlib import Path
 from typing import Any
@@ -43,21 +41,10 @@ from sliders.sliding_beams.model import PAPER, SlidingBeams
 from sliders.solve.statics import SliderSolution, SliderStatics
 
 from . import moving_load as ml
-from .bench import environment, read_existing, write_merged
+from .bench import environment, least_time, read_existing, write_merged
 
 KEY = "engine"
 REPEATS = 3
-
-
-def timed(call: Callable[[], Any], repeats: int = REPEATS) -> tuple[Any, float, float]:
-    """``call()``'s last result and its least CPU and wall seconds over ``repeats`` runs."""
-    cpu, wall, result = [], [], None
-    for _ in range(repeats):
-        c, w = time.process_time(), time.perf_counter()
-        result = call()
-        cpu.append(time.process_time() - c)
-        wall.append(time.perf_counter() - w)
-    return result, min(cpu), min(wall)
 
 
 def static_solve(solves: int = 200) -> list[dict[str, Any]]:
@@ -71,7 +58,7 @@ def static_solve(solves: int = 200) -> list[dict[str, Any]]:
         exact = sliding_beams(s * L, L, PAPER.EJ, PAPER.GA, kind)["k_norm"]
         for start in ("cold", "warm"):
             solve_all = partial(_solves, statics, f, start, solves)
-            solution, cpu, wall = timed(solve_all)
+            solution, wall, cpu = least_time(solve_all, REPEATS)
             k = model.tip_stiffness(statics, solution) * (1.0 + 1e-3 * (solves - 1))
             rows.append(
                 {
@@ -108,8 +95,8 @@ def telescope() -> dict[str, Any]:
     t_end, step = scene.study.t_end, scene.study.step
     data["study"]["t_end"] = t_end / 4
     short = parse_scene(data)
-    result, cpu_long, wall_long = timed(lambda: run(Model(scene)))
-    _, cpu_short, wall_short = timed(lambda: run(Model(short)))
+    result, wall_long, cpu_long = least_time(lambda: run(Model(scene)), REPEATS)
+    _, wall_short, cpu_short = least_time(lambda: run(Model(short)), REPEATS)
     steps = round(t_end * 3 / 4 / step)
     row = {
         "steps": steps,
@@ -130,7 +117,7 @@ def moving_load_scaling(
     for n in elements:
         m = ml.model("fv3", n)
         ml.simulate(m, 10)  # set up: the compiled problem, the factorisation
-        (t, w), cpu, wall = timed(lambda m=m: ml.simulate(m, steps))
+        (t, w), wall, cpu = least_time(lambda m=m: ml.simulate(m, steps), REPEATS)
         rows.append(
             {
                 "n_elements": n,

@@ -52,8 +52,6 @@ from __future__ import annotations
 import argparse
 import cProfile
 import pstats
-import time
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -67,7 +65,7 @@ from sliders.sliding_beams.exact import sliding_beams
 from sliders.sliding_beams.model import KINDS, SlidingBeams, compile_kernels
 from sliders.solve.sweep import sweep
 
-from .bench import environment, write_merged
+from .bench import environment, least_time, write_merged
 from .fig4_stiffness import EJ, GA, STATIONS, L
 
 #: The scene's tip force (``[[load]]`` of :data:`SCENE`).
@@ -85,14 +83,6 @@ REPEATED = ("batched", "continuation")
 REPEATS = 7
 
 
-def timed(call: Callable[[], Any]) -> tuple[Any, float, float]:
-    """``call()``'s result, its wall-clock seconds and the process's CPU seconds in it (the
-    CPU time is not inflated by other jobs sharing the cores)."""
-    wall, cpu = time.perf_counter(), time.process_time()
-    result = call()
-    return result, time.perf_counter() - wall, time.process_time() - cpu
-
-
 def run(kind: str, n: int, mode: str) -> tuple[float, float, float | None, np.ndarray, list[int]]:
     """One timed sweep: wall-clock and CPU seconds, the untimed setup seconds (batched mode:
     the template; else None), ``k_norm`` per station (NaN where singular) and the Newton
@@ -100,14 +90,14 @@ def run(kind: str, n: int, mode: str) -> tuple[float, float, float | None, np.nd
     model = SlidingBeams("fv3", n, kind)
     k = np.full(len(STATIONS), np.nan)
     if mode == "batched":
-        (statics, _), setup, _ = timed(lambda: model.template)
-        outcomes, elapsed, cpu = timed(lambda: model.solve(STATIONS))
+        (statics, _), setup, _ = least_time(lambda: model.template)
+        outcomes, elapsed, cpu = least_time(lambda: model.solve(STATIONS))
         solved = [(i, o) for i, o in enumerate(outcomes) if not isinstance(o, str)]
         for i, solution in solved:
             k[i] = model.tip_stiffness(statics, solution)
         return elapsed, cpu, setup, k, [o.iterations for _, o in solved]
     if mode == "continuation":
-        result, elapsed, cpu = timed(lambda: sweep(STATIONS, model.problem, progress=False))
+        result, elapsed, cpu = least_time(lambda: sweep(STATIONS, model.problem, progress=False))
         if result.interrupted:
             raise KeyboardInterrupt
         solutions = result.solutions
@@ -117,7 +107,7 @@ def run(kind: str, n: int, mode: str) -> tuple[float, float, float | None, np.nd
         return elapsed, cpu, None, k, [s.iterations for s in solutions if s is not None]
     if mode == "scene":
         return scene(kind, n, k)
-    _, elapsed, cpu = timed(lambda: cold(model, k))
+    _, elapsed, cpu = least_time(lambda: cold(model, k))
     return elapsed, cpu, None, k, model.iterations
 
 
@@ -133,8 +123,8 @@ def scene(kind: str, n: int, k: np.ndarray) -> tuple[float, float, float, np.nda
     data["study"]["values"] = tuple(float(s * L) for s in STATIONS)
     data["output"] = {}
     spec = parse_scene(data)
-    model, setup, _ = timed(lambda: Model(spec))
-    result, elapsed, cpu = timed(lambda: run_scene(model, progress=False))
+    model, setup, _ = least_time(lambda: Model(spec))
+    result, elapsed, cpu = least_time(lambda: run_scene(model, progress=False))
     assert isinstance(result, Results)  # a sweep
     if result.interrupted:
         raise KeyboardInterrupt
@@ -180,7 +170,7 @@ def bench(
         for kind in KINDS
     }
     rows, interrupted = [], False
-    _, warmup, _ = timed(warm_up)
+    _, warmup, _ = least_time(warm_up)
     jobs = [
         (mode, kind, n)
         for mode in modes

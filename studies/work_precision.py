@@ -54,7 +54,6 @@ import csv
 import math
 import os
 import sys
-import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -68,6 +67,7 @@ from sliders.sliding_beams.exact import sliding_beams
 from . import fig2_smearing as fig2
 from . import fig4_stiffness as fig4
 from . import moving_load as ml
+from .bench import least_time
 
 #: The formulations compared; a new element joins the study by its name here.
 FORMULATIONS: tuple[str, ...] = ("fv2", "fv3", "galerkin-p1", "galerkin-p2", "cubic")
@@ -182,20 +182,6 @@ QUICK = Grid(
 LONG_RUN = 1.0
 
 
-def timed(run: Callable[[], Any], repeats: int) -> tuple[Any, float, float]:
-    """``run()``'s last result and the least wall and CPU seconds over ``repeats`` calls
-    (one call when it takes more than :data:`LONG_RUN` CPU seconds)."""
-    wall, cpu, result = math.inf, math.inf, None
-    for _ in range(repeats):
-        w0, c0 = time.perf_counter(), time.process_time()
-        result = run()
-        wall = min(wall, time.perf_counter() - w0)
-        cpu = min(cpu, time.process_time() - c0)
-        if cpu > LONG_RUN:
-            break
-    return result, wall, cpu
-
-
 def row(**values: Any) -> dict[str, Any]:
     """A row of :data:`COLUMNS`, the ones not given empty."""
     unknown = set(values) - set(COLUMNS)
@@ -294,7 +280,9 @@ class Study:
                     for s in fig4.STATIONS
                 ]
             )
-        (k, _), wall, cpu = timed(lambda: fig4.sweep(kind, formulation, n, 0.0), self.grid.repeats)
+        (k, _), wall, cpu = least_time(
+            lambda: fig4.sweep(kind, formulation, n, 0.0), self.grid.repeats, LONG_RUN
+        )
         error = np.abs(k / self._exact_stiffness[kind] - 1)
         return row(
             study="statics",
@@ -323,7 +311,7 @@ class Study:
         wall, cpu, w = math.inf, math.inf, np.empty(0)
         for _ in range(self.grid.repeats):
             m = ml.model(formulation, n, problem=problem)  # untimed, like the peer's items
-            w, once_wall, once_cpu = timed(
+            w, once_wall, once_cpu = least_time(
                 lambda m=m: ml.simulate(m, steps, rho_inf, t_end, loading)[1], 1
             )
             wall, cpu = min(wall, once_wall), min(cpu, once_cpu)
@@ -337,7 +325,7 @@ class Study:
         wall, cpu, run = math.inf, math.inf, {}
         for _ in range(self.grid.repeats):
             crossing = fig2.Crossing(level, variant.zeta, variant.periods, name=formulation)
-            run, w, c = timed(lambda crossing=crossing: crossing.run(steps_per_period), 1)
+            run, w, c = least_time(lambda crossing=crossing: crossing.run(steps_per_period))
             wall, cpu = min(wall, w), min(cpu, c)
         tip = fig2.static_tip(float(run["xi"][-1]), level, formulation)
         return row(
