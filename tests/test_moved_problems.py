@@ -19,8 +19,10 @@ from fvbeam import Beam, Structure, straight
 from fvbeam.body import RigidBody
 from sliders.app.model import Model
 from sliders.app.scene import load_scene, parse_scene
+from sliders.joints.packed import JointPack
 from sliders.joints.slider import Slider
-from sliders.sliding_beams.model import PAPER
+from sliders.lines.chain import BeamChain
+from sliders.sliding_beams.model import PAPER, SlidingBeams
 
 SCENE = Path(__file__).parents[1] / "studies" / "scenes" / "fig4_sliding_beams.toml"
 
@@ -91,8 +93,6 @@ def test_structure_moved_keeps_the_numbering_and_checks_what_a_move_can_break():
 def _models(kind: str = "classical"):
     """The sliding-beams statics at ``s / L``, each built anew on one model's beams (their
     stiffness shared: the piston is the cylinder translated)."""
-    from sliders.sliding_beams.model import SlidingBeams
-
     model = SlidingBeams("fv3", 3, kind, smearing=0.3)
 
     def fresh(s: float):
@@ -109,8 +109,6 @@ def test_moved_joints_pack_as_fresh_ones(kind):
     points' offsets added as the fresh pack adds them), from the placement made once, and
     from one made again when the structure is not a moved copy (built anew, same beams);
     the template's pack is left as it was."""
-    from sliders.joints.packed import JointPack
-
     fresh_at = _models(kind)
     first = fresh_at(0.0)
     joints = [dataclasses.replace(x, offset=(0.0, 0.01, 0.002)) for x in first.sliders]
@@ -143,8 +141,6 @@ def test_moved_chain_is_the_chain_of_the_moved_beams():
     """``BeamChain.moved`` on a moved structure: the chain of the same beams built anew
     there (same beams, abscissae, name); on a structure built anew, a chain built and
     checked anew."""
-    from sliders.lines.chain import BeamChain
-
     fresh_at = _models()
     first, fresh = fresh_at(0.0), fresh_at(0.3)
     for slider, new in zip(first.sliders, fresh.sliders, strict=True):
