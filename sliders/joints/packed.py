@@ -501,22 +501,22 @@ def _load_slots(chain: ChainStack, smearing: float) -> int:
     return 6 * (elements * (chain.npe - 1) + 1)
 
 
-@numba.njit(cache=True, inline="never")
+@numba.njit(cache=True, inline="always")
 def _f1(F: np.ndarray, d: np.ndarray) -> np.ndarray:
     return F[d[0] : d[0] + d[1]]
 
 
-@numba.njit(cache=True, inline="never")
+@numba.njit(cache=True, inline="always")
 def _f2(F: np.ndarray, d: np.ndarray) -> np.ndarray:
     return F[d[0] : d[0] + d[1] * d[2]].reshape((d[1], d[2]))
 
 
-@numba.njit(cache=True, inline="never")
+@numba.njit(cache=True, inline="always")
 def _f3(F: np.ndarray, d: np.ndarray) -> np.ndarray:
     return F[d[0] : d[0] + d[1] * d[2] * d[3]].reshape((d[1], d[2], d[3]))
 
 
-@numba.njit(cache=True, inline="never")
+@numba.njit(cache=True, inline="always")
 def _f4(F: np.ndarray, d: np.ndarray) -> np.ndarray:
     return F[d[0] : d[0] + d[1] * d[2] * d[3] * d[4]].reshape((d[1], d[2], d[3], d[4]))
 

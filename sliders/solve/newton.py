@@ -159,6 +159,13 @@ class CompiledNewton:
         positions = node_positions(structure)
         self.resolution = 4 * np.finfo(float).eps * max(1.0, np.abs(positions).max())
         self.sizes = [s.n_unknowns for s in sliders]
+        #: Whether a joint is driven (its abscissa read at each solve's time); if none is,
+        #: the solves share one array of zero drives, read only.
+        self.driven = any(s.drive is not None for s in sliders)
+        self.undriven = np.zeros(len(self.sizes))
+        #: The velocities ``(v_hat, q_hat, c_v)`` of a solve at rest (:meth:`solve`), read
+        #: only: zeros (with ``c_v = 0``, ``q_hat`` only meets a zero factor).
+        self.at_rest: tuple[np.ndarray, np.ndarray, float] | None = None
         #: Each joint's first and last-plus-one unknown among the joints' side by side.
         starts = np.cumsum([0] + self.sizes)[:-1].tolist()
         self.bounds = [(a, a + m) for a, m in zip(starts, self.sizes, strict=True)]
@@ -197,6 +204,7 @@ class CompiledNewton:
             return None
         out = shallow_copy(self)
         out.statics, out.pack = statics, pack
+        out.driven = any(s.drive is not None for s in statics.sliders)
         if statics.forces:  # without force elements, their (empty) constants are kept
             packed = [e.packed(statics.structure) for e in statics.forces]
             out.elements = (*self.elements[:2], np.concatenate(packed), self.elements[3])
@@ -232,8 +240,12 @@ class CompiledNewton:
             raise ValueError("a compiled Newton loop without its statics does not solve")
         q0, y0 = np.asarray(q, dtype=float), np.concatenate([*unknowns, ()], dtype=float)
         q, y = q0.copy(), y0.copy()  # the start kept for the diagnosis of a failure
-        drives = np.array(
-            [s.drive(time)[0] if s.drive is not None else 0.0 for s in statics.sliders]
+        if self.at_rest is None or len(self.at_rest[0]) != len(q):
+            self.at_rest = (np.zeros(len(q)), np.zeros(len(q)), 0.0)
+        drives = (
+            np.array([s.drive(time)[0] if s.drive is not None else 0.0 for s in statics.sliders])
+            if self.driven
+            else self.undriven
         )
         history = np.zeros(max_iterations + 1)
         status, evaluations, joint = newton(
@@ -246,7 +258,7 @@ class CompiledNewton:
             float(tol),
             int(max_iterations),
             history,
-            velocity if velocity is not None else (np.zeros(len(q)), q0, 0.0),
+            velocity if velocity is not None else self.at_rest,
             np.zeros(len(self.sizes)),
         )
         split = [y[a:b] for a, b in self.bounds]

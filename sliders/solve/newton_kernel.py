@@ -7,8 +7,10 @@ back end (:mod:`sliders.solve.condensed`), every iteration in compiled code: the
 evaluate_joint`), the small system on the slots the joints touch
 (:func:`sliders.solve.condensed_kernel.condensed_step`) and the increments
 ``dq = -B^{-1}[r_q + P F u; 0] + Phi a`` with the bordered operator ``B`` factorised once
-(:func:`sliders.solve.factor.factor_solve`).  The columns of ``B^{-1}`` at the dofs that carry
-joint forces are computed when first needed and kept (:func:`_ensure_columns`).
+(:func:`sliders.solve.factor.factor_solve` for ``B^{-1}[r_q; 0]``).  The columns of
+``B^{-1}`` at the dofs that carry joint forces are computed when first needed and kept
+(:func:`_ensure_columns`); the forces ``P F u`` act on those dofs only, so their part of the
+increment is a sum of those columns, without a second solve.
 
 The convergence rule and the residual history are :func:`sliders.solve.statics.converged`'s
 and ``newton_many``'s: a member converges when every increment is below ``tol`` of its
@@ -210,6 +212,7 @@ def newton(
     rhs, solution, scratch = np.zeros(nf + k), np.zeros((1, nf + k)), np.zeros(nf + k)
     q_e, v_e, r_e, J_e = np.zeros(6), np.zeros(6), np.zeros(6), np.zeros((6, 6))
     L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c = factor
+    added = np.zeros(nf, np.bool_)
     first = np.zeros(J, np.int64)
     at = 0
     for j in range(J):
@@ -318,11 +321,20 @@ def newton(
         )
         if not regular[0]:
             return SINGULAR, iteration + 1, -1
-        rhs[:nf] = force[0]
-        rhs[nf:] = 0.0
-        factor_solve(
-            L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c, rhs, solution[0], scratch
-        )
+        # B^{-1}[r_q + P F u; 0] = B^{-1}[r_q; 0] + sum_d (P F u)_d B^{-1}[e_d; 0]: the joint
+        # forces act on the force dofs only, whose columns are stored
+        for s in force_slots:
+            d = slots[s]
+            if d >= 0 and not added[d]:
+                added[d] = True
+                extra = force[0, d] - r_free[0, d]
+                if extra != 0.0:
+                    kept = store[column[d]]
+                    for i in range(nf + k):
+                        solution[0, i] += extra * kept[i]
+        for s in force_slots:
+            if slots[s] >= 0:
+                added[slots[s]] = False
         step_q = 0.0
         for i in range(nf):
             dq = -solution[0, i]
