@@ -116,7 +116,7 @@ def moving_load_bench(
 
 FIG2_KEY = "fig2_dynamics"
 FIG2_LEVELS = (0.0, 0.01)
-FIG2_REPEATS = 3
+FIG2_REPEATS = 7
 
 
 def bare_run(crossing: fig2.Crossing, steps_per_period: int) -> None:
