@@ -522,6 +522,13 @@ def _f4(F: np.ndarray, d: np.ndarray) -> np.ndarray:
 
 
 @numba.njit(cache=True, inline="never")
+def _no_rotation(n_rot: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``W``, ``W_xi``, ``W_xixi`` (1, 3, n_rot) of a joint that reads no section rotation
+    of its line (zeros; the rotation dofs carry no weight)."""
+    return np.zeros((1, 3, n_rot)), np.zeros((1, 3, n_rot)), np.zeros((1, 3, n_rot))
+
+
+@numba.njit(cache=True, inline="never")
 def _unit_row(start: np.ndarray, size: np.ndarray, where: np.ndarray, values: np.ndarray) -> None:
     """The ``xi`` row of the Jacobian replaced by the unit derivative in ``xi`` (an equation
     ``xi - value``; :meth:`sliders.joints.blocks.SlotJacobian.unit_row`)."""
@@ -579,15 +586,10 @@ def evaluate_joint(
     yb = y.reshape((1, m))
     x, l, l_xi, l_xixi = np.zeros((1, 3)), np.zeros((1, 3)), np.zeros((1, 3)), np.zeros((1, 3))
     tangent, tangent_xi = np.zeros((1, 3)), np.zeros((1, 3))
-    R0, k0, k0_xi = np.zeros((1, 3, 3)), np.zeros((1, 3)), np.zeros((1, 3))
-    flex, flex_xi = np.zeros((1, 3, 3)), np.zeros((1, 3, 3))
-    G, dG = np.zeros((1, n_load, 6)), np.zeros((1, n_load, 6))
-    load_dofs = np.zeros((1, n_load), np.int64)
-    rotation_dofs = np.zeros((1, n_rot), np.int64)
-    W, W_xi, W_xixi = np.zeros((1, 3, n_rot)), np.zeros((1, 3, n_rot)), np.zeros((1, 3, n_rot))
-    # the position's compliance at the contact: rows on a chain with cubic elements
-    rows = 3 if hd[CHAIN] and width == 6 else 0
-    contact, contact_xi = np.zeros((1, rows, 6)), np.zeros((1, rows, 6))
+    k0, k0_xi = np.zeros((1, 3)), np.zeros((1, 3))
+    # each array below is bound once on every path: on a chain, to the line state's own
+    # where it has the joint's shape (a point transfer, a straight element's section), else
+    # to one made for the joint
     if hd[CHAIN]:
         member_map, maps, cells = _f1(I, d[MEMBER_MAP]), _f4(I, d[MAPS]), _f2(I, d[CELLS])
         points, breaks = _f3(F, d[POINTS]), _f2(F, d[BREAKS])
@@ -652,7 +654,7 @@ def evaluate_joint(
             geometry[0, 3],
         )
         tangent[0], tangent_xi[0] = geometry[0, 4], geometry[0, 5]
-        contact[:], contact_xi[:] = contact_, contact_xi_
+        contact, contact_xi = contact_, contact_xi_
         if hd[SMEARED]:
             sd, sG, sdG = smeared_transfer(
                 xs,
@@ -678,17 +680,20 @@ def evaluate_joint(
             k = sd.shape[1]
             if k > n_load:
                 return 2
+            G, dG = np.zeros((1, n_load, 6)), np.zeros((1, n_load, 6))
+            load_dofs = np.empty((1, n_load), np.int64)
             load_dofs[0, :k] = sd[0]
             load_dofs[0, k:] = sd[0, k - 1]
             G[0, :k], dG[0, :k] = sG[0], sdG[0]
         else:
-            load_dofs[:], G[:], dG[:] = point_dofs, point_G, point_dG
+            load_dofs, G, dG = point_dofs, point_G, point_dG
         if hd[SECTION]:
-            rotation_dofs[:], W[:], W_xi[:], W_xixi[:] = rot_dofs, W_, W_xi_, W_xixi_
+            rotation_dofs, W, W_xi, W_xixi = rot_dofs, W_, W_xi_, W_xixi_
             e = element[0]
             if _f1(I, d[STRAIGHT])[e]:
-                R0[:], flex[:], flex_xi[:] = R0_, flex_, flex_xi_
+                R0, flex, flex_xi = R0_, flex_, flex_xi_
             else:  # curved: Lagrange 3-node elements only (a cubic element is straight)
+                R0, flex, flex_xi = np.zeros((1, 3, 3)), np.zeros((1, 3, 3)), np.zeros((1, 3, 3))
                 nodes = np.empty((1, npe, 3))
                 for a in range(npe):
                     nodes[0, a] = points[0, cells[e, a]]
@@ -698,7 +703,17 @@ def evaluate_joint(
                 curvature_rate_at(l0[0], l0_xi[0], np.zeros(3), up, k0_xi[0])
                 C = R0[0] @ _f3(F, d[BEAM_COMPLIANCE])[beam[0]] @ R0[0].T
                 flex[0], flex_xi[0] = kink_[0] * C, kink_xi_[0] * C
+        else:
+            rotation_dofs = np.zeros((1, n_rot), np.int64)
+            W, W_xi, W_xixi = _no_rotation(n_rot)
+            R0, flex, flex_xi = np.zeros((1, 3, 3)), np.zeros((1, 3, 3)), np.zeros((1, 3, 3))
     else:
+        G, dG = np.zeros((1, n_load, 6)), np.zeros((1, n_load, 6))
+        load_dofs = np.zeros((1, n_load), np.int64)
+        rotation_dofs = np.zeros((1, n_rot), np.int64)
+        W, W_xi, W_xixi = _no_rotation(n_rot)
+        R0, flex, flex_xi = np.zeros((1, 3, 3)), np.zeros((1, 3, 3)), np.zeros((1, 3, 3))
+        contact, contact_xi = np.zeros((1, 0, 6)), np.zeros((1, 0, 6))
         derivatives = np.empty((4, 3))
         at = min(max(xi, 0.0), length)  # a rigid line is read at the end (RigidLine.at)
         line_at(hd[SHAPE], _f1(F, d[LINE_PARAMS]), _f1(F, d[LINE_BREAKS]), at, derivatives)
