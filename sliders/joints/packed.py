@@ -522,10 +522,33 @@ def _f4(F: np.ndarray, d: np.ndarray) -> np.ndarray:
 
 
 @numba.njit(cache=True, inline="never")
-def _no_rotation(n_rot: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``W``, ``W_xi``, ``W_xixi`` (1, 3, n_rot) of a joint that reads no section rotation
-    of its line (zeros; the rotation dofs carry no weight)."""
-    return np.zeros((1, 3, n_rot)), np.zeros((1, 3, n_rot)), np.zeros((1, 3, n_rot))
+def _own_transfer(n_load: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A joint's own ``load_dofs`` (1, n_load) and ``G``, ``dG`` (1, n_load, 6), zero (where
+    the line state's transfer does not have its shape)."""
+    return (
+        np.zeros((1, n_load), np.int64),
+        np.zeros((1, n_load, 6)),
+        np.zeros((1, n_load, 6)),
+    )
+
+
+@numba.njit(cache=True, inline="never")
+def _own_rotation(n_rot: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """A joint's own ``rotation_dofs`` (1, n_rot) and ``W``, ``W_xi``, ``W_xixi``
+    (1, 3, n_rot), zero (a joint that reads no section rotation of its line)."""
+    return (
+        np.zeros((1, n_rot), np.int64),
+        np.zeros((1, 3, n_rot)),
+        np.zeros((1, 3, n_rot)),
+        np.zeros((1, 3, n_rot)),
+    )
+
+
+@numba.njit(cache=True, inline="never")
+def _own_section() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A joint's own section frame ``R0`` and compliances ``flex``, ``flex_xi`` (1, 3, 3),
+    zero until computed (a curved element, a rigid line) or unread (no section)."""
+    return np.zeros((1, 3, 3)), np.zeros((1, 3, 3)), np.zeros((1, 3, 3))
 
 
 @numba.njit(cache=True, inline="never")
@@ -680,8 +703,7 @@ def evaluate_joint(
             k = sd.shape[1]
             if k > n_load:
                 return 2
-            G, dG = np.zeros((1, n_load, 6)), np.zeros((1, n_load, 6))
-            load_dofs = np.empty((1, n_load), np.int64)
+            load_dofs, G, dG = _own_transfer(n_load)
             load_dofs[0, :k] = sd[0]
             load_dofs[0, k:] = sd[0, k - 1]
             G[0, :k], dG[0, :k] = sG[0], sdG[0]
@@ -693,7 +715,7 @@ def evaluate_joint(
             if _f1(I, d[STRAIGHT])[e]:
                 R0, flex, flex_xi = R0_, flex_, flex_xi_
             else:  # curved: Lagrange 3-node elements only (a cubic element is straight)
-                R0, flex, flex_xi = np.zeros((1, 3, 3)), np.zeros((1, 3, 3)), np.zeros((1, 3, 3))
+                R0, flex, flex_xi = _own_section()
                 nodes = np.empty((1, npe, 3))
                 for a in range(npe):
                     nodes[0, a] = points[0, cells[e, a]]
@@ -704,15 +726,12 @@ def evaluate_joint(
                 C = R0[0] @ _f3(F, d[BEAM_COMPLIANCE])[beam[0]] @ R0[0].T
                 flex[0], flex_xi[0] = kink_[0] * C, kink_xi_[0] * C
         else:
-            rotation_dofs = np.zeros((1, n_rot), np.int64)
-            W, W_xi, W_xixi = _no_rotation(n_rot)
-            R0, flex, flex_xi = np.zeros((1, 3, 3)), np.zeros((1, 3, 3)), np.zeros((1, 3, 3))
+            rotation_dofs, W, W_xi, W_xixi = _own_rotation(n_rot)
+            R0, flex, flex_xi = _own_section()
     else:
-        G, dG = np.zeros((1, n_load, 6)), np.zeros((1, n_load, 6))
-        load_dofs = np.zeros((1, n_load), np.int64)
-        rotation_dofs = np.zeros((1, n_rot), np.int64)
-        W, W_xi, W_xixi = _no_rotation(n_rot)
-        R0, flex, flex_xi = np.zeros((1, 3, 3)), np.zeros((1, 3, 3)), np.zeros((1, 3, 3))
+        load_dofs, G, dG = _own_transfer(n_load)
+        rotation_dofs, W, W_xi, W_xixi = _own_rotation(n_rot)
+        R0, flex, flex_xi = _own_section()
         contact, contact_xi = np.zeros((1, 0, 6)), np.zeros((1, 0, 6))
         derivatives = np.empty((4, 3))
         at = min(max(xi, 0.0), length)  # a rigid line is read at the end (RigidLine.at)

@@ -165,7 +165,7 @@ class CompiledNewton:
         self.undriven = np.zeros(len(self.sizes))
         #: The velocities ``(v_hat, q_hat, c_v)`` of a solve at rest (:meth:`solve`), read
         #: only: zeros (with ``c_v = 0``, ``q_hat`` only meets a zero factor).
-        self.at_rest: tuple[np.ndarray, np.ndarray, float] | None = None
+        self.at_rest = (np.zeros(structure.n_dofs), np.zeros(structure.n_dofs), 0.0)
         #: Each joint's first and last-plus-one unknown among the joints' side by side.
         starts = np.cumsum([0] + self.sizes)[:-1].tolist()
         self.bounds = [(a, a + m) for a, m in zip(starts, self.sizes, strict=True)]
@@ -240,8 +240,6 @@ class CompiledNewton:
             raise ValueError("a compiled Newton loop without its statics does not solve")
         q0, y0 = np.asarray(q, dtype=float), np.concatenate([*unknowns, ()], dtype=float)
         q, y = q0.copy(), y0.copy()  # the start kept for the diagnosis of a failure
-        if self.at_rest is None or len(self.at_rest[0]) != len(q):
-            self.at_rest = (np.zeros(len(q)), np.zeros(len(q)), 0.0)
         drives = (
             np.array([s.drive(time)[0] if s.drive is not None else 0.0 for s in statics.sliders])
             if self.driven
