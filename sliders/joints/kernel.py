@@ -32,6 +32,8 @@ from functools import cache
 import numba
 import numpy as np
 
+from fvbeam.scratch import stack_empty
+
 BODY, TURN, LOAD, ROTATION, INTERP, BESIDE, XI, LAM, MU = range(9)
 #: Group names in the order of the indices above (:class:`sliders.joints.blocks.SlotJacobian`).
 GROUPS = ("body", "turn", "load", "rotation", "interp", "beside", "xi", "lam", "mu")
@@ -203,14 +205,13 @@ def joint_equations(
     """
     B = len(y)
     t = start[XI]
-    eye = np.eye(3)
-    lam = np.empty(3)
-    arm = np.empty(3)
-    v = np.empty(3)
-    S1 = np.empty((3, 3))
-    S2 = np.empty((3, 3))
-    theta = np.empty(3)
-    axes = np.empty((2, 3))
+    lam = stack_empty(3, (3,), np.float64)
+    arm = stack_empty(3, (3,), np.float64)
+    v = stack_empty(3, (3,), np.float64)
+    S1 = stack_empty(9, (3, 3), np.float64)
+    S2 = stack_empty(9, (3, 3), np.float64)
+    theta = stack_empty(3, (3,), np.float64)
+    axes = stack_empty(6, (2, 3), np.float64)
     for j in range(2):
         for c in range(3):
             axes[j, c] = frame[c, j + 1]
@@ -240,8 +241,8 @@ def joint_equations(
             _skew(arm, S1)
             for i in range(3):
                 for c in range(3):
-                    _add(values, b, where, size, BODY, LAM, i, c, eye[i, c])
-                    _add(values, b, where, size, LAM, BODY, i, c, eye[i, c])
+                    _add(values, b, where, size, BODY, LAM, i, c, 1.0 if i == c else 0.0)
+                    _add(values, b, where, size, LAM, BODY, i, c, 1.0 if i == c else 0.0)
                     _add(values, b, where, size, TURN, LAM, i, c, S1[i, c])
                 _add(values, b, where, size, LAM, XI, i, 0, -l[b, i])
                 _add(values, b, where, size, XI, LAM, 0, i, -tangent[b, i])
@@ -400,24 +401,54 @@ def _section(
     n_mu = size[MU]
     n_w = W.shape[2]
     compliant = contact.shape[1] > 0
-    mu = np.empty(n_mu)
-    lam = np.empty(3)
-    theta, theta_L, theta_L_xi, theta_L_xixi = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
-    t0, t1, t2, v, d = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
-    m, m_xi, shift, rate, Cn = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
-    a0, a1, a2 = np.empty(3), np.empty(3), np.empty(3)
-    # rows j of n_i: axes_j x t_i (classical), then t_i (spline); g_i likewise
-    n0, n1, n2 = np.empty((n_mu, 3)), np.empty((n_mu, 3)), np.empty((n_mu, 3))
-    g0, g1, g2, along = np.empty(n_mu), np.empty(n_mu), np.empty(n_mu), np.empty(n_mu)
-    R0T, F, K, dF, ddF, P = (
-        np.empty((3, 3)),
-        np.empty((3, 3)),
-        np.empty((3, 3)),
-        np.empty((3, 3)),
-        np.empty((3, 3)),
-        np.empty((3, 3)),
+    mu = stack_empty(3, (n_mu,), np.float64)
+    lam = stack_empty(3, (3,), np.float64)
+    theta, theta_L, theta_L_xi, theta_L_xixi = (
+        stack_empty(3, (3,), np.float64),
+        stack_empty(3, (3,), np.float64),
+        stack_empty(3, (3,), np.float64),
+        stack_empty(3, (3,), np.float64),
     )
-    C, C_xi = np.empty((3, 3)), np.empty((3, 3))
+    t0, t1, t2, v, d = (
+        stack_empty(3, (3,), np.float64),
+        stack_empty(3, (3,), np.float64),
+        stack_empty(3, (3,), np.float64),
+        stack_empty(3, (3,), np.float64),
+        stack_empty(3, (3,), np.float64),
+    )
+    m, m_xi, shift, rate, Cn = (
+        stack_empty(3, (3,), np.float64),
+        stack_empty(3, (3,), np.float64),
+        stack_empty(3, (3,), np.float64),
+        stack_empty(3, (3,), np.float64),
+        stack_empty(3, (3,), np.float64),
+    )
+    a0, a1, a2 = (
+        stack_empty(3, (3,), np.float64),
+        stack_empty(3, (3,), np.float64),
+        stack_empty(3, (3,), np.float64),
+    )
+    # rows j of n_i: axes_j x t_i (classical), then t_i (spline); g_i likewise
+    n0, n1, n2 = (
+        stack_empty(9, (n_mu, 3), np.float64),
+        stack_empty(9, (n_mu, 3), np.float64),
+        stack_empty(9, (n_mu, 3), np.float64),
+    )
+    g0, g1, g2, along = (
+        stack_empty(3, (n_mu,), np.float64),
+        stack_empty(3, (n_mu,), np.float64),
+        stack_empty(3, (n_mu,), np.float64),
+        stack_empty(3, (n_mu,), np.float64),
+    )
+    R0T, F, K, dF, ddF, P = (
+        stack_empty(9, (3, 3), np.float64),
+        stack_empty(9, (3, 3), np.float64),
+        stack_empty(9, (3, 3), np.float64),
+        stack_empty(9, (3, 3), np.float64),
+        stack_empty(9, (3, 3), np.float64),
+        stack_empty(9, (3, 3), np.float64),
+    )
+    C, C_xi = stack_empty(9, (3, 3), np.float64), stack_empty(9, (3, 3), np.float64)
     for b in range(len(y)):
         for j in range(n_mu):
             mu[j] = y[b, 4 + j]
@@ -559,10 +590,20 @@ def _slope(
     test functions (the rotational columns of ``G``)."""
     t = start[XI]
     n_load, n_interp = G.shape[1], dN.shape[2]
-    theta, m, v, w = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
-    e_b = np.empty((2, 3))
-    L, E0, E, dm_dtheta = np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3))
-    dm_dxi, dm_dmu = np.empty(3), np.empty(3)
+    theta, m, v, w = (
+        stack_empty(3, (3,), np.float64),
+        stack_empty(3, (3,), np.float64),
+        stack_empty(3, (3,), np.float64),
+        stack_empty(3, (3,), np.float64),
+    )
+    e_b = stack_empty(6, (2, 3), np.float64)
+    L, E0, E, dm_dtheta = (
+        stack_empty(9, (3, 3), np.float64),
+        stack_empty(9, (3, 3), np.float64),
+        stack_empty(9, (3, 3), np.float64),
+        stack_empty(9, (3, 3), np.float64),
+    )
+    dm_dxi, dm_dmu = stack_empty(3, (3,), np.float64), stack_empty(3, (3,), np.float64)
     for b in range(len(y)):
         for c in range(3):
             theta[c] = q[b, body[b, 3 + c]]

@@ -34,6 +34,7 @@ import numba
 import numpy as np
 
 from fvbeam.copies import shallow_copy
+from fvbeam.scratch import stack_empty, stack_zeros
 from fvbeam.smearing import steps
 from fvbeam.structure import Structure
 from sliders.joints.blocks import SlotJacobian
@@ -53,7 +54,13 @@ from sliders.joints.kernel import (
 from sliders.joints.kernel import BODY as BODY_GROUP
 from sliders.joints.slider import Slider, SliderBatch, _equations, _Layout
 from sliders.lines.batched import KERNEL_RULE, ChainStack
-from sliders.lines.batched_kernel import line_state, reference_line, smeared_transfer
+from sliders.lines.batched_kernel import (
+    line_state,
+    line_state_into,
+    one_point_state,
+    reference_line,
+    smeared_transfer,
+)
 from sliders.lines.chain import BeamChain
 from sliders.lines.rigid import RigidLine
 from sliders.lines.rigid_kernel import curvature_rate_at, frame_at, line_at
@@ -532,23 +539,29 @@ def _own_transfer(n_load: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     )
 
 
-@numba.njit(cache=True, inline="never")
+@numba.njit(cache=True, inline="always")
 def _own_rotation(n_rot: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """A joint's own ``rotation_dofs`` (1, n_rot) and ``W``, ``W_xi``, ``W_xixi``
-    (1, 3, n_rot), zero (a joint that reads no section rotation of its line)."""
+    (1, 3, n_rot), zero (a joint that reads no section rotation of its line), on the stack
+    of the kernel this is inlined into (:mod:`fvbeam.scratch`; two nodes of six dofs)."""
     return (
-        np.zeros((1, n_rot), np.int64),
-        np.zeros((1, 3, n_rot)),
-        np.zeros((1, 3, n_rot)),
-        np.zeros((1, 3, n_rot)),
+        stack_zeros(12, (1, n_rot), np.int64),
+        stack_zeros(36, (1, 3, n_rot), np.float64),
+        stack_zeros(36, (1, 3, n_rot), np.float64),
+        stack_zeros(36, (1, 3, n_rot), np.float64),
     )
 
 
-@numba.njit(cache=True, inline="never")
+@numba.njit(cache=True, inline="always")
 def _own_section() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A joint's own section frame ``R0`` and compliances ``flex``, ``flex_xi`` (1, 3, 3),
-    zero until computed (a curved element, a rigid line) or unread (no section)."""
-    return np.zeros((1, 3, 3)), np.zeros((1, 3, 3)), np.zeros((1, 3, 3))
+    zero until computed (a curved element, a rigid line) or unread (no section), on the
+    stack of the kernel this is inlined into."""
+    return (
+        stack_zeros(9, (1, 3, 3), np.float64),
+        stack_zeros(9, (1, 3, 3), np.float64),
+        stack_zeros(9, (1, 3, 3), np.float64),
+    )
 
 
 @numba.njit(cache=True, inline="never")
@@ -604,12 +617,15 @@ def evaluate_joint(
         return 1
     start, size, where = _f1(I, d[START]), _f1(I, d[SIZE]), _f2(I, d[WHERE])
     body = _f2(I, d[BODY])
-    xs = np.full(1, xi)
+    xs = stack_empty(1, (1,), np.float64)
+    xs[0] = xi
     qb = q.reshape((1, len(q)))
     yb = y.reshape((1, m))
-    x, l, l_xi, l_xixi = np.zeros((1, 3)), np.zeros((1, 3)), np.zeros((1, 3)), np.zeros((1, 3))
-    tangent, tangent_xi = np.zeros((1, 3)), np.zeros((1, 3))
-    k0, k0_xi = np.zeros((1, 3)), np.zeros((1, 3))
+    # the joint's line geometry, on the stack (fvbeam.scratch)
+    x, l = stack_zeros(3, (1, 3), np.float64), stack_zeros(3, (1, 3), np.float64)
+    l_xi, l_xixi = stack_zeros(3, (1, 3), np.float64), stack_zeros(3, (1, 3), np.float64)
+    tangent, tangent_xi = stack_zeros(3, (1, 3), np.float64), stack_zeros(3, (1, 3), np.float64)
+    k0, k0_xi = stack_zeros(3, (1, 3), np.float64), stack_zeros(3, (1, 3), np.float64)
     # each array below is bound once on every path: on a chain, to the line state's own
     # where it has the joint's shape (a point transfer, a straight element's section), else
     # to one made for the joint
@@ -619,6 +635,31 @@ def evaluate_joint(
         vertex_s, first_element, h = _f2(F, d[VERTEX_S]), _f1(I, d[FIRST_ELEMENT]), _f2(F, d[H])
         kinds, stiffness = _f1(I, d[KINDS_OF]), _f2(F, d[STIFFNESS])
         regions, ends, R0_of = _f2(F, d[REGIONS]), _f2(F, d[ENDS]), _f4(F, d[R0_OF])
+        state = one_point_state(npe, width, True, not hd[SMEARED], hd[SECTION] != 0)
+        line_state_into(
+            xs,
+            qb,
+            member_map,
+            maps,
+            cells,
+            points,
+            breaks,
+            vertex_s,
+            first_element,
+            h,
+            _f1(F, d[LAG]),
+            kinds,
+            regions,
+            ends,
+            stiffness,
+            width,
+            R0_of,
+            _f4(F, d[COMPLIANCE_OF]),
+            True,
+            not hd[SMEARED],
+            hd[SECTION] != 0,
+            state,
+        )
         (
             beam,
             element,
@@ -647,29 +688,7 @@ def evaluate_joint(
             flex_,
             flex_xi_,
             R0_,
-        ) = line_state(
-            xs,
-            qb,
-            member_map,
-            maps,
-            cells,
-            points,
-            breaks,
-            vertex_s,
-            first_element,
-            h,
-            _f1(F, d[LAG]),
-            kinds,
-            regions,
-            ends,
-            stiffness,
-            width,
-            R0_of,
-            _f4(F, d[COMPLIANCE_OF]),
-            True,
-            not hd[SMEARED],
-            hd[SECTION] != 0,
-        )
+        ) = state
         x[0], l[0], l_xi[0], l_xixi[0] = (
             geometry[0, 0],
             geometry[0, 1],
@@ -722,7 +741,7 @@ def evaluate_joint(
                 l0, l0_xi = reference_line(nodes, h[0, e : e + 1], X)
                 up = _f2(F, d[UP])[e]
                 frame_at(l0[0], l0_xi[0], up, R0[0], k0[0])
-                curvature_rate_at(l0[0], l0_xi[0], np.zeros(3), up, k0_xi[0])
+                curvature_rate_at(l0[0], l0_xi[0], stack_zeros(3, (3,), np.float64), up, k0_xi[0])
                 C = R0[0] @ _f3(F, d[BEAM_COMPLIANCE])[beam[0]] @ R0[0].T
                 flex[0], flex_xi[0] = kink_[0] * C, kink_xi_[0] * C
         else:
@@ -732,8 +751,9 @@ def evaluate_joint(
         load_dofs, G, dG = _own_transfer(n_load)
         rotation_dofs, W, W_xi, W_xixi = _own_rotation(n_rot)
         R0, flex, flex_xi = _own_section()
-        contact, contact_xi = np.zeros((1, 0, 6)), np.zeros((1, 0, 6))
-        derivatives = np.empty((4, 3))
+        # a rigid line's empty interpolation and contact rows
+        contact = contact_xi = stack_empty(1, (1, 0, 6), np.float64)
+        derivatives = stack_empty(12, (4, 3), np.float64)
         at = min(max(xi, 0.0), length)  # a rigid line is read at the end (RigidLine.at)
         line_at(hd[SHAPE], _f1(F, d[LINE_PARAMS]), _f1(F, d[LINE_BREAKS]), at, derivatives)
         x[0], l[0], l_xi[0], l_xixi[0] = (
@@ -746,9 +766,8 @@ def evaluate_joint(
         up = _f1(F, d[UP])
         frame_at(l[0], l_xi[0], up, R0[0], k0[0])
         curvature_rate_at(l[0], l_xi[0], l_xixi[0], up, k0_xi[0])
-        N, dN, d2N = np.zeros((1, 3, 0)), np.zeros((1, 3, 0)), np.zeros((1, 3, 0))
-        T = np.zeros((1, 3, 0))
-        tangent_flat = np.zeros((1, 0), np.int64)
+        N = dN = d2N = T = stack_empty(1, (1, 3, 0), np.float64)
+        tangent_flat = stack_empty(1, (1, 0), np.int64)
     at = 0
     for c in range(6):
         dofs[at + c] = body[0, c]

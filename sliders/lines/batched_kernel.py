@@ -35,6 +35,10 @@ from fvbeam.pointwise import (
     to_global,
     transfer_at,
 )
+from fvbeam.scratch import stack_empty, stack_zeros
+
+#: The most nodes of an element the kernels' scratch arrays hold (three-node elements).
+MAX_NPE = 3
 
 
 @numba.njit(cache=True, inline="never")
@@ -369,40 +373,183 @@ def line_state(
     m = width * npe
     nb, nt, nr = (B if state else 0), (B if transfer else 0), (B if rotation else 0)
     nc = 3 if width == 6 else 0  # contact rows
-    beam, element, X = np.empty(B, np.int64), np.empty(B, np.int64), np.empty(B)
-    dofs, tangent_dofs = np.empty((B, m), np.int64), np.empty((B, 3 * m), np.int64)
-    reference, tangent_reference = np.empty((B, 3, 3)), np.empty((B, 2, 3))
-    # zero: the Lagrange elements' matrices are written on their nonzero entries only
-    N, dN, d2N = np.zeros((B, 3, m)), np.zeros((B, 3, m)), np.zeros((B, 3, m))
-    T, T_xi = np.zeros((B, 3, 3 * m)), np.zeros((B, 3, 3 * m))
-    geometry = np.empty((nb, 6, 3))
-    contact, contact_xi = np.zeros((nb, nc, 6)), np.zeros((nb, nc, 6))
-    load_dofs, G, dG = (
+    r = 2 * width
+    out = (
+        np.empty(B, np.int64),
+        np.empty(B, np.int64),
+        np.empty(B),
+        np.empty((B, m), np.int64),
+        np.empty((B, 3, 3)),
+        np.empty((B, 3, m)),
+        np.empty((B, 3, m)),
+        np.empty((B, 3, m)),
+        np.empty((B, 3 * m), np.int64),
+        np.empty((B, 2, 3)),
+        np.empty((B, 3, 3 * m)),
+        np.empty((B, 3, 3 * m)),
+        np.empty((nb, 6, 3)),
+        np.empty((nb, nc, 6)),
+        np.empty((nb, nc, 6)),
         np.empty((nt, 6 * npe), np.int64),
         np.empty((nt, 6 * npe, 6)),
         np.empty((nt, 6 * npe, 6)),
+        np.empty((nr, r), np.int64),
+        np.empty((nr, 3, r)),
+        np.empty((nr, 3, r)),
+        np.empty((nr, 3, r)),
+        np.empty(nr),
+        np.empty(nr),
+        np.empty((nr, 3, 3)),
+        np.empty((nr, 3, 3)),
+        np.empty((nr, 3, 3)),
     )
+    line_state_into(
+        xi,
+        q,
+        member_map,
+        maps,
+        cells,
+        points,
+        breaks,
+        vertex_s,
+        first_element,
+        h,
+        lag,
+        kinds,
+        regions,
+        ends,
+        stiffness,
+        width,
+        R0_of,
+        compliance_of,
+        state,
+        transfer,
+        rotation,
+        out,
+    )
+    return out
+
+
+@numba.njit(cache=True, inline="always")
+def one_point_state(npe: int, width: int, state: bool, transfer: bool, rotation: bool) -> tuple:
+    """The arrays :func:`line_state_into` fills for one member (``B = 1``), uninitialised, on
+    the stack of the kernel this is inlined into (:mod:`fvbeam.scratch`; elements of at most
+    :data:`MAX_NPE` nodes of six dofs)."""
+    m = width * npe
+    nb, nt, nr = (1 if state else 0), (1 if transfer else 0), (1 if rotation else 0)
+    nc = 3 if width == 6 else 0
     r = 2 * width
-    rotation_dofs = np.empty((nr, r), np.int64)
-    W, W_xi, W_xixi = np.zeros((nr, 3, r)), np.zeros((nr, 3, r)), np.zeros((nr, 3, r))
-    kink, kink_xi = np.zeros(nr), np.zeros(nr)
-    flex, flex_xi = np.empty((nr, 3, 3)), np.empty((nr, 3, 3))
-    R0 = np.empty((nr, 3, 3))
-    three, pair = np.empty(3, np.int64), np.empty(2, np.int64)
-    n, dn, d2n, chi, dchi = (
-        np.empty(npe),
-        np.empty(npe),
-        np.empty(npe),
-        np.empty(npe),
-        np.empty(npe),
+    f8, i8 = np.float64, np.int64
+    return (
+        stack_empty(1, (1,), i8),
+        stack_empty(1, (1,), i8),
+        stack_empty(1, (1,), f8),
+        stack_empty(18, (1, m), i8),
+        stack_empty(9, (1, 3, 3), f8),
+        stack_empty(54, (1, 3, m), f8),
+        stack_empty(54, (1, 3, m), f8),
+        stack_empty(54, (1, 3, m), f8),
+        stack_empty(54, (1, 3 * m), i8),
+        stack_empty(6, (1, 2, 3), f8),
+        stack_empty(162, (1, 3, 3 * m), f8),
+        stack_empty(162, (1, 3, 3 * m), f8),
+        stack_empty(18, (nb, 6, 3), f8),
+        stack_empty(18, (nb, nc, 6), f8),
+        stack_empty(18, (nb, nc, 6), f8),
+        stack_empty(18, (nt, 6 * npe), i8),
+        stack_empty(108, (nt, 6 * npe, 6), f8),
+        stack_empty(108, (nt, 6 * npe, 6), f8),
+        stack_empty(12, (nr, r), i8),
+        stack_empty(36, (nr, 3, r), f8),
+        stack_empty(36, (nr, 3, r), f8),
+        stack_empty(36, (nr, 3, r), f8),
+        stack_empty(1, (nr,), f8),
+        stack_empty(1, (nr,), f8),
+        stack_empty(9, (nr, 3, 3), f8),
+        stack_empty(9, (nr, 3, 3), f8),
+        stack_empty(9, (nr, 3, 3), f8),
     )
-    Ns, Ts, Ts_xi = np.empty((3, npe)), np.empty(3 * npe), np.empty(3 * npe)
-    nodes, moved = np.empty((3 * npe, 3)), np.empty((3 * npe, 3))
-    translations = np.empty((3 * npe, 3), np.int64)
-    end, shape, block = np.empty((3, m)), np.empty((3, npe)), np.empty((12, 6))
-    G_b = np.empty((12, 6))
-    compliance6, compliance6_xi = np.empty((6, 6)), np.empty((6, 6))
-    w, w_xi, zero = np.empty(2), np.empty(2), np.zeros(3)
+
+
+@numba.njit(cache=True)
+def line_state_into(
+    xi: np.ndarray,
+    q: np.ndarray,
+    member_map: np.ndarray,
+    maps: np.ndarray,
+    cells: np.ndarray,
+    points: np.ndarray,
+    breaks: np.ndarray,
+    vertex_s: np.ndarray,
+    first_element: np.ndarray,
+    h: np.ndarray,
+    lag: np.ndarray,
+    kinds: np.ndarray,
+    regions: np.ndarray,
+    ends: np.ndarray,
+    stiffness: np.ndarray,
+    width: int,
+    R0_of: np.ndarray,
+    compliance_of: np.ndarray,
+    state: bool,
+    transfer: bool,
+    rotation: bool,
+    out: tuple,
+) -> None:
+    """:func:`line_state` into the arrays ``out`` of its tuple, overwritten (the tuple
+    :func:`line_state` returns, or :func:`one_point_state` for one member)."""
+    B, npe = len(xi), cells.shape[1]
+    m = width * npe
+    nc = 3 if width == 6 else 0  # contact rows
+    (
+        beam,
+        element,
+        X,
+        dofs,
+        reference,
+        N,
+        dN,
+        d2N,
+        tangent_dofs,
+        tangent_reference,
+        T,
+        T_xi,
+        geometry,
+        contact,
+        contact_xi,
+        load_dofs,
+        G,
+        dG,
+        rotation_dofs,
+        W,
+        W_xi,
+        W_xixi,
+        kink,
+        kink_xi,
+        flex,
+        flex_xi,
+        R0,
+    ) = out
+    # zero: the Lagrange elements' matrices are written on their nonzero entries only
+    for arr in (N, dN, d2N, T, T_xi, contact, contact_xi, W, W_xi, W_xixi):
+        arr[:] = 0.0
+    kink[:] = 0.0
+    kink_xi[:] = 0.0
+    # scratch, on the stack (fvbeam.scratch): bounds for three-node elements of six-dof nodes
+    if npe > MAX_NPE:
+        raise ValueError("line_state reads elements of at most three nodes")
+    f8, i8 = np.float64, np.int64
+    three, pair = stack_empty(3, (3,), i8), stack_empty(2, (2,), i8)
+    n, dn, d2n = stack_empty(3, (npe,), f8), stack_empty(3, (npe,), f8), stack_empty(3, (npe,), f8)
+    chi, dchi = stack_empty(3, (npe,), f8), stack_empty(3, (npe,), f8)
+    Ns = stack_empty(9, (3, npe), f8)
+    Ts, Ts_xi = stack_empty(9, (3 * npe,), f8), stack_empty(9, (3 * npe,), f8)
+    nodes, moved = stack_empty(27, (3 * npe, 3), f8), stack_empty(27, (3 * npe, 3), f8)
+    translations = stack_empty(27, (3 * npe, 3), i8)
+    end, shape = stack_empty(54, (3, m), f8), stack_empty(9, (3, npe), f8)
+    block, G_b = stack_empty(72, (12, 6), f8), stack_empty(72, (12, 6), f8)
+    compliance6, compliance6_xi = stack_empty(36, (6, 6), f8), stack_empty(36, (6, 6), f8)
+    w, w_xi, zero = stack_empty(2, (2,), f8), stack_empty(2, (2,), f8), stack_zeros(3, (3,), f8)
     for b in range(B):
         k, e, Xb = locate_one(xi[b], breaks[b], vertex_s[b], first_element, h[b])
         beam[b], element[b], X[b] = k, e, Xb
@@ -519,35 +666,6 @@ def line_state(
             for s in range(2):
                 for c in range(width):
                     rotation_dofs[b, width * s + c] = dof_map[e, pair[s], 6 - width + c]
-    return (
-        beam,
-        element,
-        X,
-        dofs,
-        reference,
-        N,
-        dN,
-        d2N,
-        tangent_dofs,
-        tangent_reference,
-        T,
-        T_xi,
-        geometry,
-        contact,
-        contact_xi,
-        load_dofs,
-        G,
-        dG,
-        rotation_dofs,
-        W,
-        W_xi,
-        W_xixi,
-        kink,
-        kink_xi,
-        flex,
-        flex_xi,
-        R0,
-    )
 
 
 @numba.njit(cache=True)

@@ -28,6 +28,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from fvbeam.scratch import stack_empty
 from sliders.forces.kernel import evaluate_element
 from sliders.joints.packed import evaluate_joint
 from sliders.solve.condensed_kernel import condensed_step
@@ -204,13 +205,14 @@ def newton(
     dofs = np.zeros(t_all, np.int64)
     slots = np.zeros(t_all, np.int64)
     r_joint = np.zeros(t_all + m)
-    friction = np.zeros(1)  # a joint's friction force, not read here
+    friction = stack_empty(1, (1,), np.float64)  # a joint's friction force, not read here
     values = np.zeros(width)
     R = np.zeros(n)
     r_free = np.zeros((1, nf))
     r_y = np.zeros((1, m))
     rhs, solution, scratch = np.zeros(nf + k), np.zeros((1, nf + k)), np.zeros(nf + k)
-    q_e, v_e, r_e, J_e = np.zeros(6), np.zeros(6), np.zeros(6), np.zeros((6, 6))
+    q_e, v_e = stack_empty(6, (6,), np.float64), stack_empty(6, (6,), np.float64)
+    r_e, J_e = stack_empty(6, (6,), np.float64), stack_empty(36, (6, 6), np.float64)
     L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c = factor
     added = np.zeros(nf, np.bool_)
     first = np.zeros(J, np.int64)
