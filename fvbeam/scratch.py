@@ -1,4 +1,5 @@
-"""Scratch arrays on the stack of a compiled kernel (numba), instead of the heap.
+"""Scratch arrays on the stack of a compiled kernel (numba), instead of the heap; borrowed
+views of a caller's array.
 
 A compiled kernel's ``np.empty`` is a heap allocation with a reference count: a ``malloc``,
 an atomic increment and decrement per use across calls, and a ``free`` (docs/performance.md,
@@ -17,6 +18,12 @@ Rules for the caller (what makes the view safe):
 - the array is filled before it is read (like ``np.empty``; there is no zeroed twin);
 - the shape asked fits in the reserved ``size`` entries (checked: :func:`stack_empty` raises
   ``ValueError`` when it does not).
+
+:func:`borrowed` is the same idea for a view: the entries ``offset ..`` of a flat array
+seen with another shape, without the reference count (and the reshape call) of
+``a[offset:offset + n].reshape(shape)``.  It is for a kernel reading a packed array its
+caller holds for the whole call (the joints' fields, :mod:`sliders.joints.packed`); the view
+must not outlive that call.
 """
 
 from __future__ import annotations
@@ -39,6 +46,27 @@ def _reserve(typingctx, size, dtype):  # type: ignore[no-untyped-def]
         return cgutils.alloca_once(builder, context.get_value_type(dtype.dtype), size=count)
 
     return types.CPointer(dtype.dtype)(size, dtype), codegen
+
+
+@intrinsic
+def _address(typingctx, array, offset):  # type: ignore[no-untyped-def]
+    """A pointer to entry ``offset`` of the contiguous ``array``'s data (a typing error for
+    an array that is not known to be C-contiguous)."""
+    if not (isinstance(array, types.Array) and array.layout == "C"):
+        return None
+
+    def codegen(context, builder, signature, args):  # type: ignore[no-untyped-def]
+        data = context.make_array(signature.args[0])(context, builder, args[0]).data
+        return builder.gep(data, [args[1]])
+
+    return types.CPointer(array.dtype)(array, offset), codegen
+
+
+@numba.njit(inline="always")
+def borrowed(array, offset, shape):  # type: ignore[no-untyped-def]
+    """The entries ``offset ..`` of the contiguous 1-D ``array`` as a C-ordered array of
+    ``shape``, borrowed: no reference count, valid while the caller holds ``array``."""
+    return numba.carray(_address(array, offset), shape)
 
 
 @numba.njit(inline="always")

@@ -1,15 +1,18 @@
-"""Scratch arrays on a kernel's stack (fvbeam.scratch) behave as ``np.empty`` / ``np.zeros``.
+"""Scratch arrays on a kernel's stack (fvbeam.scratch) behave as ``np.empty`` / ``np.zeros``,
+and a borrowed view as the reshaped slice it stands for.
 
 Each check has an exact answer: the arrays hold what was written into them (no two share
 memory), have the shape and dtype asked, a kernel that uses them gives, bit for bit, what the
-same kernel gives on heap arrays, and a shape larger than its reserved space raises.
+same kernel gives on heap arrays, and a shape larger than its reserved space raises; a
+borrowed view reads and writes the entries of the slice, and is refused for an array not
+known to be contiguous.
 """
 
 import numba
 import numpy as np
 import pytest
 
-from fvbeam.scratch import stack_empty, stack_zeros
+from fvbeam.scratch import borrowed, stack_empty, stack_zeros
 
 
 @numba.njit
@@ -66,3 +69,26 @@ def test_a_shape_beyond_the_reserved_space_raises():
     _too_large(2)
     with pytest.raises(ValueError, match="reserved stack space"):
         _too_large(3)
+
+
+@numba.njit
+def _through_view(a: np.ndarray, offset: int, rows: int, cols: int) -> np.ndarray:
+    """The view's first entry set to -1, then the view copied out."""
+    view = borrowed(a, offset, (rows, cols))
+    view[0, 0] = -1.0
+    return view.copy()
+
+
+@pytest.mark.parametrize("offset, rows, cols", [(0, 2, 3), (5, 3, 2), (7, 1, 5)])
+def test_a_borrowed_view_is_the_reshaped_slice(offset, rows, cols):
+    a = np.arange(12.0)
+    expected = a.copy()
+    expected[offset] = -1.0
+    got = _through_view(a, offset, rows, cols)
+    np.testing.assert_array_equal(got, expected[offset : offset + rows * cols].reshape(rows, cols))
+    np.testing.assert_array_equal(a, expected)  # written through to the caller's array
+
+
+def test_a_borrowed_view_of_a_strided_array_is_refused():
+    with pytest.raises(numba.core.errors.TypingError):
+        _through_view(np.arange(12.0)[::2], 0, 2, 3)

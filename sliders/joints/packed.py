@@ -34,7 +34,7 @@ import numba
 import numpy as np
 
 from fvbeam.copies import shallow_copy
-from fvbeam.scratch import stack_empty, stack_zeros
+from fvbeam.scratch import borrowed, stack_empty, stack_zeros
 from fvbeam.smearing import steps
 from fvbeam.structure import Structure
 from sliders.joints.blocks import SlotJacobian
@@ -510,22 +510,22 @@ def _load_slots(chain: ChainStack, smearing: float) -> int:
 
 @numba.njit(cache=True, inline="always")
 def _f1(F: np.ndarray, d: np.ndarray) -> np.ndarray:
-    return F[d[0] : d[0] + d[1]]
+    return borrowed(F, d[0], (d[1],))
 
 
 @numba.njit(cache=True, inline="always")
 def _f2(F: np.ndarray, d: np.ndarray) -> np.ndarray:
-    return F[d[0] : d[0] + d[1] * d[2]].reshape((d[1], d[2]))
+    return borrowed(F, d[0], (d[1], d[2]))
 
 
 @numba.njit(cache=True, inline="always")
 def _f3(F: np.ndarray, d: np.ndarray) -> np.ndarray:
-    return F[d[0] : d[0] + d[1] * d[2] * d[3]].reshape((d[1], d[2], d[3]))
+    return borrowed(F, d[0], (d[1], d[2], d[3]))
 
 
 @numba.njit(cache=True, inline="always")
 def _f4(F: np.ndarray, d: np.ndarray) -> np.ndarray:
-    return F[d[0] : d[0] + d[1] * d[2] * d[3] * d[4]].reshape((d[1], d[2], d[3], d[4]))
+    return borrowed(F, d[0], (d[1], d[2], d[3], d[4]))
 
 
 @numba.njit(cache=True, inline="never")
@@ -619,8 +619,8 @@ def evaluate_joint(
     body = _f2(I, d[BODY])
     xs = stack_empty(1, (1,), np.float64)
     xs[0] = xi
-    qb = q.reshape((1, len(q)))
-    yb = y.reshape((1, m))
+    qb = borrowed(q, 0, (1, len(q)))
+    yb = borrowed(y, 0, (1, m))
     # the joint's line geometry, on the stack (fvbeam.scratch)
     x, l = stack_zeros(3, (1, 3), np.float64), stack_zeros(3, (1, 3), np.float64)
     l_xi, l_xixi = stack_zeros(3, (1, 3), np.float64), stack_zeros(3, (1, 3), np.float64)
@@ -780,7 +780,7 @@ def evaluate_joint(
     at += n_rot
     for c in range(tangent_flat.shape[1]):
         dofs[at + c] = tangent_flat[0, c]
-    rb, vb = r.reshape((1, t + m)), values.reshape((1, len(values)))
+    rb, vb = borrowed(r, 0, (1, t + m)), borrowed(values, 0, (1, len(values)))
     rb[:] = 0.0
     vb[:] = 0.0
     joint_equations(

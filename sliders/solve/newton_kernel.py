@@ -28,7 +28,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from fvbeam.scratch import stack_empty
+from fvbeam.scratch import borrowed, stack_empty
 from sliders.forces.kernel import evaluate_element
 from sliders.joints.packed import evaluate_joint
 from sliders.solve.condensed_kernel import condensed_step
@@ -241,14 +241,14 @@ def newton(
                 F,
                 I,
                 q,
-                y[y0 : y0 + mj],
+                borrowed(y, y0, (mj,)),
                 velocity,
                 drives[j],
                 scale,
                 not done,
-                dofs[s0 : s0 + t],
-                r_joint[s0 + y0 : s0 + y0 + t + mj],
-                values[v0 : v0 + wj],
+                borrowed(dofs, s0, (t,)),
+                borrowed(r_joint, s0 + y0, (t + mj,)),
+                borrowed(values, v0, (wj,)),
                 friction,
             )
             if status:
