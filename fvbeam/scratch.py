@@ -35,27 +35,27 @@ from numba.extending import intrinsic
 
 
 @intrinsic
-def _reserve(typingctx, size, dtype):  # type: ignore[no-untyped-def]
+def _reserve(typingctx, size, dtype):
     """A pointer to ``size`` (a literal integer) entries of ``dtype`` in the entry block's
     stack frame of the kernel being compiled."""
     if not isinstance(size, types.IntegerLiteral):
         return None
     count = size.literal_value
 
-    def codegen(context, builder, signature, args):  # type: ignore[no-untyped-def]
+    def codegen(context, builder, signature, args):
         return cgutils.alloca_once(builder, context.get_value_type(dtype.dtype), size=count)
 
     return types.CPointer(dtype.dtype)(size, dtype), codegen
 
 
 @intrinsic
-def _address(typingctx, array, offset):  # type: ignore[no-untyped-def]
+def _address(typingctx, array, offset):
     """A pointer to entry ``offset`` of the contiguous ``array``'s data (a typing error for
     an array that is not known to be C-contiguous)."""
     if not (isinstance(array, types.Array) and array.layout == "C"):
         return None
 
-    def codegen(context, builder, signature, args):  # type: ignore[no-untyped-def]
+    def codegen(context, builder, signature, args):
         data = context.make_array(signature.args[0])(context, builder, args[0]).data
         return builder.gep(data, [args[1]])
 
@@ -63,14 +63,14 @@ def _address(typingctx, array, offset):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(inline="always")
-def borrowed(array, offset, shape):  # type: ignore[no-untyped-def]
+def borrowed(array, offset, shape):
     """The entries ``offset ..`` of the contiguous 1-D ``array`` as a C-ordered array of
     ``shape``, borrowed: no reference count, valid while the caller holds ``array``."""
     return numba.carray(_address(array, offset), shape)
 
 
 @numba.njit(inline="always")
-def stack_empty(size, shape, dtype):  # type: ignore[no-untyped-def]
+def stack_empty(size, shape, dtype):
     """An uninitialised C-ordered array of ``shape`` viewing ``size`` (a literal integer,
     the bound) entries of ``dtype`` on the stack of the kernel this is inlined into;
     ``ValueError`` when ``shape`` holds more than ``size`` entries."""
@@ -83,7 +83,7 @@ def stack_empty(size, shape, dtype):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(inline="always")
-def stack_zeros(size, shape, dtype):  # type: ignore[no-untyped-def]
+def stack_zeros(size, shape, dtype):
     """:func:`stack_empty` filled with zeros."""
     out = stack_empty(size, shape, dtype)
     flat = out.reshape(out.size)

@@ -642,12 +642,12 @@ def line_state_into(
             R0[b] = frame
             if kind == CUBIC:  # the element's own rotation and its compliance (eq. T13)
                 pair[0], pair[1] = 0, 1
-                for order, out in ((0, W[b]), (1, W_xi[b]), (2, W_xixi[b])):
+                for order, rows in ((0, W[b]), (1, W_xi[b]), (2, W_xixi[b])):
                     cubic_local_at(stiffness[e], h[b, e], Xb, order, G_b)
                     to_global(frame, G_b)
                     for j in range(12):
                         for c in range(3):
-                            out[c, j] = G_b[j, 3 + c]
+                            rows[c, j] = G_b[j, 3 + c]
                 cubic_flex_at(frame, stiffness[e], h[b, e], Xb, compliance6, compliance6_xi)
                 for i in range(3):
                     for c in range(3):

@@ -238,8 +238,8 @@ class CompiledNewton:
         statics = self.statics
         if statics is None:
             raise ValueError("a compiled Newton loop without its statics does not solve")
-        q0, y0 = np.asarray(q, dtype=float), np.concatenate([*unknowns, ()], dtype=float)
-        q, y = q0.copy(), y0.copy()  # the start kept for the diagnosis of a failure
+        q0 = q  # the start, unchanged (the loop works on copies), for a failure's diagnosis
+        q, y = np.array(q, dtype=float), np.concatenate([*unknowns, ()], dtype=float)
         drives = (
             np.array([s.drive(time)[0] if s.drive is not None else 0.0 for s in statics.sliders])
             if self.driven
@@ -280,10 +280,11 @@ class CompiledNewton:
                 not np.any(y[multipliers]),
             )
         assert status == NOT_CONVERGED
+        y0 = np.concatenate([*unknowns, ()], dtype=float)
         first = joint_parts(
             statics.structure,
             statics.sliders,
-            q0,
+            np.asarray(q0, dtype=float),
             np.split(y0, np.cumsum(self.sizes)[:-1]) if self.sizes else [],
             time,
             scale,

@@ -133,23 +133,32 @@ def _predict(
 ) -> tuple[np.ndarray, list[np.ndarray]] | None:
     """Start of the point at ``value`` from the last (up to two) converged points, or None
     when they do not fit ``statics``' unknowns."""
+    shape = _shape(statics)
     fitting = [
-        (p.value, p.solution)
-        for p in converged
-        if p.solution is not None and _fits(statics, p.solution)
+        p for p in converged if p.solution is not None and _solution_shape(p.solution) == shape
     ]
     if not fitting:
         return None
-    last = fitting[-1][1]
-    values = [value] + [v for v, _ in fitting]
-    if len(fitting) == 2 and all(isinstance(v, Real) for v in values) and values[1] != values[2]:
-        first = fitting[0][1]
-        c = (values[0] - values[2]) / (values[2] - values[1])
+    last = fitting[-1].solution
+    assert last is not None
+    if len(fitting) == 2 and _secant(value, fitting[0].value, fitting[1].value):
+        first = fitting[0].solution
+        assert first is not None
+        c = (value - fitting[1].value) / (fitting[1].value - fitting[0].value)
         return (
             last.q + c * (last.q - first.q),
             [y1 + c * (y1 - y0) for y1, y0 in zip(last.unknowns, first.unknowns, strict=True)],
         )
     return last.q, last.unknowns
+
+
+def _secant(value: Any, v0: Any, v1: Any) -> bool:
+    """Whether the secant through the points at ``v0`` and ``v1`` predicts ``value``: real
+    values, ``v0`` and ``v1`` apart."""
+    real = (float, int, np.floating, np.integer)
+    if not all(isinstance(v, real) or isinstance(v, Real) for v in (value, v0, v1)):
+        return False
+    return bool(v0 != v1)
 
 
 def _solve_point(
@@ -171,11 +180,14 @@ def _solve_point(
         return SweepPoint(value, None, str(exc))
 
 
-def _fits(statics: SliderStatics, solution: SliderSolution) -> bool:
-    """Whether ``solution`` has the shapes of ``statics``' unknowns."""
-    return len(solution.q) == statics.structure.n_dofs and [len(y) for y in solution.unknowns] == [
-        s.n_unknowns for s in statics.sliders
-    ]
+def _shape(statics: SliderStatics) -> tuple[int, list[int]]:
+    """The shapes of ``statics``' unknowns: its dofs and each slider's unknowns."""
+    return statics.structure.n_dofs, [s.n_unknowns for s in statics.sliders]
+
+
+def _solution_shape(solution: SliderSolution) -> tuple[int, list[int]]:
+    """The shapes of ``solution``'s unknowns, as :func:`_shape` gives a problem's."""
+    return len(solution.q), [len(y) for y in solution.unknowns]
 
 
 def sweep_batched(
