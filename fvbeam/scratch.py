@@ -29,6 +29,7 @@ must not outlive that call.
 from __future__ import annotations
 
 import numba
+import numpy as np
 from numba import types
 from numba.core import cgutils
 from numba.extending import intrinsic
@@ -86,6 +87,17 @@ def stack_empty(size, shape, dtype):
 def stack_zeros(size, shape, dtype):
     """:func:`stack_empty` filled with zeros."""
     out = stack_empty(size, shape, dtype)
-    flat = out.reshape(out.size)
-    flat[:] = 0
+    out[:] = 0
     return out
+
+
+@numba.njit(inline="always")
+def stack_vector3():
+    """An uninitialised float 3-vector on the stack (:func:`stack_empty`)."""
+    return stack_empty(3, (3,), np.float64)
+
+
+@numba.njit(inline="always")
+def stack_matrix3():
+    """An uninitialised float 3x3 matrix on the stack (:func:`stack_empty`)."""
+    return stack_empty(9, (3, 3), np.float64)

@@ -12,7 +12,7 @@ import numba
 import numpy as np
 import pytest
 
-from fvbeam.scratch import borrowed, stack_empty, stack_zeros
+from fvbeam.scratch import borrowed, stack_empty, stack_matrix3, stack_vector3, stack_zeros
 
 
 @numba.njit
@@ -27,6 +27,15 @@ def _filled(npe: int) -> tuple:
     for j in range(npe):
         c[j] = -j - 1
     return a.copy(), b.copy(), c.copy()
+
+
+@numba.njit
+def _fixed_shapes() -> tuple:
+    """Two 3-vectors and two 3x3 matrices, each filled with its own value, copied out."""
+    a, b = stack_vector3(), stack_vector3()
+    A, B = stack_matrix3(), stack_matrix3()
+    a[:], b[:], A[:], B[:] = 1.0, 2.0, 3.0, 4.0
+    return a.copy(), b.copy(), A.copy(), B.copy()
 
 
 @numba.njit
@@ -55,6 +64,14 @@ def test_scratch_arrays_hold_what_was_written(npe):
     np.testing.assert_array_equal(a, 10.0 * np.arange(3)[:, None] + np.arange(npe))
     np.testing.assert_array_equal(b, np.zeros((npe, 3)))
     np.testing.assert_array_equal(c, -np.arange(1, npe + 1))
+
+
+def test_each_fixed_shape_scratch_array_is_its_own():
+    a, b, A, B = _fixed_shapes()
+    np.testing.assert_array_equal(a, np.full(3, 1.0))
+    np.testing.assert_array_equal(b, np.full(3, 2.0))
+    np.testing.assert_array_equal(A, np.full((3, 3), 3.0))
+    np.testing.assert_array_equal(B, np.full((3, 3), 4.0))
 
 
 def test_a_kernel_on_scratch_arrays_equals_it_on_heap_arrays():

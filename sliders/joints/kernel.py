@@ -32,7 +32,7 @@ from functools import cache
 import numba
 import numpy as np
 
-from fvbeam.scratch import stack_empty
+from fvbeam.scratch import stack_empty, stack_matrix3, stack_vector3
 
 BODY, TURN, LOAD, ROTATION, INTERP, BESIDE, XI, LAM, MU = range(9)
 #: Group names in the order of the indices above (:class:`sliders.joints.blocks.SlotJacobian`).
@@ -205,12 +205,12 @@ def joint_equations(
     """
     B = len(y)
     t = start[XI]
-    lam = stack_empty(3, (3,), np.float64)
-    arm = stack_empty(3, (3,), np.float64)
-    v = stack_empty(3, (3,), np.float64)
-    S1 = stack_empty(9, (3, 3), np.float64)
-    S2 = stack_empty(9, (3, 3), np.float64)
-    theta = stack_empty(3, (3,), np.float64)
+    lam = stack_vector3()
+    arm = stack_vector3()
+    v = stack_vector3()
+    S1 = stack_matrix3()
+    S2 = stack_matrix3()
+    theta = stack_vector3()
     axes = stack_empty(6, (2, 3), np.float64)
     for j in range(2):
         for c in range(3):
@@ -402,32 +402,14 @@ def _section(
     n_w = W.shape[2]
     compliant = contact.shape[1] > 0
     mu = stack_empty(3, (n_mu,), np.float64)
-    lam = stack_empty(3, (3,), np.float64)
-    theta, theta_L, theta_L_xi, theta_L_xixi = (
-        stack_empty(3, (3,), np.float64),
-        stack_empty(3, (3,), np.float64),
-        stack_empty(3, (3,), np.float64),
-        stack_empty(3, (3,), np.float64),
-    )
-    t0, t1, t2, v, d = (
-        stack_empty(3, (3,), np.float64),
-        stack_empty(3, (3,), np.float64),
-        stack_empty(3, (3,), np.float64),
-        stack_empty(3, (3,), np.float64),
-        stack_empty(3, (3,), np.float64),
-    )
-    m, m_xi, shift, rate, Cn = (
-        stack_empty(3, (3,), np.float64),
-        stack_empty(3, (3,), np.float64),
-        stack_empty(3, (3,), np.float64),
-        stack_empty(3, (3,), np.float64),
-        stack_empty(3, (3,), np.float64),
-    )
-    a0, a1, a2 = (
-        stack_empty(3, (3,), np.float64),
-        stack_empty(3, (3,), np.float64),
-        stack_empty(3, (3,), np.float64),
-    )
+    lam = stack_vector3()
+    theta, theta_L = stack_vector3(), stack_vector3()
+    theta_L_xi, theta_L_xixi = stack_vector3(), stack_vector3()
+    t0, t1, t2 = stack_vector3(), stack_vector3(), stack_vector3()
+    v, d = stack_vector3(), stack_vector3()
+    m, m_xi, shift = stack_vector3(), stack_vector3(), stack_vector3()
+    rate, Cn = stack_vector3(), stack_vector3()
+    a0, a1, a2 = stack_vector3(), stack_vector3(), stack_vector3()
     # rows j of n_i: axes_j x t_i (classical), then t_i (spline); g_i likewise
     n0, n1, n2 = (
         stack_empty(9, (n_mu, 3), np.float64),
@@ -440,15 +422,9 @@ def _section(
         stack_empty(3, (n_mu,), np.float64),
         stack_empty(3, (n_mu,), np.float64),
     )
-    R0T, F, K, dF, ddF, P = (
-        stack_empty(9, (3, 3), np.float64),
-        stack_empty(9, (3, 3), np.float64),
-        stack_empty(9, (3, 3), np.float64),
-        stack_empty(9, (3, 3), np.float64),
-        stack_empty(9, (3, 3), np.float64),
-        stack_empty(9, (3, 3), np.float64),
-    )
-    C, C_xi = stack_empty(9, (3, 3), np.float64), stack_empty(9, (3, 3), np.float64)
+    R0T, F, K = stack_matrix3(), stack_matrix3(), stack_matrix3()
+    dF, ddF, P = stack_matrix3(), stack_matrix3(), stack_matrix3()
+    C, C_xi = stack_matrix3(), stack_matrix3()
     for b in range(len(y)):
         for j in range(n_mu):
             mu[j] = y[b, 4 + j]
@@ -590,20 +566,10 @@ def _slope(
     test functions (the rotational columns of ``G``)."""
     t = start[XI]
     n_load, n_interp = G.shape[1], dN.shape[2]
-    theta, m, v, w = (
-        stack_empty(3, (3,), np.float64),
-        stack_empty(3, (3,), np.float64),
-        stack_empty(3, (3,), np.float64),
-        stack_empty(3, (3,), np.float64),
-    )
+    theta, m, v, w = stack_vector3(), stack_vector3(), stack_vector3(), stack_vector3()
     e_b = stack_empty(6, (2, 3), np.float64)
-    L, E0, E, dm_dtheta = (
-        stack_empty(9, (3, 3), np.float64),
-        stack_empty(9, (3, 3), np.float64),
-        stack_empty(9, (3, 3), np.float64),
-        stack_empty(9, (3, 3), np.float64),
-    )
-    dm_dxi, dm_dmu = stack_empty(3, (3,), np.float64), stack_empty(3, (3,), np.float64)
+    L, E0, E, dm_dtheta = stack_matrix3(), stack_matrix3(), stack_matrix3(), stack_matrix3()
+    dm_dxi, dm_dmu = stack_vector3(), stack_vector3()
     for b in range(len(y)):
         for c in range(3):
             theta[c] = q[b, body[b, 3 + c]]
