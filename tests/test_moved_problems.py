@@ -23,6 +23,7 @@ from sliders.joints.packed import JointPack
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
 from sliders.sliding_beams.model import PAPER, SlidingBeams
+from sliders.solve.statics import SliderStatics
 
 SCENE = Path(__file__).parents[1] / "studies" / "scenes" / "fig4_sliding_beams.toml"
 
@@ -175,3 +176,52 @@ def test_structure_moved_refuses_a_renamed_beam():
     structure = Structure([a])
     with pytest.raises(ValueError, match=r"beams\[0\] is not beam 0 moved"):
         structure.moved([a.translated((0.0, 0.5, 0.0), name="P")])
+
+
+@pytest.mark.parametrize("kind", ["spherical", "classical"])
+def test_statics_moved_is_the_statics_built_with_reuse(kind):
+    """``SliderStatics.moved``: the problem that ``SliderStatics(structure.moved(...),
+    supports, moved sliders, reuse=...)`` builds, without its checks: the operator, its
+    factorisation and the cached columns shared, the joints packed bit for bit alike, and
+    so the same solution bit for bit (the compiled loop reads the same arrays).  The
+    problem it was moved from is left as it was."""
+    model = SlidingBeams("fv3", 3, kind)
+    first, f = model.problem(0.0)
+    before = first.solve(f)
+    floats = first.compiled.pack.floats.copy()
+    piston = model.cylinder.translated((0.3 * PAPER.length, 0.0, 0.0))
+    moved = first.moved([model.cylinder, piston])
+    structure = first.structure.moved([model.cylinder, piston])
+    built = SliderStatics(
+        structure,
+        model.supports,
+        [s.moved(structure) for s in first.sliders],
+        reuse=first,
+        method="condensed",
+    )
+    assert moved.K is built.K and moved._condensed is built._condensed
+    assert moved.compiled.store is built.compiled.store is first.compiled.store
+    np.testing.assert_array_equal(moved.compiled.pack.floats, built.compiled.pack.floats)
+    np.testing.assert_array_equal(moved.structure.beams[1].mesh.points, piston.mesh.points)
+    one, other = moved.solve(f), built.solve(f)
+    np.testing.assert_array_equal(one.q, other.q)
+    for a, b in zip(one.unknowns, other.unknowns, strict=True):
+        np.testing.assert_array_equal(a, b)
+    assert one.residuals == other.residuals
+    np.testing.assert_array_equal(first.compiled.pack.floats, floats)
+    np.testing.assert_array_equal(first.solve(f).q, before.q)
+
+
+def test_statics_moved_checks_what_a_move_can_break():
+    """``SliderStatics.moved`` refuses, by name, a beam that is not a translated copy of
+    the one it replaces (:meth:`Structure.moved`), and a planar problem moved out of its
+    plane (its sliders checked in the plane again)."""
+    model = SlidingBeams("fv3", 1, "spherical")
+    statics, _ = model.problem(0.0)
+    with pytest.raises(ValueError, match=r"beams\[1\] is not beam 1 moved"):
+        statics.moved([model.cylinder, _beam(0.3)])
+    planar = Model(_scene("classical", (0.0, 0.3), planar=True))
+    on_plane, _ = planar.problem(0.0)
+    beams = on_plane.structure.beams
+    with pytest.raises(ValueError, match="plane"):
+        on_plane.moved([beams[0], beams[1].translated((0.0, 0.0, 0.1))])

@@ -683,18 +683,16 @@ class Model:
             if self._previous is None:
                 structure = Structure(beams, self.ties, bodies)
                 sliders = [self._slider(s, structure) for s in self.scene.slider]
+                self._previous = SliderStatics(
+                    structure,
+                    self.supports,
+                    sliders,
+                    method=method,
+                    forces=self.forces,
+                    plane=self.plane,
+                )
             else:  # the last point's parts moved: its numbering and checked sliders kept
-                structure = self._previous.structure.moved(beams, bodies)
-                sliders = [slider.moved(structure) for slider in self._previous.sliders]
-            self._previous = SliderStatics(
-                structure,
-                self.supports,
-                sliders,
-                reuse=self._previous,
-                method=method,
-                forces=self.forces,
-                plane=self.plane,
-            )
+                self._previous = self._previous.moved(beams, bodies)
         return self._previous, self.load_vector(self._previous.structure, value)
 
     def dynamics(self) -> Dynamics:

@@ -223,18 +223,22 @@ class JointPack:
         self.ints = np.concatenate(ints) if ints else np.zeros(0, dtype=np.int64)
         self._placement = self._place(self.sliders, structure)
 
-    def moved(self, sliders: Sequence[Slider], structure: Structure) -> JointPack | None:
+    def moved(
+        self, sliders: Sequence[Slider], structure: Structure, known_moved: bool = False
+    ) -> JointPack | None:
         """This pack for ``sliders`` on ``structure`` when they are this pack's moved rigidly
         (a sweep over positions: the same joints on translated copies of the same beams,
         :meth:`fvbeam.beam.Beam.translated`), with only the node positions and the sliding
         points' reference positions read anew (:meth:`_place`); None when they are not
-        (build a new pack)."""
+        (build a new pack).  ``known_moved``: the caller made ``sliders`` from this pack's
+        by :meth:`~sliders.joints.slider.Slider.moved`, so they are not compared again."""
         sliders = list(sliders)
         if len(sliders) != len(self.sliders):
             return None
-        for new, old in zip(sliders, self.sliders, strict=True):
-            if not _moved(new, old):
-                return None
+        if not known_moved:
+            for new, old in zip(sliders, self.sliders, strict=True):
+                if not _moved(new, old):
+                    return None
         out = shallow_copy(self)
         out.sliders = sliders
         if not self._placement.fits(structure, sliders):

@@ -86,30 +86,28 @@ class SlidingBeams:
 
     def problem(self, s_over_L: float) -> tuple[SliderStatics, np.ndarray]:
         """The statics (condensed back end) and the tip load with the piston at
-        ``s = s_over_L L``; the last position's moved (its numbering, checked sliders and
-        condensed operator kept, and so its tip load)."""
+        ``s = s_over_L L``; the last position's moved (:meth:`sliders.solve.statics.
+        SliderStatics.moved`: its numbering, checked sliders and condensed operator kept,
+        and so its tip load)."""
         piston = self.cylinder.translated((s_over_L * self.setup.length, 0, 0))
         previous = self._previous
-        if previous is None:
-            structure = Structure([self.cylinder, piston])
-            self._load = structure.gather(1, piston.nodal_load("end", (0, self.setup.force, 0)))
-            sliders = [
-                Slider(
-                    self.kind,
-                    BeamChain(structure, [k], line),
-                    body,
-                    name=name,
-                    smearing=self.smearing,
-                    orientation=self.orientation,
-                )
-                for k, line, body, name in LAYOUT
-            ]
-        else:
-            structure = previous.structure.moved([self.cylinder, piston])
-            sliders = [slider.moved(structure) for slider in previous.sliders]
-        statics = SliderStatics(
-            structure, self.supports, sliders, reuse=self._previous, method="condensed"
-        )
+        if previous is not None:
+            self._previous = previous.moved([self.cylinder, piston])
+            return self._previous, self._load.copy()
+        structure = Structure([self.cylinder, piston])
+        self._load = structure.gather(1, piston.nodal_load("end", (0, self.setup.force, 0)))
+        sliders = [
+            Slider(
+                self.kind,
+                BeamChain(structure, [k], line),
+                body,
+                name=name,
+                smearing=self.smearing,
+                orientation=self.orientation,
+            )
+            for k, line, body, name in LAYOUT
+        ]
+        statics = SliderStatics(structure, self.supports, sliders, method="condensed")
         self._previous = statics
         return statics, self._load.copy()
 

@@ -23,6 +23,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from fvbeam.scratch import borrowed
+
 
 @numba.njit(inline="never")
 def _register(
@@ -362,6 +364,16 @@ def _norm_1(a: np.ndarray, sums: np.ndarray) -> float:
 
 
 @numba.njit(cache=True)
+def scratch_sizes(n: int, size: int, ncm: int, k: int, m: int) -> tuple[int, int]:
+    """The float and integer entries of :func:`condensed_step_into`'s scratch for ``n``
+    free dofs, ``size`` joint slots, ``ncm`` columns ``[u_c, dy]`` (``m`` of them ``dy``) and
+    ``k`` rigid modes."""
+    N = ncm + k
+    floats = 3 * size * ncm + size + size * m + m * m + k * ncm + 2 * N * N + 3 * N
+    return floats, 2 * n + 2 * size + (ncm - m) + N + 2
+
+
+@numba.njit(cache=True)
 def condensed_step(
     store: np.ndarray,
     column: np.ndarray,
@@ -407,29 +419,95 @@ def condensed_step(
     Returns
     -------
     ``r_q + P F u`` (B, n), the solutions ``[u_c, dy, a]`` (B, nc + m + k) and which members'
-    systems are regular (the solution of the others is zero).
+    systems are regular (the solution of the others is zero).  The outputs and the scratch
+    of :func:`condensed_step_into`, which does the work, are allocated here.
     """
     members, n = r_free.shape
     m, k = r_y.shape[1], phi.shape[1]
-    ncm = nc + m
     size = 0
     for j in range(len(batches)):
         size += batches[j, 0] * batches[j, 1]
-    where_f = np.full(n, -1, dtype=np.int64)
-    where_r = np.full(n, -1, dtype=np.int64)
-    fd = np.empty(size, dtype=np.int64)
-    rd = np.empty(size, dtype=np.int64)
-    c_dof = np.empty(nc, dtype=np.int64)
-    G, Y = np.empty((size, ncm)), np.empty((size, ncm))
-    Yt, read = np.empty((ncm, size)), np.empty(size)
-    Ct, D, Y_z = np.empty((size, m)), np.empty((m, m)), np.empty((k, ncm))
-    A, inverse = np.empty((ncm + k, ncm + k)), np.empty((ncm + k, ncm + k))
-    rhs, rows, cols = np.empty(ncm + k), np.empty(ncm + k), np.empty(ncm + k)
-    swaps = np.empty(ncm + k, dtype=np.int64)
-    counts = np.zeros(2, dtype=np.int64)
-    force = r_free.copy()
-    z = np.zeros((members, ncm + k))
-    regular = np.zeros(members, dtype=np.bool_)
+    n_float, n_int = scratch_sizes(n, size, nc + m, k, m)
+    floats, ints = np.empty(n_float), np.empty(n_int, dtype=np.int64)
+    ints[: 2 * n] = -1
+    force = np.empty((members, n))
+    z = np.empty((members, nc + m + k))
+    regular = np.empty(members, dtype=np.bool_)
+    condensed_step_into(
+        store,
+        column,
+        phi,
+        base,
+        r_free,
+        r_y,
+        slots,
+        values,
+        tables,
+        c_of,
+        batches,
+        nc,
+        threshold,
+        floats,
+        ints,
+        force,
+        z,
+        regular,
+    )
+    return force, z, regular
+
+
+@numba.njit(cache=True)
+def condensed_step_into(
+    store: np.ndarray,
+    column: np.ndarray,
+    phi: np.ndarray,
+    base: np.ndarray,
+    r_free: np.ndarray,
+    r_y: np.ndarray,
+    slots: np.ndarray,
+    values: np.ndarray,
+    tables: np.ndarray,
+    c_of: np.ndarray,
+    batches: np.ndarray,
+    nc: int,
+    threshold: float,
+    floats: np.ndarray,
+    ints: np.ndarray,
+    force: np.ndarray,
+    z: np.ndarray,
+    regular: np.ndarray,
+) -> None:
+    """:func:`condensed_step` into the caller's arrays, without allocating: its outputs
+    ``force`` (B, n), ``z`` (B, nc + m + k) and ``regular`` (B,), and its scratch, a float
+    and an integer array of at least :func:`scratch_sizes` entries whose first ``2 n``
+    integers are -1 (the positions of the free dofs among the force and read dofs, none
+    yet; left so on return), so that a Newton loop allocates them once for all its steps."""
+    members, n = r_free.shape
+    m, k = r_y.shape[1], phi.shape[1]
+    ncm = nc + m
+    N = ncm + k
+    size = 0
+    for j in range(len(batches)):
+        size += batches[j, 0] * batches[j, 1]
+    where_f, where_r = borrowed(ints, 0, (n,)), borrowed(ints, n, (n,))
+    at = 2 * n
+    fd, rd = borrowed(ints, at, (size,)), borrowed(ints, at + size, (size,))
+    at += 2 * size
+    c_dof, swaps = borrowed(ints, at, (nc,)), borrowed(ints, at + nc, (N,))
+    counts = borrowed(ints, at + nc + N, (2,))
+    G, Y = borrowed(floats, 0, (size, ncm)), borrowed(floats, size * ncm, (size, ncm))
+    at = 2 * size * ncm
+    Yt, read = borrowed(floats, at, (ncm, size)), borrowed(floats, at + ncm * size, (size,))
+    at += ncm * size + size
+    Ct, D = borrowed(floats, at, (size, m)), borrowed(floats, at + size * m, (m, m))
+    at += size * m + m * m
+    Y_z, A = borrowed(floats, at, (k, ncm)), borrowed(floats, at + k * ncm, (N, N))
+    at += k * ncm + N * N
+    inverse, rhs = borrowed(floats, at, (N, N)), borrowed(floats, at + N * N, (N,))
+    at += N * N + N
+    rows, cols = borrowed(floats, at, (N,)), borrowed(floats, at + N, (N,))
+    force[:, :] = r_free
+    z[:, :] = 0.0
     for b in range(members):
         _gather(
             b,
@@ -459,6 +537,7 @@ def condensed_step(
             for j in range(ncm):
                 total += G[f, j] * z[b, j]
             force[b, fd[f]] += total
-        where_f[fd[:n_f]] = -1
-        where_r[rd[:n_r]] = -1
-    return force, z, regular
+        for f in range(n_f):
+            where_f[fd[f]] = -1
+        for r in range(n_r):
+            where_r[rd[r]] = -1

@@ -194,12 +194,14 @@ class CompiledNewton:
             self.resolution,
         )
 
-    def moved(self, statics: Moved) -> CompiledNewton | None:
+    def moved(self, statics: Moved, known_moved: bool = False) -> CompiledNewton | None:
         """This loop for ``statics``, a problem on the same operator whose joints are this
         one's moved rigidly (:meth:`sliders.joints.packed.JointPack.moved`): everything
         shared but the joints' positions and the force elements' constants; None when the
-        joints are not this loop's moved (build it anew)."""
-        pack = self.pack.moved(statics.sliders, statics.structure)
+        joints are not this loop's moved (build it anew).  ``known_moved``: the caller made
+        ``statics``' sliders from this loop's by :meth:`sliders.joints.slider.Slider.moved`
+        (:meth:`sliders.solve.statics.SliderStatics.moved`), so they are not compared again."""
+        pack = self.pack.moved(statics.sliders, statics.structure, known_moved)
         if pack is None or len(statics.forces) != len(self.elements[0]):
             return None
         out = shallow_copy(self)

@@ -5,7 +5,8 @@ back end (:mod:`sliders.solve.condensed`), every iteration in compiled code: the
 ``r_q = A q - f`` of the operator ``A`` (the stiffness, or the time integrator's
 ``M + c_v C + s K``), the joints' residuals and Jacobians (:func:`sliders.joints.packed.
 evaluate_joint`), the small system on the slots the joints touch
-(:func:`sliders.solve.condensed_kernel.condensed_step`) and the increments
+(:func:`sliders.solve.condensed_kernel.condensed_step_into`, its scratch allocated once
+per solve) and the increments
 ``dq = -B^{-1}[r_q + P F u; 0] + Phi a`` with the bordered operator ``B`` factorised once
 (:func:`sliders.solve.factor.factor_solve` for ``B^{-1}[r_q; 0]``).  The columns of
 ``B^{-1}`` at the dofs that carry joint forces are computed when first needed and kept
@@ -31,7 +32,7 @@ import numpy as np
 from fvbeam.scratch import borrowed, stack_empty
 from sliders.forces.kernel import evaluate_element
 from sliders.joints.packed import evaluate_joint
-from sliders.solve.condensed_kernel import condensed_step
+from sliders.solve.condensed_kernel import condensed_step_into, scratch_sizes
 from sliders.solve.factor import factor_solve
 
 CONVERGED, SINGULAR, NOT_CONVERGED, OFF_LINE, OVERFLOW = range(5)
@@ -221,6 +222,12 @@ def newton(
         first[j] = at
         at += batches[j, 2]
     lengths = joint_values[:, 1]
+    # the condensed step's outputs and scratch, for every step of this solve
+    step_floats, step_ints = scratch_sizes(nf, t_all, nc + m, k, m)
+    floats, ints = np.empty(step_floats), np.empty(step_ints, np.int64)
+    ints[: 2 * nf] = -1
+    force, z = np.empty((1, nf)), np.empty((1, nc + m + k))
+    regular = np.empty(1, np.bool_)
     load_scale = 1e-300
     for i in range(n):
         load_scale = max(load_scale, abs(f[i]))
@@ -306,7 +313,7 @@ def newton(
         factor_solve(
             L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c, rhs, solution[0], scratch
         )
-        force, z, regular = condensed_step(
+        condensed_step_into(
             store,
             column,
             phi,
@@ -320,6 +327,11 @@ def newton(
             batches,
             nc,
             threshold,
+            floats,
+            ints,
+            force,
+            z,
+            regular,
         )
         if not regular[0]:
             return SINGULAR, iteration + 1, -1

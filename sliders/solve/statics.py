@@ -32,6 +32,9 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import ArrayLike
 
+from fvbeam.beam import Beam
+from fvbeam.body import RigidBody
+from fvbeam.copies import shallow_copy
 from fvbeam.mechanism import (
     RigidModes,
     free_motion_message,
@@ -165,6 +168,27 @@ class SliderStatics:
             self._condensed = CondensedOperator(self.K, self.free, self.rigid.phi)
         if reuse is not None and reuse._compiled is not None and method == reuse.method:
             self._compiled = reuse._compiled.moved(self)
+
+    def moved(self, beams: Sequence[Beam], bodies: Sequence[RigidBody] = ()) -> SliderStatics:
+        """This problem with its beams and bodies replaced by ``beams`` and ``bodies``, each
+        the one it replaces moved rigidly (:meth:`fvbeam.structure.Structure.moved`, which
+        checks them): the sliders moved with them (:meth:`sliders.joints.slider.Slider.
+        moved`), the supports, back end, operator, factorisation and cached columns kept (a
+        rigid translation changes none of them), the compiled loop's joints moved
+        (:meth:`sliders.solve.newton.CompiledNewton.moved`).  What
+        ``SliderStatics(structure.moved(...), supports, moved sliders, reuse=self)`` builds,
+        without checking again what the move keeps by construction; a planar problem's
+        sliders are checked in its plane again.  A sweep over positions moves each point's
+        problem from the last."""
+        structure = self.structure.moved(beams, bodies)
+        sliders = [slider.moved(structure) for slider in self.sliders]
+        if self.plane is not None:
+            check(structure, sliders, self.plane, [], self.sliders)
+        out = shallow_copy(self)
+        out.structure, out.sliders, out._rigid = structure, sliders, None
+        if self._compiled is not None:
+            out._compiled = self._compiled.moved(out, known_moved=True)
+        return out
 
     def _automatic(self) -> str:
         """The back end ``auto`` takes: ``condensed`` (the compiled Newton loop on a
