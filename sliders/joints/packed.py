@@ -245,19 +245,18 @@ class JointPack:
             out._placement = self._place(sliders, structure)
         place = out._placement
         out.floats = self.floats.copy()
-        out.floats[place.targets] = structure.slot_points().ravel()[place.sources]
-        out.floats[place.references] += place.offsets
+        out.floats[place.targets] = structure.slot_points().ravel()[place.sources] + place.added
         return out
 
     def _place(self, sliders: list[Slider], structure: Structure) -> Placement:
         """Where the node positions of ``sliders`` on ``structure`` go in :attr:`floats`:
         each joint's sliding point, its chain's nodes and its projection grid's nodes."""
-        targets, sources, references = [], [], []
+        targets, sources, added = [], [], []
         for j, slider in enumerate(sliders):
             body = 3 * structure.node_slot(slider.body) + np.arange(3)
-            references.append(self.fields[j, REFERENCE, 0] + np.arange(3))
-            targets.append(references[-1])
+            targets.append(self.fields[j, REFERENCE, 0] + np.arange(3))
             sources.append(body)
+            added.append(slider.offset)
             if isinstance(slider.line, BeamChain):
                 line = slider.line
                 nodes = np.concatenate(
@@ -269,13 +268,13 @@ class JointPack:
                 for field, of in ((POINTS, nodes), (GRID_POINTS, nodes[self.grid_nodes[j]])):
                     targets.append(self.fields[j, field, 0] + np.arange(3 * len(of)))
                     sources.append((3 * of[:, None] + np.arange(3)).ravel())
+                    added.append(np.zeros(3 * len(of)))
         return Placement(
             structure.dof_maps,
             _holds(sliders),
             np.concatenate(targets + [np.zeros(0, dtype=np.int64)]),
             np.concatenate(sources + [np.zeros(0, dtype=np.int64)]),
-            np.concatenate(references + [np.zeros(0, dtype=np.int64)]),
-            np.concatenate([s.offset for s in sliders] + [np.zeros(0)]),
+            np.concatenate(added + [np.zeros(0)]),
         )
 
     @property
@@ -486,15 +485,15 @@ class Placement(NamedTuple):
     changes, :meth:`JointPack.moved`): the structure's node ``numbering`` (dof maps) and
     what each joint ``holds`` (:func:`_holds`) it was made for; the entries ``targets`` of
     the floats and the entries ``sources`` of the structure's raveled
-    :meth:`~fvbeam.structure.Structure.slot_points` they are read from; the entries
-    ``references`` of the sliding points, to which the joints' ``offsets`` are added."""
+    :meth:`~fvbeam.structure.Structure.slot_points` they are read from, and what is
+    ``added`` to each: a joint's offset to its sliding point's entries, zero to the
+    others."""
 
     numbering: list[np.ndarray]
     holds: list
     targets: np.ndarray
     sources: np.ndarray
-    references: np.ndarray
-    offsets: np.ndarray
+    added: np.ndarray
 
     def fits(self, structure: Structure, sliders: list[Slider]) -> bool:
         """Whether this placement places ``sliders`` on ``structure``: the same numbering
