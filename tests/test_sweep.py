@@ -86,3 +86,35 @@ def test_start_is_chosen_by_the_sweep():
     statics, f = SlidingBeams("fv3", 1, "spherical").problem(0.4)
     with pytest.raises(ValueError, match="do not pass start"):
         sweep([f], lambda g: (statics, g), start=None, progress=False)
+
+
+@pytest.mark.parametrize("kind", ["spherical", "classical"])
+def test_a_swept_point_is_freed_as_soon_as_it_is_dropped(kind):
+    """A sweep's points hold no reference cycles (the compiled loop holds its statics
+    weakly): with the garbage collector off, a sweep of moved problems and a cold solve
+    leave nothing for it to collect, and a dropped problem is gone at once.  (The kernels
+    are called once before, so that what numba builds when it first loads them is not
+    counted.)"""
+    import gc
+    import weakref
+
+    model = SlidingBeams("fv3", 1, kind)
+
+    def sweep_and_cold_solve() -> tuple:
+        result = sweep(STATIONS[:6], model.problem, progress=False)
+        statics, f = model.problem(0.5)
+        return result, statics, statics.solve(f)
+
+    sweep_and_cold_solve()
+    gc.collect()
+    gc.disable()
+    try:
+        result, statics, _ = sweep_and_cold_solve()
+        gone = weakref.ref(statics)
+        model._previous = None
+        del statics
+        assert gone() is None
+        assert gc.collect() == 0
+    finally:
+        gc.enable()
+    assert not result.failures

@@ -17,6 +17,7 @@ Python code on the state where the loop stopped.
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Sequence
 from typing import Protocol
 
@@ -81,7 +82,12 @@ class CompiledNewton:
     makes a solve fail (:attr:`~sliders.solve.statics.SliderStatics.compiled` builds both);
     without it, only :attr:`problem` is of use (a structure without sliders,
     :mod:`sliders.solve.dynamics_kernel`).  ``forces``: the force elements; ``pinned``: per
-    joint, the unknowns a planar solve pins (:func:`sliders.solve.planar.pinned`)."""
+    joint, the unknowns a planar solve pins (:func:`sliders.solve.planar.pinned`).
+
+    The loop holds its statics by a weak reference: the statics holds the loop, and a
+    reference back would make each problem a cycle that only the garbage collector frees
+    (a sweep drops a problem per point: their memory would wait for the collector instead
+    of being reused at once)."""
 
     def __init__(
         self,
@@ -95,7 +101,7 @@ class CompiledNewton:
         forces: Sequence[ForceElement] = (),
         pinned: Sequence[Sequence[int]] | None = None,
     ) -> None:
-        self.statics = statics
+        self._statics = None if statics is None else weakref.ref(statics)
         K = sp.csr_matrix(K)
         K.sort_indices()
         self.operator = (K.indptr.astype(np.int64), K.indices.astype(np.int64), K.data)
@@ -194,6 +200,11 @@ class CompiledNewton:
             self.resolution,
         )
 
+    @property
+    def statics(self) -> Diagnosis | None:
+        """The problem this loop solves (None without one, or once it is gone)."""
+        return None if self._statics is None else self._statics()
+
     def moved(self, statics: Moved, known_moved: bool = False) -> CompiledNewton | None:
         """This loop for ``statics``, a problem on the same operator whose joints are this
         one's moved rigidly (:meth:`sliders.joints.packed.JointPack.moved`): everything
@@ -205,7 +216,7 @@ class CompiledNewton:
         if pack is None or len(statics.forces) != len(self.elements[0]):
             return None
         out = shallow_copy(self)
-        out.statics, out.pack = statics, pack
+        out._statics, out.pack = weakref.ref(statics), pack
         out.driven = any(s.drive is not None for s in statics.sliders)
         if statics.forces:  # without force elements, their (empty) constants are kept
             packed = [e.packed(statics.structure) for e in statics.forces]
