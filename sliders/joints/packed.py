@@ -230,8 +230,10 @@ class JointPack:
         (a sweep over positions: the same joints on translated copies of the same beams,
         :meth:`fvbeam.beam.Beam.translated`), with only the node positions and the sliding
         points' reference positions read anew (:meth:`_place`); None when they are not
-        (build a new pack).  ``known_moved``: the caller made ``sliders`` from this pack's
-        by :meth:`~sliders.joints.slider.Slider.moved`, so they are not compared again."""
+        (build a new pack).  ``known_moved``: the caller made ``structure`` from this
+        pack's by :meth:`~fvbeam.structure.Structure.moved` and ``sliders`` from this pack's
+        by :meth:`~sliders.joints.slider.Slider.moved` onto it, so they are not compared
+        again and the placement fits them."""
         sliders = list(sliders)
         if len(sliders) != len(self.sliders):
             return None
@@ -241,7 +243,8 @@ class JointPack:
                     return None
         out = shallow_copy(self)
         out.sliders = sliders
-        if not self._placement.fits(structure, sliders):
+        # moved copies (known_moved) sit on the same bodies and beams of the same numbering
+        if not (known_moved or self._placement.fits(structure, sliders)):
             out._placement = self._place(sliders, structure)
         place = out._placement
         out.floats = self.floats.copy()

@@ -217,7 +217,8 @@ class CompiledNewton:
             return None
         out = shallow_copy(self)
         out._statics, out.pack = weakref.ref(statics), pack
-        out.driven = any(s.drive is not None for s in statics.sliders)
+        if not known_moved:  # a moved slider keeps its drive
+            out.driven = any(s.drive is not None for s in statics.sliders)
         if statics.forces:  # without force elements, their (empty) constants are kept
             packed = [e.packed(statics.structure) for e in statics.forces]
             out.elements = (*self.elements[:2], np.concatenate(packed), self.elements[3])
