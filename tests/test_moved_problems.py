@@ -23,6 +23,7 @@ from sliders.joints.packed import JointPack
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
 from sliders.sliding_beams.model import PAPER, SlidingBeams
+from sliders.solve.planar import moved_in_plane
 from sliders.solve.statics import SliderStatics
 
 SCENE = Path(__file__).parents[1] / "studies" / "scenes" / "fig4_sliding_beams.toml"
@@ -225,3 +226,38 @@ def test_statics_moved_checks_what_a_move_can_break():
     beams = on_plane.structure.beams
     with pytest.raises(ValueError, match="plane"):
         on_plane.moved([beams[0], beams[1].translated((0.0, 0.0, 0.1))])
+
+
+def test_a_move_within_the_plane_is_not_checked_again(monkeypatch):
+    """A planar problem moved within its plane keeps every node's normal coordinate
+    (``moved_in_plane``), so its planar check does not run again; a move with a normal
+    component runs it (and is refused, ``test_statics_moved_checks_what_a_move_can_break``).
+    The moved problem solves as the one built with ``reuse``, which runs the check."""
+    import sliders.solve.statics as statics_module
+
+    model = Model(_scene("classical", (0.0, 0.3), planar=True))
+    start, f = model.problem(0.0)
+    beams = start.structure.beams
+    calls = []
+    real = statics_module.check
+    monkeypatch.setattr(statics_module, "check", lambda *a, **k: calls.append(a) or real(*a, **k))
+    piston = beams[1].translated((0.3, 0.0, 0.0))
+    assert moved_in_plane(start.structure, start.structure.moved([beams[0], piston]), "xy")
+    moved = start.moved([beams[0], piston])
+    assert calls == []
+    structure = start.structure.moved([beams[0], piston])
+    built = SliderStatics(
+        structure,
+        start._supports,
+        [s.moved(structure) for s in start.sliders],
+        reuse=start,
+        method=start.method,
+        plane="xy",
+    )
+    assert len(calls) == 1
+    np.testing.assert_array_equal(moved.solve(f).q, built.solve(f).q)
+    lifted = beams[1].translated((0.3, 0.0, 1e-3))
+    assert not moved_in_plane(start.structure, start.structure.moved([beams[0], lifted]), "xy")
+    with pytest.raises(ValueError, match="off the plane"):
+        start.moved([beams[0], lifted])
+    assert len(calls) == 2

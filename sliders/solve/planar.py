@@ -120,6 +120,21 @@ def check(
         _check_coupling(structure, plane, matrices)
 
 
+def moved_in_plane(old: Structure, new: Structure, plane: str) -> bool:
+    """Whether ``new``, a moved copy of ``old`` (:meth:`~fvbeam.structure.Structure.moved`),
+    keeps every node's coordinate along the normal of ``plane`` exactly (a move within the
+    plane): then its nodes, sliding points and chains lie in the plane as ``old``'s did, and
+    :func:`check` need not run again."""
+    c = normal(plane)
+    for a, b in zip(old.beams, new.beams, strict=True):
+        if a is not b and not np.array_equal(a.mesh.points[:, c], b.mesh.points[:, c]):
+            return False
+    return all(
+        a is b or float(a.position[c]) == float(b.position[c])
+        for a, b in zip(old.bodies, new.bodies, strict=True)
+    )
+
+
 def _check_coupling(structure: Structure, plane: str, matrices: Sequence[sp.spmatrix]) -> None:
     """:func:`check`'s ``ValueError`` naming the first pair of dofs, one in ``plane`` and
     one out of it, that one of ``matrices`` couples beyond :data:`TIE` of its largest

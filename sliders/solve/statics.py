@@ -57,7 +57,7 @@ from sliders.solve.mechanism import (
 )
 from sliders.solve.newton import ColumnStorageError, CompiledNewton
 from sliders.solve.newton_kernel import NOT_CONVERGED_MESSAGE
-from sliders.solve.planar import check, check_load, out_of_plane, pinned
+from sliders.solve.planar import check, check_load, moved_in_plane, out_of_plane, pinned
 
 METHODS = ("auto", "bordered", "condensed")
 
@@ -178,11 +178,12 @@ class SliderStatics:
         (:meth:`sliders.solve.newton.CompiledNewton.moved`).  What
         ``SliderStatics(structure.moved(...), supports, moved sliders, reuse=self)`` builds,
         without checking again what the move keeps by construction; a planar problem's
-        sliders are checked in its plane again.  A sweep over positions moves each point's
-        problem from the last."""
+        sliders are checked in its plane again unless the move keeps every node's
+        coordinate along the normal (:func:`sliders.solve.planar.moved_in_plane`).  A sweep
+        over positions moves each point's problem from the last."""
         structure = self.structure.moved(beams, bodies)
         sliders = [slider.moved(structure) for slider in self.sliders]
-        if self.plane is not None:
+        if self.plane is not None and not moved_in_plane(self.structure, structure, self.plane):
             check(structure, sliders, self.plane, [], self.sliders)
         out = shallow_copy(self)
         out.structure, out.sliders, out._rigid = structure, sliders, None
