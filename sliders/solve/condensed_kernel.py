@@ -364,13 +364,27 @@ def _norm_1(a: np.ndarray, sums: np.ndarray) -> float:
 
 
 @numba.njit(cache=True)
-def scratch_sizes(n: int, size: int, ncm: int, k: int, m: int) -> tuple[int, int]:
-    """The float and integer entries of :func:`condensed_step_into`'s scratch for ``n``
-    free dofs, ``size`` joint slots, ``ncm`` columns ``[u_c, dy]`` (``m`` of them ``dy``) and
-    ``k`` rigid modes."""
+def _slot_count(batches: np.ndarray) -> int:
+    """The structure slots of a member, all batches (``k t`` each)."""
+    size = 0
+    for j in range(len(batches)):
+        size += batches[j, 0] * batches[j, 1]
+    return size
+
+
+@numba.njit(cache=True)
+def step_scratch(
+    n: int, batches: np.ndarray, nc: int, m: int, k: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """The scratch of :func:`condensed_step_into` for ``n`` free dofs, the joints laid out
+    by ``batches`` with ``nc`` ``c`` slots and ``m`` unknowns, and ``k`` rigid modes: a float
+    and an integer array, the first ``2 n`` integers -1 (no free dof registered yet)."""
+    size, ncm = _slot_count(batches), nc + m
     N = ncm + k
-    floats = 3 * size * ncm + size + size * m + m * m + k * ncm + 2 * N * N + 3 * N
-    return floats, 2 * n + 2 * size + (ncm - m) + N + 2
+    floats = np.empty(3 * size * ncm + size + size * m + m * m + k * ncm + 2 * N * N + 3 * N)
+    ints = np.empty(2 * n + 2 * size + nc + N + 2, dtype=np.int64)
+    ints[: 2 * n] = -1
+    return floats, ints
 
 
 @numba.njit(cache=True)
@@ -424,12 +438,7 @@ def condensed_step(
     """
     members, n = r_free.shape
     m, k = r_y.shape[1], phi.shape[1]
-    size = 0
-    for j in range(len(batches)):
-        size += batches[j, 0] * batches[j, 1]
-    n_float, n_int = scratch_sizes(n, size, nc + m, k, m)
-    floats, ints = np.empty(n_float), np.empty(n_int, dtype=np.int64)
-    ints[: 2 * n] = -1
+    floats, ints = step_scratch(n, batches, nc, m, k)
     force = np.empty((members, n))
     z = np.empty((members, nc + m + k))
     regular = np.empty(members, dtype=np.bool_)
@@ -478,17 +487,15 @@ def condensed_step_into(
     regular: np.ndarray,
 ) -> None:
     """:func:`condensed_step` into the caller's arrays, without allocating: its outputs
-    ``force`` (B, n), ``z`` (B, nc + m + k) and ``regular`` (B,), and its scratch, a float
-    and an integer array of at least :func:`scratch_sizes` entries whose first ``2 n``
-    integers are -1 (the positions of the free dofs among the force and read dofs, none
-    yet; left so on return), so that a Newton loop allocates them once for all its steps."""
+    ``force`` (B, n), ``z`` (B, nc + m + k) and ``regular`` (B,), and its scratch
+    (:func:`step_scratch`: the first ``2 n`` integers, the positions of the free dofs among
+    the force and read dofs, are -1 on entry and left so on return), so that a Newton loop
+    allocates them once for all its steps."""
     members, n = r_free.shape
     m, k = r_y.shape[1], phi.shape[1]
     ncm = nc + m
     N = ncm + k
-    size = 0
-    for j in range(len(batches)):
-        size += batches[j, 0] * batches[j, 1]
+    size = _slot_count(batches)
     where_f, where_r = borrowed(ints, 0, (n,)), borrowed(ints, n, (n,))
     at = 2 * n
     fd, rd = borrowed(ints, at, (size,)), borrowed(ints, at + size, (size,))

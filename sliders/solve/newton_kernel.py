@@ -32,7 +32,7 @@ import numpy as np
 from fvbeam.scratch import borrowed, stack_empty
 from sliders.forces.kernel import evaluate_element
 from sliders.joints.packed import evaluate_joint
-from sliders.solve.condensed_kernel import condensed_step_into, scratch_sizes
+from sliders.solve.condensed_kernel import condensed_step_into, step_scratch
 from sliders.solve.factor import factor_solve
 
 CONVERGED, SINGULAR, NOT_CONVERGED, OFF_LINE, OVERFLOW = range(5)
@@ -223,9 +223,7 @@ def newton(
         at += batches[j, 2]
     lengths = joint_values[:, 1]
     # the condensed step's outputs and scratch, for every step of this solve
-    step_floats, step_ints = scratch_sizes(nf, t_all, nc + m, k, m)
-    floats, ints = np.empty(step_floats), np.empty(step_ints, np.int64)
-    ints[: 2 * nf] = -1
+    floats, ints = step_scratch(nf, batches, nc, m, k)
     force, z = np.empty((1, nf)), np.empty((1, nc + m + k))
     regular = np.empty(1, np.bool_)
     load_scale = 1e-300
