@@ -36,6 +36,7 @@ from fvbeam import Beam, Section, Structure, Support, straight
 from fvbeam.mechanism import rigid_modes, unresisted
 from sliders.joints.blocks import SlotJacobian
 from sliders.solve import condensed
+from sliders.solve import condensed_kernel as kernel
 from sliders.solve import condensed_reference as reference
 from sliders.solve.condensed import SINGULAR_RCOND, CondensedOperator
 from sliders.solve.statics import SliderStatics, newton_many
@@ -210,6 +211,53 @@ def test_kernel_equals_the_reference(dense, clamp_both, random_K, monkeypatch):
     mine = reference.condensed_step(problem.operator, r_free, slots, blocks, r_y)
     assert kernel[2].all()
     check_solutions(problem.operator, problem.K_free, slots, blocks, r_free, r_y, kernel, mine)
+
+
+@pytest.mark.parametrize("dense", [True, False], ids=["dense inverse", "cached columns"])
+def test_chord_step_is_the_step_on_the_kept_system(dense, monkeypatch):
+    """:func:`~sliders.solve.condensed_kernel.chord_step_into` on the small system that
+    ``condensed_step_into`` left in its scratch for one set of residuals, with new
+    residuals, is the step ``condensed_step`` takes with those residuals and the same
+    Jacobians: the same system, inverse and right-hand side by the same code, so the same
+    numbers exactly.  The step on the first residuals differs from it (the residuals
+    matter)."""
+    if not dense:
+        monkeypatch.setattr(condensed, "DENSE_LIMIT", 0)
+    rng = np.random.default_rng(17)
+    problem = Problem(rng)
+    operator = problem.operator
+    slots, blocks = problem.batches(rng, 1)
+    layout = condensed._Layout(slots, blocks, 1)
+    operator._inverse()
+    if not dense:
+        operator._columns(layout.force_dofs)
+    n, k, m = operator.n_free, operator.n_rigid, 3 * M
+    arrays = (layout.slots, layout.values, layout.tables, layout.c_of, layout.batches)
+    first, second = [(rng.standard_normal((1, n)), rng.standard_normal((1, m))) for _ in range(2)]
+    floats, ints = kernel.step_scratch(n, layout.batches, layout.nc, m, k)
+    force, z = np.empty((1, n)), np.empty((1, layout.nc + m + k))
+    regular = np.empty(1, dtype=bool)
+    r_free, r_y = first
+    kernel.condensed_step_into(
+        operator._store, operator._slot, operator.phi, operator.solve(r_free), r_free, r_y,
+        *arrays, layout.nc, SINGULAR_RCOND, floats, ints, force, z, regular,
+    )  # fmt: skip
+    assert regular[0]
+    stepped = force.copy(), z.copy()
+    r_free, r_y = second
+    chord = np.empty((1, n)), np.empty((1, layout.nc + m + k))
+    kernel.chord_step_into(
+        operator.phi, operator.solve(r_free), r_free, r_y, layout.batches, layout.nc, floats,
+        ints, *chord,
+    )  # fmt: skip
+    fresh = kernel.condensed_step(
+        operator._store, operator._slot, operator.phi, operator.solve(r_free), r_free, r_y,
+        *arrays, layout.nc, SINGULAR_RCOND,
+    )  # fmt: skip
+    assert fresh[2][0]
+    np.testing.assert_array_equal(chord[0], fresh[0])
+    np.testing.assert_array_equal(chord[1], fresh[1])
+    assert not np.allclose(stepped[1], fresh[1])
 
 
 def test_a_free_part_no_joint_holds_is_singular():

@@ -231,26 +231,21 @@ def _small(
     rhs: np.ndarray,
 ) -> None:
     """One member's small system ``A`` (rows ``c``, rigid, equations; columns ``u_c``,
-    ``dy``, rigid amplitudes) and right-hand side (module docstring), its base solution
-    ``base = B^{-1}[r_q; 0]`` and joint residuals ``r_y``."""
+    ``dy``, rigid amplitudes) and right-hand side (module docstring; :func:`_small_rhs`),
+    its base solution ``base = B^{-1}[r_q; 0]`` and joint residuals ``r_y``."""
     nc, k, m = len(c_dof), phi.shape[1], len(r_y)
-    ncm, n = nc + m, len(base) - k
+    ncm = nc + m
     A[:, :] = 0.0
     for i in range(nc):
         dof = c_dof[i]
         if dof < 0:
             A[i, i] = 1.0
-            rhs[i] = 0.0
             continue
         A[i, :ncm] = Y[where_r[dof]]
         A[i, i] += 1.0
         A[i, ncm:] = -phi[dof]
-        rhs[i] = -base[dof]
     for z in range(k):
         A[nc + z, :ncm] = Y_z[z]
-        rhs[nc + z] = -base[n + z]
-    for y in range(m):
-        rhs[nc + k + y] = 0.0
     for r in range(n_r):
         for y in range(m):
             c = Ct[r, y]
@@ -261,10 +256,42 @@ def _small(
                 A[row, j] -= c * Y[r, j]
             for z in range(k):
                 A[row, ncm + z] += c * phi[rd[r], z]
-            rhs[row] += c * base[rd[r]]
     for y in range(m):
         for j in range(m):
             A[nc + k + y, nc + j] += D[y, j]
+    _small_rhs(base, r_y, k, c_dof, rd, n_r, Ct, rhs)
+
+
+@numba.njit(inline="never")
+def _small_rhs(
+    base: np.ndarray,
+    r_y: np.ndarray,
+    k: int,
+    c_dof: np.ndarray,
+    rd: np.ndarray,
+    n_r: int,
+    Ct: np.ndarray,
+    rhs: np.ndarray,
+) -> None:
+    """The right-hand side of the small system (module docstring) with ``k`` rigid modes:
+    ``-x_r,c``, ``-z_r`` and ``-r_y + C x_r`` from the base solution ``base = B^{-1}[r_q;
+    0]`` and the joint residuals ``r_y``; the equations' ``C`` (``Ct``, its read dofs
+    ``rd``) and the ``c`` slots' dofs ``c_dof`` as :func:`_gather` left them."""
+    nc, m = len(c_dof), len(r_y)
+    n = len(base) - k
+    for i in range(nc):
+        dof = c_dof[i]
+        rhs[i] = 0.0 if dof < 0 else -base[dof]
+    for z in range(k):
+        rhs[nc + z] = -base[n + z]
+    for y in range(m):
+        rhs[nc + k + y] = 0.0
+    for r in range(n_r):
+        for y in range(m):
+            c = Ct[r, y]
+            if c != 0.0:
+                rhs[nc + k + y] += c * base[rd[r]]
+    for y in range(m):
         rhs[nc + k + y] -= r_y[y]
 
 
@@ -345,12 +372,22 @@ def _equilibrated_solve(
     if not 1.0 / (norm * _norm_1(inverse, x)) >= threshold:
         x[:] = 0.0
         return False
+    _apply_inverse(inverse, rows, cols, rhs, x)
+    return True
+
+
+@numba.njit(inline="never")
+def _apply_inverse(
+    inverse: np.ndarray, rows: np.ndarray, cols: np.ndarray, rhs: np.ndarray, x: np.ndarray
+) -> None:
+    """``x = A^{-1} rhs`` from the inverse of the equilibrated ``A`` and its row scales
+    ``rows`` and reciprocal column scales ``cols`` (:func:`_equilibrated_solve`)."""
+    n = len(inverse)
     for i in range(n):
         total = 0.0
         for j in range(n):
             total += inverse[i, j] * (rhs[j] / rows[j])
         x[i] = total * cols[i]
-    return True
 
 
 @numba.njit(inline="never")
@@ -385,6 +422,57 @@ def step_scratch(
     ints = np.empty(2 * n + 2 * size + nc + N + 2, dtype=np.int64)
     ints[: 2 * n] = -1
     return floats, ints
+
+
+@numba.njit(inline="always")
+def _views(
+    n: int, size: int, nc: int, m: int, k: int, floats: np.ndarray, ints: np.ndarray
+) -> tuple:
+    """The arrays of :func:`step_scratch`'s ``floats`` and ``ints`` for ``n`` free dofs,
+    ``size`` slots, ``nc`` ``c`` slots, ``m`` unknowns and ``k`` rigid modes: the positions
+    of the free dofs among the force and read dofs, those dofs, the ``c`` slots' dofs, the
+    pivots, the counts of force and read dofs; ``G``, ``Y``, ``Y^T``, a read row, ``C^T``,
+    ``D``, ``Y_z``, the small system, its inverse, right-hand side and scales."""
+    ncm = nc + m
+    N = ncm + k
+    where_f, where_r = borrowed(ints, 0, (n,)), borrowed(ints, n, (n,))
+    at = 2 * n
+    fd, rd = borrowed(ints, at, (size,)), borrowed(ints, at + size, (size,))
+    at += 2 * size
+    c_dof, swaps = borrowed(ints, at, (nc,)), borrowed(ints, at + nc, (N,))
+    counts = borrowed(ints, at + nc + N, (2,))
+    G, Y = borrowed(floats, 0, (size, ncm)), borrowed(floats, size * ncm, (size, ncm))
+    at = 2 * size * ncm
+    Yt, read = borrowed(floats, at, (ncm, size)), borrowed(floats, at + ncm * size, (size,))
+    at += ncm * size + size
+    Ct, D = borrowed(floats, at, (size, m)), borrowed(floats, at + size * m, (m, m))
+    at += size * m + m * m
+    Y_z, A = borrowed(floats, at, (k, ncm)), borrowed(floats, at + k * ncm, (N, N))
+    at += k * ncm + N * N
+    inverse, rhs = borrowed(floats, at, (N, N)), borrowed(floats, at + N * N, (N,))
+    at += N * N + N
+    rows, cols = borrowed(floats, at, (N,)), borrowed(floats, at + N, (N,))
+    return (
+        where_f,
+        where_r,
+        fd,
+        rd,
+        c_dof,
+        swaps,
+        counts,
+        G,
+        Y,
+        Yt,
+        read,
+        Ct,
+        D,
+        Y_z,
+        A,
+        inverse,
+        rhs,
+        rows,
+        cols,
+    )
 
 
 @numba.njit(cache=True)
@@ -494,25 +582,27 @@ def condensed_step_into(
     members, n = r_free.shape
     m, k = r_y.shape[1], phi.shape[1]
     ncm = nc + m
-    N = ncm + k
-    size = _slot_count(batches)
-    where_f, where_r = borrowed(ints, 0, (n,)), borrowed(ints, n, (n,))
-    at = 2 * n
-    fd, rd = borrowed(ints, at, (size,)), borrowed(ints, at + size, (size,))
-    at += 2 * size
-    c_dof, swaps = borrowed(ints, at, (nc,)), borrowed(ints, at + nc, (N,))
-    counts = borrowed(ints, at + nc + N, (2,))
-    G, Y = borrowed(floats, 0, (size, ncm)), borrowed(floats, size * ncm, (size, ncm))
-    at = 2 * size * ncm
-    Yt, read = borrowed(floats, at, (ncm, size)), borrowed(floats, at + ncm * size, (size,))
-    at += ncm * size + size
-    Ct, D = borrowed(floats, at, (size, m)), borrowed(floats, at + size * m, (m, m))
-    at += size * m + m * m
-    Y_z, A = borrowed(floats, at, (k, ncm)), borrowed(floats, at + k * ncm, (N, N))
-    at += k * ncm + N * N
-    inverse, rhs = borrowed(floats, at, (N, N)), borrowed(floats, at + N * N, (N,))
-    at += N * N + N
-    rows, cols = borrowed(floats, at, (N,)), borrowed(floats, at + N, (N,))
+    (
+        where_f,
+        where_r,
+        fd,
+        rd,
+        c_dof,
+        swaps,
+        counts,
+        G,
+        Y,
+        Yt,
+        read,
+        Ct,
+        D,
+        Y_z,
+        A,
+        inverse,
+        rhs,
+        rows,
+        cols,
+    ) = _views(n, _slot_count(batches), nc, m, k, floats, ints)
     force[:, :] = r_free
     z[:, :] = 0.0
     for b in range(members):
@@ -548,3 +638,37 @@ def condensed_step_into(
             where_f[fd[f]] = -1
         for r in range(n_r):
             where_r[rd[r]] = -1
+
+
+@numba.njit(cache=True)
+def chord_step_into(
+    phi: np.ndarray,
+    base: np.ndarray,
+    r_free: np.ndarray,
+    r_y: np.ndarray,
+    batches: np.ndarray,
+    nc: int,
+    floats: np.ndarray,
+    ints: np.ndarray,
+    force: np.ndarray,
+    z: np.ndarray,
+) -> None:
+    """The step of one member (``B = 1``) on the small system that :func:`condensed_step_into`
+    last formed, inverted and left in its scratch ``floats``, ``ints`` (a chord step: that
+    system's Jacobian, new residuals): ``force`` = ``r_q + P F u`` and ``z`` = ``[u_c, dy,
+    a]`` from the base solution ``base = B^{-1}[r_q; 0]`` and the residuals ``r_free``,
+    ``r_y``, as :func:`condensed_step_into` gives them for that system."""
+    n = r_free.shape[1]
+    m, k = r_y.shape[1], phi.shape[1]
+    ncm = nc + m
+    views = _views(n, _slot_count(batches), nc, m, k, floats, ints)
+    fd, rd, c_dof, counts, G, Ct = views[2], views[3], views[4], views[6], views[7], views[11]
+    inverse, rhs, rows, cols = views[15], views[16], views[17], views[18]
+    _small_rhs(base[0], r_y[0], k, c_dof, rd, counts[1], Ct, rhs)
+    _apply_inverse(inverse, rows, cols, rhs, z[0])
+    force[0, :] = r_free[0]
+    for f in range(counts[0]):
+        total = 0.0
+        for j in range(ncm):
+            total += G[f, j] * z[0, j]
+        force[0, fd[f]] += total

@@ -15,8 +15,16 @@ increment is a sum of those columns, without a second solve.
 
 The convergence rule and the residual history are :func:`sliders.solve.statics.converged`'s
 and ``newton_many``'s: a member converges when every increment is below ``tol`` of its
-scale, and its residual is evaluated once more.  ``tests/test_compiled_newton.py`` holds the
-loop equal to ``newton_many`` on the same problems.
+scale, and its residual is evaluated once more.  So is the iteration policy: after a
+regular Newton step the residual is evaluated without the Jacobian, and below ``tol``
+(scaled as the history's) the step only confirms convergence, so it is taken on the small
+system of that Newton step, whose inverse is in the step's scratch (a chord step,
+:func:`sliders.solve.condensed_kernel.chord_step_into`: one solve with ``B`` and a product
+with that inverse, no Jacobian, no new columns); above ``tol`` the Jacobian is evaluated at
+the state (with the residual again) and the step is Newton's.  Near the solution the chord
+increment differs from Newton's by ``O(|dJ| |r|)``, far below ``tol``.
+``tests/test_compiled_newton.py`` holds the loop equal to ``newton_many`` on the same
+problems.
 
 Status codes returned: :data:`CONVERGED`, :data:`SINGULAR` (a small system below the
 condition threshold: the caller names the free motion), :data:`NOT_CONVERGED`,
@@ -32,7 +40,7 @@ import numpy as np
 from fvbeam.scratch import borrowed, stack_empty
 from sliders.forces.kernel import evaluate_element
 from sliders.joints.packed import evaluate_joint
-from sliders.solve.condensed_kernel import condensed_step_into, step_scratch
+from sliders.solve.condensed_kernel import chord_step_into, condensed_step_into, step_scratch
 from sliders.solve.factor import factor_solve
 
 CONVERGED, SINGULAR, NOT_CONVERGED, OFF_LINE, OVERFLOW = range(5)
@@ -92,6 +100,116 @@ def _ensure_columns(
             )
             column[d] = row
             count[0] = row + 1
+
+
+@numba.njit(cache=True, inline="never")
+def _evaluate(
+    K_ptr: np.ndarray,
+    K_col: np.ndarray,
+    K_val: np.ndarray,
+    q: np.ndarray,
+    f: np.ndarray,
+    y: np.ndarray,
+    drives: np.ndarray,
+    scale: float,
+    velocity: tuple,
+    jacobian: bool,
+    done: bool,
+    head: np.ndarray,
+    joint_values: np.ndarray,
+    fields: np.ndarray,
+    F: np.ndarray,
+    I: np.ndarray,
+    element_kind: np.ndarray,
+    element_slots: np.ndarray,
+    element_values: np.ndarray,
+    element_offsets: np.ndarray,
+    batches: np.ndarray,
+    free: np.ndarray,
+    dofs: np.ndarray,
+    r_joint: np.ndarray,
+    values: np.ndarray,
+    R: np.ndarray,
+    r_free: np.ndarray,
+    r_y: np.ndarray,
+    violation: np.ndarray,
+) -> tuple[int, int, float]:
+    """The residual at ``q``, ``y`` (:func:`newton`'s arguments): ``R = A q - f`` with the
+    joints' and force elements' forces added (``r_free`` its free rows, ``r_y`` the joints'
+    equations), each slot's dof into ``dofs`` and, with ``jacobian``, the Jacobian entries
+    into ``values``; when ``done``, each joint's largest constraint violation into
+    ``violation``.  Returns the status (0, :data:`OFF_LINE` or :data:`OVERFLOW`), the joint
+    that failed (or -1) and the largest entry of the residual."""
+    v_hat, q_hat, c_v = velocity
+    J, E = len(head), len(element_kind)
+    friction = stack_empty(1, (1,), np.float64)  # a joint's friction force, not read here
+    q_e, v_e = stack_empty(6, (6,), np.float64), stack_empty(6, (6,), np.float64)
+    r_e, J_e = stack_empty(6, (6,), np.float64), stack_empty(36, (6, 6), np.float64)
+    residual(K_ptr, K_col, K_val, q, f, R)
+    s0, v0, y0 = 0, 0, 0
+    for j in range(J):
+        t, mj, wj = batches[j, 1], batches[j, 2], batches[j, 3]
+        status = evaluate_joint(
+            j,
+            head,
+            joint_values,
+            fields,
+            F,
+            I,
+            q,
+            borrowed(y, y0, (mj,)),
+            velocity,
+            drives[j],
+            scale,
+            jacobian,
+            borrowed(dofs, s0, (t,)),
+            borrowed(r_joint, s0 + y0, (t + mj,)),
+            borrowed(values, v0, (wj,)),
+            friction,
+        )
+        if status:
+            return (OFF_LINE if status == 1 else OVERFLOW), j, 0.0
+        for s in range(t):
+            R[dofs[s0 + s]] += r_joint[s0 + y0 + s]
+        for c in range(mj):
+            r_y[0, y0 + c] = r_joint[s0 + y0 + t + c]
+        if done:
+            worst = 0.0
+            for c in range(1, mj):
+                worst = max(worst, abs(r_y[0, y0 + c]))
+            violation[j] = worst
+        s0 += t
+        v0 += wj
+        y0 += mj
+    for e in range(E):
+        for c in range(6):
+            dof = element_slots[e, c]
+            dofs[s0 + c] = dof
+            q_e[c] = q[dof]
+            v_e[c] = v_hat[dof] + c_v * (q[dof] - q_hat[dof])
+        evaluate_element(
+            element_kind[e],
+            element_values[element_offsets[e] : element_offsets[e + 1]],
+            q_e,
+            v_e,
+            c_v,
+            scale,
+            r_e,
+            J_e,
+        )
+        for c in range(6):
+            R[dofs[s0 + c]] += r_e[c]
+            for d in range(6):
+                values[v0 + 6 * c + d] = J_e[c, d]
+        s0 += 6
+        v0 += 36
+    measure = 0.0
+    for i in range(len(free)):
+        r_free[0, i] = R[free[i]]
+        measure = max(measure, abs(r_free[0, i]))
+    for c in range(r_y.shape[1]):
+        measure = max(measure, abs(r_y[0, c]))
+    return 0, -1, measure
 
 
 @numba.njit(cache=True)
@@ -194,7 +312,6 @@ def newton(
         threshold,
         resolution,
     ) = problem
-    v_hat, q_hat, c_v = velocity
     n, nf, k = len(q), len(free), phi.shape[1]
     J, E = len(head), len(element_kind)
     m = len(y)
@@ -206,14 +323,11 @@ def newton(
     dofs = np.zeros(t_all, np.int64)
     slots = np.zeros(t_all, np.int64)
     r_joint = np.zeros(t_all + m)
-    friction = stack_empty(1, (1,), np.float64)  # a joint's friction force, not read here
     values = np.zeros(width)
     R = np.zeros(n)
     r_free = np.zeros((1, nf))
     r_y = np.zeros((1, m))
     rhs, solution, scratch = np.zeros(nf + k), np.zeros((1, nf + k)), np.zeros(nf + k)
-    q_e, v_e = stack_empty(6, (6,), np.float64), stack_empty(6, (6,), np.float64)
-    r_e, J_e = stack_empty(6, (6,), np.float64), stack_empty(36, (6, 6), np.float64)
     L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c = factor
     added = np.zeros(nf, np.bool_)
     first = np.zeros(J, np.int64)
@@ -233,104 +347,115 @@ def newton(
     for i in range(n):
         reach = max(reach, abs(q[i]))
     done = False
+    kept = False  # the last step was a regular Newton step: its small system is in scratch
     for iteration in range(max_iterations + 1):
-        residual(K_ptr, K_col, K_val, q, f, R)
-        s0, v0, y0 = 0, 0, 0
-        for j in range(J):
-            t, mj, wj = batches[j, 1], batches[j, 2], batches[j, 3]
-            status = evaluate_joint(
-                j,
-                head,
-                joint_values,
-                fields,
-                F,
-                I,
-                q,
-                borrowed(y, y0, (mj,)),
-                velocity,
-                drives[j],
-                scale,
-                not done,
-                borrowed(dofs, s0, (t,)),
-                borrowed(r_joint, s0 + y0, (t + mj,)),
-                borrowed(values, v0, (wj,)),
-                friction,
-            )
-            if status:
-                return (OFF_LINE if status == 1 else OVERFLOW), iteration, j
-            for s in range(t):
-                R[dofs[s0 + s]] += r_joint[s0 + y0 + s]
-            for c in range(mj):
-                r_y[0, y0 + c] = r_joint[s0 + y0 + t + c]
-            if done:
-                worst = 0.0
-                for c in range(1, mj):
-                    worst = max(worst, abs(r_y[0, y0 + c]))
-                violation[j] = worst
-            s0 += t
-            v0 += wj
-            y0 += mj
-        for e in range(E):
-            for c in range(6):
-                dof = element_slots[e, c]
-                dofs[s0 + c] = dof
-                q_e[c] = q[dof]
-                v_e[c] = v_hat[dof] + c_v * (q[dof] - q_hat[dof])
-            evaluate_element(
-                element_kind[e],
-                element_values[element_offsets[e] : element_offsets[e + 1]],
-                q_e,
-                v_e,
-                c_v,
-                scale,
-                r_e,
-                J_e,
-            )
-            for c in range(6):
-                R[dofs[s0 + c]] += r_e[c]
-                for d in range(6):
-                    values[v0 + 6 * c + d] = J_e[c, d]
-            s0 += 6
-            v0 += 36
-        measure = 0.0
-        for i in range(nf):
-            r_free[0, i] = R[free[i]]
-            measure = max(measure, abs(r_free[0, i]))
-        for c in range(m):
-            measure = max(measure, abs(r_y[0, c]))
+        status, joint, measure = _evaluate(
+            K_ptr,
+            K_col,
+            K_val,
+            q,
+            f,
+            y,
+            drives,
+            scale,
+            velocity,
+            not (done or kept),
+            done,
+            head,
+            joint_values,
+            fields,
+            F,
+            I,
+            element_kind,
+            element_slots,
+            element_values,
+            element_offsets,
+            batches,
+            free,
+            dofs,
+            r_joint,
+            values,
+            R,
+            r_free,
+            r_y,
+            violation,
+        )
+        if status:
+            return status, iteration, joint
         history[iteration] = measure / load_scale
         if done:
             return CONVERGED, iteration + 1, -1
         if iteration == max_iterations:
             break
-        for s in range(t_all):
-            slots[s] = position[dofs[s]]
-        _ensure_columns(slots[force_slots], store, column, count, factor, rhs, scratch)
+        # below tol the step only confirms convergence: the kept system's (a chord step),
+        # else the Jacobian at this state (the residual is evaluated with it again)
+        chord = kept and history[iteration] <= tol
+        if kept and not chord:
+            _evaluate(
+                K_ptr,
+                K_col,
+                K_val,
+                q,
+                f,
+                y,
+                drives,
+                scale,
+                velocity,
+                True,
+                False,
+                head,
+                joint_values,
+                fields,
+                F,
+                I,
+                element_kind,
+                element_slots,
+                element_values,
+                element_offsets,
+                batches,
+                free,
+                dofs,
+                r_joint,
+                values,
+                R,
+                r_free,
+                r_y,
+                violation,
+            )
+        if not chord:  # the slots of this Jacobian (a chord step keeps the kept system's)
+            for s in range(t_all):
+                slots[s] = position[dofs[s]]
+            _ensure_columns(slots[force_slots], store, column, count, factor, rhs, scratch)
         rhs[:nf] = r_free[0]
         rhs[nf:] = 0.0
         factor_solve(
             L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c, rhs, solution[0], scratch
         )
-        condensed_step_into(
-            store,
-            column,
-            phi,
-            solution,
-            r_free,
-            r_y,
-            slots,
-            values,
-            tables,
-            c_of,
-            batches,
-            nc,
-            threshold,
-            floats,
-            ints,
-            force,
-            z,
-            regular,
-        )
+        if chord:
+            chord_step_into(phi, solution, r_free, r_y, batches, nc, floats, ints, force, z)
+            kept = False  # a chord step follows a Newton step only
+        else:
+            condensed_step_into(
+                store,
+                column,
+                phi,
+                solution,
+                r_free,
+                r_y,
+                slots,
+                values,
+                tables,
+                c_of,
+                batches,
+                nc,
+                threshold,
+                floats,
+                ints,
+                force,
+                z,
+                regular,
+            )
+            kept = True  # regular, else the check below returns
         if not regular[0]:
             return SINGULAR, iteration + 1, -1
         # B^{-1}[r_q + P F u; 0] = B^{-1}[r_q; 0] + sum_d (P F u)_d B^{-1}[e_d; 0]: the joint
@@ -341,9 +466,9 @@ def newton(
                 added[d] = True
                 extra = force[0, d] - r_free[0, d]
                 if extra != 0.0:
-                    kept = store[column[d]]
+                    stored = store[column[d]]
                     for i in range(nf + k):
-                        solution[0, i] += extra * kept[i]
+                        solution[0, i] += extra * stored[i]
         for s in force_slots:
             if slots[s] >= 0:
                 added[slots[s]] = False

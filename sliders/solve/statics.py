@@ -447,18 +447,21 @@ class SliderStatics:
         return S, r_y
 
     def _bordered_step(
-        self, r_q: np.ndarray, parts: list, cold: bool = False
+        self, r_q: np.ndarray, parts: list, cold: bool = False, r_y: np.ndarray | None = None
     ) -> tuple[np.ndarray, np.ndarray] | None:
-        """Newton increments from the factorised bordered system; None if it is singular: a
-        factor with a zero pivot, increments that are not finite, or, at a ``cold`` state
+        """Newton increments from the factorised bordered system of the joints' ``parts``
+        under the residuals ``r_q`` and ``r_y`` (the joints', side by side; default: the
+        parts' own, a chord step passes the residuals of its state); None if it is singular:
+        a factor with a zero pivot, increments that are not finite, or, at a ``cold`` state
         (multipliers zero), a rigid motion that the supports and sliders leave free
         (:func:`sliders.solve.mechanism.free_motion`, which catches what roundoff hides from
         the factorisation)."""
         if cold and free_motion(self.rigid, self._position, parts, self.sliders, self.remedy):
             return None
-        S, r_y = self._bordered(parts)
+        S, r_parts = self._bordered(parts)
+        r_joints = np.concatenate(r_parts + [np.zeros(0)]) if r_y is None else r_y
         try:
-            z = spla.splu(S).solve(-np.concatenate([r_q[self.free]] + r_y))
+            z = spla.splu(S).solve(-np.concatenate([r_q[self.free], r_joints]))
         except RuntimeError:
             return None
         if not np.all(np.isfinite(z)):
@@ -487,7 +490,7 @@ class SliderStatics:
         if self.method == "bordered":
             regular = np.zeros(B, dtype=bool)
             for b, member in enumerate(members):
-                step = member._bordered_step(R[b], member_parts(parts, b), bool(cold[b]))
+                step = member._bordered_step(R[b], member_parts(parts, b), bool(cold[b]), r_y[b])
                 if step is not None:
                     (dq[b], dy[b]), regular[b] = step, True
             return dq, dy, regular
@@ -602,7 +605,11 @@ def newton_many(
     ``loads`` (B, n); ``starts``: per member ``(q, unknowns)`` or None (no displacement,
     projected ``xi``); ``time`` and ``scale``: where the drives are read and the scaling of
     the multipliers (:meth:`~sliders.joints.slider.SliderBatch.evaluate`).  Each member stops
-    when it has converged (:func:`converged`, then one more residual), or fails on its own.  Returns
+    when it has converged (:func:`converged`, then one more residual), or fails on its own.
+    A member whose scaled residual is below ``tol`` after a regular Newton step takes its
+    next step with that step's Jacobian (a chord step: it only confirms convergence; the
+    compiled loop, :mod:`sliders.solve.newton_kernel`, keeps that step's small system).
+    Returns
     per member the converged ``q``, slider unknowns and scaled residual history, or the
     message of its failure: the
     singular-configuration diagnostic naming the free motion, or the last residual when
@@ -634,6 +641,9 @@ def newton_many(
             axis=1,
         )
     Q0, Y0 = Q.copy(), Y.copy()
+    # the members whose last step was a regular Newton step, and that step's joint arrays
+    kept = np.zeros(B, dtype=bool)
+    previous: tuple[np.ndarray, list, list] = (np.zeros(0, dtype=int), [], [])
     load_scale = np.maximum(np.abs(loads).max(axis=1), 1e-300)
     # 4 ulp of the largest coordinate (at least 1: rotations are dimensionless)
     resolution = 4 * np.finfo(float).eps * max(1.0, np.abs(node_positions(lead.structure)).max())
@@ -690,7 +700,31 @@ def newton_many(
             if lead.method == "bordered"
             else np.zeros(len(stepping), dtype=bool)
         )
-        dq, dy, regular = lead._steps([members[b] for b in stepping], R, parts, r_y, whole, cold)
+        # below tol a step only confirms convergence: after a regular Newton step it is taken
+        # with that step's Jacobian (a chord step), the last iteration's joint arrays
+        chord = kept[stepping] & (history[iteration, stepping] <= tol)
+        dq, dy = np.zeros_like(R), np.zeros_like(r_y)
+        regular = np.zeros(len(stepping), dtype=bool)
+        groups = [(np.flatnonzero(~chord), stepping, parts, whole)]
+        if chord.any():
+            groups.append((np.flatnonzero(chord), *previous))
+        for which, among, step_parts, step_whole in groups:
+            if which.size:
+                rows = np.searchsorted(among, stepping[which])
+                step_parts, step_whole = _member_rows(
+                    step_parts, step_whole, spans, rows, len(among)
+                )
+                dq[which], dy[which], regular[which] = lead._steps(
+                    [members[b] for b in stepping[which]],
+                    R[which],
+                    step_parts,
+                    r_y[which],
+                    step_whole,
+                    cold[which],
+                )
+        kept[:] = False
+        kept[stepping[regular & ~chord]] = True
+        previous = (stepping, parts, whole)
         for i in np.flatnonzero(~regular).tolist():
             b = stepping[i]
             outcome[b] = members[b]._diagnose(
@@ -783,23 +817,46 @@ def _evaluate(
     it holds (``spans``: their unknowns in ``y``, :func:`_joined`): per slider, and per
     batch (its sliders' members one slider after the other, as the condensed step takes
     them, :meth:`sliders.solve.condensed.CondensedOperator.step`)."""
-    out, stacked, B = [], [], len(q)
-    for batch, span in zip(view, spans, strict=True):
-        dofs, r, J = batch.evaluate(
+    stacked = [
+        batch.evaluate(
             np.tile(q, (len(span), 1)) if len(span) > 1 else q,
             np.concatenate([y[:, i:j] for i, j in span]),
             time,
             scale,
             jacobian=jacobian,
         )
-        stacked.append((dofs, r, J))
+        for batch, span in zip(view, spans, strict=True)
+    ]
+    return _per_slider(stacked, spans, len(q)), stacked
+
+
+def _per_slider(stacked: list, spans: list[list], B: int) -> list:
+    """Per slider, the ``(dofs, r, J)`` of its ``B`` members, from the arrays ``stacked``
+    per batch of :func:`_evaluate` (a batch's sliders one after the other)."""
+    out = []
+    for (dofs, r, J), span in zip(stacked, spans, strict=True):
         if len(span) == 1:
-            out.append(stacked[-1])
+            out.append((dofs, r, J))
             continue
         for k in range(len(span)):
             part = slice(k * B, (k + 1) * B)
             out.append((dofs[part], r[part], J.subset(part) if J is not None else None))
-    return out, stacked
+    return out
+
+
+def _member_rows(
+    parts: list, stacked: list, spans: list[list], rows: np.ndarray, B: int
+) -> tuple[list, list]:
+    """The members ``rows`` (of ``B``) of the joint arrays of :func:`_evaluate`, per slider
+    (``parts``) and per batch (``stacked``); the arrays themselves when ``rows`` are all
+    the members in order."""
+    if len(rows) == B and np.array_equal(rows, np.arange(B)):
+        return parts, stacked
+    picked = []
+    for (dofs, r, J), span in zip(stacked, spans, strict=True):
+        index = (np.arange(len(span))[:, None] * B + rows).ravel()
+        picked.append((dofs[index], r[index], J.subset(index)))
+    return _per_slider(picked, spans, len(rows)), picked
 
 
 def solve_many(
