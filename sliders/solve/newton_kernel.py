@@ -349,49 +349,12 @@ def newton(
     done = False
     kept = False  # the last step was a regular Newton step: its small system is in scratch
     for iteration in range(max_iterations + 1):
-        status, joint, measure = _evaluate(
-            K_ptr,
-            K_col,
-            K_val,
-            q,
-            f,
-            y,
-            drives,
-            scale,
-            velocity,
-            not (done or kept),
-            done,
-            head,
-            joint_values,
-            fields,
-            F,
-            I,
-            element_kind,
-            element_slots,
-            element_values,
-            element_offsets,
-            batches,
-            free,
-            dofs,
-            r_joint,
-            values,
-            R,
-            r_free,
-            r_y,
-            violation,
-        )
-        if status:
-            return status, iteration, joint
-        history[iteration] = measure / load_scale
-        if done:
-            return CONVERGED, iteration + 1, -1
-        if iteration == max_iterations:
-            break
-        # below tol the step only confirms convergence: the kept system's (a chord step),
-        # else the Jacobian at this state (the residual is evaluated with it again)
-        chord = kept and history[iteration] <= tol
-        if kept and not chord:
-            _evaluate(
+        # after a Newton step the residual comes first: below tol the step only confirms
+        # convergence and is taken on the kept system (a chord step), else the Jacobian is
+        # evaluated at the state (the residual with it, again) and the step is Newton's
+        jacobian = not (done or kept)
+        while True:
+            status, joint, measure = _evaluate(
                 K_ptr,
                 K_col,
                 K_val,
@@ -401,8 +364,8 @@ def newton(
                 drives,
                 scale,
                 velocity,
-                True,
-                False,
+                jacobian,
+                done,
                 head,
                 joint_values,
                 fields,
@@ -422,6 +385,17 @@ def newton(
                 r_y,
                 violation,
             )
+            if status:
+                return status, iteration, joint
+            if jacobian or done or measure / load_scale <= tol or iteration == max_iterations:
+                break
+            jacobian = True
+        history[iteration] = measure / load_scale
+        if done:
+            return CONVERGED, iteration + 1, -1
+        if iteration == max_iterations:
+            break
+        chord = not jacobian
         if not chord:  # the slots of this Jacobian (a chord step keeps the kept system's)
             for s in range(t_all):
                 slots[s] = position[dofs[s]]

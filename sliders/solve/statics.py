@@ -609,11 +609,9 @@ def newton_many(
     A member whose scaled residual is below ``tol`` after a regular Newton step takes its
     next step with that step's Jacobian (a chord step: it only confirms convergence; the
     compiled loop, :mod:`sliders.solve.newton_kernel`, keeps that step's small system).
-    Returns
-    per member the converged ``q``, slider unknowns and scaled residual history, or the
-    message of its failure: the
-    singular-configuration diagnostic naming the free motion, or the last residual when
-    Newton does not converge in ``max_iterations``.
+    Returns per member the converged ``q``, slider unknowns and scaled residual history, or
+    the message of its failure: the singular-configuration diagnostic naming the free
+    motion, or the last residual when Newton does not converge in ``max_iterations``.
     """
     lead = members[0]
     B, n = loads.shape
