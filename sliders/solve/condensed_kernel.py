@@ -20,6 +20,8 @@ that carry a nonzero entry.  A supported slot in ``c`` has ``w_c = 0`` (its row 
 
 from __future__ import annotations
 
+from collections import namedtuple
+
 import numba
 import numpy as np
 
@@ -424,15 +426,44 @@ def step_scratch(
     return floats, ints
 
 
+#: The views of a condensed step's scratch (:func:`_views`): the positions of the free dofs
+#: among the force and read dofs (``where_f``, ``where_r``), those dofs (``fd``, ``rd``), the
+#: ``c`` slots' dofs, the pivots, the counts of force and read dofs; ``G``, ``Y``, ``Y^T``, a
+#: read row, ``C^T``, ``D``, ``Y_z``, the small system ``A``, its inverse, right-hand side and
+#: row and (reciprocal) column scales.  A chord step reads what the last full step left there.
+StepScratch = namedtuple(
+    "StepScratch",
+    [
+        "where_f",
+        "where_r",
+        "fd",
+        "rd",
+        "c_dof",
+        "swaps",
+        "counts",
+        "G",
+        "Y",
+        "Yt",
+        "read",
+        "Ct",
+        "D",
+        "Y_z",
+        "A",
+        "inverse",
+        "rhs",
+        "rows",
+        "cols",
+    ],
+)
+
+
 @numba.njit(inline="always")
 def _views(
     n: int, size: int, nc: int, m: int, k: int, floats: np.ndarray, ints: np.ndarray
-) -> tuple:
+) -> StepScratch:
     """The arrays of :func:`step_scratch`'s ``floats`` and ``ints`` for ``n`` free dofs,
-    ``size`` slots, ``nc`` ``c`` slots, ``m`` unknowns and ``k`` rigid modes: the positions
-    of the free dofs among the force and read dofs, those dofs, the ``c`` slots' dofs, the
-    pivots, the counts of force and read dofs; ``G``, ``Y``, ``Y^T``, a read row, ``C^T``,
-    ``D``, ``Y_z``, the small system, its inverse, right-hand side and scales."""
+    ``size`` slots, ``nc`` ``c`` slots, ``m`` unknowns and ``k`` rigid modes, by name
+    (:data:`StepScratch`)."""
     ncm = nc + m
     N = ncm + k
     where_f, where_r = borrowed(ints, 0, (n,)), borrowed(ints, n, (n,))
@@ -452,7 +483,7 @@ def _views(
     inverse, rhs = borrowed(floats, at, (N, N)), borrowed(floats, at + N * N, (N,))
     at += N * N + N
     rows, cols = borrowed(floats, at, (N,)), borrowed(floats, at + N, (N,))
-    return (
+    return StepScratch(
         where_f,
         where_r,
         fd,
@@ -582,27 +613,7 @@ def condensed_step_into(
     members, n = r_free.shape
     m, k = r_y.shape[1], phi.shape[1]
     ncm = nc + m
-    (
-        where_f,
-        where_r,
-        fd,
-        rd,
-        c_dof,
-        swaps,
-        counts,
-        G,
-        Y,
-        Yt,
-        read,
-        Ct,
-        D,
-        Y_z,
-        A,
-        inverse,
-        rhs,
-        rows,
-        cols,
-    ) = _views(n, _slot_count(batches), nc, m, k, floats, ints)
+    v = _views(n, _slot_count(batches), nc, m, k, floats, ints)
     force[:, :] = r_free
     z[:, :] = 0.0
     for b in range(members):
@@ -615,29 +626,29 @@ def condensed_step_into(
             c_of,
             batches,
             nc,
-            where_f,
-            where_r,
-            fd,
-            rd,
-            counts,
-            G,
-            Ct,
-            D,
-            c_dof,
+            v.where_f,
+            v.where_r,
+            v.fd,
+            v.rd,
+            v.counts,
+            v.G,
+            v.Ct,
+            v.D,
+            v.c_dof,
         )
-        n_f, n_r = counts[0], counts[1]
-        _columns(store, column, n, fd, n_f, rd, n_r, G, Y, Y_z, Yt, read)
-        _small(base[b], r_y[b], phi, c_dof, where_r, rd, n_r, Y, Y_z, Ct, D, A, rhs)
-        regular[b] = _equilibrated_solve(A, rhs, threshold, z[b], inverse, swaps, rows, cols)
+        n_f, n_r = v.counts[0], v.counts[1]
+        _columns(store, column, n, v.fd, n_f, v.rd, n_r, v.G, v.Y, v.Y_z, v.Yt, v.read)
+        _small(
+            base[b], r_y[b], phi, v.c_dof, v.where_r, v.rd, n_r, v.Y, v.Y_z, v.Ct, v.D, v.A, v.rhs
+        )
+        regular[b] = _equilibrated_solve(
+            v.A, v.rhs, threshold, z[b], v.inverse, v.swaps, v.rows, v.cols
+        )
+        _add_forces(v.G, v.fd, n_f, ncm, z[b], force[b])
         for f in range(n_f):
-            total = 0.0
-            for j in range(ncm):
-                total += G[f, j] * z[b, j]
-            force[b, fd[f]] += total
-        for f in range(n_f):
-            where_f[fd[f]] = -1
+            v.where_f[v.fd[f]] = -1
         for r in range(n_r):
-            where_r[rd[r]] = -1
+            v.where_r[v.rd[r]] = -1
 
 
 @numba.njit(cache=True)
@@ -660,15 +671,21 @@ def chord_step_into(
     ``r_y``, as :func:`condensed_step_into` gives them for that system."""
     n = r_free.shape[1]
     m, k = r_y.shape[1], phi.shape[1]
-    ncm = nc + m
-    views = _views(n, _slot_count(batches), nc, m, k, floats, ints)
-    fd, rd, c_dof, counts, G, Ct = views[2], views[3], views[4], views[6], views[7], views[11]
-    inverse, rhs, rows, cols = views[15], views[16], views[17], views[18]
-    _small_rhs(base[0], r_y[0], k, c_dof, rd, counts[1], Ct, rhs)
-    _apply_inverse(inverse, rows, cols, rhs, z[0])
+    v = _views(n, _slot_count(batches), nc, m, k, floats, ints)
+    _small_rhs(base[0], r_y[0], k, v.c_dof, v.rd, v.counts[1], v.Ct, v.rhs)
+    _apply_inverse(v.inverse, v.rows, v.cols, v.rhs, z[0])
     force[0, :] = r_free[0]
-    for f in range(counts[0]):
+    _add_forces(v.G, v.fd, v.counts[0], nc + m, z[0], force[0])
+
+
+@numba.njit(inline="never")
+def _add_forces(
+    G: np.ndarray, fd: np.ndarray, n_f: int, ncm: int, z: np.ndarray, force: np.ndarray
+) -> None:
+    """``force += P F u``: the rows of ``G = P F`` of the ``n_f`` force dofs ``fd`` times
+    ``u``, the first ``ncm`` entries of the small system's solution ``z``."""
+    for f in range(n_f):
         total = 0.0
         for j in range(ncm):
-            total += G[f, j] * z[0, j]
-        force[0, fd[f]] += total
+            total += G[f, j] * z[j]
+        force[fd[f]] += total

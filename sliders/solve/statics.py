@@ -413,7 +413,7 @@ class SliderStatics:
         """``K q = f`` on the free dofs (a structure without sliders: the bordered step with
         no borders, from rest), with the residual history ``[1, |K q - f| / |f|]``;
         ``ValueError`` naming the rigid motions the supports leave free, if any."""
-        step = self._bordered_step(-f, [], cold=True)
+        step = self._bordered_step(-f, np.zeros(0), [], cold=True)
         if step is None:
             raise ValueError(self._diagnose([], "the stiffness has no finite solution", cold=True))
         q = step[0]
@@ -423,14 +423,14 @@ class SliderStatics:
     def jacobian(self, q: np.ndarray, unknowns: Sequence[np.ndarray]) -> sp.csc_matrix:
         """The Newton matrix at ``q`` and the sliders' ``unknowns``: rows and columns are the
         free dofs (in order) followed by each slider's unknowns."""
-        return self._bordered(joint_parts(self.structure, self.sliders, q, unknowns))[0]
+        return self._bordered(joint_parts(self.structure, self.sliders, q, unknowns))
 
-    def _bordered(self, parts: list) -> tuple[sp.csc_matrix, list[np.ndarray]]:
+    def _bordered(self, parts: list) -> sp.csc_matrix:
         """The bordered matrix on the free dofs and slider unknowns (a dof held by several
-        slots sums them), and the sliders' residuals ``r_y``."""
+        slots sums them)."""
         nf = len(self.free)
         rows, cols, vals = [self.K_free.row], [self.K_free.col], [self.K_free.data]
-        r_y, offset = [], nf
+        offset = nf
         for dofs, _, ry, J in parts:
             index = np.concatenate([self._position[dofs], offset + np.arange(len(ry))])
             keep = index >= 0
@@ -438,30 +438,26 @@ class SliderStatics:
             rows.append(rr.ravel())
             cols.append(cc.ravel())
             vals.append(J[np.ix_(keep, keep)].ravel())
-            r_y.append(ry)
             offset += len(ry)
-        S = sp.csc_matrix(
+        return sp.csc_matrix(
             (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
             shape=(offset, offset),
         )
-        return S, r_y
 
     def _bordered_step(
-        self, r_q: np.ndarray, parts: list, cold: bool = False, r_y: np.ndarray | None = None
+        self, r_q: np.ndarray, r_y: np.ndarray, parts: list, cold: bool = False
     ) -> tuple[np.ndarray, np.ndarray] | None:
         """Newton increments from the factorised bordered system of the joints' ``parts``
-        under the residuals ``r_q`` and ``r_y`` (the joints', side by side; default: the
-        parts' own, a chord step passes the residuals of its state); None if it is singular:
+        (their Jacobians; a chord step's are an iteration old) under the residuals ``r_q``
+        and ``r_y`` (the joints', side by side, at the state); None if it is singular:
         a factor with a zero pivot, increments that are not finite, or, at a ``cold`` state
         (multipliers zero), a rigid motion that the supports and sliders leave free
         (:func:`sliders.solve.mechanism.free_motion`, which catches what roundoff hides from
         the factorisation)."""
         if cold and free_motion(self.rigid, self._position, parts, self.sliders, self.remedy):
             return None
-        S, r_parts = self._bordered(parts)
-        r_joints = np.concatenate(r_parts + [np.zeros(0)]) if r_y is None else r_y
         try:
-            z = spla.splu(S).solve(-np.concatenate([r_q[self.free], r_joints]))
+            z = spla.splu(self._bordered(parts)).solve(-np.concatenate([r_q[self.free], r_y]))
         except RuntimeError:
             return None
         if not np.all(np.isfinite(z)):
@@ -490,7 +486,7 @@ class SliderStatics:
         if self.method == "bordered":
             regular = np.zeros(B, dtype=bool)
             for b, member in enumerate(members):
-                step = member._bordered_step(R[b], member_parts(parts, b), bool(cold[b]), r_y[b])
+                step = member._bordered_step(R[b], r_y[b], member_parts(parts, b), bool(cold[b]))
                 if step is not None:
                     (dq[b], dy[b]), regular[b] = step, True
             return dq, dy, regular
@@ -510,7 +506,7 @@ class SliderStatics:
         (:func:`sliders.solve.mechanism.free_motion`), else the null vector of the bordered
         matrix (:meth:`_singular`); ``fallback`` when neither finds it singular."""
         found = cold and free_motion(self.rigid, self._position, parts, self.sliders, self.remedy)
-        return found or self._singular(self._bordered(parts)[0]) or fallback
+        return found or self._singular(self._bordered(parts)) or fallback
 
     def _singular(self, S: sp.spmatrix) -> str | None:
         """If the bordered matrix is singular once its rows and columns are equilibrated
