@@ -1,7 +1,7 @@
 """The compiled joint kernel against its numpy reference, and the contract of its pattern.
 
-:func:`sliders.joints.kernel.joint_equations` (scalar loops, about a hundred Jacobian entries
-written by hand) and :mod:`sliders.joints.equations` (the paper's equations, vectorised) read
+:func:`sliders.joints.kernel.joint_equations` (scalar loops, about a hundred Jacobian entries)
+and :mod:`sliders.joints.equations` (the paper's laws, their Jacobian derived by dual numbers) read
 the same inputs (:meth:`SliderBatch.joint_inputs`) and must give the same residuals and
 Jacobian blocks up to roundoff, for every slider kind, both orientation models, beam chains
 (fv2, fv3, galerkin-p2, cubic, whose line has a compliance at the contact; smeared and not)
@@ -67,18 +67,26 @@ class Running:
         return Running(value, size, max(self.depth, Running.of(other).depth) + 1)
 
     def __add__(self, other):
+        if not isinstance(other, NUMBERS):  # a dual number of them: its own arithmetic
+            return NotImplemented
         o = Running.of(other)
         return self._join(o, self.value + o.value, self.size + o.size)
 
     def __sub__(self, other):
+        if not isinstance(other, NUMBERS):
+            return NotImplemented
         o = Running.of(other)
         return self._join(o, self.value - o.value, self.size + o.size)
 
     def __mul__(self, other):
+        if not isinstance(other, NUMBERS):
+            return NotImplemented
         o = Running.of(other)
         return self._join(o, self.value * o.value, self.size * o.size)
 
     def __truediv__(self, other):
+        if not isinstance(other, NUMBERS):
+            return NotImplemented
         o = Running.of(other)
         return self._join(o, self.value / o.value, self.size / abs(o.value))
 
@@ -90,6 +98,10 @@ class Running:
 
     __radd__ = __add__
     __rmul__ = __mul__
+
+
+#: What :class:`Running` computes with (anything else, a dual, brings its own arithmetic).
+NUMBERS = (Running, int, float)
 
 
 def running(inputs: JointInputs) -> JointInputs:
@@ -197,9 +209,9 @@ def test_kernel_equals_reference_on_random_inputs_and_writes_its_reach(
     """Every input drawn at random (the line state too: curvature, compliances and
     ``l_/xixi`` that the states above leave zero on straight chains), on the shapes and dof
     maps of the batch, the kernel writing into a Jacobian with every block: it writes exactly
-    the blocks of its reach (:func:`sliders.joints.kernel.reach`: nothing else, and each
-    somewhere nonzero with the sliding point off the node) and equals the reference to
-    roundoff."""
+    the blocks of the law's pattern (:func:`sliders.joints.equations.pattern`: nothing else,
+    and each somewhere nonzero with the sliding point off the node) and equals the reference
+    to roundoff."""
     batch = batch_of(kind, orientation, line, offset)
     rng = np.random.default_rng(5)
     _, inputs = batch.joint_inputs(*random_state(batch, rng))

@@ -12,9 +12,10 @@ the paper's numbers (eqs. 1-5, Sec. 4), one function per kind and orientation mo
 (``section``: the section frame, ``docs/sliders.md``; ``slope``: paper eq. 4);
 ``tests/test_joint_reference.py`` holds the two equal to roundoff.
 
-:func:`reach` lists the blocks the kernel writes for a kind, orientation and options: the
-pattern a joint lays out, which :meth:`sliders.joints.blocks.SlotJacobian.index` checks once
-per layout (a block written outside the pattern would land at offset -1).
+The kernel writes exactly the blocks of the law's sparsity
+(:func:`sliders.joints.equations.pattern`, read off the law's derivative): the pattern a
+joint lays out, which :meth:`sliders.joints.blocks.SlotJacobian.index` checks once per layout
+(a block written outside the pattern would land at offset -1).
 
 Slot groups, in this order (their first slot ``start`` and ``size``): ``body`` (3), ``turn``
 (3, the body's rotations), ``load``, ``rotation``, ``interp``, ``beside``, then the joint's
@@ -27,8 +28,6 @@ the blocks ``(lam, lam)``, ``(lam, mu)``, ``(mu, lam)``).
 
 from __future__ import annotations
 
-from functools import cache
-
 import numba
 import numpy as np
 
@@ -39,75 +38,6 @@ BODY, TURN, LOAD, ROTATION, INTERP, BESIDE, XI, LAM, MU = range(9)
 GROUPS = ("body", "turn", "load", "rotation", "interp", "beside", "xi", "lam", "mu")
 KINDS = {"spherical": 0, "classical": 1, "spline": 2}
 ORIENTATIONS = {"section": 0, "slope": 1}
-
-#: The blocks :func:`joint_equations` writes for every joint: the reaction on the body and
-#: the line, the ``xi`` equation and the position constraint
-#: (:func:`sliders.joints.equations.spherical`).
-_BASE = (
-    ("body", "lam"),
-    ("turn", "lam"),
-    ("load", "xi"),
-    ("load", "lam"),
-    ("xi", "xi"),
-    ("xi", "lam"),
-    ("xi", "interp"),
-    ("xi", "beside"),
-    ("lam", "body"),
-    ("lam", "xi"),
-    ("lam", "interp"),
-)
-#: Written for a sliding point off the node (the lever arm ``f_b``).
-_LEVER = (("turn", "turn"), ("lam", "turn"))
-#: Written by the ``section`` orientation (:func:`_section`), and on a chain's section
-#: rotation dofs.
-_SECTION = (
-    ("turn", "xi"),
-    ("turn", "mu"),
-    ("xi", "turn"),
-    ("xi", "mu"),
-    ("mu", "turn"),
-    ("mu", "xi"),
-    ("mu", "mu"),
-)
-_SECTION_ROTATION = (("rotation", "xi"), ("rotation", "mu"), ("xi", "rotation"), ("mu", "rotation"))
-#: Written on a line with a position compliance (a chain of cubic elements, theory (T13)):
-#: the position rows read ``G_uu lambda``; with the ``section`` orientation they read
-#: ``G_u theta m`` and the orientation rows ``G_theta u lambda`` too.
-_COMPLIANT = (("lam", "lam"),)
-_COMPLIANT_SECTION = (("lam", "mu"), ("mu", "lam"))
-#: Written by the ``slope`` orientation (:func:`_slope`: the couple on the line's gradient).
-_SLOPE = (
-    ("turn", "turn"),
-    ("turn", "xi"),
-    ("turn", "mu"),
-    ("turn", "interp"),
-    ("load", "turn"),
-    ("load", "mu"),
-    ("load", "interp"),
-    ("xi", "turn"),
-    ("xi", "mu"),
-    ("mu", "turn"),
-    ("mu", "xi"),
-    ("mu", "interp"),
-)
-
-
-@cache
-def reach(
-    kind: str, orientation: str, lever: bool, rotation: bool, compliant: bool = False
-) -> tuple[tuple[str, str], ...]:
-    """The ``(row group, column group)`` blocks :func:`joint_equations` writes for a ``kind``
-    slider with the ``orientation`` model: every joint's, the lever arm's (``lever``: a
-    sliding point off the node), the position compliance's (``compliant``: on a chain of
-    cubic elements) and its orientation's (``rotation``: with a chain's section rotation
-    dofs), each once, in that order."""
-    blocks = _BASE + (_LEVER if lever else ()) + (_COMPLIANT if compliant else ())
-    if kind != "spherical" and orientation == "slope":
-        blocks += _SLOPE
-    elif kind != "spherical":
-        blocks += _SECTION + (_SECTION_ROTATION if rotation else ())
-        blocks += _COMPLIANT_SECTION if compliant else ()
-    return tuple(dict.fromkeys(blocks))
 
 
 @numba.njit(cache=True)
@@ -147,46 +77,7 @@ def _axial(A, out):
 
 
 @numba.njit(cache=True)
-def joint_equations(
-    kind,
-    slope,
-    jacobian,
-    offset,
-    frame,
-    body,
-    reference,
-    q,
-    y,
-    x,
-    l,
-    l_xi,
-    l_xixi,
-    N,
-    dN,
-    d2N,
-    G,
-    dG,
-    tangent,
-    tangent_xi,
-    T,
-    contact,
-    contact_xi,
-    rotation_dofs,
-    W,
-    W_xi,
-    W_xixi,
-    flex,
-    flex_xi,
-    R0,
-    k0,
-    k0_xi,
-    scale,
-    start,
-    size,
-    where,
-    r,
-    values,
-):
+def joint_equations(kind, slope, jacobian, point, index, r, values):
     """Residuals ``r`` (B, t + m) and Jacobian blocks ``values`` (B, size) of ``B`` joints.
 
     Parameters
@@ -195,14 +86,32 @@ def joint_equations(
         :data:`KINDS` code; ``slope``: the ``slope`` orientation (else ``section``).
     jacobian
         Whether to write ``values`` (else the residuals only).
-    offset, ..., scale
-        The fields of :class:`sliders.joints.equations.JointInputs`, in its order.
-    start, size, where
-        First slot and size of each group (9,), block offsets (9, 9), -1 outside the
-        pattern (which must hold every block of :func:`reach`).
+    point
+        What the joints read: :class:`sliders.joints.equations.JointInputs`.
+    index
+        ``(start, size, where)``: the first slot and size of each group (9,), the block
+        offsets (9, 9), -1 outside the pattern (which must hold every block of
+        :func:`sliders.joints.equations.pattern`).
     r, values
         Zero outputs, written here.
     """
+    start, size, where = index
+    offset, frame, body, reference, q, y = (
+        point.offset,
+        point.frame,
+        point.body,
+        point.reference,
+        point.q,
+        point.y,
+    )
+    x, l, N, G, dG, T = point.x, point.l, point.N, point.G, point.dG, point.T
+    tangent, tangent_xi, contact, contact_xi, scale = (
+        point.tangent,
+        point.tangent_xi,
+        point.contact,
+        point.contact_xi,
+        point.scale,
+    )
     B = len(y)
     t = start[XI]
     lam = stack_vector3()
@@ -243,7 +152,8 @@ def joint_equations(
                 for c in range(3):
                     _add(values, b, where, size, BODY, LAM, i, c, 1.0 if i == c else 0.0)
                     _add(values, b, where, size, LAM, BODY, i, c, 1.0 if i == c else 0.0)
-                    _add(values, b, where, size, TURN, LAM, i, c, S1[i, c])
+                    if lever:  # skew(f + theta_b x f), zero on the node
+                        _add(values, b, where, size, TURN, LAM, i, c, S1[i, c])
                 _add(values, b, where, size, LAM, XI, i, 0, -l[b, i])
                 _add(values, b, where, size, XI, LAM, 0, i, -tangent[b, i])
             if compliant:
@@ -294,52 +204,9 @@ def joint_equations(
                 for c in range(3):
                     _add(values, b, where, size, LAM, INTERP, c, col, -N[b, c, col])
     if kind != 0 and slope:
-        _slope(
-            jacobian,
-            axes,
-            body,
-            q,
-            y,
-            l,
-            l_xi,
-            l_xixi,
-            dN,
-            d2N,
-            G,
-            dG,
-            start,
-            size,
-            where,
-            r,
-            values,
-        )
+        _slope(jacobian, axes, point, index, r, values)
     elif kind != 0:
-        _section(
-            kind,
-            jacobian,
-            frame,
-            axes,
-            body,
-            q,
-            y,
-            contact,
-            contact_xi,
-            rotation_dofs,
-            W,
-            W_xi,
-            W_xixi,
-            flex,
-            flex_xi,
-            R0,
-            k0,
-            k0_xi,
-            scale,
-            start,
-            size,
-            where,
-            r,
-            values,
-        )
+        _section(kind, jacobian, axes, point, index, r, values)
 
 
 @numba.njit(cache=True)
@@ -358,32 +225,7 @@ def _matmul(A, B, out):
 
 
 @numba.njit(cache=True)
-def _section(
-    kind,
-    jacobian,
-    frame,
-    axes,
-    body,
-    q,
-    y,
-    contact,
-    contact_xi,
-    rotation_dofs,
-    W,
-    W_xi,
-    W_xixi,
-    flex,
-    flex_xi,
-    R0,
-    k0,
-    k0_xi,
-    scale,
-    start,
-    size,
-    where,
-    r,
-    values,
-):
+def _section(kind, jacobian, axes, point, index, r, values):
     """Orientation constraints on the line's section frame, linear in the rotations.
 
     ``g_j = g0_j(xi) + n_j(xi) . (theta_b - theta_L)``: classical (``j = 2, 3``)
@@ -395,8 +237,27 @@ def _section(
     row.  The constraint reads ``theta_L`` plus ``C_L m`` (``flex``: the exact rotation at a
     couple lies off the interpolation of its nodal values by that much, ``docs/sliders.md``)
     and, on a line with a position compliance, ``G_theta u lambda`` (``contact``, whose
-    position rows then read ``G_u theta m``; theory T13).
+    position rows then read ``G_u theta m``; theory T13).  ``axes``: ``e_2, e_3`` (rows);
+    ``point``, ``index``, ``r``, ``values``: as :func:`joint_equations`.
     """
+    start, size, where = index
+    frame, body, q, y, contact, contact_xi = (
+        point.frame,
+        point.body,
+        point.q,
+        point.y,
+        point.contact,
+        point.contact_xi,
+    )
+    rotation_dofs, W, W_xi, W_xixi = point.rotation_dofs, point.W, point.W_xi, point.W_xixi
+    flex, flex_xi, R0, k0, k0_xi, scale = (
+        point.flex,
+        point.flex_xi,
+        point.R0,
+        point.k0,
+        point.k0_xi,
+        point.scale,
+    )
     t = start[XI]
     n_mu = size[MU]
     n_w = W.shape[2]
@@ -558,12 +419,13 @@ def _section(
 
 
 @numba.njit(cache=True)
-def _slope(
-    jacobian, axes, body, q, y, l, l_xi, l_xixi, dN, d2N, G, dG, start, size, where, r, values
-):
+def _slope(jacobian, axes, point, index, r, values):
     """The classical slider on the line's gradient, ``e_bj . l = 0`` (paper eq. 4): the
     couple ``m = sum mu_j e_bj x l`` on the body, carried to the line's rotation dofs by the
-    test functions (the rotational columns of ``G``)."""
+    test functions (the rotational columns of ``G``).  Arguments as :func:`_section`."""
+    start, size, where = index
+    body, q, y, l, l_xi, l_xixi = point.body, point.q, point.y, point.l, point.l_xi, point.l_xixi
+    dN, d2N, G, dG = point.dN, point.d2N, point.G, point.dG
     t = start[XI]
     n_load, n_interp = G.shape[1], dN.shape[2]
     theta, m, v, w = stack_vector3(), stack_vector3(), stack_vector3(), stack_vector3()

@@ -38,6 +38,7 @@ from fvbeam.scratch import borrowed, stack_empty, stack_zeros
 from fvbeam.smearing import steps
 from fvbeam.structure import Structure
 from sliders.joints.blocks import SlotJacobian
+from sliders.joints.equations import JointInputs, pattern
 from sliders.joints.friction import friction_at
 from sliders.joints.kernel import (
     BESIDE,
@@ -49,7 +50,6 @@ from sliders.joints.kernel import (
     TURN,
     XI,
     joint_equations,
-    reach,
 )
 from sliders.joints.kernel import BODY as BODY_GROUP
 from sliders.joints.slider import Slider, SliderBatch, _equations, _Layout
@@ -450,7 +450,7 @@ def _joint_arrays(
     # once each: a cubic chain's joint has the (lam, lam) block already
     jacobian = layout.jacobian(1, tuple(dict.fromkeys(batch.pattern + diagonal)))
     compliant = head[NODE_DOFS] == 6
-    writes = reach(batch.kind, batch.orientation, bool(np.any(batch.offset)), section, compliant)
+    writes = pattern(batch.kind, batch.orientation, bool(np.any(batch.offset)), section, compliant)
     writes += FRICTION_BLOCKS if slider.friction is not None else ()
     arrays["start"], arrays["size"], arrays["where"] = jacobian.index(GROUPS, writes)
     head[SLOTS], head[WIDTH] = layout.t, jacobian.values.shape[1]
@@ -515,23 +515,23 @@ def _load_slots(chain: ChainStack, smearing: float) -> int:
 
 
 @numba.njit(cache=True, inline="always")
-def _f1(F: np.ndarray, d: np.ndarray) -> np.ndarray:
-    return borrowed(F, d[0], (d[1],))
+def _f1(floats: np.ndarray, d: np.ndarray) -> np.ndarray:
+    return borrowed(floats, d[0], (d[1],))
 
 
 @numba.njit(cache=True, inline="always")
-def _f2(F: np.ndarray, d: np.ndarray) -> np.ndarray:
-    return borrowed(F, d[0], (d[1], d[2]))
+def _f2(floats: np.ndarray, d: np.ndarray) -> np.ndarray:
+    return borrowed(floats, d[0], (d[1], d[2]))
 
 
 @numba.njit(cache=True, inline="always")
-def _f3(F: np.ndarray, d: np.ndarray) -> np.ndarray:
-    return borrowed(F, d[0], (d[1], d[2], d[3]))
+def _f3(floats: np.ndarray, d: np.ndarray) -> np.ndarray:
+    return borrowed(floats, d[0], (d[1], d[2], d[3]))
 
 
 @numba.njit(cache=True, inline="always")
-def _f4(F: np.ndarray, d: np.ndarray) -> np.ndarray:
-    return borrowed(F, d[0], (d[1], d[2], d[3], d[4]))
+def _f4(floats: np.ndarray, d: np.ndarray) -> np.ndarray:
+    return borrowed(floats, d[0], (d[1], d[2], d[3], d[4]))
 
 
 @numba.njit(cache=True, inline="never")
@@ -588,8 +588,8 @@ def evaluate_joint(
     head: np.ndarray,
     values_of: np.ndarray,
     fields: np.ndarray,
-    F: np.ndarray,
-    I: np.ndarray,
+    floats: np.ndarray,
+    ints: np.ndarray,
     q: np.ndarray,
     y: np.ndarray,
     velocity: tuple[np.ndarray, np.ndarray, float],
@@ -621,8 +621,8 @@ def evaluate_joint(
     tie = 1e-12 * length
     if not (-tie <= xi <= length + tie):
         return 1
-    start, size, where = _f1(I, d[START]), _f1(I, d[SIZE]), _f2(I, d[WHERE])
-    body = _f2(I, d[BODY])
+    start, size, where = _f1(ints, d[START]), _f1(ints, d[SIZE]), _f2(ints, d[WHERE])
+    body = _f2(ints, d[BODY])
     xs = stack_empty(1, (1,), np.float64)
     xs[0] = xi
     qb = borrowed(q, 0, (1, len(q)))
@@ -636,11 +636,15 @@ def evaluate_joint(
     # where it has the joint's shape (a point transfer, a straight element's section), else
     # to one made for the joint
     if hd[CHAIN]:
-        member_map, maps, cells = _f1(I, d[MEMBER_MAP]), _f4(I, d[MAPS]), _f2(I, d[CELLS])
-        points, breaks = _f3(F, d[POINTS]), _f2(F, d[BREAKS])
-        vertex_s, first_element, h = _f2(F, d[VERTEX_S]), _f1(I, d[FIRST_ELEMENT]), _f2(F, d[H])
-        kinds, stiffness = _f1(I, d[KINDS_OF]), _f2(F, d[STIFFNESS])
-        regions, ends, R0_of = _f2(F, d[REGIONS]), _f2(F, d[ENDS]), _f4(F, d[R0_OF])
+        member_map, maps, cells = _f1(ints, d[MEMBER_MAP]), _f4(ints, d[MAPS]), _f2(ints, d[CELLS])
+        points, breaks = _f3(floats, d[POINTS]), _f2(floats, d[BREAKS])
+        vertex_s, first_element, h = (
+            _f2(floats, d[VERTEX_S]),
+            _f1(ints, d[FIRST_ELEMENT]),
+            _f2(floats, d[H]),
+        )
+        kinds, stiffness = _f1(ints, d[KINDS_OF]), _f2(floats, d[STIFFNESS])
+        regions, ends, R0_of = _f2(floats, d[REGIONS]), _f2(floats, d[ENDS]), _f4(floats, d[R0_OF])
         state = one_point_state(npe, width, True, not hd[SMEARED], hd[SECTION] != 0)
         line_state_into(
             xs,
@@ -653,14 +657,14 @@ def evaluate_joint(
             vertex_s,
             first_element,
             h,
-            _f1(F, d[LAG]),
+            _f1(floats, d[LAG]),
             kinds,
             regions,
             ends,
             stiffness,
             width,
             R0_of,
-            _f4(F, d[COMPLIANCE_OF]),
+            _f4(floats, d[COMPLIANCE_OF]),
             True,
             not hd[SMEARED],
             hd[SECTION] != 0,
@@ -708,10 +712,10 @@ def evaluate_joint(
                 xs,
                 smearing,
                 hd[BOX] != 0,
-                _f1(F, d[STEP_R]),
-                _f1(F, d[STEP_JUMP]),
-                _f1(F, d[RULE_X]),
-                _f1(F, d[RULE_W]),
+                _f1(floats, d[STEP_R]),
+                _f1(floats, d[STEP_JUMP]),
+                _f1(floats, d[RULE_X]),
+                _f1(floats, d[RULE_W]),
                 member_map,
                 maps,
                 cells,
@@ -737,7 +741,7 @@ def evaluate_joint(
         if hd[SECTION]:
             rotation_dofs, W, W_xi, W_xixi = rot_dofs, W_, W_xi_, W_xixi_
             e = element[0]
-            if _f1(I, d[STRAIGHT])[e]:
+            if _f1(ints, d[STRAIGHT])[e]:
                 R0, flex, flex_xi = R0_, flex_, flex_xi_
             else:  # curved: Lagrange 3-node elements only (a cubic element is straight)
                 R0, flex, flex_xi = _own_section()
@@ -745,10 +749,10 @@ def evaluate_joint(
                 for a in range(npe):
                     nodes[0, a] = points[0, cells[e, a]]
                 l0, l0_xi = reference_line(nodes, h[0, e : e + 1], X)
-                up = _f2(F, d[UP])[e]
+                up = _f2(floats, d[UP])[e]
                 frame_at(l0[0], l0_xi[0], up, R0[0], k0[0])
                 curvature_rate_at(l0[0], l0_xi[0], stack_zeros(3, (3,), np.float64), up, k0_xi[0])
-                C = R0[0] @ _f3(F, d[BEAM_COMPLIANCE])[beam[0]] @ R0[0].T
+                C = R0[0] @ _f3(floats, d[BEAM_COMPLIANCE])[beam[0]] @ R0[0].T
                 flex[0], flex_xi[0] = kink_[0] * C, kink_xi_[0] * C
         else:
             rotation_dofs, W, W_xi, W_xixi = _own_rotation(n_rot)
@@ -761,7 +765,9 @@ def evaluate_joint(
         contact = contact_xi = stack_empty(1, (1, 0, 6), np.float64)
         derivatives = stack_empty(12, (4, 3), np.float64)
         at = min(max(xi, 0.0), length)  # a rigid line is read at the end (RigidLine.at)
-        line_at(hd[SHAPE], _f1(F, d[LINE_PARAMS]), _f1(F, d[LINE_BREAKS]), at, derivatives)
+        line_at(
+            hd[SHAPE], _f1(floats, d[LINE_PARAMS]), _f1(floats, d[LINE_BREAKS]), at, derivatives
+        )
         x[0], l[0], l_xi[0], l_xixi[0] = (
             derivatives[0],
             derivatives[1],
@@ -769,7 +775,7 @@ def evaluate_joint(
             derivatives[3],
         )
         tangent[0], tangent_xi[0] = l[0], l_xi[0]
-        up = _f1(F, d[UP])
+        up = _f1(floats, d[UP])
         frame_at(l[0], l_xi[0], up, R0[0], k0[0])
         curvature_rate_at(l[0], l_xi[0], l_xixi[0], up, k0_xi[0])
         N = dN = d2N = T = stack_empty(1, (1, 3, 0), np.float64)
@@ -789,14 +795,11 @@ def evaluate_joint(
     rb, vb = borrowed(r, 0, (1, t + m)), borrowed(values, 0, (1, len(values)))
     rb[:] = 0.0
     vb[:] = 0.0
-    joint_equations(
-        kind,
-        hd[SLOPE] != 0,
-        jacobian,
-        _f1(F, d[OFFSET]),
-        _f2(F, d[FRAME]),
+    inputs = JointInputs(
+        _f1(floats, d[OFFSET]),
+        _f2(floats, d[FRAME]),
         body,
-        _f2(F, d[REFERENCE]),
+        _f2(floats, d[REFERENCE]),
         qb,
         yb,
         x,
@@ -823,12 +826,8 @@ def evaluate_joint(
         k0,
         k0_xi,
         scale,
-        start,
-        size,
-        where,
-        rb,
-        vb,
     )
+    joint_equations(kind, hd[SLOPE] != 0, jacobian, inputs, (start, size, where), rb, vb)
     if hd[FRICTION]:
         friction[0] = _friction(
             values_of[j, FRICTION_LAW],
@@ -836,7 +835,7 @@ def evaluate_joint(
             q,
             y,
             dofs,
-            _f1(F, d[OFFSET]),
+            _f1(floats, d[OFFSET]),
             6 + n_load + n_rot,
             N[0],
             dN[0],
@@ -864,7 +863,7 @@ def evaluate_joint(
         r[t] = y[0] - drive
         if jacobian:
             _unit_row(start, size, where, values)
-    for k in _f1(I, d[PINNED]):
+    for k in _f1(ints, d[PINNED]):
         r[t + k] = y[k]
         if jacobian:
             _pin(k, size, where, values)
@@ -967,8 +966,8 @@ def violations(
     head: np.ndarray,
     values_of: np.ndarray,
     fields: np.ndarray,
-    F: np.ndarray,
-    I: np.ndarray,
+    floats: np.ndarray,
+    ints: np.ndarray,
     q: np.ndarray,
     y: np.ndarray,
     drives: np.ndarray,
@@ -990,8 +989,8 @@ def violations(
             head,
             values_of,
             fields,
-            F,
-            I,
+            floats,
+            ints,
             q,
             y[at : at + m],
             rest,
@@ -1017,8 +1016,8 @@ def frictions(
     head: np.ndarray,
     values_of: np.ndarray,
     fields: np.ndarray,
-    F: np.ndarray,
-    I: np.ndarray,
+    floats: np.ndarray,
+    ints: np.ndarray,
     Q: np.ndarray,
     V: np.ndarray,
     Y: np.ndarray,
@@ -1041,8 +1040,8 @@ def frictions(
                     head,
                     values_of,
                     fields,
-                    F,
-                    I,
+                    floats,
+                    ints,
                     Q[k],
                     Y[k, at : at + m],
                     (V[k], Q[k], 0.0),
@@ -1064,8 +1063,8 @@ def _curve(
     j: int,
     head: np.ndarray,
     fields: np.ndarray,
-    F: np.ndarray,
-    I: np.ndarray,
+    floats: np.ndarray,
+    ints: np.ndarray,
     q: np.ndarray,
     xi: float,
     out: np.ndarray,
@@ -1076,22 +1075,22 @@ def _curve(
         geometry = line_state(
             np.full(1, xi),
             q.reshape((1, len(q))),
-            _f1(I, d[MEMBER_MAP]),
-            _f4(I, d[MAPS]),
-            _f2(I, d[CELLS]),
-            _f3(F, d[POINTS]),
-            _f2(F, d[BREAKS]),
-            _f2(F, d[VERTEX_S]),
-            _f1(I, d[FIRST_ELEMENT]),
-            _f2(F, d[H]),
-            _f1(F, d[LAG]),
-            _f1(I, d[KINDS_OF]),
-            _f2(F, d[REGIONS]),
-            _f2(F, d[ENDS]),
-            _f2(F, d[STIFFNESS]),
+            _f1(ints, d[MEMBER_MAP]),
+            _f4(ints, d[MAPS]),
+            _f2(ints, d[CELLS]),
+            _f3(floats, d[POINTS]),
+            _f2(floats, d[BREAKS]),
+            _f2(floats, d[VERTEX_S]),
+            _f1(ints, d[FIRST_ELEMENT]),
+            _f2(floats, d[H]),
+            _f1(floats, d[LAG]),
+            _f1(ints, d[KINDS_OF]),
+            _f2(floats, d[REGIONS]),
+            _f2(floats, d[ENDS]),
+            _f2(floats, d[STIFFNESS]),
             hd[NODE_DOFS],
-            _f4(F, d[R0_OF]),
-            _f4(F, d[COMPLIANCE_OF]),
+            _f4(floats, d[R0_OF]),
+            _f4(floats, d[COMPLIANCE_OF]),
             True,
             False,
             False,
@@ -1100,7 +1099,9 @@ def _curve(
             out[r] = geometry[0, r]
     else:
         derivatives = np.empty((4, 3))
-        line_at(hd[SHAPE], _f1(F, d[LINE_PARAMS]), _f1(F, d[LINE_BREAKS]), xi, derivatives)
+        line_at(
+            hd[SHAPE], _f1(floats, d[LINE_PARAMS]), _f1(floats, d[LINE_BREAKS]), xi, derivatives
+        )
         for r in range(3):
             out[r] = derivatives[r]
 
@@ -1110,8 +1111,8 @@ def project(
     head: np.ndarray,
     values_of: np.ndarray,
     fields: np.ndarray,
-    F: np.ndarray,
-    I: np.ndarray,
+    floats: np.ndarray,
+    ints: np.ndarray,
     q: np.ndarray,
 ) -> np.ndarray:
     """Each joint's ``xi`` that projects its sliding point on its line at the state ``q``:
@@ -1125,11 +1126,15 @@ def project(
     for j in range(J):
         d = fields[j]
         length = values_of[j, 1]
-        body, reference = _f2(I, d[BODY]), _f2(F, d[REFERENCE])
+        body, reference = _f2(ints, d[BODY]), _f2(floats, d[REFERENCE])
         point = np.empty(3)
         for c in range(3):
             point[c] = reference[0, c] + q[body[0, c]]
-        grid, points, dofs = _f1(F, d[GRID]), _f2(F, d[GRID_POINTS]), _f2(I, d[GRID_DOFS])
+        grid, points, dofs = (
+            _f1(floats, d[GRID]),
+            _f2(floats, d[GRID_POINTS]),
+            _f2(ints, d[GRID_DOFS]),
+        )
         best, closest = 0, np.inf
         for g in range(len(grid)):
             distance = 0.0
@@ -1140,7 +1145,7 @@ def project(
                 best, closest = g, distance
         xi = grid[best]
         for _ in range(50):
-            _curve(j, head, fields, F, I, q, xi, geometry)
+            _curve(j, head, fields, floats, ints, q, xi, geometry)
             slope, along = 0.0, 0.0
             for c in range(3):
                 gap = geometry[0, c] - point[c]

@@ -60,9 +60,9 @@ from fvbeam.smearing import check_smearing
 from fvbeam.structure import Structure
 from sliders.joints.blocks import SlotJacobian
 from sliders.joints.drives import Motion
-from sliders.joints.equations import JointInputs
+from sliders.joints.equations import JointInputs, pattern
 from sliders.joints.friction import Friction
-from sliders.joints.kernel import GROUPS, joint_equations, reach
+from sliders.joints.kernel import GROUPS, joint_equations
 from sliders.joints.kernel import KINDS as KERNEL_KINDS
 from sliders.lines.batched import ChainStack, LineRotation, gather
 from sliders.lines.chain import BeamChain
@@ -296,9 +296,9 @@ class SliderBatch:
         #: of the classical and spline sliders).
         self.section = self.kind != "spherical" and self.orientation == "section"
         #: The Jacobian blocks the joint lays out (:class:`SlotJacobian`): those its kernel
-        #: writes (:func:`sliders.joints.kernel.reach`), which :meth:`joint_equations`
+        #: writes (:func:`sliders.joints.equations.pattern`), which :meth:`joint_equations`
         #: checks it holds, once per layout.
-        self.pattern = reach(
+        self.pattern = pattern(
             self.kind,
             self.orientation,
             bool(np.any(self.offset)),
@@ -575,7 +575,7 @@ class SliderBatch:
         without ``jacobian``).
 
         Raises ``ValueError`` naming the joint, the block and the pattern when the pattern
-        lacks a block the kernel writes at these inputs (:func:`sliders.joints.kernel.reach`
+        lacks a block the kernel writes at these inputs (:func:`sliders.joints.equations.pattern`
         of the kind, the orientation, the lever arm and the section rotation dofs; checked
         once per layout, :meth:`SlotJacobian.index`).
         """
@@ -587,7 +587,7 @@ class SliderBatch:
             inputs.T.shape[2],
             self.n_unknowns,
         )
-        writes = reach(
+        writes = pattern(
             self.kind,
             self.orientation,
             bool(inputs.offset.any()),
@@ -600,15 +600,8 @@ class SliderBatch:
         except ValueError as exc:
             raise ValueError(f"slider {self.sliders[0].name!r}: {exc}") from exc
         r = np.zeros((B, at.t + self.n_unknowns))
-        joint_equations(
-            KERNEL_KINDS[self.kind],
-            self.orientation == "slope",
-            jacobian,
-            *inputs,
-            *index,
-            r,
-            J.values,
-        )
+        kind = KERNEL_KINDS[self.kind]
+        joint_equations(kind, self.orientation == "slope", jacobian, inputs, index, r, J.values)
         return r, J if jacobian else None
 
     def _end_stop(
