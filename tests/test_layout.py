@@ -3,7 +3,9 @@
 Every import counts, wherever it stands (module level, inside a function, under
 ``TYPE_CHECKING``): a lazy import is a dependency all the same.  ``fvbeam`` depends on
 nothing of ours, ``sliders`` on ``fvbeam`` only, ``studies`` on both; nothing imports
-``studies`` but ``studies`` and the tests.
+``studies`` but ``studies`` and the tests.  Inside ``sliders`` the subpackages are layered
+too (``docs/architecture.md``): lines, joints, forces, solve, then the models built on the
+solvers (the sliding-beams setup, the landing gear), then the application.
 """
 
 from __future__ import annotations
@@ -17,6 +19,16 @@ ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("fvbeam", "sliders", "studies")
 #: What each package may import of ours (besides itself).
 ALLOWED = {"fvbeam": set(), "sliders": {"fvbeam"}, "studies": {"fvbeam", "sliders"}}
+#: The layers inside ``sliders``: a subpackage imports only those of a lower rank.
+SLIDERS_LAYERS = {
+    "lines": 0,
+    "joints": 1,
+    "forces": 2,
+    "solve": 3,
+    "sliding_beams": 4,
+    "gear": 4,
+    "app": 5,
+}
 
 
 def module_name(path: Path) -> str:
@@ -125,3 +137,25 @@ def test_no_import_cycles():
         if v not in index:
             visit(v)
     assert not cycles, "import cycles: " + "; ".join(" <-> ".join(c) for c in cycles)
+
+
+def test_the_layers_inside_sliders_point_one_way():
+    """A subpackage of ``sliders`` imports only subpackages below it (:data:`SLIDERS_LAYERS`;
+    every subpackage is ranked), and the walk sees the edges it must."""
+    edges = graph()
+    subpackages = {p.name for p in (ROOT / "sliders").iterdir() if (p / "__init__.py").exists()}
+    assert subpackages == set(SLIDERS_LAYERS), "rank every subpackage of sliders"
+    layer_of = {name: name.split(".")[1] for name in edges if name.startswith("sliders.")}
+    wrong = sorted(
+        f"{name} -> {target}"
+        for name, targets in edges.items()
+        if name.startswith("sliders.") and layer_of[name] in SLIDERS_LAYERS
+        for target in targets
+        if target.startswith("sliders.")
+        and layer_of[target] in SLIDERS_LAYERS
+        and layer_of[target] != layer_of[name]
+        and SLIDERS_LAYERS[layer_of[target]] >= SLIDERS_LAYERS[layer_of[name]]
+    )
+    assert not wrong, "imports against the layers of sliders:\n" + "\n".join(wrong)
+    assert "sliders.joints.equations" in edges["sliders.joints.slider"]
+    assert "sliders.lines.chain" in edges["sliders.forces.moving_load"]
