@@ -1,0 +1,195 @@
+"""The docs speak to users about the project as it is, and what they show is what it does.
+
+- README.md, docs/*.md, the shipped scenes they show and every ``--help`` of the command cite
+  no issue numbers, speak of no sessions, and name no path outside the repository;
+- the command tables of README.md and docs/scenes.md are the parser's: each command's usage
+  and its sentence (``sliders.app.cli.COMMANDS``), which ``fvslider --help`` lists and
+  ``fvslider COMMAND --help`` states; every example of the help parses;
+- docs/tutorial.md runs as written: its scene files are written, its commands run and print
+  what it shows, its Python sessions give what it shows (doctest), and every number of its
+  prose is one of those it shows.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import doctest
+import io
+import re
+import shlex
+from pathlib import Path
+
+import pytest
+
+from sliders.app import cli
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+SCENES = sorted((ROOT / "studies" / "scenes").glob("*.toml"))
+TUTORIAL = ROOT / "docs" / "tutorial.md"
+COMMAND_TABLES = [ROOT / "README.md", ROOT / "docs" / "scenes.md"]
+
+#: An issue or pull request cited by number: "issue 13", "issues 4 and 13", "#13".
+ISSUE = re.compile(r"\bissues?\s+#?\d|(?<![\w&/])#\d+\b", re.I)
+#: Development-history words: a session, a branch or a change as the text's "now".
+HISTORY = re.compile(r"\bsessions?\b|\bthis (?:branch|change)\b", re.I)
+#: A path leaving the repository: one that climbs out of it (``../x``) or an absolute path of
+#: two components or more (``/work/x``); a single one (``/proc``, ``/sys``) names a filesystem.
+OUTSIDE = re.compile(r"(?<![\w.)\]~-])(?:\.\./[\w.-]|/[A-Za-z_][\w.-]*/[\w.-])")
+
+
+def helps() -> dict[str, str]:
+    """Every help text of the command: ``fvslider --help`` and each ``fvslider NAME --help``."""
+    texts = {"fvslider --help": cli._parser().format_help()}
+    for name, parser in subparsers().items():
+        texts[f"fvslider {name} --help"] = parser.format_help()
+    return texts
+
+
+def subparsers() -> dict[str, argparse.ArgumentParser]:
+    (action,) = [a for a in cli._parser()._actions if isinstance(a, argparse._SubParsersAction)]
+    return dict(action.choices)
+
+
+def words(text: str) -> str:
+    return " ".join(text.split())
+
+
+def texts() -> list[tuple[str, str]]:
+    """(name, text) of every doc, shipped scene and help."""
+    return [
+        *((str(p.relative_to(ROOT)), p.read_text()) for p in DOCS + SCENES),
+        *helps().items(),
+    ]
+
+
+@pytest.mark.parametrize("pattern", [ISSUE, HISTORY, OUTSIDE], ids=["issues", "history", "paths"])
+def test_no_issue_numbers_sessions_or_paths_outside_the_repository(pattern):
+    found = [
+        f"{name}:{number}: {line.strip()}"
+        for name, text in texts()
+        for number, line in enumerate(text.splitlines(), 1)
+        if pattern.search(line)
+    ]
+    assert not found, "\n".join(found)
+
+
+@pytest.mark.parametrize("line", ["see issue 13", "issues 4 and 13", "(#12)", "Issue 14's"])
+def test_the_issue_pattern_finds_citations(line):
+    assert ISSUE.search(line)
+
+
+@pytest.mark.parametrize("line", ["../shared/notes/x.md", "`/work/shared/DESIGN.md`"])
+def test_the_path_pattern_finds_outside_paths(line):
+    assert OUTSIDE.search(line)
+
+
+@pytest.mark.parametrize("line", ["`/proc`, `/sys`", "GA/EJ", "docs/scenes.md", "v_t/v_eps"])
+def test_the_path_pattern_passes_repository_paths_and_ratios(line):
+    assert not OUTSIDE.search(line)
+
+
+# -- the command table ---------------------------------------------------------------------------
+def parser_rows() -> dict[str, tuple[str, str]]:
+    """Per command, its usage (without ``[-h]``) and its sentence, as the parser has them."""
+    rows = {}
+    for name, parser in subparsers().items():
+        usage = words(parser.format_usage()).removeprefix("usage: ").replace(" [-h]", "")
+        rows[name] = (usage, cli.COMMANDS[name])
+    return rows
+
+
+def table_rows(doc: Path) -> dict[str, tuple[str, str]]:
+    """The rows ``| `fvslider NAME ...` | sentence |`` of a doc's command table."""
+    rows = {}
+    for usage, sentence in re.findall(r"^\| `(fvslider [^`]*)` \| (.*) \|$", doc.read_text(), re.M):
+        rows[usage.split()[1]] = (usage.replace("\\|", "|"), sentence)
+    return rows
+
+
+@pytest.mark.parametrize("doc", COMMAND_TABLES, ids=lambda p: p.name)
+def test_the_docs_command_table_is_the_parsers(doc):
+    assert table_rows(doc) == parser_rows()
+
+
+def test_every_help_states_its_commands_sentence():
+    main = words(cli._parser().format_help())
+    for name, parser in subparsers().items():
+        assert words(cli.COMMANDS[name]) in main, name
+        assert words(parser.format_help()).find(words(cli.COMMANDS[name])) > 0, name
+
+
+def test_every_example_of_the_help_parses():
+    examples = [
+        shlex.split(line.split("#")[0])[1:]
+        for line in cli.EXAMPLES.splitlines()
+        if line.strip().startswith("fvslider ")
+    ]
+    assert {argv[0] for argv in examples} == set(cli.COMMANDS)
+    for argv in examples:
+        assert cli._parser().parse_args(argv).command is not None
+
+
+# -- the tutorial --------------------------------------------------------------------------------
+BLOCK = re.compile(r"^```(\w+)\n(.*?)^```$", re.S | re.M)
+CHECKER = doctest.OutputChecker()
+FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
+
+
+def run_command(line: str) -> str:
+    """``fvslider ...`` run in this process; its stdout and stderr."""
+    argv = shlex.split(line)
+    assert argv[0] == "fvslider", line
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(out):
+        code = cli.main(argv[1:])
+    assert code == 0, f"{line}: exit {code}\n{out.getvalue()}"
+    return out.getvalue()
+
+
+def console(block: str) -> None:
+    """Each ``$ command`` of the block run; its output as the block shows it."""
+    for chunk in re.split(r"^\$ ", block, flags=re.M)[1:]:
+        line, _, shown = chunk.partition("\n")
+        got = run_command(line)
+        assert CHECKER.check_output(shown, got, FLAGS), f"$ {line}\nshown:\n{shown}\ngot:\n{got}"
+
+
+def test_the_tutorial_runs_as_written(tmp_path, monkeypatch):
+    """The scene files written, the commands run and the sessions replayed, in the order of
+    the text, in an empty directory."""
+    monkeypatch.chdir(tmp_path)
+    text = TUTORIAL.read_text()
+    globs: dict = {}
+    runner = doctest.DocTestRunner(optionflags=FLAGS)
+    kinds = []
+    for kind, block in BLOCK.findall(text):
+        kinds.append(kind)
+        if kind == "toml":
+            name = block.splitlines()[0].removeprefix("# ").split(":")[0]
+            (tmp_path / name).write_text(block)
+        elif kind == "console":
+            console(block)
+        elif kind == "pycon":
+            test = doctest.DocTestParser().get_doctest(block, globs, "tutorial", str(TUTORIAL), 0)
+            out = io.StringIO()
+            runner.run(test, out=out.write, clear_globs=False)
+            assert runner.failures == 0, out.getvalue()
+            globs = test.globs  # the next session goes on with these names
+    assert {"toml", "console", "pycon"} <= set(kinds)
+    assert runner.tries > 0
+
+
+NUMBER = re.compile(r"(?<![\w.])-?\d+(?:\.\d+)?(?:e-?\d+)?(?![\w.]*\w)")
+
+
+def test_every_number_of_the_tutorial_prose_is_one_it_shows():
+    """A number in the text is one that a block (a scene file, a command's output, a
+    session) shows, so the test above has produced it."""
+    text = TUTORIAL.read_text()
+    blocks = " ".join(block for _, block in BLOCK.findall(text))
+    shown = {abs(float(number)) for number in NUMBER.findall(blocks)}
+    prose = re.sub(r"^#+ \d+\.", "", BLOCK.sub("", text), flags=re.M)  # headings' numbers
+    quoted = NUMBER.findall(prose)
+    assert quoted and [n for n in quoted if abs(float(n)) not in shown] == []
