@@ -1,4 +1,4 @@
-"""Benchmark of the landing-gear drop (issue 14), merged into ``results/bench.json``.
+"""Benchmark of the landing-gear drop, merged into ``results/bench.json``.
 
 ``landing_gear``
     The ``fv3-5`` model of the Figure 7 study (:mod:`sliders.gear.model`: classical sliders,

@@ -1,4 +1,4 @@
-"""The rigid landing gear of issue 14 as ordinary differential equations (``solve_ivp``).
+"""The rigid landing gear as ordinary differential equations (``solve_ivp``).
 
 An independent reference for the ``rigid`` model of the Figure 7 study: the same strut, tyre
 and masses, a rigid vertical leg, integrated by scipy's Radau (or LSODA) at tight tolerances.

@@ -193,3 +193,25 @@ def test_every_number_of_the_tutorial_prose_is_one_it_shows():
     prose = re.sub(r"^#+ \d+\.", "", BLOCK.sub("", text), flags=re.M)  # headings' numbers
     quoted = NUMBER.findall(prose)
     assert quoted and [n for n in quoted if abs(float(n)) not in shown] == []
+
+
+# -- the README's figures ------------------------------------------------------------------------
+def test_the_readmes_figure_4_example_prints_what_the_readme_quotes(tmp_path, monkeypatch, capsys):
+    """The sliding-beams example's printed stiffness, the analytic value beside it and their
+    difference, as README.md quotes them."""
+    from sliders.sliding_beams.exact import sliding_beams
+
+    monkeypatch.chdir(tmp_path)  # the example writes sliding_beams.vtu
+    text = (ROOT / "README.md").read_text()
+    (block,) = [b for b in re.findall(r"```python\n(.*?)```", text, re.S) if "k L^3" in b]
+    exec(compile(block, "README.md", "exec"), {})
+    printed = capsys.readouterr().out.strip()
+    quote = re.search(
+        r"It prints `(k L\^3 / EJ = ([\d.]+))`\. .*? is\s+([\d.]+), ([\d.]+) % below", text, re.S
+    )
+    assert quote is not None
+    assert printed == quote[1]
+    ours = float(quote[2])
+    exact = sliding_beams(0.18, 0.6, 4.1e4, 1.1e8, "spherical")["k_norm"]
+    assert quote[3] == f"{exact:.4f}"
+    assert quote[4] == f"{100 * (ours / exact - 1):.2f}"
