@@ -138,13 +138,16 @@ FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
 
 
 def run_command(line: str) -> str:
-    """``fvslider ...`` run in this process; its stdout and stderr."""
-    argv = shlex.split(line)
+    """``fvslider ...`` run in this process; its stdout and stderr.  The exit code is 0, or
+    the one a trailing ``# exit code N`` states."""
+    command, _, comment = line.partition("#")
+    argv = shlex.split(command)
     assert argv[0] == "fvslider", line
+    stated = re.fullmatch(r"\s*exit code (\d+)\s*", comment)
     out = io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(out):
         code = cli.main(argv[1:])
-    assert code == 0, f"{line}: exit {code}\n{out.getvalue()}"
+    assert code == (int(stated[1]) if stated else 0), f"{line}: exit {code}\n{out.getvalue()}"
     return out.getvalue()
 
 
