@@ -76,7 +76,7 @@ BOUNDS = {
     "spherical": ((1, 0.07, 0.07), (3, 0.02, 0.011), (5, 0.02, 0.011)),
     "classical": ((1, 0.07, 0.07), (3, 0.025, 0.015), (5, 0.025, 0.015)),
 }
-#: Issue 13's target for the cubic element with 3 elements per beam, both slider kinds.
+#: The target for the cubic element with 3 elements per beam, both slider kinds.
 CUBIC_TARGET = 0.002
 
 

@@ -1,6 +1,6 @@
 """Figure 7 of the paper: a telescopic nose landing gear drop with spin-up and spring-back.
 
-The gear of issue 14 (:mod:`sliders.gear.model`, ``docs/landing_gear.md``): a 300 kg airframe
+The gear (:mod:`sliders.gear.model`, ``docs/landing_gear.md``): a 300 kg airframe
 touching down at 2.8 m/s sink and 40 m/s forward speed on a vertical strut of two tubes joined
 by two sliders (the paper's Figures 3-5), an oleo-pneumatic strut, a 12 kg axle and a wheel
 spun up by the ground.  Models ``rigid`` (the tubes' section scaled by 1e5), ``fv3-1``,

@@ -78,7 +78,7 @@ STATES = (
 )
 #: Typical size of each state, the scale of its absolute tolerance (``atol = rtol * SCALE``).
 SCALE = np.array([10.0, 1.0, 0.1, 40.0, 3.0, 3.0, 180.0, 1e3, 1e3, 1e3, 1e3])
-#: Spin-up: the wheel reaches this fraction of the rolling speed u / R0 (issue 14).
+#: Spin-up: the wheel reaches this fraction of the rolling speed u / R0.
 SPIN_UP = gear_outputs.SPIN_UP
 
 
@@ -196,7 +196,7 @@ def initial_stroke(gear: Gear) -> float:
 
 
 def initial_state(gear: Gear) -> np.ndarray:
-    """Touchdown (issue 14): the axle at ``z = R0`` (tyre just touching), everything sinking
+    """Touchdown: the axle at ``z = R0`` (tyre just touching), everything sinking
     at ``sink`` and moving forward at ``forward``, the wheel still, the strut on its
     extension stop in static balance (:func:`initial_stroke`)."""
     S0 = initial_stroke(gear)

@@ -1,7 +1,8 @@
 """The docs speak to users about the project as it is, and what they show is what it does.
 
-- README.md, docs/*.md, the shipped scenes they show and every ``--help`` of the command cite
-  no issue numbers, speak of no sessions, and name no path outside the repository;
+- README.md, docs/*.md, the shipped scenes they show, the study scripts and every ``--help``
+  of the command cite no issue numbers, speak of no sessions, and name no path outside the
+  repository;
 - the command tables of README.md and docs/scenes.md are the parser's: each command's usage
   and its sentence (``sliders.app.cli.COMMANDS``), which ``fvslider --help`` lists and
   ``fvslider COMMAND --help`` states; every example of the help parses;
@@ -27,6 +28,8 @@ from sliders.app import cli
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 SCENES = sorted((ROOT / "studies" / "scenes").glob("*.toml"))
+#: The studies' scripts: their docstrings are their ``--help`` and ``fvslider studies``' lines.
+STUDIES = sorted((ROOT / "studies").glob("*.py"))
 TUTORIAL = ROOT / "docs" / "tutorial.md"
 COMMAND_TABLES = [ROOT / "README.md", ROOT / "docs" / "scenes.md"]
 
@@ -40,10 +43,15 @@ OUTSIDE = re.compile(r"(?<![\w.)\]~-])(?:\.\./[\w.-]|/[A-Za-z_][\w.-]*/[\w.-])")
 
 
 def helps() -> dict[str, str]:
-    """Every help text of the command: ``fvslider --help`` and each ``fvslider NAME --help``."""
+    """Every help text of the command: ``fvslider --help``, each ``fvslider NAME --help`` and
+    the list of studies, ``fvslider studies``."""
     texts = {"fvslider --help": cli._parser().format_help()}
     for name, parser in subparsers().items():
         texts[f"fvslider {name} --help"] = parser.format_help()
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        cli.main(["studies"])
+    texts["fvslider studies"] = out.getvalue()
     return texts
 
 
@@ -57,9 +65,9 @@ def words(text: str) -> str:
 
 
 def texts() -> list[tuple[str, str]]:
-    """(name, text) of every doc, shipped scene and help."""
+    """(name, text) of every doc, shipped scene, study script and help."""
     return [
-        *((str(p.relative_to(ROOT)), p.read_text()) for p in DOCS + SCENES),
+        *((str(p.relative_to(ROOT)), p.read_text()) for p in DOCS + SCENES + STUDIES),
         *helps().items(),
     ]
 
@@ -71,6 +79,18 @@ def test_no_issue_numbers_sessions_or_paths_outside_the_repository(pattern):
         for name, text in texts()
         for number, line in enumerate(text.splitlines(), 1)
         if pattern.search(line)
+    ]
+    assert not found, "\n".join(found)
+
+
+def test_the_library_names_no_path_outside_the_repository():
+    """The docstrings and comments of ``fvbeam`` and ``sliders`` (``help()`` shows them)."""
+    found = [
+        f"{path.relative_to(ROOT)}:{number}: {line.strip()}"
+        for package in ("fvbeam", "sliders")
+        for path in sorted((ROOT / package).rglob("*.py"))
+        for number, line in enumerate(path.read_text().splitlines(), 1)
+        if OUTSIDE.search(line)
     ]
     assert not found, "\n".join(found)
 
