@@ -83,6 +83,26 @@ def test_no_issue_numbers_sessions_or_paths_outside_the_repository(pattern):
     assert not found, "\n".join(found)
 
 
+#: A repository path in the docs' text (``docs/scenes.md``, ``sliders/app/cli.py``).
+REPOSITORY_PATH = re.compile(r"(?<![\w./-])((?:fvbeam|sliders|studies|tests|docs)/[\w./-]*\w)")
+
+
+def test_every_repository_path_and_link_of_the_docs_exists():
+    missing = [
+        f"{doc.relative_to(ROOT)}: {path}"
+        for doc in DOCS
+        for path in REPOSITORY_PATH.findall(doc.read_text())
+        if not (ROOT / path).exists()
+    ]
+    missing += [
+        f"{doc.relative_to(ROOT)}: {link}"
+        for doc in DOCS
+        for link in re.findall(r"\]\(([\w./-]+\.md)(?:#[\w-]*)?\)", doc.read_text())
+        if not (doc.parent / link).exists()
+    ]
+    assert not missing, "\n".join(missing)
+
+
 def test_the_library_names_no_path_outside_the_repository():
     """The docstrings and comments of ``fvbeam`` and ``sliders`` (``help()`` shows them)."""
     found = [
