@@ -1,6 +1,6 @@
 """Benchmark of the main sliding-beams sweep (Figures 4-5), merged into ``results/bench.json``.
 
-Times the sweep the issue names: both slider kinds, fv3 with 1, 3 and 5 elements per beam,
+Times the main sweep: both slider kinds, fv3 with 1, 3 and 5 elements per beam,
 96 piston positions s/L = 0, 0.01, ..., 0.95, no smearing, on the condensed back end.  Three
 ways of running the positions:
 

@@ -132,7 +132,7 @@ def write_rows(path: Path, rows: list[dict], columns: tuple[str, ...]) -> None:
 
 
 def write_csv(runs: dict[str, GearRun], path: Path) -> None:
-    """The issue's columns, every step of every model."""
+    """The study's columns, every step of every model."""
 
     def write(tmp: Path) -> None:
         with open(tmp, "w", newline="") as f:

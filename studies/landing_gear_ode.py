@@ -29,7 +29,7 @@ with the strut force ``F_s(S, S')``, the tyre's ``F_z(d, d')`` (``d = R0 - z_u``
 ``F_f = -mu_b N tanh(S' / v_eps)``, ``N = |R_top| + |R_bot|`` when friction is on.
 
 Run as ``python -m studies.landing_gear_ode --out DIR``: writes ``DIR/landing_gear_ode.csv``
-(the issue's columns for ``rigid-ode`` and ``rigid-ode-friction``), ``DIR/landing_gear_ode_
+(the Figure 7 study's columns for ``rigid-ode`` and ``rigid-ode-friction``), ``DIR/landing_gear_ode_
 summary.csv`` (peaks with their times, spin-up, lift-off, friction) and
 ``DIR/landing_gear_ode_convergence.csv`` (the figures against rtol and method), and prints
 them.
@@ -60,7 +60,7 @@ from sliders.forces.laws import (
 from sliders.gear import outputs as gear_outputs
 from sliders.gear.parameters import ISSUE_14, Gear
 
-#: The issue's output columns (Figure 7 study), in order.
+#: The output columns of the Figure 7 study, in order.
 COLUMNS = ("model", "t", *gear_outputs.COLUMNS)
 #: State names, in the order of ``y``.
 STATES = (
@@ -236,7 +236,7 @@ class Run:
         return self.solution.sol(np.asarray(t, dtype=float))
 
     def outputs(self, t: np.ndarray) -> dict[str, np.ndarray]:
-        """At times ``t``: the issue's output columns (slider loads as magnitudes), then the
+        """At times ``t``: the Figure 7 study's columns (slider loads as magnitudes), then the
         bearings' normal force ``|R_top| + |R_bot|``, its friction ``mu_b N`` (what the
         post-processing takes) and the friction force in the dynamics (zero without)."""
         y = self.y(t)

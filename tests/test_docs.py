@@ -33,8 +33,8 @@ STUDIES = sorted((ROOT / "studies").glob("*.py"))
 TUTORIAL = ROOT / "docs" / "tutorial.md"
 COMMAND_TABLES = [ROOT / "README.md", ROOT / "docs" / "scenes.md"]
 
-#: An issue or pull request cited by number: "issue 13", "issues 4 and 13", "#13".
-ISSUE = re.compile(r"\bissues?\s+#?\d|(?<![\w&/])#\d+\b", re.I)
+#: An issue or pull request cited: "issue 13", "issues 4 and 13", "#13", "the issue's".
+ISSUE = re.compile(r"\bissues?\s+#?\d|(?<![\w&/])#\d+\b|\bthe issue\b", re.I)
 #: Development-history words: a session, a branch or a change as the text's "now".
 HISTORY = re.compile(r"\bsessions?\b|\bthis (?:branch|change)\b", re.I)
 #: A path leaving the repository: one that climbs out of it (``../x``) or an absolute path of
@@ -115,7 +115,9 @@ def test_the_library_names_no_path_outside_the_repository():
     assert not found, "\n".join(found)
 
 
-@pytest.mark.parametrize("line", ["see issue 13", "issues 4 and 13", "(#12)", "Issue 14's"])
+@pytest.mark.parametrize(
+    "line", ["see issue 13", "issues 4 and 13", "(#12)", "Issue 14's", "the issue's 1 s"]
+)
 def test_the_issue_pattern_finds_citations(line):
     assert ISSUE.search(line)
 
