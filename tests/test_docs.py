@@ -260,3 +260,11 @@ def test_the_readmes_figure_4_example_prints_what_the_readme_quotes(tmp_path, mo
     exact = sliding_beams(0.18, 0.6, 4.1e4, 1.1e8, "spherical")["k_norm"]
     assert quote[3] == f"{exact:.4f}"
     assert quote[4] == f"{100 * (ours / exact - 1):.2f}"
+
+
+def test_the_readme_names_the_figures_reproduce_runs():
+    """``make demo`` runs ``fvslider reproduce``: the figures README.md says it reproduces
+    are those of the registered studies and their aliases (``fig5``, drawn by ``fig4``)."""
+    (listed,) = re.findall(r"reproduces Figures ([\d, ]+) into", (ROOT / "README.md").read_text())
+    figures = [*cli.registered_studies(), *cli.ALIASES]
+    assert sorted(int(n) for n in listed.split(",")) == sorted(int(f[3:]) for f in figures)
