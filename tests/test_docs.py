@@ -152,7 +152,11 @@ def table_rows(doc: Path) -> dict[str, tuple[str, str]]:
 
 @pytest.mark.parametrize("doc", COMMAND_TABLES, ids=lambda p: p.name)
 def test_the_docs_command_table_is_the_parsers(doc):
-    assert table_rows(doc) == parser_rows()
+    expected = "\n".join(
+        f"| `{usage.replace('|', chr(92) + '|')}` | {sentence} |"
+        for usage, sentence in parser_rows().values()
+    )
+    assert table_rows(doc) == parser_rows(), f"the table's rows should read:\n{expected}"
 
 
 def test_every_help_states_its_commands_sentence():
