@@ -272,3 +272,8 @@ def test_the_readme_names_the_figures_reproduce_runs():
     (listed,) = re.findall(r"reproduces Figures ([\d, ]+) into", (ROOT / "README.md").read_text())
     figures = [*cli.registered_studies(), *cli.ALIASES]
     assert sorted(int(n) for n in listed.split(",")) == sorted(int(f[3:]) for f in figures)
+
+
+def test_the_readme_names_every_doc():
+    text = (ROOT / "README.md").read_text()
+    assert [d.name for d in DOCS[1:] if f"`{d.name}`" not in text] == []
