@@ -266,12 +266,16 @@ def test_the_readmes_figure_4_example_prints_what_the_readme_quotes(tmp_path, mo
     assert quote[4] == f"{100 * (ours / exact - 1):.2f}"
 
 
-def test_the_readme_names_the_figures_reproduce_runs():
-    """``make demo`` runs ``fvslider reproduce``: the figures README.md says it reproduces
-    are those of the registered studies and their aliases (``fig5``, drawn by ``fig4``)."""
+def test_the_docs_name_the_figures_reproduce_runs():
+    """``make demo`` runs ``fvslider reproduce``: the figures README.md says it reproduces, and
+    those docs/scenes.md says it runs, are the registered studies and their aliases
+    (``fig5``, drawn by ``fig4``)."""
     (listed,) = re.findall(r"reproduces Figures ([\d, ]+) into", (ROOT / "README.md").read_text())
     figures = [*cli.registered_studies(), *cli.ALIASES]
     assert sorted(int(n) for n in listed.split(",")) == sorted(int(f[3:]) for f in figures)
+    scenes = (ROOT / "docs" / "scenes.md").read_text()
+    (sentence,) = re.findall(r"`reproduce` runs the figures `FIG` named (.*?) or all", scenes, re.S)
+    assert sorted(re.findall(r"`(fig\d+)`", sentence)) == sorted(figures)
 
 
 def test_the_readme_names_every_doc():
