@@ -13,8 +13,8 @@ offset centre of mass is not modelled (the section has no such offset).
     centroid offset (end regions) and its own length inertia ``m l^2 / 12`` about the
     transverse axes are **not** added.  That inertia is the translational mass spread along the
     region, which the translations of the neighbouring nodes already represent; adding it
-    counts it twice, an O(h^2) spurious rotary inertia (the reference implementation's tests
-    add it to their nodal bodies, ``../shared/notes/mbdyn-beam-slider.md`` Sec. 3).
+    counts it twice, an O(h^2) spurious rotary inertia (the tests of the reference
+    implementation, MBDyn's ``beam slider``, add it to their nodal bodies).
     Galerkin: ``phi_a`` is the shape function ``N_a``, which is the block row sum of the
     consistent matrix (``sum_b N_b = 1``); for P2 the weights ``1/6, 2/3, 1/6`` of Simpson's
     rule are positive.  Cubic: ``phi_a`` is the linear ``N_a`` of its two nodes (half the

@@ -4,7 +4,7 @@ A :class:`BeamMesh` is one beam: an ordered chain of 2-node (``line``) or 3-node
 elements.  Nodes are stored in the order scikit-fem numbers its degrees of freedom on a
 ``MeshLine1``: the element end nodes (vertices) along the beam first, then, for 3-node elements,
 one mid node per element.  The 3-D centreline stays here; scikit-fem only sees the arc-length
-coordinate (``vertex_s``), see ``../shared/notes`` and ``docs/architecture.md``.
+coordinate (``vertex_s``), see ``docs/architecture.md``.
 """
 
 from __future__ import annotations

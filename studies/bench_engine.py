@@ -1,4 +1,4 @@
-"""Benchmarks of the compiled Newton step on the paths issue 13 names, merged into
+"""Benchmarks of the compiled Newton step on every solve path, merged into
 ``results/bench.json`` (key ``engine``).
 
 ``static_solve``

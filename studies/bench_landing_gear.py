@@ -1,4 +1,4 @@
-"""Benchmark of the landing-gear drop (issue 14), merged into ``results/bench.json``.
+"""Benchmark of the landing-gear drop, merged into ``results/bench.json``.
 
 ``landing_gear``
     The ``fv3-5`` model of the Figure 7 study (:mod:`sliders.gear.model`: classical sliders,
@@ -8,7 +8,7 @@
     reference: there it is timed (``time.perf_counter`` around
     :meth:`sliders.solve.dynamics.Dynamics.run`, recorder included; the model's build, its
     mode and its touchdown state apart, as ``setup_s``), median and minimum of the repeats
-    against the issue's target of 1 s.  Then the mesh: ``fv3-1`` to ``fv3-20`` at the bench
+    against its target of 1 s.  Then the mesh: ``fv3-1`` to ``fv3-20`` at the bench
     step against ``fv3-20``.
 
 Run as ``python -m studies.bench_landing_gear --out results/bench.json`` (``make bench``;
@@ -30,7 +30,7 @@ from .bench import environment, read_existing, summary, write_merged
 
 KEY = "landing_gear"
 MODEL = "fv3-5"
-#: The issue's target for the 0.3 s run of ``fv3-5`` [s].
+#: The target for the 0.3 s run of ``fv3-5`` [s].
 TARGET = 1.0
 #: The peak loads that the bench step must converge to 1 %, and the events reported beside.
 LOADS = (

@@ -1,6 +1,6 @@
 """Benchmark of the main sliding-beams sweep (Figures 4-5), merged into ``results/bench.json``.
 
-Times the sweep the issue names: both slider kinds, fv3 with 1, 3 and 5 elements per beam,
+Times the main sweep: both slider kinds, fv3 with 1, 3 and 5 elements per beam,
 96 piston positions s/L = 0, 0.01, ..., 0.95, no smearing, on the condensed back end.  Three
 ways of running the positions:
 
@@ -41,8 +41,8 @@ converged position, the singular positions, and the largest error against the an
 two-beam stiffness; times are wall clock (``seconds``) and this process's CPU time
 (``cpu_seconds``: less inflated than the wall clock by other jobs on the cores).
 ``main_sweep`` sums the batched rows (with and without the setup); ``general_path`` sums the
-continuation rows, the same 576 positions through the general path (issue 13's target for
-it: 0.1 s).
+continuation rows, the same 576 positions through the general path (its target:
+0.1 s).
 ``--profile N`` prints the N most expensive functions (cProfile, cumulative time) of the
 main sweep.  An interruption (Ctrl-C) keeps and writes the rows completed so far, marked
 ``interrupted``.  Run with ``OPENBLAS_NUM_THREADS=1`` (``docs/sliders.md``, "Cost").

@@ -1,6 +1,6 @@
 """Figure 2 of the paper: a body crossing an evaluation point, with increasing smearing.
 
-The scene (issue 4; the paper's Sec. 5.4 paragraph on Figure 2 gives no numbers, so this is
+The scene (the paper's Sec. 5.4 paragraph on Figure 2 gives no numbers, so this is
 its definition): one fv3 element of length ``L = 1`` along x, clamped at 0, ``EJ = GA = 1``
 (``EA = 1e3``, ``GJ = 1``: no role in this planar bending), linear kinematics, mass per length
 ``m = 1`` lumped over the fv regions (``docs/dynamics.md``) and a small rotary inertia
@@ -21,7 +21,7 @@ Smearing levels, as fractions of the element length: 0, 1 %, 5 %, 10 %, 20 % of 
 *total width* of the smearing, so the slider's box kernel (:mod:`fvbeam.smearing`) has the
 half-width ``fraction L / 2``.  This is the reference implementation's ``smearing, dL``: a
 linear ramp of the nodal shares over ``|s - s*| < dL`` in natural coordinates (the element
-spans 2 natural units), i.e. over ``dL L`` of arc length (``../shared/notes``; its example
+spans 2 natural units), i.e. over ``dL L`` of arc length (MBDyn's ``beam slider``; its test
 value 0.01 is the paper's 1 %).  With this reading every level starts with the whole load on
 the mid node's region and ends with it on the tip node's.
 

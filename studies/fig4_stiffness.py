@@ -76,7 +76,7 @@ BOUNDS = {
     "spherical": ((1, 0.07, 0.07), (3, 0.02, 0.011), (5, 0.02, 0.011)),
     "classical": ((1, 0.07, 0.07), (3, 0.025, 0.015), (5, 0.025, 0.015)),
 }
-#: Issue 13's target for the cubic element with 3 elements per beam, both slider kinds.
+#: The target for the cubic element with 3 elements per beam, both slider kinds.
 CUBIC_TARGET = 0.002
 
 
@@ -202,7 +202,7 @@ def max_errors(rows: list[dict]) -> list[tuple[str, float, str]]:
     """Largest |rel_error| of fv3 (smearing 0) on [0, 0.95] and on [0, 0.8], one
     ``(case, error, reference)`` per slider kind, mesh and range, the reference being the
     paper's bound (and the stations where the configuration is singular, if any); then the
-    cubic element's on [0, 0.95] against issue 13's target (when the rows hold it)."""
+    cubic element's on [0, 0.95] against its target (when the rows hold it)."""
 
     def errors(kind: str, formulation: str, n: int) -> tuple[np.ndarray, np.ndarray]:
         pick = unsmeared(rows, kind, formulation, n)
@@ -232,7 +232,7 @@ def max_errors(rows: list[dict]) -> list[tuple[str, float, str]]:
                     (
                         f"{kind} cubic n={n}, s/L in [0, 0.95]",
                         float(np.nanmax(err)),
-                        f"issue 13: <= {CUBIC_TARGET} with 3 elements",
+                        f"target: <= {CUBIC_TARGET} with 3 elements",
                     )
                 )
     return out

@@ -1,6 +1,6 @@
 """Figure 7 of the paper: a telescopic nose landing gear drop with spin-up and spring-back.
 
-The gear of issue 14 (:mod:`sliders.gear.model`, ``docs/landing_gear.md``): a 300 kg airframe
+The gear (:mod:`sliders.gear.model`, ``docs/landing_gear.md``): a 300 kg airframe
 touching down at 2.8 m/s sink and 40 m/s forward speed on a vertical strut of two tubes joined
 by two sliders (the paper's Figures 3-5), an oleo-pneumatic strut, a 12 kg axle and a wheel
 spun up by the ground.  Models ``rigid`` (the tubes' section scaled by 1e5), ``fv3-1``,
@@ -132,7 +132,7 @@ def write_rows(path: Path, rows: list[dict], columns: tuple[str, ...]) -> None:
 
 
 def write_csv(runs: dict[str, GearRun], path: Path) -> None:
-    """The issue's columns, every step of every model."""
+    """The study's columns, every step of every model."""
 
     def write(tmp: Path) -> None:
         with open(tmp, "w", newline="") as f:
@@ -224,7 +224,7 @@ def render_spin_up(run: GearRun, path: Path, slider: str = "classical") -> str:
 
 def against(runs: dict[str, GearRun], summaries: dict[str, dict]) -> list[tuple[str, float, str]]:
     """The study's checks (``fvslider reproduce``'s table): the rigid model against its ODEs
-    (issue 14: 1e-3), the peak vertical load against the paper's 13 kN, the spread of the
+    (target 1e-3), the peak vertical load against the paper's 13 kN, the spread of the
     flexible models' peaks (the paper: practically indistinguishable) and the friction
     fraction against the paper's 8-10 %."""
     rows: list[tuple[str, float, str]] = []
@@ -238,14 +238,14 @@ def against(runs: dict[str, GearRun], summaries: dict[str, dict]) -> list[tuple[
                 (
                     f"rigid vs ODE: peak {name}",
                     abs(abs(float(ours[name])) / abs(reference[name]) - 1),
-                    "issue 14: <= 1e-3",
+                    "target: <= 1e-3",
                 )
             )
         rows.append(
             (
                 "rigid vs ODE: spin-up time",
                 abs(float(ours["spin_up_time"]) / reference["spin_up_time"] - 1),
-                "issue 14: <= 1e-3",
+                "target: <= 1e-3",
             )
         )
     flexible = [summaries[m] for m in MODELS[1:] if m in summaries]

@@ -1,4 +1,4 @@
-"""The rigid landing gear of issue 14 as ordinary differential equations (``solve_ivp``).
+"""The rigid landing gear as ordinary differential equations (``solve_ivp``).
 
 An independent reference for the ``rigid`` model of the Figure 7 study: the same strut, tyre
 and masses, a rigid vertical leg, integrated by scipy's Radau (or LSODA) at tight tolerances.
@@ -29,7 +29,7 @@ with the strut force ``F_s(S, S')``, the tyre's ``F_z(d, d')`` (``d = R0 - z_u``
 ``F_f = -mu_b N tanh(S' / v_eps)``, ``N = |R_top| + |R_bot|`` when friction is on.
 
 Run as ``python -m studies.landing_gear_ode --out DIR``: writes ``DIR/landing_gear_ode.csv``
-(the issue's columns for ``rigid-ode`` and ``rigid-ode-friction``), ``DIR/landing_gear_ode_
+(the Figure 7 study's columns for ``rigid-ode`` and ``rigid-ode-friction``), ``DIR/landing_gear_ode_
 summary.csv`` (peaks with their times, spin-up, lift-off, friction) and
 ``DIR/landing_gear_ode_convergence.csv`` (the figures against rtol and method), and prints
 them.
@@ -60,7 +60,7 @@ from sliders.forces.laws import (
 from sliders.gear import outputs as gear_outputs
 from sliders.gear.parameters import ISSUE_14, Gear
 
-#: The issue's output columns (Figure 7 study), in order.
+#: The output columns of the Figure 7 study, in order.
 COLUMNS = ("model", "t", *gear_outputs.COLUMNS)
 #: State names, in the order of ``y``.
 STATES = (
@@ -78,7 +78,7 @@ STATES = (
 )
 #: Typical size of each state, the scale of its absolute tolerance (``atol = rtol * SCALE``).
 SCALE = np.array([10.0, 1.0, 0.1, 40.0, 3.0, 3.0, 180.0, 1e3, 1e3, 1e3, 1e3])
-#: Spin-up: the wheel reaches this fraction of the rolling speed u / R0 (issue 14).
+#: Spin-up: the wheel reaches this fraction of the rolling speed u / R0.
 SPIN_UP = gear_outputs.SPIN_UP
 
 
@@ -196,7 +196,7 @@ def initial_stroke(gear: Gear) -> float:
 
 
 def initial_state(gear: Gear) -> np.ndarray:
-    """Touchdown (issue 14): the axle at ``z = R0`` (tyre just touching), everything sinking
+    """Touchdown: the axle at ``z = R0`` (tyre just touching), everything sinking
     at ``sink`` and moving forward at ``forward``, the wheel still, the strut on its
     extension stop in static balance (:func:`initial_stroke`)."""
     S0 = initial_stroke(gear)
@@ -236,7 +236,7 @@ class Run:
         return self.solution.sol(np.asarray(t, dtype=float))
 
     def outputs(self, t: np.ndarray) -> dict[str, np.ndarray]:
-        """At times ``t``: the issue's output columns (slider loads as magnitudes), then the
+        """At times ``t``: the Figure 7 study's columns (slider loads as magnitudes), then the
         bearings' normal force ``|R_top| + |R_bot|``, its friction ``mu_b N`` (what the
         post-processing takes) and the friction force in the dynamics (zero without)."""
         y = self.y(t)

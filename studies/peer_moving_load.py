@@ -1,4 +1,4 @@
-"""The peer: the work-precision moving load in Exudyn, on ANCF cable elements (issue 13).
+"""The peer: the work-precision moving load in Exudyn, on ANCF cable elements.
 
 The problem of :mod:`studies.work_precision`'s ``euler-bernoulli`` case: a simply supported
 beam, ``L = 1``, ``EJ = 1e4``, mass 10 per length, ``F = 100`` crossing at half the critical

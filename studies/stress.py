@@ -1,4 +1,4 @@
-"""Stress tests of the dynamics of a body sliding on a chain of beams (issue 4).
+"""Stress tests of the dynamics of a body sliding on a chain of beams.
 
 The model: five straight fv3 beams of length ``L = 1`` (two elements each, element length
 ``h_e = 1/2``) joined end to start along x into a chain of length ``L_c = 5``, clamped at both

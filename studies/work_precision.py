@@ -1,4 +1,4 @@
-"""Work-precision: run time against error, one Pareto front per formulation (issue 13, item 5).
+"""Work-precision: run time against error, one Pareto front per formulation.
 
 Three studies, each a grid of runs; every run gives one row (:data:`COLUMNS`):
 

@@ -41,21 +41,34 @@ examples:
   fvslider run studies/scenes/fig4_sliding_beams.toml --out results/sliding_beams
   fvslider run studies/scenes/pushed_body.toml --resume results/pushed_body   # after a kill
   fvslider studies
-  fvslider reproduce fig1
-  fvslider reproduce               # Figures 1, 4, 5 into results/ (under a minute)
-  fvslider reproduce fig2          # Figure 2, three time integrations (about 10 minutes)
+  fvslider reproduce               # every figure study into results/
+  fvslider reproduce fig1 --out out
   fvslider compile                 # compile the numba kernels once (make does it)
 
-scenes are documented in docs/scenes.md; exit codes: 0 ok, 1 a solve failed,
-2 invalid scene or arguments, or a file that cannot be read or written (nothing is
-written), 130 interrupted (Ctrl-C keeps what was computed)
+scenes are documented in docs/scenes.md, a first one in docs/tutorial.md; exit codes:
+0 ok, 1 a solve failed, 2 invalid scene or arguments, or a file that cannot be read or
+written (nothing is written), 130 interrupted (Ctrl-C keeps what was computed)
 """
+
+#: What each command does, in one sentence: its line in ``fvslider --help``, the description
+#: of its own ``--help`` and its row of the command tables of README.md and docs/scenes.md
+#: (``tests/test_docs.py`` holds them equal).
+COMMANDS = {
+    "check": "everything run does but solving: validate the scene, open the files it names, "
+    "check the output directory",
+    "run": "validate a scene, solve its study, write its results (CSV tables, and the VTU "
+    "states and renders the scene asks for) into the output directory",
+    "studies": "list the paper's figure studies",
+    "reproduce": "run the paper's figure studies (all of them by default), write their CSV "
+    "tables and plots, print their errors against their references",
+    "compile": "compile the numba kernels into their cache (make does it after installing; "
+    "else the first solve does it)",
+}
 
 #: Entry-point group in which the figure studies register their modules (``pyproject.toml``):
 #: the library finds them by name and never imports them itself.
 STUDY_GROUP = "fvslider.studies"
-#: Studies that ``reproduce`` runs only when named: Figure 2 integrates 3 x 5 crossings of
-#: 4000 steps each (about 10 minutes).
+#: Figure names drawn by another figure's study.
 ALIASES = {"fig5": "fig4"}
 
 
@@ -281,14 +294,18 @@ def _parser(named: bool = True) -> argparse.ArgumentParser:
     commands = parser.add_subparsers(title="commands", required=True, metavar="COMMAND")
     run = commands.add_parser(
         "run",
-        help="validate a scene, solve its study, write its CSV tables",
+        help=COMMANDS["run"],
+        description=COMMANDS["run"],
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     run.add_argument("scene", type=Path, metavar="SCENE.toml")
     where = run.add_mutually_exclusive_group()
     where.add_argument(
-        "--out", type=Path, help="output directory, replaced whole (default results/SCENE)"
+        "--out",
+        type=Path,
+        metavar="DIR",
+        help="output directory, replaced whole (default results/SCENE)",
     )
     where.add_argument(
         "--resume",
@@ -297,21 +314,21 @@ def _parser(named: bool = True) -> argparse.ArgumentParser:
         help="go on with the dynamic run into DIR from its last checkpoint (DIR.checkpoint)",
     )
     run.set_defaults(command=_run)
-    check = commands.add_parser(
-        "check",
-        help="everything run does but solving: validate the scene, open the files it "
-        "names, check the output directory",
-    )
+    check = commands.add_parser("check", help=COMMANDS["check"], description=COMMANDS["check"])
     check.add_argument("scene", type=Path, metavar="SCENE.toml")
     check.add_argument(
-        "--out", type=Path, help="the output directory run would write (default results/SCENE)"
+        "--out",
+        type=Path,
+        metavar="DIR",
+        help="the output directory run would write (default results/SCENE)",
     )
     check.set_defaults(command=_check)
-    studies = commands.add_parser("studies", help="list the paper's figure studies")
+    studies = commands.add_parser(
+        "studies", help=COMMANDS["studies"], description=COMMANDS["studies"]
+    )
     studies.set_defaults(command=_studies)
     reproduce = commands.add_parser(
-        "reproduce",
-        help="run the paper's figure studies and print their errors against the closed forms",
+        "reproduce", help=COMMANDS["reproduce"], description=COMMANDS["reproduce"]
     )
     reproduce.add_argument(
         "figures",
@@ -321,14 +338,15 @@ def _parser(named: bool = True) -> argparse.ArgumentParser:
         help=f"{figures} (default: all)",
     )
     reproduce.add_argument(
-        "--out", type=Path, default=Path("results"), help="output directory (default results/)"
+        "--out",
+        type=Path,
+        default=Path("results"),
+        metavar="DIR",
+        help="output directory (default results/)",
     )
     reproduce.set_defaults(command=_reproduce)
     compile_ = commands.add_parser(
-        "compile",
-        help="compile the numba kernels into their "
-        "cache (make does it after installing; else the first "
-        "solve does it, about half a minute)",
+        "compile", help=COMMANDS["compile"], description=COMMANDS["compile"]
     )
     compile_.set_defaults(command=_compile)
     return parser

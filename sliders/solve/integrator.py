@@ -16,7 +16,7 @@ with, for a spectral radius at infinity ``rho_inf`` in [0, 1],
 ``gamma = 1/2 + alpha_f - alpha_m``, ``beta = (gamma + 1/2)^2 / 4``: second order, unconditionally
 stable on linear problems, no dissipation at ``rho_inf = 1`` (the trapezoidal rule) and
 asymptotic annihilation at 0.  Why this one rather than the reference implementation's
-multistep family (``../shared/notes/mbdyn-beam-slider.md`` Sec. 4): it is one-step, so a step
+multistep family (MBDyn's): it is one-step, so a step
 size change or a restart needs no history and no start-up step (MBDyn's first step is
 Crank-Nicolson), and its Newton matrix ``M + c_v C + c_q K`` keeps the shape of the static one.
 
