@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -41,12 +41,16 @@ class Section:
         matrix), as a scene's ``inertia``.
     name
         Label used in error messages.
+    shape
+        The cross-section's shape (:mod:`fvbeam.shapes`) when the section was built from it
+        (:meth:`from_shape`), for drawing; None when it is given by its numbers.
     """
 
     stiffness: np.ndarray
     mass_per_length: float = 0.0
     inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
     name: str = "section"
+    shape: Shape | None = None
 
     def __post_init__(self) -> None:
         K = np.array(self.stiffness, dtype=float)
@@ -93,7 +97,7 @@ class Section:
         return cls(stiffness, mass_per_length, inertia3(inertia, f"{name}: inertia"), name)
 
     @classmethod
-    def from_shape(cls, material: "Material", shape: "Shape", name: str = "section") -> "Section":
+    def from_shape(cls, material: Material, shape: Shape, name: str = "section") -> Section:
         """Uncoupled section of ``material`` and ``shape`` (:mod:`fvbeam.shapes`: the
         formulas and their sources): ``EA = E A``, ``GAy = G A_2``, ``GAz = G A_3`` (shear
         areas with Cowper's coefficients), ``GJ = G K`` (torsion constant), ``EJy = E I_2``,
@@ -112,7 +116,7 @@ class Section:
         A, K = shape.area(), shape.torsion_constant()
         I2, I3 = shape.second_moments()
         A2, A3 = shape.shear_areas(material.poisson)
-        return cls.diagonal(
+        numbers = cls.diagonal(
             E * A,
             G * A2,
             G * A3,
@@ -123,6 +127,7 @@ class Section:
             inertia=(rho * (I2 + I3), rho * I2, rho * I3),
             name=name,
         )
+        return replace(numbers, shape=shape)
 
     def global_stiffness(self, frames: np.ndarray) -> np.ndarray:
         """Stiffness in global axes, ``blockdiag(R, R) C blockdiag(R, R)^T`` (eq. T2).

@@ -249,3 +249,9 @@ def test_the_shipped_tube_cantilever_is_the_closed_form():
     bound = agreement_bound(sample.statics, sample.solution, sample.solution, sample.load)
     got = -sample.solution.q[tip]
     assert abs(got - exact) <= bound[np.searchsorted(sample.statics.free, tip)] + 8 * EPS * exact
+
+
+def test_a_consistent_weight_on_finite_volume_beams_is_named():
+    scene = cantilever({"material": STEEL, "shape": TUBE}, gravity=[0, 0, -9.81], mass="consistent")
+    (problem,) = problems(scene)
+    assert problem.path == "study.mass" and "take the lumped mass only" in problem.message

@@ -203,3 +203,9 @@ def test_no_density_is_a_massless_section():
 def test_bad_material_or_shape_is_named(make, message):
     with pytest.raises(ValueError, match=message):
         make()
+
+
+def test_a_section_keeps_its_shape_for_drawing():
+    shape = Tube(outer=0.06, inner=0.05)
+    assert Section.from_shape(STEEL, shape).shape == shape
+    assert Section.diagonal(1.0, 1.0, 1.0, 1.0, 1.0, 1.0).shape is None
