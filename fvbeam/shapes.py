@@ -26,9 +26,9 @@ Mech. 33 (1966) 335-340, Table 1, from the flexure solution of three-dimensional
   as ``m -> 1``);
 - rectangle ``k = 10 (1 + nu) / (12 + 11 nu)`` in both directions.  Cowper's value ignores
   the anticlastic curvature of a section wider than deep: it holds for a depth (along the
-  shear) at least the width; for a wide, shallow section the true coefficient is lower (for
-  ``nu = 0.3``, a few per cent at width / depth = 2), so the shear stiffness there is an upper
-  bound;
+  shear) at least the width; for a wide, shallow section the true coefficient is lower, the
+  more so the wider (Hutchinson, J. Appl. Mech. 68 (2001) 87-92): the shear stiffness there
+  is too high;
 - thin-walled I-section, shear along the web (``e3``): ``k = 10 (1 + nu) (1 + 3 m)^2 / ((12
   + 72 m + 150 m^2 + 90 m^3) + nu (11 + 66 m + 135 m^2 + 90 m^3) + 30 n^2 (m + m^2) + 5 nu n^2
   (8 m + 9 m^2))``, ``m = 2 b t_f / (h_c t_w)``, ``n = b / h_c``, ``h_c = h - t_f`` the

@@ -320,21 +320,20 @@ class Model:
         self._check_held(problems)
         self._check_velocity_jumps(problems)
         self._check_output(problems)
-        #: The weight of a static study's gravity on the structure (:meth:`_weight`).
+        #: The weight of a static study's gravity on the structure, or None (:meth:`_weight`).
         self.weight = problems.attempt("study.mass", self._weight)
         problems.raise_if_any(source)
         self._previous: SliderStatics | None = None
 
-    def _weight(self) -> np.ndarray:
+    def _weight(self) -> np.ndarray | None:
         """The weight ``M g`` of a static study's (or a sweep's) ``gravity`` with its
         ``mass`` matrix (:func:`fvbeam.mass.weight`; the one a dynamic study with that mass
-        applies; a massless beam weighs nothing), zeros without gravity or in a dynamic study
+        applies; a massless beam weighs nothing); None without gravity or in a dynamic study
         (its time integration adds it).
         A sweep's moved parts keep it: the mass is invariant under translation."""
         study = self.scene.study
-        n = self.structure.n_dofs
         if isinstance(study, DynamicStudy) or study.gravity is None:
-            return np.zeros(n)
+            return None
         return weight(self.structure.mass(study.mass, massless=True), study.gravity)
 
     def _line(self, spec: SliderSpec, structure: Structure) -> BeamChain | RigidLine:
@@ -715,7 +714,8 @@ class Model:
                 )
             else:  # the last point's parts moved: its numbering and checked sliders kept
                 self._previous = self._previous.moved(beams, bodies)
-        return self._previous, self.load_vector(self._previous.structure, value) + self.weight
+        f = self.load_vector(self._previous.structure, value)
+        return self._previous, f if self.weight is None else f + self.weight
 
     def dynamics(self) -> Dynamics:
         """The time integration of a dynamic study's scene."""
