@@ -38,6 +38,7 @@ from typing import Protocol
 
 import numpy as np
 import scipy.sparse as sp
+from numpy.typing import ArrayLike
 from skfem import CellBasis, MeshLine1, asm
 
 from fvbeam import assembly
@@ -80,6 +81,22 @@ def check_kind(beam: MassSource, kind: str) -> None:
             f"{beam.section.mass_per_length:g}; give it a positive mass per length "
             "to assemble a mass matrix"
         )
+
+
+def acceleration(n_dofs: int, g: ArrayLike) -> np.ndarray:
+    """A uniform acceleration ``g`` (a 3-vector) on every node's translations, none on its
+    rotations: a global vector of ``n_dofs`` rows (six per node)."""
+    return np.tile(np.concatenate([np.asarray(g, dtype=float), np.zeros(3)]), n_dofs // 6)
+
+
+def weight(M: sp.spmatrix, g: ArrayLike) -> np.ndarray:
+    """The load of gravity ``g`` on the masses ``M``, ``M a`` with ``a`` the uniform
+    :func:`acceleration`.  A beam's lumped mass gives ``int phi_a m g ds`` at node ``a``: the
+    distributed load ``m g`` on its test functions (finite volume) or shape functions
+    (Galerkin; the cubic element's consistent mass gives its consistent load, end couples
+    included); a rigid body's gives its weight at its centre of mass, a force and its moment
+    about the body's node."""
+    return M @ acceleration(M.shape[0], g)
 
 
 def _section_fields(beam: MassSource, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

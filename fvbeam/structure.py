@@ -291,12 +291,20 @@ class Structure:
             [beam.tangent(q[dofs]) for beam, dofs in zip(self.beams, self.dof_maps, strict=True)]
         )
 
-    def mass(self, kind: str = "lumped") -> sp.csr_matrix:
+    def mass(self, kind: str = "lumped", massless: bool = False) -> sp.csr_matrix:
         """Global mass: the beams' mass matrices (:meth:`Beam.mass`, ``kind`` ``lumped`` or
         ``consistent``) on the global dofs, plus each rigid body's 6x6 mass matrix on its
         node (:meth:`~fvbeam.body.RigidBody.mass_matrix`: a centre of mass off the node
-        couples translations and rotations)."""
-        M = self._scatter([beam.mass(kind) for beam in self.beams])
+        couples translations and rotations).  A beam whose section has no mass is an error
+        (``ValueError`` naming it), or with ``massless`` carries none (a static weight)."""
+        M = self._scatter(
+            [
+                sp.csr_matrix((b.n_dofs, b.n_dofs))
+                if massless and b.section.mass_per_length == 0
+                else b.mass(kind)
+                for b in self.beams
+            ]
+        )
         if not self.bodies:
             return M
         dofs = np.array([self.node_dofs(body.name) for body in self.bodies])

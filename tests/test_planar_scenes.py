@@ -27,6 +27,7 @@ PLANAR = {
     "long_run_probes": "xy",
     "pushed_body": "xy",
     "telescope": "xy",
+    "tube_cantilever": "zx",
 }
 
 

@@ -101,6 +101,7 @@ def reference_problems(scene: Scene) -> list[Problem]:
     names = _Names(scene, problems)
     if not scene.beam and not scene.body:
         problems.add("", "a scene needs at least one [[beam]] or [[body]]")
+    _check_sections(scene, problems)
     _check_beams(scene, names, problems)
     ties_ok = True
     for i, tie in enumerate(scene.tie):
@@ -219,6 +220,47 @@ def _check_forces(scene: Scene, names: _Names, problems: Problems) -> None:
             problems.add(ends[1][0], f"is the element's other node too ({ends[0][0]})", ends[1][1])
 
 
+#: A section's stiffnesses, the form it may take instead of a material and a shape.
+STIFFNESSES = ("EA", "GAy", "GAz", "GJ", "EJy", "EJz")
+
+
+def _check_sections(scene: Scene, problems: Problems) -> None:
+    """Each section given by exactly one of its two forms: the six stiffnesses (with
+    ``mass_per_length`` and ``inertia``), or ``material`` and ``shape`` (which give them)."""
+    for i, section in enumerate(scene.section):
+        path = f"section[{i}]"
+        given = [k for k in STIFFNESSES if getattr(section, k) is not None]
+        geometry = [k for k in ("material", "shape") if getattr(section, k) is not None]
+        if given and geometry:
+            problems.add(
+                path,
+                "give either the six stiffnesses or material and shape, not both (found "
+                f"{', '.join(given + geometry)})",
+            )
+        elif geometry:
+            for key in {"material", "shape"} - set(geometry):
+                problems.add(f"{path}.{key}", f"missing: a section's {geometry[0]} needs its {key}")
+            for key in ("mass_per_length", "inertia"):
+                if getattr(section, key) is not None:
+                    problems.add(
+                        f"{path}.{key}",
+                        "follows from material.density and the shape: leave it out",
+                        getattr(section, key),
+                    )
+        elif given:
+            for key in STIFFNESSES:
+                if key not in given:
+                    problems.add(
+                        f"{path}.{key}",
+                        "missing: give all six stiffnesses, or material and shape instead",
+                    )
+        else:
+            problems.add(
+                path,
+                f"give its six stiffnesses ({', '.join(STIFFNESSES)}), or its material and shape",
+            )
+
+
 def _check_beams(scene: Scene, names: _Names, problems: Problems) -> None:
     for i, beam in enumerate(scene.beam):
         given = [k for k in ("straight", "arc", "mesh") if getattr(beam, k) is not None]
@@ -311,6 +353,12 @@ def _check_study(scene: Scene, names: _Names, problems: Problems) -> None:
         _check_dynamic(scene, study, names, problems)
         _check_start(scene, study, names, problems)
     else:
+        if study.gravity is not None and not _has_mass(scene):
+            problems.add(
+                "study.gravity",
+                "no beam's section and no body has a mass: gravity would weigh nothing",
+                list(study.gravity),
+            )
         for i, body in enumerate(scene.body):
             for key in ("velocity", "angular_velocity"):
                 if getattr(body, key) is not None:
@@ -338,12 +386,7 @@ def _check_study(scene: Scene, names: _Names, problems: Problems) -> None:
 def _check_dynamic(scene: Scene, study: DynamicStudy, names: _Names, problems: Problems) -> None:
     """The drives' references (a slider or dof driven once), their tables, the steps, and
     the mass of every beam's section."""
-    for i, section in enumerate(scene.section):
-        if section.mass_per_length is None and any(b.section == section.name for b in scene.beam):
-            problems.add(
-                f"section[{i}].mass_per_length",
-                "a dynamic study needs the mass of every beam's section",
-            )
+    _check_masses(scene, "a dynamic study", problems)
     driven: dict[str, int] = {}
     for i, drive in enumerate(scene.drive):
         path = f"drive[{i}]"
@@ -388,6 +431,31 @@ def _check_dynamic(scene: Scene, study: DynamicStudy, names: _Names, problems: P
         problems.add(
             "study.adaptive.h_max", f"must exceed h_min = {adaptive.h_min}", adaptive.h_max
         )
+
+
+def _check_masses(scene: Scene, study: str, problems: Problems) -> None:
+    """The mass of every beam's section: its ``mass_per_length``, or its material's
+    ``density``."""
+    for i, section in enumerate(scene.section):
+        if not any(b.section == section.name for b in scene.beam):
+            continue
+        if section.material is not None and section.material.density is None:
+            key = "material.density"
+        elif section.material is None and section.mass_per_length is None:
+            key = "mass_per_length"
+        else:
+            continue
+        problems.add(f"section[{i}].{key}", f"{study} needs the mass of every beam's section")
+
+
+def _has_mass(scene: Scene) -> bool:
+    """Whether a beam's section or a body has a mass."""
+    used = {b.section for b in scene.beam}
+    return any(b.mass for b in scene.body) or any(
+        s.mass_per_length or (s.material is not None and s.material.density)
+        for s in scene.section
+        if s.name in used
+    )
 
 
 def _check_start(scene: Scene, study: DynamicStudy, names: _Names, problems: Problems) -> None:

@@ -27,8 +27,10 @@ import numpy as np
 
 from fvbeam import Beam, BeamMesh, RigidBody, Section, Structure, Support, arc, straight
 from fvbeam.formulations import formulation as get_formulation
+from fvbeam.mass import acceleration, weight
 from fvbeam.mechanism import rigid_modes, unresisted
 from fvbeam.names import suggest
+from fvbeam.shapes import SHAPES, Material
 from fvbeam.smearing import check_smearing
 from fvbeam.support import DOF_NAMES, complement
 from sliders.app.checks import SELECTED, part_of, tied_parts
@@ -119,6 +121,12 @@ def _inside(xi: float, length: float) -> bool:
 
 
 def _section(spec) -> Section:
+    """A ``[[section]]``'s section: from its material and shape, or its six stiffnesses
+    (:func:`sliders.app.checks.reference_problems`: exactly one of the two)."""
+    if spec.material is not None:
+        material = Material(**spec.material.model_dump(exclude_none=True))
+        shape = SHAPES[spec.shape.kind](**spec.shape.model_dump(exclude={"kind"}))
+        return Section.from_shape(material, shape, spec.name)
     return Section.diagonal(
         spec.EA,
         spec.GAy,
@@ -312,8 +320,21 @@ class Model:
         self._check_held(problems)
         self._check_velocity_jumps(problems)
         self._check_output(problems)
+        #: The weight of a static study's gravity on the structure, or None (:meth:`_weight`).
+        self.weight = problems.attempt("study.mass", self._weight)
         problems.raise_if_any(source)
         self._previous: SliderStatics | None = None
+
+    def _weight(self) -> np.ndarray | None:
+        """The weight ``M g`` of a static study's (or a sweep's) ``gravity`` with its
+        ``mass`` matrix (:func:`fvbeam.mass.weight`; the one a dynamic study with that mass
+        applies; a massless beam weighs nothing); None without gravity or in a dynamic study
+        (its time integration adds it).
+        A sweep's moved parts keep it: the mass is invariant under translation."""
+        study = self.scene.study
+        if isinstance(study, DynamicStudy) or study.gravity is None:
+            return None
+        return weight(self.structure.mass(study.mass, massless=True), study.gravity)
 
     def _line(self, spec: SliderSpec, structure: Structure) -> BeamChain | RigidLine:
         """The line of the slider ``spec`` on ``structure``: a rigid line, or a chain of
@@ -631,11 +652,11 @@ class Model:
         if isinstance(study, DynamicStudy):
             matrices.append(structure.mass(study.mass))
             if study.gravity is not None:
-                n = structure.n_dofs
-                g = np.tile(np.concatenate([study.gravity, np.zeros(3)]), n // 6)
-                vectors.append(("gravity", g))
+                vectors.append(("gravity", acceleration(structure.n_dofs, study.gravity)))
             if self.restart is not None:
                 vectors += [("the restart", self.restart.q), ("the restart", self.restart.v)]
+        elif study.gravity is not None:
+            vectors.append(("gravity", self.weight))
         # directions that must lie in the plane, and rotation rates that must turn about
         # its normal: the start's velocities, the tyres' ground
         along: list[np.ndarray] = [np.asarray(b.velocity) for b in self.scene.body if b.velocity]
@@ -693,7 +714,8 @@ class Model:
                 )
             else:  # the last point's parts moved: its numbering and checked sliders kept
                 self._previous = self._previous.moved(beams, bodies)
-        return self._previous, self.load_vector(self._previous.structure, value)
+        f = self.load_vector(self._previous.structure, value)
+        return self._previous, f if self.weight is None else f + self.weight
 
     def dynamics(self) -> Dynamics:
         """The time integration of a dynamic study's scene."""

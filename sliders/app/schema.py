@@ -141,18 +141,62 @@ class Table(BaseModel):
 
 
 # -- model --------------------------------------------------------------------------------------
+class MaterialSpec(Table):
+    """A section's material (:class:`fvbeam.shapes.Material`): ``E`` (Pa), exactly one of
+    ``nu`` and ``G`` (Pa), ``density`` (kg/m^3)."""
+
+    E: Positive
+    nu: Number | None = None
+    G: Positive | None = None
+    density: Positive | None = None
+
+
+class TubeShape(Table):
+    kind: Literal["tube"]
+    outer: Positive
+    inner: NonNegative
+
+
+class CircleShape(Table):
+    kind: Literal["circle"]
+    diameter: Positive
+
+
+class RectangleShape(Table):
+    kind: Literal["rectangle"]
+    width: Positive
+    height: Positive
+
+
+class IShape(Table):
+    kind: Literal["I"]
+    height: Positive
+    width: Positive
+    web: Positive
+    flange: Positive
+
+
+ShapeSpec = Annotated[
+    TubeShape | CircleShape | RectangleShape | IShape, Field(discriminator="kind")
+]
+
+
 class SectionSpec(Table):
-    """``[[section]]``: a beam section, uncoupled (``fvbeam.Section.diagonal``)."""
+    """``[[section]]``: a beam section, uncoupled: its six stiffnesses
+    (``fvbeam.Section.diagonal``) or its ``material`` and ``shape``
+    (``fvbeam.Section.from_shape``); exactly one of the two (:mod:`sliders.app.checks`)."""
 
     name: Name
-    EA: Positive
-    GAy: Positive
-    GAz: Positive
-    GJ: Positive
-    EJy: Positive
-    EJz: Positive
+    EA: Positive | None = None
+    GAy: Positive | None = None
+    GAz: Positive | None = None
+    GJ: Positive | None = None
+    EJy: Positive | None = None
+    EJz: Positive | None = None
     mass_per_length: Positive | None = None
     inertia: Inertia | None = None
+    material: MaterialSpec | None = None
+    shape: ShapeSpec | None = None
 
 
 class StraightSpec(Table):
@@ -438,9 +482,14 @@ class Newton(Table):
 
 
 class Solver(Newton):
-    """Newton options of the static studies (:meth:`sliders.solve.statics.SliderStatics.solve`)."""
+    """Newton options of the static studies (:meth:`sliders.solve.statics.SliderStatics.solve`);
+    ``gravity``: the acceleration of gravity, the weight ``M g`` on the structure with the
+    ``mass`` matrix of that kind (:func:`fvbeam.mass.weight`), a dead load that a load-factor
+    sweep does not scale."""
 
     load_steps: Count = 1
+    gravity: Vec3 | None = None
+    mass: Literal["lumped", "consistent"] = "lumped"
 
 
 class StaticStudy(Solver):

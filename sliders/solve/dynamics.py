@@ -41,6 +41,7 @@ import scipy.sparse.linalg as spla
 from tqdm.auto import tqdm
 
 from fvbeam.geometry import vector3
+from fvbeam.mass import weight
 from fvbeam.mechanism import rigid_modes, unresisted
 from fvbeam.structure import Structure
 from fvbeam.support import DOF_NAMES, Support, complement
@@ -205,7 +206,7 @@ class Dynamics:
         self.f_gravity = np.zeros(n)
         if gravity is not None:
             g = vector3(gravity, "gravity")
-            self.f_gravity = self.M @ np.tile(np.concatenate([g, np.zeros(3)]), n // 6)
+            self.f_gravity = weight(self.M, g)
         self.supports = list(supports) + [Support.at(d.node, d.dof) for d in self.drives]
         fixed = structure.support_dofs(supports)
         self.plane = plane
