@@ -15,13 +15,16 @@ residual; it still sits 4-5 orders below the solution.
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 from test_sliders import SECTION, L, sliding_beams_model
 
 from fvbeam import Beam, RigidBody, Structure, Support, straight
 from fvbeam.mechanism import node_positions, rigid_modes
 from sliders.joints.slider import Slider
 from sliders.lines.rigid import CircularArc
-from sliders.solve.statics import SliderStatics
+from sliders.solve.condensed import SINGULAR_RCOND
+from sliders.solve.statics import SliderStatics, rcond_estimate
 
 EPS = np.finfo(float).eps
 
@@ -170,3 +173,28 @@ def test_node_positions_hold_the_rigid_bodies():
     np.testing.assert_array_equal(x[structure.node_dofs((0, "start"))[0] // 6], [0, 0, 0])
     np.testing.assert_array_equal(x[structure.node_dofs("tip")[0] // 6], [1, 0, 0])
     np.testing.assert_array_equal(x[structure.node_dofs("hub")[0] // 6], [3, 4, 5])
+
+
+def test_the_bordered_condition_estimate_tells_singular_from_ill_scaled():
+    """:func:`sliders.solve.statics.rcond_estimate`: on a regular matrix with rows scaled
+    1e9 : 1 (a stiffness bordered by unit constraint rows) it is the equilibrated matrix's
+    reciprocal 1-norm condition number from above (Hager's estimate of ``|A^-1|_1`` is a
+    lower bound) and within a factor 10 of it (the estimator is typically within 3, Higham,
+    Sec. 15.3); on a matrix whose last row is the sum of the others (exactly singular, made
+    nonsingular by the rounding of that sum) it is at most the singular threshold."""
+    rng = np.random.default_rng(4)
+    n = 30
+    A = rng.standard_normal((n, n)) + 5 * np.eye(n)
+    A[: n // 2] *= 1e9
+    S = sp.csc_matrix(A)
+    rows = np.abs(A).max(axis=1, keepdims=True)
+    E = A / rows
+    E = E / np.abs(E).max(axis=0)
+    exact = 1.0 / np.linalg.cond(E, 1)
+    estimate = rcond_estimate(S, spla.splu(S))
+    assert exact * (1 - 1e-9) <= estimate <= 10 * exact
+    B = rng.standard_normal((n, n))
+    B[-1] = B[:-1].sum(axis=0)
+    lu = spla.splu(sp.csc_matrix(B))  # a pivot of roundoff's size, not zero
+    assert np.abs(lu.U.diagonal()).min() > 0
+    assert rcond_estimate(sp.csc_matrix(B), lu) <= SINGULAR_RCOND
