@@ -16,8 +16,11 @@ Run as ``python -m studies.fig7_landing_gear --out DIR``; writes
 * ``DIR/fig7_landing_gear_summary.csv``: per model the peaks with their times, the spin-up,
   lift-off and spring-back, and the peak bearing friction over the peak vertical load with
   ``mu = 0.02`` on both sliders, post-processed from the slider reactions
-  (``friction_post_fraction``), and in the dynamics (``friction_dynamic_fraction``, a second
-  run of each model with friction on its sliders: :func:`friction_in_dynamics`);
+  (``friction_post_fraction``), and in the dynamics (``friction_dynamic``, its time and
+  ``friction_dynamic_fraction``, a second run of each model with friction on its sliders:
+  :func:`friction_in_dynamics`); the strut's bottoming stop (``bottoming``: the first time it
+  is reached, empty if never, its largest penetration, zero if never, its time and the
+  strut's force then);
 * ``DIR/fig7_render.png``: the finest model at its spin-up peak, deflections magnified
   (pyvista, when installed).
 
@@ -48,6 +51,8 @@ PAPER_FRICTION = (0.08, 0.10)
 #: every model to better than 1 %).
 STEP = 1e-4
 T_END = 0.3
+#: The friction run's summary columns (:func:`friction_in_dynamics`).
+FRICTION = ("friction_dynamic", "friction_dynamic_time", "friction_dynamic_fraction")
 #: The summary's columns, in order.
 SUMMARY = (
     "model",
@@ -74,20 +79,27 @@ SUMMARY = (
     "friction_post",
     "friction_post_time",
     "friction_post_fraction",
+    "friction_dynamic",
+    "friction_dynamic_time",
     "friction_dynamic_fraction",
+    "bottoming",
+    "bottoming_penetration",
+    "bottoming_penetration_time",
+    "bottoming_force",
     "steps",
     "iterations",
     "seconds",
 )
 
 
-def friction_in_dynamics(model: str, slider: str, step: float, t_end: float) -> float:
-    """The peak bearing friction along the strut over the peak vertical load, with
-    ``mu_b = 0.02`` on both sliders in the dynamics (:class:`sliders.joints.friction.Friction`
-    on the sliders of ``GearModel(model, slider=slider, friction=True)``): the friction is
-    the reactions' part along the lines (:func:`sliders.gear.outputs.friction_along`)."""
-    run = GearModel(model, slider=slider, friction=True).simulate(t_end, step)
-    return run.peak("friction")[0] / run.peak("ground_vertical")[0]
+def friction_in_dynamics(model: str, slider: str, step: float, t_end: float) -> dict[str, float]:
+    """The peak bearing friction along the strut, its time and its fraction of the peak
+    vertical load, with ``mu_b = 0.02`` on both sliders in the dynamics
+    (:class:`sliders.joints.friction.Friction` on the sliders of ``GearModel(model,
+    slider=slider, friction=True)``): the friction run's own summary
+    (:meth:`sliders.gear.outputs.GearRun.summary`, ``friction_dynamic*``)."""
+    summary = GearModel(model, slider=slider, friction=True).simulate(t_end, step).summary()
+    return {key: float(summary[key]) for key in FRICTION}
 
 
 def simulate(
@@ -97,20 +109,22 @@ def simulate(
     t_end: float = T_END,
     progress: bool = True,
     keep: str | None = None,
-) -> dict[str, GearRun]:
+) -> tuple[dict[str, GearRun], dict[str, dict[str, float]]]:
     """Each model's run, in order (``keep``: the model whose states are kept, for the
-    render).  Ctrl-C stops after the runs finished so far (returned)."""
+    render), and its friction in the dynamics (:func:`friction_in_dynamics`).  Ctrl-C stops
+    after the runs finished so far (returned)."""
     from tqdm.auto import tqdm
 
     runs: dict[str, GearRun] = {}
+    frictions: dict[str, dict[str, float]] = {}
     try:
         for name in tqdm(models, desc="models", unit="model", disable=None if progress else True):
             run = GearModel(name, slider=slider).simulate(t_end, step, False, keep == name)
-            run.friction_dynamic_fraction = friction_in_dynamics(name, slider, step, t_end)
+            frictions[name] = friction_in_dynamics(name, slider, step, t_end)
             runs[name] = run
     except KeyboardInterrupt:
         print(f"interrupted: writing the {len(runs)} models finished")
-    return runs
+    return runs, frictions
 
 
 def write_rows(path: Path, rows: list[dict], columns: tuple[str, ...]) -> None:
@@ -293,8 +307,10 @@ def reproduce(
     """Simulate, write the CSV, the summary, the figure and the render into ``out``, and
     return the checks (:func:`against`)."""
     render_it = plot_png and importlib.util.find_spec("pyvista") is not None
-    runs = simulate(models, slider, step, progress=progress, keep=models[-1] if render_it else None)
-    summaries = {name: run.summary() for name, run in runs.items()}
+    runs, frictions = simulate(
+        models, slider, step, progress=progress, keep=models[-1] if render_it else None
+    )
+    summaries = {name: run.summary() | frictions[name] for name, run in runs.items()}
     write_csv(runs, out / "fig7_landing_gear.csv")
     write_rows(out / "fig7_landing_gear_summary.csv", list(summaries.values()), SUMMARY)
     if plot_png and runs:

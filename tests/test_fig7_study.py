@@ -32,7 +32,8 @@ def test_files_and_columns(written):
         "fv3-1",
     ]
     # the rigid leg has no spring-back frequency, the flexible one has
-    assert summary[0]["spring_back_frequency"] == ""
+    assert summary[0]["spring_back_frequency"] == "" == summary[0]["spring_back"]
+    assert all(float(row["bottoming_penetration"]) == 0.0 for row in summary)
     assert float(summary[1]["spring_back_frequency"]) > 0
     # the friction in the dynamics is mu N tanh <= mu N, N the run's own transverse reaction:
     # the post-processed friction of the frictionless run to the friction's feedback on the

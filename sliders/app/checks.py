@@ -150,7 +150,9 @@ def _check_output(scene: Scene, names: _Names, problems: Problems) -> None:
                 f"output.{key}", f"lists {', '.join(repeated)} more than once", list(values)
             )
     dynamic = isinstance(scene.study, DynamicStudy)
-    for key, given in (("history", output.history is not None), ("probe", bool(output.probe))):
+    derived = ("probe", "load", "peak", "event", "frequency")
+    given_keys = [("history", output.history is not None)]
+    for key, given in given_keys + [(k, bool(getattr(output, k))) for k in derived]:
         if given and not dynamic:
             problems.add(
                 f"output.{key}",
@@ -182,18 +184,22 @@ def _check_output(scene: Scene, names: _Names, problems: Problems) -> None:
                 f"{path}.name", f"already the name of output.probe[{seen[probe.name]}]", probe.name
             )
         seen.setdefault(probe.name, i)
-        targets = [k for k in ("node", "beam", "force") if getattr(probe, k) is not None]
+        targets = [k for k in ("node", "beam", "force", "slider") if getattr(probe, k) is not None]
         if len(targets) != 1:
-            problems.add(path, "give exactly one of node, beam, force")
-        elif probe.force is not None:
-            if probe.force not in names.forces:
+            problems.add(path, "give exactly one of node, beam, force, slider")
+        elif probe.force is not None or probe.slider is not None:
+            key, known, what = (
+                ("force", names.forces, "force element")
+                if probe.force is not None
+                else ("slider", names.sliders, "slider")
+            )
+            given = getattr(probe, key)
+            if given not in known:
                 problems.add(
-                    f"{path}.force",
-                    f"no force element named '{probe.force}'{suggest(probe.force, names.forces)}",
-                    probe.force,
+                    f"{path}.{key}", f"no {what} named '{given}'{suggest(given, known)}", given
                 )
             if probe.at is not None:
-                problems.add(f"{path}.at", "a force probe takes no abscissa (at is for a beam)")
+                problems.add(f"{path}.at", f"a {key} probe takes no abscissa (at is for a beam)")
         elif probe.node is not None:
             names.node(f"{path}.node", probe.node, problems)
             if probe.at is not None:

@@ -33,12 +33,14 @@ from fvbeam.names import suggest
 from fvbeam.shapes import SHAPES, Material
 from fvbeam.smearing import check_smearing
 from fvbeam.support import DOF_NAMES, complement
+from sliders.app import events
 from sliders.app.checks import SELECTED, part_of, tied_parts
 from sliders.app.errors import Problems
 from sliders.app.history import history_columns
 from sliders.app.limits import Limits, element_problems
 from sliders.app.probes import (
     VELOCITY_NAMES,
+    ElementOutputs,
     Probe,
     element_probe,
     force_probe,
@@ -807,9 +809,15 @@ class Model:
         """The ``[[output.probe]]`` columns of ``history.csv``, by name."""
         out: dict[str, Probe] = {}
         elements = {e.name: e for e in self.forces}
-        for spec in self.scene.output.probe:
+        output = self.scene.output
+        shared = {name: ElementOutputs(e) for name, e in elements.items()}
+        for spec in output.probe:
             if spec.force is not None:
-                out[spec.name] = element_probe(elements[spec.force], spec.value)
+                out[spec.name] = element_probe(elements[spec.force], spec.value, shared[spec.force])
+            elif spec.slider is not None:
+                j = [s.name for s in self.sliders].index(spec.slider)
+                n = self.sliders[j].n_unknowns
+                out[spec.name] = events.slider_probe(j, n, spec.value, spec.axes)
             elif spec.node is not None and spec.value in VELOCITY_NAMES:
                 out[spec.name] = velocity_probe(self.structure, spec.node, spec.value)
             elif spec.node is not None:
@@ -817,7 +825,21 @@ class Model:
             else:
                 assert spec.beam is not None and spec.at is not None  # checks.py
                 out[spec.name] = force_probe(self.structure, spec.beam, spec.at, spec.value)
+        gravity = getattr(self.scene.study, "gravity", None)
+        for load in output.load:
+            for c in load.components or self._free_components(load.body):
+                out[f"{load.name}.{c}"] = events.load_probe(self.structure, load.body, c, gravity)
+        for event in output.event:
+            for column, value in events.event_columns(event):
+                probe = element_probe(elements[event.force], value, shared[event.force])
+                out.setdefault(column, probe)
         return out
+
+    def _free_components(self, body: str) -> tuple[str, ...]:
+        """The load components of ``body``'s dofs that no support or drive holds."""
+        held = self.structure.support_dofs(self.held())
+        dofs = self.structure.node_dofs(body)
+        return tuple(c for c, d in zip(events.COMPONENTS, dofs, strict=True) if d not in held)
 
     def _check_output(self, problems: Problems) -> None:
         """The names ``[output]`` uses, against the model: ``history`` columns
@@ -848,8 +870,12 @@ class Model:
             path = f"output.probe[{i}]"
             if spec.name in columns:
                 problems.add(f"{path}.name", "already a column of history.csv", spec.name)
+            if spec.axes is not None and (spec.slider is None or spec.value != "force"):
+                problems.add(f"{path}.axes", "axes are for a slider's force", list(spec.axes))
             if spec.force is not None:
                 allowed = next(e.OUTPUTS for e in self.forces if e.name == spec.force)
+            elif spec.slider is not None:
+                allowed = events.SLIDER_VALUES
             elif spec.node is not None:
                 allowed = DOF_NAMES + VELOCITY_NAMES
             else:
@@ -863,6 +889,41 @@ class Model:
                         f"beyond the end of beam '{spec.beam}' (length {length:.6g} m)",
                         spec.at,
                     )
+        self._check_derived(problems)
+
+    def _check_derived(self, problems: Problems) -> None:
+        """The attachment loads' bodies and components, and the names the summary reads
+        (:func:`sliders.app.events.check`)."""
+        output = self.scene.output
+        bodies = [b.name for b in self.structure.bodies]
+        for i, load in enumerate(output.load):
+            path = f"output.load[{i}]"
+            if load.body not in bodies:
+                problems.add(f"{path}.body", f"no body of that name{suggest(load.body, bodies)}")
+                continue
+            free = self._free_components(load.body)
+            for k, c in enumerate(load.components or ()):
+                if c not in free:
+                    problems.add(
+                        f"{path}.components[{k}]",
+                        f"'{load.body}' is held there: its support's reaction "
+                        "(the reactions table) carries it",
+                        c,
+                    )
+        if not events.asked(output) and not output.load:
+            return
+        probes = [p.name for p in output.probe]
+        probes += [
+            f"{load.name}.{c}"
+            for load in output.load
+            if load.body in bodies
+            for c in load.components or self._free_components(load.body)
+        ]
+        probes += [c for e in output.event for c, _ in events.event_columns(e)]
+        kept = history_columns(self.sliders)
+        if output.history is not None:
+            kept = [c for c in kept if c in ("step", "t", *output.history)]
+        events.check(output, self.forces, kept, probes, problems)
 
     def _dof_drives(self) -> tuple[list[int], list[DofDrive]]:
         """The scene's dof drives: their indices in ``[[drive]]`` and the drives."""

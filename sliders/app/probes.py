@@ -88,16 +88,34 @@ def velocity_probe(structure: Structure, node: NodeRef, rate: str) -> Probe:
     return probe
 
 
-def element_probe(element: ForceElement, value: str) -> Probe:
+class ElementOutputs:
+    """A force element's outputs (:meth:`sliders.forces.elements.ForceElement.outputs`) at
+    the last state asked for: the probes of one element evaluate it once per state."""
+
+    def __init__(self, element: ForceElement) -> None:
+        self.element = element
+        self.state: State | None = None
+        self.values: dict[str, np.ndarray] = {}
+
+    def __call__(self, state: State, dynamics: Dynamics) -> dict[str, np.ndarray]:
+        if state is not self.state:
+            self.values = self.element.outputs(dynamics.structure, state.q, state.v)
+            self.state = state
+        return self.values
+
+
+def element_probe(element: ForceElement, value: str, shared: ElementOutputs | None = None) -> Probe:
     """The output ``value`` of a force element (its ``OUTPUTS``:
-    :meth:`sliders.forces.elements.ForceElement.outputs`) at the state."""
+    :meth:`sliders.forces.elements.ForceElement.outputs`) at the state; ``shared``: the
+    element's outputs shared with its other probes."""
     if value not in element.OUTPUTS:
         raise ValueError(
             f"{element.name}: value {value!r} must be one of {', '.join(element.OUTPUTS)}"
             f"{suggest(value, element.OUTPUTS)}"
         )
+    outputs = shared if shared is not None else ElementOutputs(element)
 
     def probe(state: State, dynamics: Dynamics) -> float:
-        return float(element.outputs(dynamics.structure, state.q, state.v)[value])
+        return float(outputs(state, dynamics)[value])
 
     return probe

@@ -14,6 +14,8 @@ the last converged step.  Given the output directory, it keeps checkpoints besid
   ``reactions.csv`` when ``output.csv`` lists them: the static tables' columns, one set of
   rows per step (:data:`sliders.app.state_tables.STEP_COLUMNS`), the rows and columns
   ``[output]`` selects (:meth:`sliders.app.model.Model.selections`);
+* ``summary.csv`` when ``[output]`` asks for peaks, events or frequencies
+  (:mod:`sliders.app.events`), from the history's columns;
 * ``state.npz``, the last converged state (restart from it with ``study.restart``);
 * ``scene.toml``; with ``output.vtu``, a VTU per kept state (``study.every``) with the
   fields of ``output.vtu_fields``, and their ``.pvd``; with ``output.png``, renders of the
@@ -30,6 +32,7 @@ import numpy as np
 
 from fvbeam.io import OUTPUT_MARKER, replace_directory
 from fvbeam.support import complement
+from sliders.app import events
 from sliders.app.checkpoint import Checkpoints
 from sliders.app.history import Recorder
 from sliders.app.model import Model
@@ -158,6 +161,9 @@ def write_dynamic(outcome: DynamicRun, out: str | Path) -> None:
     def fill(directory: Path) -> None:
         (directory / "scene.toml").write_text(dump_scene(model.scene))
         outcome.recorder.write(directory)
+        if events.asked(output) and outcome.recorder.count("history"):
+            values = events.summary(output, model.forces, outcome.recorder.table())
+            events.write_summary(directory / "summary.csv", values)
         if outcome.state is None:
             return
         outcome.state.save(directory / "state.npz")

@@ -642,14 +642,74 @@ class ProbeSpec(Table):
     ``node`` (a dof, ``ux`` ... ``rz``, or its rate, ``vx`` ... ``vz``, ``wx`` ... ``wz``), of
     a ``beam`` at the recovery point nearest its abscissa ``at`` (an internal force, ``N``
     ... ``M3``) or of a ``force`` element (``force``, ``stroke``, ``rate`` of an axial one;
-    ``Fz``, ``Fx``, ``deflection``, ``slip`` of a tyre) (:mod:`sliders.app.probes`)."""
+    ``Fz``, ``Fx``, ``deflection``, ``slip`` of a tyre) or of a ``slider`` (``force``, the
+    magnitude of its reaction's components on ``axes``, all three by default; ``friction``;
+    ``couple``) (:mod:`sliders.app.probes`)."""
 
     name: Name
     node: NodeRef | None = None
     beam: Name | None = None
     force: Name | None = None
+    slider: Name | None = None
     at: NonNegative | None = None
+    axes: tuple[Literal["x", "y", "z"], ...] | None = None
     value: Text
+
+
+Column = Annotated[str, Strict(), Field(min_length=1, description="a history.csv column")]
+#: A window's end: an event's name (``[[output.event]]``) or a time (s).
+Instant = Name | Number
+
+
+class AttachmentSpec(Table):
+    """``[[output.load]]``: the load the rest of the model exerts on a body, its attachment
+    load, as ``history.csv`` columns ``NAME.Fx`` ... ``NAME.Mz`` (``components``; default:
+    the body's free dofs) (:func:`sliders.app.events.load_probe`)."""
+
+    name: Name
+    body: Name
+    components: tuple[Literal["Fx", "Fy", "Fz", "Mx", "My", "Mz"], ...] | None = None
+
+
+class PeakSpec(Table):
+    """``[[output.peak]]``: the largest value of a ``history.csv`` column (or of the sum of
+    the magnitudes of several) between ``after`` and ``before``, its time and the
+    ``concurrent`` columns' values then (:mod:`sliders.app.events`)."""
+
+    name: Name
+    of: Column | tuple[Column, ...]
+    sign: Literal["magnitude", "positive", "negative"] = "magnitude"
+    scale: Number = 1.0
+    offset: Number = 0.0
+    after: Instant | None = None
+    before: Instant | None = None
+    concurrent: tuple[Column, ...] = ()
+    per: Name | None = None
+
+
+class EventSpec(Table):
+    """``[[output.event]]``: when a force element's ``contact`` begins, a tyre's
+    ``lift_off`` and ``spin_up`` (to ``fraction`` of rolling), an axial force's ``stop``
+    reached (``compression`` or ``extension``) with its penetration (:mod:`sliders.app.
+    events`)."""
+
+    name: Name
+    kind: Literal["contact", "lift_off", "spin_up", "stop"]
+    force: Name
+    fraction: Annotated[
+        float, Strict(), Field(gt=0, le=1, allow_inf_nan=False, description="a number in (0, 1]")
+    ] = 0.99
+    stop: Literal["compression", "extension"] = "compression"
+
+
+class FrequencySpec(Table):
+    """``[[output.frequency]]``: the frequency of a column's oscillation, from its zero
+    crossings between ``after`` and ``before`` (:func:`sliders.app.events.frequency`)."""
+
+    name: Name
+    of: Column
+    after: Instant | None = None
+    before: Instant | None = None
 
 
 class Output(Table):
@@ -671,6 +731,10 @@ class Output(Table):
     internal_forces: ForcesOutput | None = None
     reactions: ReactionsOutput | None = None
     probe: tuple[ProbeSpec, ...] = ()
+    load: tuple[AttachmentSpec, ...] = ()
+    peak: tuple[PeakSpec, ...] = ()
+    event: tuple[EventSpec, ...] = ()
+    frequency: tuple[FrequencySpec, ...] = ()
 
 
 class Scene(Table):

@@ -27,13 +27,15 @@ The columns, at each step (``docs/landing_gear.md``, "Outputs"):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
 from fvbeam.structure import Structure
+from sliders.app import events
 from sliders.forces.elements import AxialForce, Tyre
+from sliders.forces.laws import Strut
 from sliders.gear.parameters import Gear
 from sliders.joints.packed import JointPack
 from sliders.joints.slider import Slider
@@ -73,6 +75,7 @@ COLUMNS = (
 #: tyre's deflection.
 EXTRA = (
     "strut_stroke",
+    "strut_force",
     "airframe_forward_speed",
     "airframe_vertical_speed",
     "axle_forward_speed",
@@ -163,6 +166,7 @@ class GearRecorder:
             "axle_forward_speed": v[:, axle[0]],
             "axle_vertical_speed": v[:, axle[2]],
             "strut_stroke": strut["stroke"],
+            "strut_force": strut["force"],
             "stroke_rate": strut["rate"],
             "top_xi": y[:, 0, 0],
             "bottom_xi": y[:, 1, 0],
@@ -174,7 +178,15 @@ class GearRecorder:
             "tyre_deflection": tyre["deflection"],
         }
         return GearRun(
-            model.model, model.slider_kind, g.radius, t, outputs, iterations, seconds, self.states
+            model.model,
+            model.slider_kind,
+            g.radius,
+            g.strut,
+            t,
+            outputs,
+            iterations,
+            seconds,
+            self.states,
         )
 
 
@@ -196,91 +208,62 @@ class GearRun:
     model: str
     slider: str
     radius: float
+    #: The strut's law (its stops, :meth:`summary`).
+    strut: Strut
     t: np.ndarray
     outputs: dict[str, np.ndarray]
     iterations: np.ndarray
     seconds: float = math.nan
     #: Every step's time, displacements and slider unknowns, when the recorder kept them.
     states: list[tuple[float, np.ndarray, list[np.ndarray]]] | None = None
-    #: The peak bearing friction over the peak vertical load of the same model run with
-    #: friction on its sliders (set by the Figure 7 study; NaN until then).
-    friction_dynamic_fraction: float = field(default=math.nan)
 
     def peak(
         self, name: str, sign: float = 0.0, start: float = -math.inf, stop: float = math.inf
     ) -> tuple[float, float]:
         """The largest magnitude of output ``name`` (signed; with ``sign`` +1 or -1 the
-        largest value of that sign) between ``start`` and ``stop``, and its time: the largest
-        sample, refined by the parabola through it and its two neighbours (the peak of a
-        smooth signal sampled at step ``h`` is then found to ``O(h^3)`` in value).  NaN where
-        the window holds no sample."""
-        y = self.outputs[name]
-        inside = (self.t >= start) & (self.t <= stop)
-        if not inside.any():
-            return math.nan, math.nan
-        size = np.abs(y) if sign == 0 else sign * y
-        i = int(np.argmax(np.where(inside, size, -np.inf)))
-        if 0 < i < len(y) - 1:
-            a, b, c = y[i - 1], y[i], y[i + 1]
-            curvature = a - 2 * b + c
-            if curvature != 0:
-                shift = 0.5 * (a - c) / curvature
-                if abs(shift) <= 1:
-                    h = 0.5 * (self.t[i + 1] - self.t[i - 1])
-                    return float(b - 0.25 * (a - c) * shift), float(self.t[i] + shift * h)
-        return float(y[i]), float(self.t[i])
-
-    def crossing(self, y: np.ndarray, after: float = -math.inf, rising: bool = True) -> float:
-        """The first time after ``after`` at which ``y`` crosses zero (upward if
-        ``rising``), interpolated linearly between the steps; NaN if it does not."""
-        s = y if rising else -y
-        mask = (s[:-1] < 0) & (s[1:] >= 0) & (self.t[1:] > after)
-        if not mask.any():
-            return math.nan
-        i = int(np.argmax(mask))
-        return float(self.t[i] + (self.t[i + 1] - self.t[i]) * (-s[i]) / (s[i + 1] - s[i]))
+        largest value of that sign) between ``start`` and ``stop``, and its time
+        (:func:`sliders.app.events.peak`: refined by a parabola)."""
+        return events.peak(self.t, self.outputs[name], sign, start, stop)
 
     def spin_up_time(self) -> float:
         """When the wheel first reaches :data:`SPIN_UP` of the rolling speed,
         ``omega R0 = 0.99 u_axle``."""
         o = self.outputs
-        return self.crossing(o["wheel_speed"] * self.radius - SPIN_UP * o["axle_forward_speed"])
+        return events.crossing(
+            self.t, o["wheel_speed"] * self.radius - SPIN_UP * o["axle_forward_speed"]
+        )
 
     def lift_off_time(self) -> float:
         """When the tyre first leaves the ground (its deflection falls through zero)."""
-        return self.crossing(self.outputs["tyre_deflection"], after=0.0, rising=False)
+        return events.crossing(self.t, self.outputs["tyre_deflection"], after=0.0, rising=False)
 
     def spring_back(self) -> tuple[float, float, float]:
         """The spring-back after the spin-up: the largest forward attachment load after it
-        and its time, and the frequency [Hz] of the attachment load's oscillation, from its
-        zero crossings between the spin-up and the lift-off (or the end): ``(n - 1) / (2
-        (t_n - t_1))`` for ``n >= 3`` crossings.  The frequency is NaN where there are fewer,
-        or where the forward load stays below :data:`SPRING_BACK` of the spin-up load (the
-        rigid leg: its stiffened tubes ring with an amplitude that vanishes as their stiffness
-        grows)."""
+        and its time, and the frequency [Hz] of the attachment load's oscillation from its
+        zero crossings between the spin-up and the lift-off (or the end)
+        (:func:`sliders.app.events.frequency`).  None (all three NaN) where the forward load
+        stays below :data:`SPRING_BACK` of the spin-up load: the rigid leg, whose stiffened
+        tubes ring with an amplitude that vanishes as their stiffness grows
+        (``docs/landing_gear.md``, "No spring-back in a rigid leg").  The frequency is NaN
+        too where there are fewer than three crossings."""
         start, stop = self.spin_up_time(), self.lift_off_time()
         if math.isnan(start):
             return math.nan, math.nan, math.nan
         stop = self.t[-1] if math.isnan(stop) else stop
         forward, when = self.peak("attachment_longitudinal", +1.0, start)
         spin_up, _ = self.peak("attachment_longitudinal", -1.0, stop=start)
+        if not forward > SPRING_BACK * abs(spin_up):
+            return math.nan, math.nan, math.nan
         y = self.outputs["attachment_longitudinal"]
-        s = np.where((self.t >= start) & (self.t <= stop), y, np.nan)
-        flips = np.flatnonzero(np.sign(s[:-1]) * np.sign(s[1:]) < 0)
-        times = self.t[flips] - s[flips] * (self.t[flips + 1] - self.t[flips]) / (
-            s[flips + 1] - s[flips]
-        )
-        frequency = math.nan
-        if len(times) >= 3 and forward > SPRING_BACK * abs(spin_up):
-            frequency = (len(times) - 1) / (2 * (times[-1] - times[0]))
-        return forward, when, float(frequency)
+        return forward, when, events.frequency(self.t, y, start, stop)
 
     def summary(self) -> dict[str, float | str]:
         """Peaks with their times (:data:`PEAKS`; and the largest backward attachment and
         ground loads up to the spin-up, ``*_spin_up``), spin-up and lift-off times, the
-        spring-back (:meth:`spring_back`), the friction fractions (peak friction over peak
-        vertical load: post-processed, and in the dynamics when given), the Newton
-        iterations and the run time."""
+        spring-back (:meth:`spring_back`), the peak bearing friction in the dynamics
+        (``friction_dynamic``: zero without friction on the sliders) and its time, the
+        friction fractions (peak friction over peak vertical load: post-processed and in the
+        dynamics), the Newton iterations and the run time."""
         out: dict[str, float | str] = {"model": self.model, "slider": self.slider}
         for name in PEAKS:
             out[name], out[f"{name}_time"] = self.peak(name)
@@ -289,13 +272,16 @@ class GearRun:
             key = f"{name}_spin_up"
             out[key], out[f"{key}_time"] = self.peak(name, -1.0, stop=spin_up)
         vertical = float(out["ground_vertical"])
+        out["friction_dynamic"], out["friction_dynamic_time"] = self.peak("friction")
         out["friction_post_fraction"] = float(out["friction_post"]) / vertical
-        out["friction_dynamic_fraction"] = self.friction_dynamic_fraction
+        out["friction_dynamic_fraction"] = float(out["friction_dynamic"]) / vertical
         out["spin_up_time"] = spin_up
         out["lift_off_time"] = self.lift_off_time()
         forward, when, frequency = self.spring_back()
         out["spring_back"], out["spring_back_time"] = forward, when
         out["spring_back_frequency"] = frequency
+        strut = self.outputs["strut_stroke"], self.outputs["strut_force"]
+        out |= events.stop_reached("bottoming", self.t, *strut, self.strut, "compression")
         out["steps"] = float(len(self.t) - 1)
         out["iterations"] = float(np.mean(self.iterations[1:])) if len(self.t) > 1 else 0.0
         out["seconds"] = self.seconds
