@@ -4,8 +4,9 @@ Every import counts, wherever it stands (module level, inside a function, under
 ``TYPE_CHECKING``): a lazy import is a dependency all the same.  ``fvbeam`` depends on
 nothing of ours, ``sliders`` on ``fvbeam`` only, ``studies`` on both; nothing imports
 ``studies`` but ``studies`` and the tests.  Inside ``sliders`` the subpackages are layered
-too (``docs/architecture.md``): lines, joints, forces, solve, then the models built on the
-solvers (the sliding-beams setup, the landing gear), then the application.
+too (``docs/architecture.md``): lines, joints, forces, solve, the sliding-beams setup, the
+application (scenes, runs, outputs), and the landing-gear model, which reads the
+application's derived results.
 """
 
 from __future__ import annotations
@@ -26,8 +27,8 @@ SLIDERS_LAYERS = {
     "forces": 2,
     "solve": 3,
     "sliding_beams": 4,
-    "gear": 4,
     "app": 5,
+    "gear": 6,
 }
 
 
