@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from test_scenes import SCENES
+from test_scenes import SCENES, data, problems
 
 from sliders.app.model import Model
 from sliders.app.render import AUTO_FRACTION, Options, animate, beam_samples, prepare
@@ -142,3 +142,16 @@ def test_a_shape_out_of_every_coordinate_plane_is_seen_isometric():
     assert prepare([frame], (), Options())[0].view == "iso"
     assert choose_view(np.array([[0, 0, 0], [1, 0, 0]])) == "xy"
     assert choose_view(np.array([[0, 0, 0], [0, 0, 1]])) == "xz"
+
+
+def test_scene_render_keys_are_checked_at_their_key_paths():
+    """An animation of a static study, a followed node that does not exist, a view and a
+    window that are not ones: each reported at its key path, nothing solved."""
+    scene = data("fig1_cantilever")
+    scene["output"] = {"animation": "gif", "render": {"follow": "nowhere"}}
+    found = {p.path: p.message for p in problems(scene)}
+    assert "a dynamic study's states" in found["output.animation"]
+    assert "nowhere" in found["output.render.follow"]
+    scene["output"] = {"animation": "avi", "render": {"view": "top", "window": [0, 10]}}
+    found = {p.path: p.message for p in problems(scene)}
+    assert set(found) >= {"output.animation", "output.render.view", "output.render.window[0]"}
