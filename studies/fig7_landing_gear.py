@@ -205,33 +205,28 @@ def plot(runs: dict[str, GearRun], path: Path) -> None:
 
 def render_spin_up(run: GearRun, path: Path, slider: str = "classical") -> str:
     """The gear at its spin-up peak (the largest backward attachment load before the
-    spin-up), seen from the side, elastic deflections magnified; drawn in the airframe's
-    fore-aft frame (its forward travel taken off every part) with the wheel at the axle.
-    The airframe's motion counts as held (:func:`sliders.app.motion.rigid_motion`): the
-    cylinder's rigid part is the airframe's, the piston's its travel along the cylinder,
-    and the deflections are drawn from the airframe's axis."""
-    from sliders.app.render import DEMO_RADII, render
-    from sliders.app.vtu import structure_size
+    spin-up), seen from the side, elastic deflections magnified, drawn relative to the
+    airframe (its travel taken off every part, the ground's included), the wheel on its
+    ground.  The tubes are drawn at their section's size, the cylinder translucent around
+    the piston (:mod:`sliders.app.shapes`)."""
+    from sliders.app.render import render
 
     assert run.states is not None, "the run must keep its states"
     _, when = run.peak("attachment_longitudinal", -1.0, stop=run.spin_up_time())
     t, q, unknowns = min(run.states, key=lambda s: abs(s[0] - when))
     model = GearModel(run.model, slider=slider)
     s = model.structure
-    q = q.copy()
-    q[0::6] -= q[s.node_dofs("airframe")[0]]
-    q[s.node_dofs("wheel")[:3]] = q[s.node_dofs("axle")[:3]]
     scale = render(
         path,
         s,
         q,
         model.sliders,
         unknowns,
-        title=f"{run.model}, {slider}, spin-up peak, t = {1e3 * t:.1f} ms",
-        radius=DEMO_RADII * structure_size(s),
-        view="xz",
-        window_size=(800, 900),
-        held=np.union1d(s.support_dofs(model.supports), s.node_dofs("airframe")),
+        title=f"landing gear {run.model}, {slider} sliders, spin-up peak, t = {1e3 * t:.1f} ms",
+        window_size=(1000, 900),
+        held=s.support_dofs(model.supports),
+        forces=model.forces,
+        follow="airframe",
     )
     return f"{path} (deflections x {scale:.3g})"
 

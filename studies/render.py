@@ -11,8 +11,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from sliders.app.render import AUTO_FRACTION, DEMO_RADII, render
-from sliders.app.vtu import structure_size
+from sliders.app.render import AUTO_FRACTION, render
 from sliders.sliding_beams.model import KINDS, SlidingBeams
 
 
@@ -32,7 +31,6 @@ def render_sliding_beams(out: Path, magnification: float | None = None) -> list[
             solution.unknowns,
             magnification,
             f"sliding beams, {kind} sliders, s/L = 0.3, fv3 x 5 elements",
-            radius=DEMO_RADII * structure_size(statics.structure),
         )
         lines.append(f"{target} (displacements x {scale:.3g})")
     return lines

@@ -3,15 +3,15 @@ promise that importing the packages does not import pyvista.
 
 The render runs in a child process without ``DISPLAY`` and without
 ``VTK_DEFAULT_OPENGL_WINDOW``, as in CI, so the EGL fallback is what is tested.  The image
-is compared with what its geometry predicts.  VTK's ``ResetCamera`` puts the camera at
-``R / sin(15 deg)`` from the centre of the bounding box (``R`` half its diagonal, view angle
-30 deg), so the image height ``H`` spans ``2 R / cos(15 deg)``: a tube of radius ``r`` and
-visible length ``l`` covers ``(H cos15 / 2R)^2 2 r l`` pixels, a sphere ``pi (...)^2``.
-Up to two pixel rows along each silhouette edge can fall out of the colour test
-(anti-aliasing, dark shading at grazing light): with a tube about 11 pixels wide that is
-35 % of its area, and the bounding box estimated below (ghost, markers) is good to about
-10 %, hence the lower bounds at half the prediction.  The upper bound, 1.25 times, allows
-that 10 % twice over (the area goes with the square of the scale).
+is compared with what its geometry predicts.  The camera is a parallel projection of
+half-height ``S`` (:func:`sliders.app.view.fit_camera`), so a window ``H`` pixels high
+draws ``H / 2S`` pixels per metre: a tube of radius ``r`` and visible length ``l`` covers
+``(H / 2S)^2 2 r l`` pixels, a sphere of radius ``rho`` ``pi (rho H / 2S)^2``.  Up to two
+pixel rows along each silhouette edge can fall out of the colour test (anti-aliasing, dark
+shading at grazing light): with a tube about 10 pixels wide that is 40 % of its area, hence
+the lower bounds at half the prediction; the upper bound, 1.25 times, allows the spheres'
+and tubes' anti-aliased rims.  The outer tube of the telescope is translucent: its pixels
+count in the upper bound only.
 """
 
 from __future__ import annotations
@@ -27,8 +27,8 @@ import numpy as np
 import pytest
 from test_output import driven_piston, split_bound
 
-from sliders.app.render import AUTO_FRACTION, SPHERE_FACTOR, drawing, render
-from sliders.app.vtu import RADIUS_FRACTION, rigid_part
+from sliders.app.render import SPHERE_FACTOR, drawing, render
+from sliders.app.vtu import rigid_part
 from studies.fig4_stiffness import L, SlidingBeams
 
 S_OVER_L = 0.3
@@ -39,18 +39,23 @@ CHILD = """
 import json, os, sys
 from pathlib import Path
 from sliders.sliding_beams.model import SlidingBeams
-from sliders.app.render import render
+from sliders.app.render import Options, prepare, render
+from sliders.app.vtu import Frame
 out = Path(sys.argv[1])
 statics, load = SlidingBeams("fv3", 5, "classical").problem({s})
 solution = statics.solve(load)
-scale = render(out / "scene.png", statics.structure, solution.q, statics.sliders,
-               solution.unknowns, window_size={window}, scalar_bar=False)
+args = (statics.structure, solution.q, statics.sliders, solution.unknowns)
+scale = render(out / "scene.png", *args, window_size={window}, scalar_bar=False)
+style, _ = prepare([Frame(0.0, *args)], (), Options(window_size={window}))
 import pyvista as pv
 blank = pv.Plotter(off_screen=True, window_size=list({window}))
 blank.set_background("white")
 blank.screenshot(str(out / "blank.png"))
 print(json.dumps(dict(scale=scale, window=blank.ren_win.GetClassName(),
-                      variable=os.environ.get("VTK_DEFAULT_OPENGL_WINDOW"))))
+                      variable=os.environ.get("VTK_DEFAULT_OPENGL_WINDOW"),
+                      view=style.view, parallel_scale=style.camera.parallel_scale,
+                      radii=style.sizes.radii.tolist(), marker=style.sizes.marker,
+                      translucent=style.sizes.translucent.tolist())))
 blank.close()
 """
 
@@ -78,7 +83,7 @@ def rendered(tmp_path_factory):
         env=env,
         capture_output=True,
         text=True,
-        timeout=120,
+        timeout=600,
     )
     assert child.returncode == 0, child.stderr
     return out, json.loads(child.stdout.splitlines()[-1]), child.stderr
@@ -99,19 +104,21 @@ def test_render_is_not_blank_and_shows_tube_and_sliders(rendered):
     blank, _ = hsv(out / "blank.png")
     assert rgb.shape[:2] == (WINDOW[1], WINDOW[0])
     assert blank.std() == 0.0 and rgb.std() > blank.std()
-    size = S_OVER_L * L + L
-    r = RADIUS_FRACTION * size
-    box = np.array([size, AUTO_FRACTION * size + 2 * r, 2 * SPHERE_FACTOR * r])
-    pixels_per_m = WINDOW[1] * np.cos(np.radians(15)) / np.linalg.norm(box)
-    tube = pixels_per_m**2 * 2 * r * (size - 2 * 2 * SPHERE_FACTOR * r)
-    sphere = 2 * np.pi * (SPHERE_FACTOR * r * pixels_per_m) ** 2
+    assert info["view"] == "xy"
+    pixels_per_m = WINDOW[1] / (2 * info["parallel_scale"])
+    (outer, inner), marker = info["radii"], info["marker"]
+    assert info["translucent"] == [True, False] and inner < outer
+    rho = SPHERE_FACTOR * marker
+    sphere = np.pi * (rho * pixels_per_m) ** 2
+    opaque = pixels_per_m**2 * 2 * inner * (L - 2 * 2 * rho)
+    everything = pixels_per_m**2 * 2 * (inner + outer) * L
     # viridis runs through hues 0.15 (yellow) .. 0.80 (purple) at saturation >= 0.51 and
     # value >= 0.33 (matplotlib's table); red markers sit at hue 0; grey and white at
     # saturation 0.
     viridis = (s > 0.3) & (h > 0.1) & (h < 0.85) & (v > 0.1)
     red = (s > 0.5) & ((h < 0.05) | (h > 0.95))
-    assert 0.5 * tube <= viridis.sum() <= 1.25 * tube
-    assert 0.5 * sphere <= red.sum() <= 1.25 * sphere
+    assert 0.5 * opaque <= viridis.sum() <= 1.25 * everything
+    assert 0.5 * 2 * sphere <= red.sum() <= 1.25 * 2 * sphere
     assert info["scale"] > 1.0
 
 
@@ -149,7 +156,7 @@ def test_render_bad_input(tmp_path):
     args = (statics.structure, solution.q, statics.sliders, solution.unknowns)
     with pytest.raises(ValueError, match=r"must end in \.png"):
         render(tmp_path / "a.jpg", *args)
-    with pytest.raises(ValueError, match=r"view must be one of xy, xz, yz, iso, got 'top'"):
+    with pytest.raises(ValueError, match=r"view must be one of auto, xy, xz, yz, iso, got 'top'"):
         render(tmp_path / "a.png", *args, view="top")
     with pytest.raises(ValueError, match=r"magnification must be a positive number, got -2"):
         render(tmp_path / "a.png", *args, magnification=-2)

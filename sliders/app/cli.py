@@ -103,12 +103,17 @@ def _validated(args: argparse.Namespace) -> Model | None:
         check_replaceable(_out(args), OUTPUT_MARKER)
     except OutputError as exc:
         messages.append(f"fvslider: {exc}")
-    if (
-        model is not None
-        and model.scene.output.png != "none"
-        and importlib.util.find_spec("pyvista") is None
-    ):
-        messages.append("fvslider: output.png needs pyvista: pip install 'fvslider[render]'")
+    if model is not None:
+        output = model.scene.output
+        for key, value, module in (
+            ("png", output.png, "pyvista"),
+            ("animation", output.animation, "pyvista"),
+            ("animation", output.animation, "imageio"),
+        ):
+            if value != "none" and importlib.util.find_spec(module) is None:
+                messages.append(
+                    f"fvslider: output.{key} needs {module}: pip install 'fvslider[render]'"
+                )
     for message in messages:
         print(message, file=sys.stderr)
     return None if messages else model

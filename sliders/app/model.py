@@ -866,6 +866,17 @@ class Model:
                     CHOICES[table],
                     KEY_COLUMNS[table],
                 )
+        if output.animation != "none" and not isinstance(self.scene.study, DynamicStudy):
+            problems.add(
+                "output.animation",
+                f"animates a dynamic study's states, not a {self.scene.study.kind} study's",
+                output.animation,
+            )
+        if output.render.follow is not None:
+            try:
+                self.structure.node_dofs(output.render.follow)
+            except ValueError as exc:
+                problems.add("output.render.follow", str(exc), output.render.follow)
         for i, spec in enumerate(output.probe):
             path = f"output.probe[{i}]"
             if spec.name in columns:

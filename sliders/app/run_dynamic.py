@@ -19,7 +19,9 @@ the last converged step.  Given the output directory, it keeps checkpoints besid
 * ``state.npz``, the last converged state (restart from it with ``study.restart``);
 * ``scene.toml``; with ``output.vtu``, a VTU per kept state (``study.every``) with the
   fields of ``output.vtu_fields``, and their ``.pvd``; with ``output.png``, renders of the
-  last state (``last``) or of every kept one.
+  last state (``last``) or of every kept one; with ``output.animation``, the kept states as
+  ``animation.mp4`` or ``animation.gif`` (:func:`sliders.app.render.animate`: one camera,
+  magnification and colour range for all, the time in the title).
 """
 
 from __future__ import annotations
@@ -36,8 +38,9 @@ from sliders.app import events
 from sliders.app.checkpoint import Checkpoints
 from sliders.app.history import Recorder
 from sliders.app.model import Model
+from sliders.app.render import Options, animate, render
 from sliders.app.scene import dump_scene
-from sliders.app.schema import CheckpointSpec, DynamicStudy, Scene
+from sliders.app.schema import CheckpointSpec, DynamicStudy, Output, Scene
 from sliders.app.vtu import Frame, write_series
 from sliders.solve.dynamics import Adaptive, DynamicsError
 from sliders.solve.integrator import State
@@ -118,7 +121,7 @@ def integrate(
         None,
         model.selections(),
         model.probes(),
-        every=study.every if (output.vtu or output.png == "all") else 0,
+        every=study.every if keeps_states(output) else 0,
         history=output.history,
     )
     held = complement(model.structure.n_dofs, dynamics.free)
@@ -172,23 +175,41 @@ def write_dynamic(outcome: DynamicRun, out: str | Path) -> None:
             write_series(directory / "states", frames, fields=output.vtu_fields)
         kept = frames if output.vtu else frames[: len(outcome.recorder.states)]
         rendered = {"none": [], "last": frames[-1:], "all": kept}[output.png]
+        options = Options.of(output.render)
         for k, frame in enumerate(rendered):
-            _render(model, frame, directory / f"render_{k:06d}.png")
+            _render(model, frame, directory / f"render_{k:06d}.png", options)
+        if output.animation != "none":
+            animate(
+                directory / f"animation.{output.animation}",
+                frames,
+                model.scene.title,
+                model.forces,
+                options,
+                output.render.fps,
+            )
 
     replace_directory(out, fill, OUTPUT_MARKER)
     if outcome.checkpoints is not None and not outcome.interrupted:
         outcome.checkpoints.remove()
 
 
-def _render(model: Model, frame: Frame, path: Path) -> None:
-    from sliders.app.render import render
+def keeps_states(output: Output) -> bool:
+    """Whether the outputs need the kept states (VTU, every render, an animation)."""
+    return output.vtu or output.png == "all" or output.animation != "none"
 
+
+def _render(model: Model, frame: Frame, path: Path, options: Options) -> None:
     render(
         path,
         frame.structure,
         frame.q,
         frame.sliders,
         frame.unknowns,
-        title=f"{model.scene.title or 'scene'}: t = {frame.time:.4g} s",
+        options.magnification,
+        f"{model.scene.title or 'scene'}: t = {frame.time:.4g} s",
+        view=options.view,
+        window_size=options.window_size,
         held=frame.held,
+        forces=model.forces,
+        follow=options.follow,
     )

@@ -712,11 +712,29 @@ class FrequencySpec(Table):
     before: Instant | None = None
 
 
+class RenderSpec(Table):
+    """``[output.render]``: how renders and animations draw (:class:`sliders.app.render.
+    Options`): the ``view`` (``auto``: the plane the model lies in, else isometric), the
+    ``magnification`` of the elastic displacements (None: automatic), a node to ``follow``
+    (everything drawn relative to it), the ``window`` (width, height in pixels) and the
+    animation's frames per second ``fps``."""
+
+    view: Literal["auto", "xy", "xz", "yz", "iso"] = "auto"
+    magnification: Positive | None = None
+    follow: NodeRef | None = None
+    window: Annotated[
+        tuple[Count, Count], Field(description="two integers >= 1: width and height")
+    ] = (1200, 800)
+    fps: Positive = 20.0
+
+
 class Output(Table):
     """``[output]``: the CSV tables to write (:mod:`sliders.app.tables`); ``vtu``: a VTU per
     converged sample and their ``.pvd`` index (:mod:`sliders.app.vtu`); ``png``: pyvista
     renders of the deformed configuration, of the ``last`` converged sample or of ``all``
-    (:mod:`sliders.app.render`, needs the ``render`` extra).  What to write of them: the
+    (:mod:`sliders.app.render`, needs the ``render`` extra); ``animation``: a dynamic
+    study's kept states as ``animation.mp4`` or ``animation.gif``; ``render``: how they
+    are drawn (:class:`RenderSpec`).  What to write of them: the
     columns of ``history.csv`` after ``step, t`` (``history``), each table's rows and
     columns, the VTU fields (``vtu_fields``), and ``probe`` columns of ``history.csv``; the
     names are checked against the model (:class:`sliders.app.model.Model`)."""
@@ -724,6 +742,8 @@ class Output(Table):
     csv: tuple[TableName, ...] = TABLES
     vtu: bool = False
     png: Literal["none", "last", "all"] = "none"
+    animation: Literal["none", "mp4", "gif"] = "none"
+    render: RenderSpec = RenderSpec()
     history: Names | None = None
     vtu_fields: Names | None = None
     nodes: NodesOutput | None = None

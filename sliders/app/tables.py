@@ -43,6 +43,7 @@ from fvbeam.io import replace_directory
 from fvbeam.support import complement
 from sliders.app.run import Results, Sample
 from sliders.app.scene import dump_scene
+from sliders.app.schema import Scene
 from sliders.app.state_tables import (
     STATE_COLUMNS,
     Selection,
@@ -154,7 +155,7 @@ def write_results(results: Results, out: str | Path, tables: Sequence[str] | Non
                 fields=output.vtu_fields,
             )
         for sample in rendered:
-            _render(sample, directory / f"render_{sample.index:06d}.png", results.scene.title)
+            _render(sample, directory / f"render_{sample.index:06d}.png", results.scene)
 
     replace_directory(out, fill, MARKER)
 
@@ -181,17 +182,23 @@ def _frame(sample: Sample, converged: list[Sample]) -> Frame:
     )
 
 
-def _render(sample: Sample, path: Path, title: str) -> None:
-    from sliders.app.render import render
+def _render(sample: Sample, path: Path, scene: Scene) -> None:
+    from sliders.app.render import Options, render
 
     value = "" if sample.value is None else f", value {sample.value:g}"
     statics, solution = _solved(sample)
+    options = Options.of(scene.output.render)
     render(
         path,
         statics.structure,
         solution.q,
         statics.sliders,
         solution.unknowns,
-        title=f"{title or 'scene'}: sample {sample.index}{value}",
+        options.magnification,
+        f"{scene.title or 'scene'}: sample {sample.index}{value}",
+        view=options.view,
+        window_size=options.window_size,
         held=_held(sample),
+        forces=statics.forces,
+        follow=options.follow,
     )
