@@ -40,6 +40,7 @@ examples:
   fvslider check studies/scenes/fig4_sliding_beams.toml
   fvslider run studies/scenes/fig4_sliding_beams.toml --out results/sliding_beams
   fvslider run studies/scenes/pushed_body.toml --resume results/pushed_body   # after a kill
+  fvslider campaign studies/scenes/landing_gear_campaign.toml --out results/drops
   fvslider studies
   fvslider reproduce fig1
   fvslider reproduce               # Figures 1, 4, 5 into results/ (under a minute)
@@ -192,6 +193,12 @@ def _run_dynamic(model: Model, out: Path, resume: bool) -> int:
     return 0
 
 
+def _campaign(args: argparse.Namespace) -> int:
+    from sliders.app.campaign import command
+
+    return command(args.campaign, args.out, args.workers, args.scheduler, args.resume, args.keep)
+
+
 def registered_studies() -> dict[str, str]:
     """The paper's figure studies registered under :data:`STUDY_GROUP`: key (``fig4`` draws
     Figures 4 and 5) to module name, in key order."""
@@ -307,6 +314,28 @@ def _parser(named: bool = True) -> argparse.ArgumentParser:
         "--out", type=Path, help="the output directory run would write (default results/SCENE)"
     )
     check.set_defaults(command=_check)
+    campaign = commands.add_parser(
+        "campaign",
+        help="run a scene over a matrix, a list or a random sample of values of its keys, "
+        "in parallel (Dask), into one table of cases (docs/campaigns.md)",
+    )
+    campaign.add_argument("campaign", type=Path, metavar="CAMPAIGN.toml")
+    campaign.add_argument(
+        "--out", type=Path, required=True, help="output directory: cases.csv, cases.parquet"
+    )
+    campaign.add_argument(
+        "--workers", type=int, default=2, help="local worker processes (default 2)"
+    )
+    campaign.add_argument(
+        "--scheduler", metavar="ADDRESS", help="a running Dask scheduler to use instead"
+    )
+    campaign.add_argument(
+        "--resume", action="store_true", help="keep the finished cases in --out, run the rest"
+    )
+    campaign.add_argument(
+        "--keep", action="store_true", help="keep each case's tables in DIR/runs/case_NNNNNN"
+    )
+    campaign.set_defaults(command=_campaign)
     studies = commands.add_parser("studies", help="list the paper's figure studies")
     studies.set_defaults(command=_studies)
     reproduce = commands.add_parser(
