@@ -15,7 +15,7 @@ row per case, ``case, key``, a column per varied key, ``status, seconds, message
 results.  ``resume`` keeps the rows of the directory's table whose ``key`` (the resolved
 scene, the results asked for and the code: :func:`sliders.app.campaign_spec.case_key`) is
 still a case, and runs only the others.  A local cluster's workers run with one BLAS and one
-numba thread each (:data:`PINNED`).
+numba thread each (:data:`PINNED`, :func:`pin_numba`).
 """
 
 from __future__ import annotations
@@ -40,14 +40,11 @@ from sliders.app.campaign_spec import Campaign, Case, ResultSpec
 if TYPE_CHECKING:
     import pandas as pd
 
-#: The environment of a local cluster's workers: one thread each for BLAS and numba, so that
-#: ``workers`` cases use ``workers`` cores.
-PINNED = {
-    "OPENBLAS_NUM_THREADS": "1",
-    "OMP_NUM_THREADS": "1",
-    "MKL_NUM_THREADS": "1",
-    "NUMBA_NUM_THREADS": "1",
-}
+#: The environment of a local cluster's workers: one BLAS thread each, so that ``workers``
+#: cases use ``workers`` cores.  Numba's threads are pinned at run time on every worker
+#: (:func:`pin_numba`): ``NUMBA_NUM_THREADS`` in the environment would change the kernels'
+#: cache keys and recompile them all in every worker.
+PINNED = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 #: The columns of the cases table before the varied keys, and after them.
 HEAD = ("case", "key")
 STATUS = ("status", "seconds", "message")
@@ -309,12 +306,21 @@ def run_campaign(
     return outcome
 
 
+def pin_numba() -> int:
+    """Let numba's parallel kernels use one thread in this process; returns the count."""
+    import numba
+
+    numba.set_num_threads(1)
+    return int(numba.get_num_threads())
+
+
 def _distributed(todo, campaign, keep_dir, finish, workers, scheduler, outcome) -> None:
     """Send ``todo`` to the cluster and ``finish`` each row as it comes back; a case lost with
     its workers (after Dask's retries) is not a row: ``resume`` runs it again."""
     from distributed import Client, as_completed
 
     with Client(scheduler) if scheduler is not None else local_client(workers) as client:
+        client.run(pin_numba)
         shared = client.scatter(campaign, broadcast=True)
         futures = {
             client.submit(
