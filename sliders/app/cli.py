@@ -40,6 +40,7 @@ examples:
   fvslider check studies/scenes/fig4_sliding_beams.toml
   fvslider run studies/scenes/fig4_sliding_beams.toml --out results/sliding_beams
   fvslider run studies/scenes/pushed_body.toml --resume results/pushed_body   # after a kill
+  fvslider campaign studies/scenes/landing_gear_campaign.toml --out results/drops
   fvslider studies
   fvslider reproduce               # every figure study into results/
   fvslider reproduce fig1 --out out
@@ -58,6 +59,8 @@ COMMANDS = {
     "check the output directory",
     "run": "validate a scene, solve its study, write its results (CSV tables, and the VTU "
     "states and renders the scene asks for) into the output directory",
+    "campaign": "run a scene over a matrix, a list or a random sample of values of its keys, "
+    "in parallel (Dask), into one table of cases (docs/campaigns.md)",
     "studies": "list the paper's figure studies",
     "reproduce": "run the paper's figure studies (all of them by default), write their CSV "
     "tables and plots, print their errors against their references",
@@ -210,6 +213,12 @@ def _run_dynamic(model: Model, out: Path, resume: bool) -> int:
     return 0
 
 
+def _campaign(args: argparse.Namespace) -> int:
+    from sliders.app.campaign import command
+
+    return command(args.campaign, args.out, args.workers, args.scheduler, args.resume, args.keep)
+
+
 def registered_studies() -> dict[str, str]:
     """The paper's figure studies registered under :data:`STUDY_GROUP`: key (``fig4`` draws
     Figures 4 and 5) to module name, in key order."""
@@ -328,6 +337,30 @@ def _parser(named: bool = True) -> argparse.ArgumentParser:
         help="the output directory run would write (default results/SCENE)",
     )
     check.set_defaults(command=_check)
+    campaign = commands.add_parser(
+        "campaign", help=COMMANDS["campaign"], description=COMMANDS["campaign"]
+    )
+    campaign.add_argument("campaign", type=Path, metavar="CAMPAIGN.toml")
+    campaign.add_argument(
+        "--out",
+        type=Path,
+        required=True,
+        metavar="DIR",
+        help="output directory: cases.csv, cases.parquet",
+    )
+    campaign.add_argument(
+        "--workers", type=int, default=2, help="local worker processes (default 2)"
+    )
+    campaign.add_argument(
+        "--scheduler", metavar="ADDRESS", help="a running Dask scheduler to use instead"
+    )
+    campaign.add_argument(
+        "--resume", action="store_true", help="keep the finished cases in --out, run the rest"
+    )
+    campaign.add_argument(
+        "--keep", action="store_true", help="keep each case's tables in DIR/runs/case_NNNNNN"
+    )
+    campaign.set_defaults(command=_campaign)
     studies = commands.add_parser(
         "studies", help=COMMANDS["studies"], description=COMMANDS["studies"]
     )

@@ -75,12 +75,23 @@ def parse_scene(
     return scene
 
 
-def load_scene(path: str | Path, limits: Limits | None = None) -> Scene:
+def load_scene(
+    path: str | Path | dict,
+    limits: Limits | None = None,
+    base: str | Path | None = None,
+    source: str = "scene",
+) -> Scene:
     """Read and validate a scene file (phases 1 and 2; :class:`sliders.app.model.Model` does the
     geometry).  Raises :class:`SceneError` for an unreadable, oversized, too deeply nested or
     invalid file; at most ``limits.scene_bytes + 1`` bytes are read (``limits``: see
-    :func:`parse_scene`)."""
+    :func:`parse_scene`).
+
+    ``path`` may also be a scene in memory, the dict ``tomllib`` reads: it is validated as
+    :func:`parse_scene` does, relative mesh paths starting from ``base`` and messages naming
+    it ``source`` (``base`` and ``source`` are for this form only; a file is its own)."""
     limits = Limits.from_environment() if limits is None else limits
+    if isinstance(path, dict):
+        return parse_scene(path, base, source, limits)
     path = Path(path)
     try:
         with path.open("rb") as file:
