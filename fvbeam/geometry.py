@@ -9,7 +9,6 @@ from typing import Literal, cast
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.interpolate import PPoly
 
 #: Smallest sine of the angle between a section frame's ``up`` and the tangent it is made
 #: orthogonal to (:func:`section_frames`).  ``e3`` is ``up``'s part across the tangent,
@@ -212,5 +211,7 @@ def closest_to_up(coefficients: np.ndarray, breaks: np.ndarray, up: np.ndarray) 
     for i in range(k):
         for j in range(k):
             square[i + j] += np.sum(across[i] * across[j], axis=-1)
+    from scipy.interpolate import PPoly  # only a curved line's frames need it
+
     stationary = PPoly(square, breaks).derivative().roots(discontinuity=False, extrapolate=False)
     return np.concatenate([breaks, stationary[np.isfinite(stationary)]])

@@ -125,7 +125,7 @@ def rigid_modes(structure: Structure, free: np.ndarray) -> RigidModes:
         modes = nodal.reshape(-1, 6)
         at = position[(6 * nodes[:, None] + np.arange(6)).ravel()]
         held = at < 0
-        combos = la.null_space(modes[held]) if held.any() else np.eye(6)
+        combos = _null_combinations(modes[held]) if held.any() else np.eye(6)
         if combos.shape[1] == 0:
             continue
         Q, R = np.linalg.qr(modes[~held] @ combos)
@@ -141,6 +141,16 @@ def rigid_modes(structure: Structure, free: np.ndarray) -> RigidModes:
             np.zeros((len(free), 0)), np.zeros((6 * count, 0)), centres, sizes, labels
         )
     return RigidModes(np.hstack(columns), np.hstack(blocks), centres, sizes, labels)
+
+
+def _null_combinations(held: np.ndarray) -> np.ndarray:
+    """An orthonormal basis of the null space of ``held`` (m, 6): the combinations of a
+    part's six motions that vanish on its held dofs.  Its rows are reduced to the triangle
+    ``R`` of their QR decomposition (at most 6 x 6; the null spaces are equal), so that the
+    cost is linear in ``m``, whatever the number of held dofs (a planar solve holds half of
+    a long beam's); the rank threshold is ``scipy.linalg.null_space``'s on ``held``."""
+    R = np.linalg.qr(held, mode="r")
+    return la.null_space(R, rcond=np.finfo(float).eps * max(held.shape))
 
 
 def unresisted(modes: RigidModes, operator_free: sp.spmatrix) -> RigidModes:

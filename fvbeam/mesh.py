@@ -13,9 +13,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from numbers import Real
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import meshio
 import numpy as np
 
 from fvbeam.copies import shallow_copy
@@ -30,6 +29,9 @@ from fvbeam.geometry import (
 )
 from fvbeam.io import write_atomic
 from fvbeam.pointwise import shape_functions_many
+
+if TYPE_CHECKING:  # meshio is imported where a mesh is read or written
+    import meshio
 
 _GAUSS8 = np.polynomial.legendre.leggauss(8)
 _CELL_TYPES = {"line": 2, "line3": 3}
@@ -244,6 +246,8 @@ class BeamMesh:
     # -- meshio ----------------------------------------------------------------------
     def to_meshio(self) -> meshio.Mesh:
         """The beam as a meshio mesh with one ``line`` or ``line3`` cell block (points N x 3)."""
+        import meshio
+
         kind = "line" if self.nodes_per_element == 2 else "line3"
         return meshio.Mesh(
             self.points.copy(),
@@ -253,6 +257,8 @@ class BeamMesh:
 
     def write(self, path: str | Path, file_format: str | None = None) -> None:
         """Write with meshio (any format it knows; ``.msh`` is written as Gmsh 2.2)."""
+        import meshio
+
         path = Path(path)
         if file_format is None and path.suffix == ".msh":
             file_format = "gmsh22"
@@ -273,6 +279,8 @@ class BeamMesh:
 
 
 def _read_meshio(path: str | Path) -> meshio.Mesh:
+    import meshio
+
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"mesh file {path} does not exist")
@@ -292,7 +300,7 @@ def read_beams(
     the same ``point_ids``; :meth:`fvbeam.structure.Structure.from_shared_points` joins them.  A
     chain keeps the direction of its first cell in the file.
     """
-    if not isinstance(mesh, meshio.Mesh):
+    if isinstance(mesh, (str, Path)):
         mesh = _read_meshio(mesh)
     blocks = [b for b in mesh.cells if b.type in _CELL_TYPES]
     if not blocks:

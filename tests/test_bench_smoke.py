@@ -139,3 +139,17 @@ def test_landing_gear_benchmark_reports_its_step_time_and_errors(tmp_path):
         assert row["max_load_error"] == max(row["rel_errors"][name] for name in LOADS)
     assert result["bench"]["step"] in (4e-4, 2e-4) and result["bench"]["seconds"]["min"] > 0
     assert [row["model"] for row in result["mesh"]] == ["fv3-1"]
+
+
+def test_command_benchmark_scenes_are_valid():
+    """The scenes ``studies.bench_command`` runs through the command validate (their speed is
+    measured by ``make bench`` only)."""
+    from sliders.app.scene import parse_scene
+    from studies.bench_command import cantilever, pushed
+
+    assert parse_scene(cantilever(10)).beam[0].straight.elements == 10
+    for record in (True, False):
+        scene = parse_scene(pushed(0.1, record))
+        assert scene.study.t_end == 0.1
+        assert scene.output.csv == (("nodes",) if record else ())
+        assert scene.output.history == (None if record else ())

@@ -68,3 +68,18 @@ def test_every_public_name_resolves(package):
         assert getattr(package, name) is not None, name
     with pytest.raises(AttributeError, match="has no attribute 'nothing'"):
         package.nothing  # noqa: B018
+
+
+def test_the_run_path_imports_neither_meshio_nor_interpolation():
+    """What ``fvslider run`` imports to solve and write a scene of beams, sliders and
+    drives: meshio is read where a mesh file is read or a VTU written, scipy's interpolation
+    where a spline line, a cubic drive table or a curved line's frames need it."""
+    code = """
+import sliders.app.cli, sliders.app.run, sliders.app.run_dynamic, sliders.app.tables
+import sliders.app.model
+print(json.dumps(sorted(m for m in ("meshio", "scipy.interpolate") if m in sys.modules)))
+raise SystemExit
+"""
+    script = f"import json, sys\n{code}"
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    assert json.loads(done.stdout.splitlines()[-1]) == []

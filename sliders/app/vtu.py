@@ -51,9 +51,8 @@ import xml.etree.ElementTree as ET
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Protocol, cast
+from typing import TYPE_CHECKING, Protocol, cast
 
-import meshio
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -65,6 +64,9 @@ from sliders.app.motion import rigid_motion
 from sliders.app.state_tables import contact_point
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
+
+if TYPE_CHECKING:  # meshio is imported where a VTU is made
+    import meshio
 
 #: Default tube radius as a fraction of the diagonal of the structure's bounding box.
 RADIUS_FRACTION = 0.01
@@ -272,6 +274,8 @@ class _Blocks:
             "rotation": np.vstack(self.rotation),
             "radius": np.concatenate(self.radius),
         }
+        import meshio
+
         keep = fields | set(ALWAYS)
         return meshio.Mesh(
             np.vstack(self.points),
@@ -420,6 +424,8 @@ def write_vtu(
     path = Path(path)
     if path.suffix != ".vtu":
         raise ValueError(f"path {str(path)!r} must end in .vtu")
+    import meshio
+
     mesh = to_meshio(structure, q, sliders, unknowns, radius, held, fields)
     write_atomic(path, lambda tmp: meshio.write(tmp, mesh, file_format="vtu"))
 

@@ -30,13 +30,15 @@ speed in the first step: with a mass there, an impulse and kinetic energy from n
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from fvbeam.names import NodeRef, parse_node
 from fvbeam.support import DOF_NAMES
+
+if TYPE_CHECKING:
+    from scipy.interpolate import CubicSpline
 
 
 class Motion(Protocol):
@@ -153,6 +155,8 @@ class Tabulated:
         object.__setattr__(self, "times", times)
         object.__setattr__(self, "values", values)
         if self.order == 3:
+            from scipy.interpolate import CubicSpline  # imported by cubic tables only
+
             object.__setattr__(self, "_spline", CubicSpline(times, values))
 
     def __call__(self, t: float) -> tuple[float, float, float]:

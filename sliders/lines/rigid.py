@@ -20,7 +20,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.interpolate import CubicSpline as _ScipyCubicSpline
 
 from fvbeam.geometry import (
     check_up,
@@ -294,7 +293,9 @@ class CubicSpline(RigidLine):
                 f"{name}: points {int(np.argmin(chords))} and {int(np.argmin(chords)) + 1} coincide"
             )
         u = np.concatenate([[0.0], np.cumsum(chords)])
-        self.spline = _ScipyCubicSpline(u, pts, bc_type="natural")
+        from scipy.interpolate import CubicSpline as Spline  # imported by splines only
+
+        self.spline = Spline(u, pts, bc_type="natural")
         self.length = float(u[-1])
         self.up = vector3(up, f"{name}: up")
         unit, tangent = direction(up, f"{name}: up"), self.spline.derivative()

@@ -37,8 +37,6 @@ from fvbeam.body import RigidBody
 from fvbeam.copies import shallow_copy
 from fvbeam.mechanism import (
     RigidModes,
-    free_motion_message,
-    motion_phrases,
     node_positions,
     rigid_modes,
     unresisted,
@@ -47,7 +45,8 @@ from fvbeam.structure import Structure
 from fvbeam.support import Support, complement
 from sliders.forces.elements import ForceElement
 from sliders.joints.slider import Slider, SliderBatch
-from sliders.solve.condensed import SINGULAR_RCOND, CondensedOperator
+from sliders.solve.condensed import CondensedOperator
+from sliders.solve.diagnosis import singular_motion
 from sliders.solve.mechanism import (
     MASSLESS_REMEDY,
     REMEDY,
@@ -514,46 +513,9 @@ class SliderStatics:
         return found or self._singular(self._bordered(parts)) or fallback
 
     def _singular(self, S: sp.spmatrix) -> str | None:
-        """If the bordered matrix is singular once its rows and columns are equilibrated
-        (singular values below :data:`~sliders.solve.condensed.SINGULAR_RCOND` of the
-        largest), name what moves along its null space: when its displacements are free
-        rigid motions (:attr:`rigid`), those motions (:func:`fvbeam.mechanism.
-        motion_phrases`) with the joints' unknowns that move with them, else the unknowns
-        that its last vector mostly moves; None when it is regular."""
-        A = S.toarray()
-        rows = np.abs(A).max(axis=1, keepdims=True)
-        rows[rows == 0] = 1.0
-        cols = np.abs(A / rows).max(axis=0)
-        cols[cols == 0] = 1.0  # an unknown nothing reads: any scale
-        _, sigma, Vt = np.linalg.svd(A / rows / cols)
-        if sigma[-1] > SINGULAR_RCOND * sigma[0]:
-            return None
-        names = [self.structure.dof_name(d) for d in self.free]
-        for s in self.sliders:
-            names += [f"{s.name}.{u}" for u in s.unknown_names]
-        V, nf = Vt[sigma <= SINGULAR_RCOND * sigma[0]].T, len(self.free)
-        dq = (V / cols[:, None])[:nf]
-        a = self.rigid.phi.T @ dq
-        if np.abs(V[:nf]).max() > 0.1 and np.all(
-            np.linalg.norm(dq - self.rigid.phi @ a, axis=0) <= 1e-6 * np.linalg.norm(dq, axis=0)
-        ):
-            joints = nf + np.flatnonzero(np.abs(V[nf:]).max(axis=1, initial=0.0) > 0.1)
-            null = np.vstack([a, (V / cols[:, None])[joints]])
-            carried = [
-                f"slider '{n.removesuffix('.xi')}' sliding along its line"
-                if n.endswith(".xi")
-                else n
-                for n in (names[i] for i in joints)
-            ]
-            phrases = motion_phrases(self.rigid, null, carried)
-            return free_motion_message("supports and sliders", phrases, self.remedy)
-        v = Vt[-1]
-        top = np.argsort(-np.abs(v))[:3]
-        moving = ", ".join(f"{names[i]} ({v[i]:+.2f})" for i in top if abs(v[i]) > 0.1)
-        return (
-            "singular configuration: the supports and sliders leave a free motion "
-            f"(null vector mostly along {moving})"
-        )
+        """The free motion of the bordered matrix ``S`` if it is singular to round-off, None
+        when it is regular (:func:`sliders.solve.diagnosis.singular_motion`: no dense copy)."""
+        return singular_motion(S, self.rigid, self.structure, self.free, self.sliders, self.remedy)
 
 
 def rcond_estimate(S: sp.spmatrix, lu: spla.SuperLU) -> float:

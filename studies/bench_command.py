@@ -1,0 +1,194 @@
+"""Benchmarks of ``fvslider run`` as a user runs it, merged into ``results/bench.json`` under
+``command``.
+
+``start_up``
+    Wall time of ``fvslider run`` in a fresh interpreter (``python -m sliders.app.cli``) of
+    a small static scene (a 10-element fv3 cantilever under a tip load: one linear solve)
+    and of a small dynamic one (``studies/scenes/pushed_body.toml`` to ``t_end = 0.1``: two
+    steps), against ``python -c "import numpy, scipy.sparse"`` on the same machine, timed
+    alternately (least of the repeats each).  Targets: at most 2.5 and 3.5 times the
+    baseline.
+``recording``
+    ``studies/scenes/pushed_body.toml`` through the command with ``history.csv`` (every
+    column) and ``nodes.csv`` written at every step, against the same run writing only
+    ``step, t`` and no table: seconds per step, the difference of a long run and a short
+    one over their difference in steps (the start-up cancels), least of the repeats.
+    Target: at most 1.3 times.
+``large``
+    ``fvslider run`` of a static fv3 cantilever of 1e4 and 1e5 elements (solved in its
+    plane): wall time, and the tip deflection's difference from Timoshenko's closed form
+    (fv3 is exact at the nodes under an end load; what remains is round-off, growing with
+    the operator's condition number).
+
+Run as ``python -m studies.bench_command --out results/bench.json`` (``make bench``);
+``--quick`` shortens every part (the smoke test's setting).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import subprocess
+import sys
+import tempfile
+import time
+import tomllib
+from pathlib import Path
+from typing import Any
+
+import tomli_w
+
+from fvbeam.closed_forms import cantilever_exact
+
+from .bench import environment, read_existing, summary, write_merged
+
+KEY = "command"
+SCENES = Path(__file__).parent / "scenes"
+BASELINE = [sys.executable, "-c", "import numpy, scipy.sparse"]
+#: Targets: the command's wall time over the baseline's; recording over writing nothing.
+STATIC_TARGET, DYNAMIC_TARGET, RECORDING_TARGET = 2.5, 3.5, 1.3
+L, EJ, GA, F = 10.0, 1.75e6, 8e8, 1e3
+
+
+def cantilever(elements: int) -> dict[str, Any]:
+    """A static scene: an fv3 cantilever of ``elements`` clamped at its start under a tip
+    force, writing its tip's ``nodes`` row."""
+    return {
+        "title": f"cantilever of {elements} elements",
+        "formulation": "fv3",
+        "section": [
+            {"name": "steel", "EA": 2.1e9, "GAy": GA, "GAz": GA, "GJ": 1.6e6, "EJy": EJ, "EJz": EJ}
+        ],
+        "beam": [
+            {
+                "name": "cantilever",
+                "section": "steel",
+                "straight": {"start": [0.0, 0.0, 0.0], "end": [L, 0.0, 0.0], "elements": elements},
+            }
+        ],
+        "support": [{"node": "cantilever.start"}],
+        "load": [{"kind": "nodal", "node": "cantilever.end", "force": [0.0, F, 0.0]}],
+        "study": {"kind": "static"},
+        "output": {"csv": ["nodes"], "nodes": {"nodes": ["cantilever.end"]}},
+    }
+
+
+def pushed(t_end: float, record: bool) -> dict[str, Any]:
+    """``pushed_body.toml`` to ``t_end``, recording ``history.csv`` and ``nodes.csv`` in
+    full (``record``) or only ``step, t``."""
+    scene = tomllib.loads((SCENES / "pushed_body.toml").read_text())
+    scene["study"]["t_end"] = t_end
+    scene["output"] = {"csv": ["nodes"]} if record else {"csv": [], "history": []}
+    return scene
+
+
+def command(path: Path, out: Path) -> list[str]:
+    return [sys.executable, "-m", "sliders.app.cli", "run", str(path), "--out", str(out)]
+
+
+def wall(argv: list[str]) -> float:
+    start = time.perf_counter()
+    subprocess.run(argv, capture_output=True, check=True)
+    return time.perf_counter() - start
+
+
+def start_up(repeats: int) -> dict[str, Any]:
+    """Least wall time of the baseline and of the two small runs, timed alternately."""
+    with tempfile.TemporaryDirectory() as tmp:
+        scenes = {"static": cantilever(10), "dynamic": pushed(0.1, record=True)}
+        argv = {"baseline": BASELINE}
+        for name, scene in scenes.items():
+            path = Path(tmp) / f"{name}.toml"
+            path.write_text(tomli_w.dumps(scene))
+            argv[name] = command(path, Path(tmp) / name)
+        for args in argv.values():
+            wall(args)  # the numba cache and the files warm
+        times: dict[str, list[float]] = {name: [] for name in argv}
+        for _ in range(repeats):
+            for name, args in argv.items():
+                times[name].append(wall(args))
+    base = min(times["baseline"])
+    out: dict[str, Any] = {name: {"seconds": summary(t)} for name, t in times.items()}
+    for name, target in (("static", STATIC_TARGET), ("dynamic", DYNAMIC_TARGET)):
+        ratio = min(times[name]) / base
+        out[name] |= {"ratio": ratio, "target": target, "met": ratio <= target}
+        print(
+            f"fvslider run, small {name}: {min(times[name]):.2f} s, {ratio:.2f} x baseline "
+            f"{base:.2f} s (target {target})",
+            flush=True,
+        )
+    return out
+
+
+def recording(repeats: int, short: float, long: float) -> dict[str, Any]:
+    """Seconds per step with full recording and with none, through the command."""
+    per_step: dict[str, list[float]] = {"recorded": [], "nothing": []}
+    step = tomllib.loads((SCENES / "pushed_body.toml").read_text())["study"]["step"]
+    with tempfile.TemporaryDirectory() as tmp:
+        runs = {}
+        for record, name in ((True, "recorded"), (False, "nothing")):
+            for t_end in (short, long):
+                path = Path(tmp) / f"{name}_{t_end}.toml"
+                path.write_text(tomli_w.dumps(pushed(t_end, record)))
+                runs[name, t_end] = command(path, Path(tmp) / f"{name}_{t_end}")
+        wall(runs["recorded", short])
+        for _ in range(repeats):
+            for name in per_step:
+                seconds = wall(runs[name, long]) - wall(runs[name, short])
+                per_step[name].append(seconds / round((long - short) / step))
+    ratio = min(per_step["recorded"]) / min(per_step["nothing"])
+    print(
+        f"recording history.csv and nodes.csv: {1e3 * min(per_step['recorded']):.2f} ms per "
+        f"step, {ratio:.2f} x writing nothing (target {RECORDING_TARGET})",
+        flush=True,
+    )
+    return {
+        "seconds_per_step": {name: summary(t) for name, t in per_step.items()},
+        "ratio": ratio,
+        "target": RECORDING_TARGET,
+        "met": ratio <= RECORDING_TARGET,
+    }
+
+
+def large(sizes: tuple[int, ...]) -> list[dict[str, Any]]:
+    """Wall time and tip error of ``fvslider run`` on long cantilevers."""
+    rows = []
+    bending, shear, _ = cantilever_exact(L, L, EJ, GA, F)
+    with tempfile.TemporaryDirectory() as tmp:
+        for elements in sizes:
+            path, out = Path(tmp) / f"c{elements}.toml", Path(tmp) / f"c{elements}"
+            path.write_text(tomli_w.dumps(cantilever(elements)))
+            seconds = wall(command(path, out))
+            with open(out / "nodes.csv") as stream:
+                (row,) = list(csv.DictReader(stream))
+            error = abs(float(row["uy"]) / (bending + shear) - 1)
+            rows.append({"n_elements": elements, "seconds": seconds, "tip_rel_error": error})
+            print(
+                f"fvslider run, cantilever of {elements} elements: {seconds:.1f} s, tip "
+                f"error {error:.1e}",
+                flush=True,
+            )
+    return rows
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Run the benchmarks, merge them into ``--out`` (``--quick``: the smoke test's short
+    runs)."""
+    parser = argparse.ArgumentParser(
+        prog="python -m studies.bench_command", description=__doc__.splitlines()[0]
+    )
+    parser.add_argument("--quick", action="store_true", help="short runs (smoke test)")
+    parser.add_argument("--out", type=Path, default=Path("results/bench.json"))
+    args = parser.parse_args(argv)
+    read_existing(args.out)  # fail before spending the time if the file cannot be merged
+    short = args.quick
+    result = {
+        "start_up": start_up(repeats=1 if short else 5),
+        "recording": recording(1 if short else 3, 0.1, 0.5 if short else 10.0),
+        "large": large((100,) if short else (10_000, 100_000)),
+    }
+    write_merged(args.out, {"environment": environment(), KEY: result})
+
+
+if __name__ == "__main__":
+    main()
