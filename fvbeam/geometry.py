@@ -83,9 +83,11 @@ def inertia3(value: ArrayLike, name: str) -> np.ndarray:
     scale = np.abs(J).max()
     if np.abs(J - J.T).max() > 1e-12 * scale:
         raise ValueError(f"{name} must be symmetric, got {value!r}")
-    if np.linalg.eigvalsh(J).min() < -1e-12 * scale:
+    # the eigenvalues of J / scale: no overflow for entries near the largest float
+    eigenvalues = np.linalg.eigvalsh(J / scale) if scale > 0 else np.zeros(3)
+    if eigenvalues.min() < -1e-12:
         raise ValueError(
-            f"{name} must be positive semi-definite (eigenvalues {np.linalg.eigvalsh(J)})"
+            f"{name} must be positive semi-definite (eigenvalues {scale * eigenvalues})"
         )
     return J
 
@@ -161,14 +163,29 @@ def section_frames(tangents: np.ndarray, up: np.ndarray) -> np.ndarray:
     return np.stack([t, e2, e3], axis=-1)
 
 
+def norm(v: ArrayLike, axis: int = -1) -> np.ndarray:
+    """The Euclidean lengths of the vectors ``v`` along ``axis``, without overflow or
+    underflow on the way: each vector scaled by its largest entry before its squares are
+    summed (as LAPACK's ``dnrm2``), so that a vector of finite entries gets its length
+    whenever that length is a finite float (``np.linalg.norm`` squares first: ``[1e200, 0,
+    0]`` has length ``inf`` there, and ``[1e-200, 0, 0]`` length 0)."""
+    v = np.asarray(v, dtype=float)
+    scale = np.max(np.abs(v), axis=axis, keepdims=True)
+    safe = np.where(scale > 0, scale, 1.0)
+    with np.errstate(over="ignore"):  # a length beyond the largest float is inf
+        return np.squeeze(scale * np.linalg.norm(v / safe, axis=axis, keepdims=True), axis)
+
+
 def direction(value: ArrayLike, name: str) -> np.ndarray:
-    """``value`` as a unit vector: a finite non-zero 3-vector, normalised, or ``ValueError``
+    """``value`` as a unit vector: a finite non-zero 3-vector, scaled by its largest entry
+    and then normalised (no overflow: ``[0, 0, 1e200]`` is ``[0, 0, 1]``), or ``ValueError``
     naming ``name``."""
     v = vector3(value, name)
-    norm = float(np.linalg.norm(v))
-    if not norm > 0:
+    scale = float(np.abs(v).max())
+    if not scale > 0:
         raise ValueError(f"{name} must be a non-zero 3-vector, got {value!r}")
-    return v / norm
+    v = v / scale
+    return v / float(np.linalg.norm(v))
 
 
 def check_up(up: np.ndarray, tangents: np.ndarray, xi: np.ndarray, name: str) -> None:

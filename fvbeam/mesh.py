@@ -23,6 +23,7 @@ from fvbeam.geometry import (
     closest_to_up,
     direction,
     locate_abscissa,
+    norm,
     number,
     section_frames,
     vector3,
@@ -113,7 +114,7 @@ class BeamMesh:
                 f"(points {ids[cells[short[0]]].tolist()})"
             )
         if self.nodes_per_element == 3:
-            speeds = np.linalg.norm(self.element_tangents(np.array([0.0, 0.5, 1.0])), axis=-1)
+            speeds = norm(self.element_tangents(np.array([0.0, 0.5, 1.0])))
             folded = np.flatnonzero(speeds.min(axis=1) <= 1e-9 * lengths)
             if folded.size:
                 raise ValueError(
@@ -193,7 +194,7 @@ class BeamMesh:
     # -- geometry of the interpolated centreline --------------------------------------
     def _element_lengths(self) -> np.ndarray:
         X, W = _GAUSS8
-        speed = np.linalg.norm(self.element_tangents((X + 1) / 2), axis=-1)
+        speed = norm(self.element_tangents((X + 1) / 2))
         return (speed * W / 2).sum(axis=1)
 
     def positions(self, e: np.ndarray, X: np.ndarray) -> np.ndarray:
@@ -215,9 +216,7 @@ class BeamMesh:
 
     def metric(self, e: np.ndarray, X: np.ndarray) -> np.ndarray:
         """Ratio of true arc length to the element's affine coordinate, |dx/dX| / h_e."""
-        return (
-            np.linalg.norm(self.tangent_vectors(e, X), axis=-1) / self.element_length[np.asarray(e)]
-        )
+        return norm(self.tangent_vectors(e, X)) / self.element_length[np.asarray(e)]
 
     def frames(self, e: np.ndarray, X: np.ndarray) -> np.ndarray:
         """Section frames ``R = [t, e2, e3]`` (columns) at the given points, shape (..., 3, 3)."""
@@ -431,7 +430,7 @@ def straight(
     a, b = vector3(start, f"{name}: start"), vector3(end, f"{name}: end")
     if up is None:
         d = b - a
-        up = (0.0, 1.0, 0.0) if abs(d[2]) > 0.9 * np.linalg.norm(d) else (0.0, 0.0, 1.0)
+        up = (0.0, 1.0, 0.0) if abs(d[2]) > 0.9 * norm(d) else (0.0, 0.0, 1.0)
     return from_curve(lambda u: a + np.outer(u, b - a), n_elements, nodes_per_element, up, name)
 
 

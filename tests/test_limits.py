@@ -192,7 +192,29 @@ def test_bad_variable_is_named(tmp_path, capsys, monkeypatch):
     monkeypatch.setenv("FVSLIDER_MAX_ELEMENTS", "lots")
     err = refused(tmp_path, FIG1, capsys)
     assert "environment: invalid limits, 1 problem" in err
-    assert "FVSLIDER_MAX_ELEMENTS = 'lots': must be a positive integer" in err
+    assert "FVSLIDER_MAX_ELEMENTS = 'lots': must be an integer from 1 to 2**53" in err
+
+
+@pytest.mark.parametrize("text", ["1e11", "9007199254740992"])
+def test_a_large_limit_is_enforced_without_allocating_it(tmp_path, capsys, monkeypatch, text):
+    """A limit on scene bytes of 1e11 (100 GB) was allocated before the file was read (a
+    MemoryError); the file is read in pieces, so any limit up to 2**53 costs nothing."""
+    monkeypatch.setenv("FVSLIDER_MAX_SCENE_BYTES", text)
+    admitted(tmp_path, FIG1, capsys)
+
+
+@pytest.mark.parametrize("text", ["9.3e18", "9007199254740993", "1e400"])
+def test_a_limit_beyond_two_to_the_53_is_named(tmp_path, capsys, monkeypatch, text):
+    """9.3e18 overflowed the size of a read (an OverflowError); above 2**53 a float no
+    longer holds every integer, so that is the largest limit."""
+    monkeypatch.setenv("FVSLIDER_MAX_SCENE_BYTES", text)
+    err = refused(tmp_path, FIG1, capsys)
+    assert f"FVSLIDER_MAX_SCENE_BYTES = '{text}': must be an integer from 1 to 2**53" in err
+
+
+def test_limits_from_python_are_bounded():
+    with pytest.raises(ValueError, match="from 1 to 2"):
+        Limits(scene_bytes=2**53 + 1)
 
 
 @pytest.mark.parametrize("text,value", [("2_000", 2000), ("2e3", 2000), ("7", 7)])
@@ -213,5 +235,5 @@ def test_limits_from_python():
     scene = load_scene(path, limits=Limits(elements=16))
     with pytest.raises(SceneError, match="16 elements in all"):
         Model(scene, limits=Limits(elements=15))
-    with pytest.raises(ValueError, match="limit elements must be a positive integer"):
+    with pytest.raises(ValueError, match="limit elements must be an integer from 1 to 2"):
         Limits(elements=0)

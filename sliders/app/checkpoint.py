@@ -16,14 +16,19 @@ holds what the run needs to go on as if it had never stopped:
 * ``checkpoint.npz``, the commit, written last and atomically: the scene, the cursor
   (:class:`sliders.solve.dynamics.Cursor`: which state file, the next step's size, the fixed
   steps left), the length of every table file, how many kept states, and what the
-  recorder's next row builds on (:meth:`sliders.app.history.Recorder.carry`).
+  recorder's next row builds on (:meth:`sliders.app.history.Recorder.carry`); and the
+  SHA-256 of every file it keeps (each table up to its length, each state, the cursor's)
+  and of every file the scene names (its mesh files, its restart state).
 
 Whatever a kill interrupts, ``checkpoint.npz`` describes a whole checkpoint: the bytes of a
 table beyond its length and the files it does not name are ignored (and cut off by the next
 checkpoint).  The end of the run removes the checkpoint, after its outputs are written.
 
 Resuming (:meth:`Checkpoints.resume`) checks that the scene is the checkpoint's (all but
-``study.checkpoint``, which changes no result), restores the recorder and returns the cursor:
+``study.checkpoint``, which changes no result) and so are the files it names, byte for byte;
+that every array of the commit has its shape, count and range (a time within the study, no
+more steps left than its end allows), and every file kept its checksum; then it restores the
+recorder and returns the cursor:
 the integration then repeats the arithmetic of the uninterrupted run and writes the same
 files, byte for byte.
 """
@@ -31,6 +36,7 @@ files, byte for byte.
 from __future__ import annotations
 
 import csv
+import hashlib
 import io
 import os
 import shutil
@@ -76,14 +82,29 @@ class Complete(Exception):
 
 @dataclass(frozen=True)
 class _Saved:
-    """What the last checkpoint holds: per table its rows and its file's length in bytes,
-    the kept states, the cursor's state file and its step."""
+    """What the last checkpoint holds: per table its rows, its file's length in bytes and
+    the SHA-256 of those bytes (a running hash, extended by each checkpoint's rows), the
+    kept states and their files' SHA-256, the cursor's state file and its step."""
 
     rows: dict[str, int]
     sizes: dict[str, int]
     states: int
     cursor: str
     step: int
+    tables: dict[str, Any]
+    kept: tuple[str, ...]
+
+
+def _sha256(path: Path) -> str:
+    with open(path, "rb") as file:
+        return hashlib.file_digest(file, "sha256").hexdigest()
+
+
+def named_files(scene: Scene) -> list[str]:
+    """The files the scene names (resolved paths): its mesh files and its restart state."""
+    named = [beam.mesh for beam in scene.beam if beam.mesh is not None]
+    restart = getattr(scene.study, "restart", None)
+    return list(dict.fromkeys(named + ([restart] if restart is not None else [])))
 
 
 class Checkpoints:
@@ -109,6 +130,7 @@ class Checkpoints:
         self.directory = checkpoint_directory(self.out)
         check_replaceable(self.directory, MARKER)
         self.toml, self.recorder = dump_scene(scene), recorder
+        self.scene = scene
         self.steps, self.seconds = steps, seconds
         self._pending: tuple[Cursor, dict[str, int], int, dict[str, np.ndarray]] | None = None
         self._saved: _Saved | None = None
@@ -182,7 +204,7 @@ class Checkpoints:
         assert self._pending is not None  # save writes only after a step was noted
         cursor, counts, kept, carry = self._pending
         old = self._saved
-        rows, sizes = {}, {}
+        rows, sizes, hashes = {}, {}, {}
         for name, header in self.recorder.headers.items():
             start, size = (old.rows[name], old.sizes[name]) if old else (0, 0)
             buffer = io.StringIO(newline="")
@@ -195,11 +217,17 @@ class Checkpoints:
                 stream.seek(size)
                 stream.write(data)
             rows[name], sizes[name] = counts[name], size + len(data)
+            hashes[name] = old.tables[name].copy() if old else hashlib.sha256()
+            hashes[name].update(data)
+        states = list(old.kept if old else ())
         for k in range(old.states if old else 0, kept):
-            self.recorder.states[k].save(directory / "states" / f"{k:06d}.npz")
+            path = directory / "states" / f"{k:06d}.npz"
+            self.recorder.states[k].save(path)
+            states.append(_sha256(path))
         step = counts["history"] - 1
         name = f"cursor_{step:06d}.npz"
         cursor.state.save(directory / name)
+        named = named_files(self.scene)
 
         arrays: dict[str, Any] = {
             "scene": np.array(self.toml),
@@ -210,6 +238,11 @@ class Checkpoints:
             "rows": np.array(list(rows.values())),
             "sizes": np.array(list(sizes.values())),
             "states": np.array(kept),
+            "tables_sha256": np.array([hashes[t].hexdigest() for t in rows], dtype=str),
+            "states_sha256": np.array(states, dtype=str),
+            "cursor_sha256": np.array(_sha256(directory / name)),
+            "named": np.array(named, dtype=str),
+            "named_sha256": np.array([_sha256(Path(f)) for f in named], dtype=str),
         } | {f"carry_{key}": value for key, value in carry.items()}
 
         def commit(tmp: Path) -> None:
@@ -218,7 +251,7 @@ class Checkpoints:
         write_atomic(directory / COMMIT, commit)
         if old is not None and old.cursor != name:
             (directory / old.cursor).unlink(missing_ok=True)
-        return _Saved(rows, sizes, kept, name, step)
+        return _Saved(rows, sizes, kept, name, step, hashes, tuple(states))
 
     @classmethod
     def resume(
@@ -260,6 +293,7 @@ class Checkpoints:
                 f"{self.directory}: the checkpoint of another scene ({difference}); run "
                 "without --resume to start over"
             )
+        self._check_named(fields)
         try:
             cursor, saved = self._restore(fields, dynamics)
         except _UNREADABLE as exc:
@@ -267,24 +301,64 @@ class Checkpoints:
         self._saved = saved
         return self, cursor
 
+    def _check_named(self, fields: dict[str, np.ndarray]) -> None:
+        """The files the scene names are those the checkpoint was computed from, byte for
+        byte (``ValueError`` naming the first that differs)."""
+        try:
+            recorded = dict(
+                zip(_texts(fields, "named"), _texts(fields, "named_sha256"), strict=True)
+            )
+        except (KeyError, ValueError) as exc:
+            raise ValueError(f"{self.directory}: a damaged checkpoint ({exc})") from exc
+        for path in named_files(self.scene):
+            try:
+                current = _sha256(Path(path))
+            except OSError as exc:
+                raise ValueError(f"{path}: cannot read it ({exc.strerror or exc})") from exc
+            if recorded.get(path) != current:
+                raise ValueError(
+                    f"{path}: changed since the checkpoint in {self.directory} was written "
+                    "(its SHA-256 differs), so the run cannot go on from it; run without "
+                    "--resume to start over"
+                )
+
     def _restore(self, fields: dict[str, np.ndarray], dynamics: Dynamics) -> tuple[Cursor, _Saved]:
-        """The cursor and the recorder of the checkpoint whose commit holds ``fields``."""
-        tables = [str(name) for name in fields["tables"]]
-        rows = dict(zip(tables, fields["rows"].tolist(), strict=True))
-        sizes = dict(zip(tables, fields["sizes"].tolist(), strict=True))
-        cells, headers = {}, {}
+        """The cursor and the recorder of the checkpoint whose commit holds ``fields``, after
+        checking every array's shape, count and range and every file's checksum."""
+        tables = _texts(fields, "tables")
+        count = len(tables)
+        rows = dict(zip(tables, _counts(fields, "rows", count), strict=True))
+        sizes = dict(zip(tables, _counts(fields, "sizes", count), strict=True))
+        sums = dict(zip(tables, _texts(fields, "tables_sha256", count), strict=True))
+        if "history" not in tables:
+            raise ValueError(f"{COMMIT} names no history table")
+        cells, headers, hashes = {}, {}, {}
         for name in tables:
             data = (self.directory / f"{name}.csv").read_bytes()
             if len(data) < sizes[name]:
                 raise ValueError(f"{name}.csv is shorter than its checkpoint")
+            hashes[name] = hashlib.sha256(data[: sizes[name]])
+            if hashes[name].hexdigest() != sums[name]:
+                raise ValueError(f"{name}.csv differs from its checkpoint (its SHA-256)")
             table = list(csv.reader(io.StringIO(data[: sizes[name]].decode(), newline="")))
             if len(table) != rows[name] + 1:
                 raise ValueError(f"{name}.csv holds {len(table) - 1} rows, not {rows[name]}")
             headers[name], cells[name] = table[0], table[1:]
-        kept = int(fields["states"])
-        states = [State.load(self.directory / "states" / f"{k:06d}.npz") for k in range(kept)]
+        (kept,) = _counts(fields, "states", None)
+        kept_sha = _texts(fields, "states_sha256", kept)
+        states = []
+        for k in range(kept):
+            path = self.directory / "states" / f"{k:06d}.npz"
+            if _sha256(path) != kept_sha[k]:
+                raise ValueError(f"states/{path.name} differs from its checkpoint (its SHA-256)")
+            states.append(State.load(path))
         name = str(fields["cursor"])
+        if Path(name).name != name or not name.startswith("cursor_"):
+            raise ValueError(f"{COMMIT} names the cursor {name!r}, not a file of the checkpoint")
+        if _sha256(self.directory / name) != str(fields["cursor_sha256"]):
+            raise ValueError(f"{name} differs from its checkpoint (its SHA-256)")
         state = State.load(self.directory / name)
+        _check_cursor(fields, state, self.scene)
         n = dynamics.structure.n_dofs
         if any(x.shape != (n,) for x in (state.q, state.v, state.a, state.qdd)) or len(
             state.unknowns
@@ -297,7 +371,8 @@ class Checkpoints:
                 raise ValueError(f"{file}.csv has the columns of another recording")
         steps = int(fields["steps"])
         cursor = Cursor(state, float(fields["h"]), None if steps < 0 else steps)
-        return cursor, _Saved(rows, sizes, kept, name, rows["history"] - 1)
+        step = rows["history"] - 1
+        return cursor, _Saved(rows, sizes, kept, name, step, hashes, tuple(kept_sha))
 
     def _finished(self) -> str | None:
         """A message if ``out`` holds this scene's finished run, else None."""
@@ -314,6 +389,49 @@ class Checkpoints:
         except _UNREADABLE:
             reached = ""
         return f"{self.out}: nothing to resume, it holds the finished run of this scene{reached}"
+
+
+def _texts(fields: dict[str, np.ndarray], key: str, count: int | None = None) -> list[str]:
+    """The commit's array ``key`` as strings: one dimension of ``count`` entries (any when
+    None), else ``ValueError`` naming it."""
+    array = fields[key]
+    if array.ndim != 1 or array.dtype.kind != "U" or (count is not None and len(array) != count):
+        raise ValueError(f"{COMMIT}: {key} is not a list of {count or 'some'} names")
+    return [str(x) for x in array]
+
+
+def _counts(fields: dict[str, np.ndarray], key: str, count: int | None) -> list[int]:
+    """The commit's array ``key`` as integers >= 0: ``count`` of them in one dimension, or
+    one scalar when ``count`` is None; else ``ValueError`` naming it."""
+    array = fields[key]
+    shape = () if count is None else (count,)
+    if array.shape != shape or array.dtype.kind not in "iu" or np.any(array < 0):
+        what = "an integer" if count is None else f"{count} integers"
+        raise ValueError(f"{COMMIT}: {key} is not {what} >= 0 (shape {array.shape})")
+    return [int(x) for x in np.atleast_1d(array)]
+
+
+def _check_cursor(fields: dict[str, np.ndarray], state: State, scene: Scene) -> None:
+    """The cursor's time within the study, its next step a finite positive size no longer
+    than the study asks (or within its adaptive bounds), and with fixed steps no more steps
+    left than reach ``t_end`` from its time; else ``ValueError`` naming what is wrong."""
+    study = scene.study
+    h, steps = fields["h"], fields["steps"]
+    if h.shape != () or h.dtype.kind != "f" or steps.shape != () or steps.dtype.kind not in "iu":
+        raise ValueError(f"{COMMIT}: h and steps must be one number each")
+    t_end = float(getattr(study, "t_end", np.inf))
+    # the time is a sum of steps: t_end to the rounding of a few thousand of them
+    if not (np.isfinite(state.t) and 0 <= state.t <= t_end * (1 + 1e-9)):
+        raise ValueError(f"the cursor's time t = {state.t} lies outside the study [0, {t_end}]")
+    if not (np.isfinite(h) and h > 0):
+        raise ValueError(f"{COMMIT}: the next step h = {h} must be finite and > 0")
+    if steps >= 0:
+        reach = int(np.ceil((t_end - state.t) / float(h) * (1 + 1e-9))) + 1
+        if steps > reach:
+            raise ValueError(
+                f"{COMMIT}: {int(steps)} steps left from t = {state.t:.6g} s, more than the "
+                f"{reach} of h = {float(h):.6g} s that reach t_end = {t_end:g} s"
+            )
 
 
 def _results_of(text: str) -> dict[str, Any]:

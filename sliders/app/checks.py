@@ -8,7 +8,8 @@ refer to something it can move.  Nothing is built here: the geometry is checked 
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections import defaultdict
+from collections.abc import Hashable, Iterable
 from functools import partial
 
 from fvbeam.names import suggest
@@ -23,16 +24,30 @@ def part_of(ref: str) -> str:
 
 
 def tied_parts(scene: Scene, part: str) -> set[str]:
-    """The beams and bodies joined to ``part`` by ties, directly or through others."""
-    group, grown = {part}, True
-    while grown:
-        grown = False
-        for tie in scene.tie:
-            a, b = (part_of(n) for n in tie.nodes)
-            if (a in group) != (b in group):
-                group |= {a, b}
-                grown = True
+    """The beams and bodies joined to ``part`` by ties, directly or through others (a
+    search of the graph of ties: linear in their number)."""
+    joined: dict[str, list[str]] = defaultdict(list)
+    for tie in scene.tie:
+        a, b = (part_of(n) for n in tie.nodes)
+        joined[a].append(b)
+        joined[b].append(a)
+    group, todo = {part}, [part]
+    while todo:
+        for other in joined[todo.pop()]:
+            if other not in group:
+                group.add(other)
+                todo.append(other)
     return group
+
+
+def repeated(values: Iterable[Hashable]) -> list[str]:
+    """The values listed more than once, sorted as text; one pass with a set of those seen
+    (linear in the number of values, however many repeat)."""
+    seen: set = set()
+    twice: set = set()
+    for value in values:
+        (twice if value in seen else seen).add(value)
+    return sorted(str(v) for v in twice)
 
 
 class _Names:
@@ -112,8 +127,9 @@ def reference_problems(scene: Scene) -> list[Problem]:
     for i, support in enumerate(scene.support):
         names.node(f"support[{i}].node", support.node, problems)
         problems.attempt(f"support[{i}].kind", partial(held_dofs, support.kind), support.kind)
+    ties = {frozenset(t.nodes) for t in scene.tie}
     for i in range(len(scene.slider)):
-        _check_slider(scene, i, names, problems, ties_ok)
+        _check_slider(scene, i, names, problems, ties if ties_ok else None)
     for i, load in enumerate(scene.load):
         if load.kind == "nodal":
             names.node(f"load[{i}].node", load.node, problems)
@@ -144,11 +160,9 @@ def _check_output(scene: Scene, names: _Names, problems: Problems) -> None:
         ("history", output.history or ()),
         ("vtu_fields", output.vtu_fields or ()),
     ):
-        repeated = sorted({str(t) for t in values if values.count(t) > 1})
-        if repeated:
-            problems.add(
-                f"output.{key}", f"lists {', '.join(repeated)} more than once", list(values)
-            )
+        twice = repeated(values)
+        if twice:
+            problems.add(f"output.{key}", f"lists {', '.join(twice)} more than once", list(values))
     dynamic = isinstance(scene.study, DynamicStudy)
     derived = ("probe", "load", "peak", "event", "frequency")
     given_keys = [("history", output.history is not None)]
@@ -166,16 +180,9 @@ def _check_output(scene: Scene, names: _Names, problems: Problems) -> None:
             continue
         if table not in output.csv:
             problems.add(f"output.{table}", f"selects from the {table} table, not in output.csv")
-        chosen = getattr(spec, key) or ()
-        repeated = sorted(
-            {
-                c
-                for c in [*chosen, *(spec.columns or ())]
-                if [*chosen, *(spec.columns or ())].count(c) > 1
-            }
-        )
-        if repeated:
-            problems.add(f"output.{table}", f"lists {', '.join(repeated)} more than once")
+        twice = repeated([*(getattr(spec, key) or ()), *(spec.columns or ())])
+        if twice:
+            problems.add(f"output.{table}", f"lists {', '.join(twice)} more than once")
     seen: dict[str, int] = {}
     for i, probe in enumerate(output.probe):
         path = f"output.probe[{i}]"
@@ -289,11 +296,14 @@ def _check_beams(scene: Scene, names: _Names, problems: Problems) -> None:
             )
 
 
-def _check_slider(scene: Scene, i: int, names: _Names, problems: Problems, ties_ok: bool) -> None:
-    """A slider's line, body and orientation (its chain's joints only when every tie is
-    valid: a broken tie is reported once, where it is)."""
+def _check_slider(
+    scene: Scene, i: int, names: _Names, problems: Problems, ties: set[frozenset] | None
+) -> None:
+    """A slider's line, body and orientation (its chain's joints against ``ties``, the
+    scene's, only when every tie is valid, else None: a broken tie is reported once, where
+    it is)."""
     slider, path = scene.slider[i], f"slider[{i}]"
-    chain = _check_line(scene, path, slider.line, names, problems, ties_ok)
+    chain = _check_line(path, slider.line, names, problems, ties)
     if names.node(f"{path}.body", slider.body, problems) and part_of(slider.body) in chain:
         problems.add(
             f"{path}.body",
@@ -310,7 +320,11 @@ def _check_slider(scene: Scene, i: int, names: _Names, problems: Problems, ties_
 
 
 def _check_line(
-    scene: Scene, path: str, line: tuple[str, ...], names: _Names, problems: Problems, ties_ok: bool
+    path: str,
+    line: tuple[str, ...],
+    names: _Names,
+    problems: Problems,
+    ties: set[frozenset] | None,
 ) -> list[str]:
     """Check a slider's line; return the beams of its chain (empty for a rigid line)."""
     if len(line) == 1 and line[0] in names.lines:
@@ -331,11 +345,10 @@ def _check_line(
                 f"beam named '{name}'{suggest(name, choices)}",
                 name,
             )
-    repeated = sorted({b for b in line if line.count(b) > 1})
-    if repeated:
-        problems.add(f"{path}.line", f"lists beam {', '.join(repeated)} more than once", list(line))
-    elif ties_ok and all(name in names.beams for name in line):
-        ties = {frozenset(t.nodes) for t in scene.tie}
+    twice = repeated(line)
+    if twice:
+        problems.add(f"{path}.line", f"lists beam {', '.join(twice)} more than once", list(line))
+    elif ties is not None and all(name in names.beams for name in line):
         for a, b in zip(line[:-1], line[1:], strict=True):
             if frozenset((f"{a}.end", f"{b}.start")) not in ties:
                 problems.add(
@@ -393,6 +406,9 @@ def _check_dynamic(scene: Scene, study: DynamicStudy, names: _Names, problems: P
     """The drives' references (a slider or dof driven once), their tables, the steps, and
     the mass of every beam's section."""
     _check_masses(scene, "a dynamic study", problems)
+    supports = defaultdict(list)
+    for support in scene.support:
+        supports[support.node].append(support.kind)
     driven: dict[str, int] = {}
     for i, drive in enumerate(scene.drive):
         path = f"drive[{i}]"
@@ -407,7 +423,7 @@ def _check_dynamic(scene: Scene, study: DynamicStudy, names: _Names, problems: P
         else:
             key = f"{drive.node}.{drive.dof}"
             names.node(f"{path}.node", drive.node, problems)
-            if any(s.node == drive.node and _holds(s.kind, drive.dof) for s in scene.support):
+            if any(_holds(kind, drive.dof) for kind in supports.get(drive.node, ())):
                 problems.add(
                     f"{path}.dof", f"{drive.node} {drive.dof} is held by a support", drive.dof
                 )
@@ -477,10 +493,9 @@ def _check_start(scene: Scene, study: DynamicStudy, names: _Names, problems: Pro
         moving.insert(0, ("study.start", study.start.velocity))
         for k, node in enumerate(study.start.hold):
             names.node(f"study.start.hold[{k}]", node, problems)
-        hold = study.start.hold
-        repeated = sorted({n for n in hold if hold.count(n) > 1})
-        if repeated:
-            problems.add("study.start.hold", f"lists {', '.join(repeated)} more than once")
+        twice = repeated(study.start.hold)
+        if twice:
+            problems.add("study.start.hold", f"lists {', '.join(twice)} more than once")
     if study.restart is not None:
         for where, _ in moving:
             problems.add(

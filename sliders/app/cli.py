@@ -6,9 +6,11 @@ directory that cannot be read or written (one message per problem on stderr, not
 written); 130 interrupted by Ctrl-C (a sweep writes the points it completed).
 
 ``check`` does everything ``run`` does but solve: the scene's three validation phases (with
-the mesh and restart files it names opened and matched to the model, and its drives on their
-lines), the output directory (``--out`` or the default; created and removed again to be
-sure), and the renderer ``output.png`` needs.  ``run`` first removes what interrupted runs
+the mesh and restart files it names opened and matched to the model, its drives on their
+lines, its force elements' geometry and what the chosen back end runs), a warning for every
+option the study ignores (:func:`sliders.app.ignored.ignored_options`), the output
+directory (``--out`` or the default; created and removed again to be sure), and the renderer
+``output.png`` needs.  ``run`` first removes what interrupted runs
 left beside its output directory (:func:`fvbeam.io.remove_leftovers`), and says so.  A dynamic
 run keeps a checkpoint beside its output directory, from which ``run --resume DIR`` goes on
 (:mod:`sliders.app.checkpoint`; 0 and "nothing to resume" when ``DIR`` holds the finished run).
@@ -96,12 +98,16 @@ def _validated(args: argparse.Namespace) -> Model | None:
     problem is printed on stderr; ``None`` if there is any."""
     from fvbeam.io import OUTPUT_MARKER, OutputError, check_replaceable
     from sliders.app.errors import SceneError
+    from sliders.app.ignored import ignored_options
 
     messages, model = [], None
     try:
         model = _load(args.scene)
     except SceneError as exc:
         messages.append(str(exc))
+    else:
+        for problem in ignored_options(model.scene):
+            print(f"{args.scene}: warning: {problem}", file=sys.stderr)
     try:
         check_replaceable(_out(args), OUTPUT_MARKER)
     except OutputError as exc:
@@ -191,6 +197,10 @@ def _run_dynamic(model: Model, out: Path, resume: bool) -> int:
 
     try:
         outcome = integrate(model, progress=True, out=out, resume=resume)
+        if outcome.state is None:  # not even the start: nothing to write
+            what = f"failed: {outcome.error}" if outcome.error else "interrupted"
+            print(f"fvslider: {what}; nothing written to {out}", file=sys.stderr)
+            return 1 if outcome.error else 130
         write_dynamic(outcome, out)
     except Complete as done:
         print(done)

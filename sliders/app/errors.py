@@ -17,6 +17,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
 from pydantic import BaseModel, ValidationError
 from pydantic_core import ErrorDetails
 
@@ -30,6 +31,13 @@ class _NoValue:
 
 #: Marker for a problem that has no value to show (a missing key, a whole table).
 NO_VALUE: Any = _NoValue()
+
+
+#: What a build that leaves the floating-point range is told (:meth:`Problems.attempt`).
+NON_FINITE = (
+    "its numbers make one that is not finite (beyond the range of double precision, or "
+    "undefined): scale the model's units"
+)
 
 
 #: ``repr`` that stops after a few entries and characters: a message shows at most 60
@@ -86,12 +94,19 @@ class Problems(list):
         self.append(Problem(path, message, value))
 
     def attempt(self, path: str, build: Callable[[], Any], value: Any = NO_VALUE) -> Any:
-        """``build()``, or ``None`` with its ``ValueError`` recorded at ``path``."""
+        """``build()``, or ``None`` with its ``ValueError`` recorded at ``path``.  A number
+        out of floating-point range on the way (numpy's overflow, division by zero or
+        undefined result, raised here; Python's ``ArithmeticError``) is recorded too: finite
+        values that make a non-finite one (a length of ``1e200`` squared) are refused where
+        they are built, never carried into a solve."""
         try:
-            return build()
+            with np.errstate(over="raise", divide="raise", invalid="raise"):
+                return build()
+        except ArithmeticError as exc:  # FloatingPointError, OverflowError, ZeroDivisionError
+            self.add(path, f"{NON_FINITE} ({exc})", value)
         except ValueError as exc:
             self.add(path, str(exc), value)
-            return None
+        return None
 
     def raise_if_any(self, source: str, what: str = "invalid scene") -> None:
         if self:

@@ -25,7 +25,7 @@ import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, BinaryIO
 
 from sliders.app.errors import Problem, Problems
 from sliders.app.schema import DynamicStudy, Scene, SweepStudy
@@ -36,6 +36,13 @@ from sliders.app.schema import DynamicStudy, Scene, SweepStudy
 #: of stack between 200 and 400 levels (measured, Python 3.11): there is nothing to raise it
 #: for, and no room to.
 DEPTH = 32
+#: The largest value a limit may take, 2**53: every integer up to it is exact as a float (so
+#: ``9e15`` reads as written), and sizes compared with it never overflow.  A limit is a
+#: count compared with what a scene asks for, never an amount allocated: the scene file is
+#: read in pieces of :data:`CHUNK` bytes (:func:`read_at_most`).
+MAXIMUM = 2**53
+#: The bytes of a scene file read at a time.
+CHUNK = 1 << 20
 
 
 @dataclass(frozen=True)
@@ -53,8 +60,10 @@ class Limits:
     def __post_init__(self) -> None:
         for field in dataclasses.fields(self):
             value = getattr(self, field.name)
-            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-                raise ValueError(f"limit {field.name} must be a positive integer, got {value!r}")
+            if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= MAXIMUM:
+                raise ValueError(
+                    f"limit {field.name} must be an integer from 1 to 2**53, got {value!r}"
+                )
 
     @staticmethod
     def variable(name: str) -> str:
@@ -63,8 +72,8 @@ class Limits:
 
     @classmethod
     def from_environment(cls, environ: Mapping[str, str] | None = None) -> "Limits":
-        """The defaults, each replaced by its environment variable when set (a positive
-        integer: ``2000000``, ``2_000_000`` or ``2e6``); a bad value raises
+        """The defaults, each replaced by its environment variable when set (an integer from
+        1 to :data:`MAXIMUM`: ``2000000``, ``2_000_000`` or ``2e6``); a bad value raises
         :class:`~sliders.app.errors.SceneError` naming the variable."""
         environ = os.environ if environ is None else environ
         values: dict[str, int] = {}
@@ -77,7 +86,8 @@ class Limits:
             elif text is not None:
                 problems.add(
                     cls.variable(field.name),
-                    f"must be a positive integer: it raises the limit on {LIMITS[field.name]}",
+                    f"must be an integer from 1 to 2**53 = {MAXIMUM}: it raises the limit on "
+                    f"{LIMITS[field.name]}",
                     text,
                 )
         problems.raise_if_any("environment", "invalid limits")
@@ -106,11 +116,30 @@ LIMITS = {
 
 
 def _positive_integer(text: str) -> int | None:
+    """``text`` as an integer from 1 to :data:`MAXIMUM` (digits, or a float's form of one:
+    ``2e6``), else None."""
+    text = text.strip().replace("_", "")
     try:
-        number = float(text.replace("_", ""))
-    except ValueError:
+        number = int(text) if text.lstrip("+").isdigit() else float(text)
+    except (ValueError, OverflowError):
         return None
-    return int(number) if number.is_integer() and number >= 1 else None
+    if isinstance(number, float) and not number.is_integer():  # also inf and nan
+        return None
+    return int(number) if 1 <= number <= MAXIMUM else None
+
+
+def read_at_most(file: BinaryIO, limit: int) -> bytes:
+    """The first ``limit + 1`` bytes of ``file`` at most, read :data:`CHUNK` bytes at a time:
+    the memory taken is that of the bytes the file has, never that of the limit (a read of
+    ``limit + 1`` bytes at once allocates them first)."""
+    chunks, total = [], 0
+    while total <= limit:
+        chunk = file.read(min(CHUNK, limit + 1 - total))
+        if not chunk:
+            break
+        chunks.append(chunk)
+        total += len(chunk)
+    return b"".join(chunks)
 
 
 # -- before parsing -----------------------------------------------------------------------

@@ -27,7 +27,8 @@ import numpy as np
 
 from fvbeam import Beam, BeamMesh, RigidBody, Section, Structure, Support, arc, straight
 from fvbeam.formulations import formulation as get_formulation
-from fvbeam.mass import acceleration, weight
+from fvbeam.geometry import direction, norm
+from fvbeam.mass import acceleration, check_kind, weight
 from fvbeam.mechanism import rigid_modes, unresisted
 from fvbeam.names import suggest
 from fvbeam.shapes import SHAPES, Material
@@ -104,9 +105,10 @@ def _choose(
 ) -> None:
     """A problem for each name of ``given`` not in ``allowed`` (at ``path[i]``, or at
     ``path`` for a ``single`` name): always written if in ``always``, else the allowed
-    names with a did-you-mean."""
+    names with a did-you-mean (``allowed`` looked up as a set: linear in the names)."""
+    known = set(allowed)
     for i, name in enumerate(given):
-        if name in allowed:
+        if name in known:
             continue
         where = path if single else f"{path}[{i}]"
         if name in always:
@@ -223,7 +225,7 @@ class _Probe:
             self.curve = lambda xi: line.derivatives(xi)[:3]
             self.project = line.project
         self.length = line.length
-        ends = [float(np.linalg.norm(self.curve(xi)[0])) for xi in (0.0, line.length)]
+        ends = [float(norm(self.curve(xi)[0])) for xi in (0.0, line.length)]
         self.size = max([line.length] + ends)
 
     def gap(self, point: np.ndarray, start: float | None = None) -> tuple[float, float, float]:
@@ -235,8 +237,8 @@ class _Probe:
             if start is None
             else project_one(self.curve, np.array([start, self.length]), point)
         )
-        gap = float(np.linalg.norm(point - self.curve(xi)[0]))
-        return gap, ON_LINE * max(self.size, float(np.linalg.norm(point))), xi
+        gap = float(norm(point - self.curve(xi)[0]))
+        return gap, ON_LINE * max(self.size, float(norm(point))), xi
 
 
 class Model:
@@ -314,6 +316,8 @@ class Model:
             problems.attempt(f"force[{i}]", partial(_force, s)) for i, s in enumerate(scene.force)
         ]
         problems.raise_if_any(source)
+        self._check_force_geometry(problems)
+        self._check_back_end(problems)
         self._check_on_lines(problems)
         #: The state a dynamic study starts from (``study.restart``), or None.
         self.restart = self._restart(problems)
@@ -364,14 +368,14 @@ class Model:
     # -- geometric checks -------------------------------------------------------------------
     def _size(self) -> float:
         points = np.vstack([b.mesh.points for b in self.beams] + [b.position for b in self.bodies])
-        return float(np.linalg.norm(points.max(axis=0) - points.min(axis=0)))
+        return float(norm(points.max(axis=0) - points.min(axis=0)))
 
     def _check_ties(self, parts: Structure, problems: Problems) -> None:
         """Ties join coincident nodes (``parts``: the beams and bodies, not yet tied)."""
         tol = COINCIDENT * self._size()
         for i, tie in enumerate(self.scene.tie):
             a, b = (parts.node_position(node) for node in tie.nodes)
-            gap = float(np.linalg.norm(a - b))
+            gap = float(norm(a - b))
             if gap > tol:
                 problems.add(
                     f"tie[{i}].nodes",
@@ -396,6 +400,53 @@ class Model:
                 on = f"beam {load.beam!r}"
                 check = partial(check_smearing, load.smearing, load.kernel, length, on)
                 problems.attempt(f"load[{i}].smearing", check, load.smearing)
+
+    def _check_force_geometry(self, problems: Problems) -> None:
+        """An axial element's nodes apart (it acts along the line between them), and its
+        law's stops within its stroke ``extended - |x_b - x_a|``, which is ``extended`` when
+        the nodes meet: a stop at or beyond it is never reached."""
+        tol = COINCIDENT * self._size()
+        for i, spec in enumerate(self.scene.force):
+            if spec.kind != "axial":
+                continue
+            a, b = (self.structure.node_position(node) for node in spec.nodes)
+            length = float(norm(b - a))
+            if length <= tol:
+                problems.add(
+                    f"force[{i}].nodes",
+                    f"the nodes are {length:.3g} m apart: an axial element acts along the "
+                    "line between its nodes, which needs them apart",
+                    list(spec.nodes),
+                )
+            if spec.law.stroke_max >= spec.extended:
+                problems.add(
+                    f"force[{i}].law.stroke_max",
+                    f"at or beyond the element's extended length {spec.extended:g} m: the "
+                    "stroke, extended - |x_b - x_a|, reaches it only when the nodes meet",
+                    spec.law.stroke_max,
+                )
+
+    def _check_back_end(self, problems: Problems) -> None:
+        """What the study's back end and mass kind take (as the solves check them, before
+        any): the bordered back end runs no force element, nor a dynamic study's slider
+        friction (:meth:`sliders.solve.statics.SliderStatics`); a consistent mass is a
+        Galerkin beam's (:func:`fvbeam.mass.check_kind`)."""
+        study = self.scene.study
+        instead = "runs on the condensed back end: study.method 'condensed' or 'auto'"
+        if study.method == "bordered" and self.scene.force:
+            problems.add("study.method", f"the scene has force elements, which {instead}")
+        if not isinstance(study, DynamicStudy):
+            return
+        if study.method == "bordered":
+            for i, slider in enumerate(self.scene.slider):
+                if slider.friction is not None:
+                    problems.add(f"slider[{i}].friction", f"slider friction {instead}")
+        if study.mass == "consistent":
+            for beam in self.beams:
+                found = len(problems)
+                problems.attempt("study.mass", partial(check_kind, beam, study.mass), study.mass)
+                if len(problems) > found:
+                    break
 
     def _check_on_lines(self, problems: Problems) -> None:
         """Every slider's body on its line, in the scene and at every sweep value."""
@@ -626,8 +677,7 @@ class Model:
             raise ValueError("only a sweep over a translation or an abscissa moves parts")
         parameter = study.parameter
         if isinstance(parameter, Translation):
-            direction = np.array(parameter.direction)
-            return value * direction / np.linalg.norm(direction)
+            return value * direction(parameter.direction, "study.parameter.direction")
         slider = self.sliders[self._slider_names().index(parameter.of)]
         zero = np.zeros(self.structure.n_dofs)
         target = (
@@ -848,6 +898,7 @@ class Model:
         VTU fields (:data:`sliders.app.vtu.FIELDS`), probes' values and abscissae."""
         output = self.scene.output
         columns = history_columns(self.sliders)
+        taken, outputs = set(columns), {e.name: e.OUTPUTS for e in self.forces}
         choose = partial(_choose, problems)
         if output.history is not None:
             choose("output.history", output.history, columns)
@@ -879,12 +930,12 @@ class Model:
                 problems.add("output.render.follow", str(exc), output.render.follow)
         for i, spec in enumerate(output.probe):
             path = f"output.probe[{i}]"
-            if spec.name in columns:
+            if spec.name in taken:
                 problems.add(f"{path}.name", "already a column of history.csv", spec.name)
             if spec.axes is not None and (spec.slider is None or spec.value != "force"):
                 problems.add(f"{path}.axes", "axes are for a slider's force", list(spec.axes))
             if spec.force is not None:
-                allowed = next(e.OUTPUTS for e in self.forces if e.name == spec.force)
+                allowed = outputs[spec.force]
             elif spec.slider is not None:
                 allowed = events.SLIDER_VALUES
             elif spec.node is not None:

@@ -29,7 +29,13 @@ from pydantic import ValidationError
 
 from sliders.app.checks import reference_problems
 from sliders.app.errors import Problem, SceneError, schema_problems
-from sliders.app.limits import Limits, nesting_problems, shape_problems, size_problems
+from sliders.app.limits import (
+    Limits,
+    nesting_problems,
+    read_at_most,
+    shape_problems,
+    size_problems,
+)
 from sliders.app.schema import Scene
 
 
@@ -95,7 +101,7 @@ def load_scene(
     path = Path(path)
     try:
         with path.open("rb") as file:
-            raw = file.read(limits.scene_bytes + 1)
+            raw = read_at_most(file, limits.scene_bytes)
             status = os.fstat(file.fileno())
     except OSError as exc:
         raise SceneError(

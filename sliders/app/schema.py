@@ -437,13 +437,21 @@ class RampMotion(Table):
     shape: Literal["linear", "cosine"] = "cosine"
 
 
+def _integer(value: Any) -> Any:
+    """An integer as TOML writes it (``1``, not ``1.0`` nor ``true``), before a ``Literal`` of
+    integers compares it (which would take both)."""
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise ValueError(f"must be an integer, not {type(value).__name__}")
+    return value
+
+
 class TabulatedMotion(Table):
     """Through ``(times, values)`` (:class:`sliders.joints.drives.Tabulated`)."""
 
     kind: Literal["tabulated"]
     times: Annotated[tuple[Number, ...], Field(min_length=2)]
     values: Annotated[tuple[Number, ...], Field(min_length=2)]
-    order: Literal[1, 3] = 1
+    order: Annotated[Literal[1, 3], BeforeValidator(_integer)] = 1
 
 
 MotionSpec = Annotated[LinearMotion | RampMotion | TabulatedMotion, Field(discriminator="kind")]
@@ -478,7 +486,7 @@ class Newton(Table):
     method: Literal["auto", "bordered", "condensed"] = "auto"
     tol: Positive = 1e-8
     max_iterations: Count = 25
-    planar: bool = True
+    planar: Flag = True
 
 
 class Solver(Newton):
@@ -740,7 +748,7 @@ class Output(Table):
     names are checked against the model (:class:`sliders.app.model.Model`)."""
 
     csv: tuple[TableName, ...] = TABLES
-    vtu: bool = False
+    vtu: Flag = False
     png: Literal["none", "last", "all"] = "none"
     animation: Literal["none", "mp4", "gif"] = "none"
     render: RenderSpec = RenderSpec()

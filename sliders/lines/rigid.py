@@ -27,6 +27,7 @@ from fvbeam.geometry import (
     cross,
     direction,
     locate_abscissa,
+    norm,
     number,
     section_frames,
     vector3,
@@ -193,7 +194,7 @@ class StraightLine(RigidLine):
         self.name = name
         self.start = vector3(start, f"{name}: start")
         d = vector3(end, f"{name}: end") - self.start
-        self.length = number(float(np.linalg.norm(d)), f"{name}: length", "> 0")
+        self.length = number(float(norm(d)), f"{name}: length", "> 0")
         self.t = d / self.length
         self.up = vector3(up, f"{name}: up")
         check_up(direction(up, f"{name}: up"), self.t[None], np.zeros(1), name)
@@ -287,7 +288,7 @@ class CubicSpline(RigidLine):
         pts = np.asarray(points, dtype=float)
         if pts.ndim != 2 or pts.shape[1] != 3 or len(pts) < 3 or not np.all(np.isfinite(pts)):
             raise ValueError(f"{name}: points must be at least 3 finite 3-D points")
-        chords = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+        chords = norm(np.diff(pts, axis=0))
         if np.any(chords <= 0):
             raise ValueError(
                 f"{name}: points {int(np.argmin(chords))} and {int(np.argmin(chords)) + 1} coincide"

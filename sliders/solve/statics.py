@@ -45,7 +45,7 @@ from fvbeam.structure import Structure
 from fvbeam.support import Support, complement
 from sliders.forces.elements import ForceElement
 from sliders.joints.slider import Slider, SliderBatch
-from sliders.solve.condensed import CondensedOperator
+from sliders.solve.condensed import SINGULAR_RCOND, CondensedOperator
 from sliders.solve.diagnosis import singular_motion
 from sliders.solve.mechanism import (
     MASSLESS_REMEDY,
