@@ -114,6 +114,25 @@ def _probe(directory: Path, prefix: str, path: Path) -> None:
     """Create ``directory`` (and its missing parents) and a temporary directory in it named
     ``prefix`` + a random suffix, as a write would, then remove everything created:
     :class:`OutputError` about ``path`` if any of it fails."""
+    for attempt in range(3):
+        try:
+            _probe_once(directory, prefix, path)
+            return
+        except _Raced:  # another process made or removed a directory on the way meanwhile
+            if attempt == 2:
+                raise OutputError(
+                    f"cannot write {path}: other processes keep creating and removing the "
+                    "directories on its way"
+                ) from None
+
+
+class _Raced(Exception):
+    """A directory on the way appeared or vanished while :func:`_probe` worked."""
+
+
+def _probe_once(directory: Path, prefix: str, path: Path) -> None:
+    """One attempt of :func:`_probe`: :class:`_Raced` when another process creates or removes
+    a directory on the way at the same time (two runs checking one missing parent)."""
     existing, missing = _nearest_existing(directory, 0)
     created: list[Path] = []
     making: Path | None = None
@@ -124,12 +143,26 @@ def _probe(directory: Path, prefix: str, path: Path) -> None:
             created.append(making)
         making = None
         os.rmdir(tempfile.mkdtemp(prefix=prefix, dir=directory))
+    except FileExistsError as exc:
+        if making is not None and making.is_dir():  # made meanwhile by another process
+            raise _Raced from None
+        action = f"create {making}" if making is not None else f"create entries in {directory}"
+        raise OutputError(f"cannot write {path}: cannot {action} ({exc.strerror or exc})") from None
+    except FileNotFoundError as exc:
+        where = making.parent if making is not None else directory
+        if not where.is_dir():  # a directory checked a moment ago removed meanwhile
+            raise _Raced from None
+        action = f"create {making}" if making is not None else f"create entries in {directory}"
+        raise OutputError(f"cannot write {path}: cannot {action} ({exc.strerror or exc})") from None
     except OSError as exc:
         action = f"create {making}" if making is not None else f"create entries in {directory}"
         raise OutputError(f"cannot write {path}: cannot {action} ({exc.strerror or exc})") from None
     finally:
         for made in reversed(created):
-            os.rmdir(made)
+            try:
+                os.rmdir(made)
+            except OSError:  # another process wrote in it meanwhile: its own
+                pass
 
 
 def check_writable(directory: str | Path) -> None:
@@ -203,6 +236,66 @@ def _lock(directory: Path, wait: bool) -> Iterator[bool]:
             return
         yield True
     finally:
+        os.close(fd)
+
+
+#: Beside an output directory ``NAME``, the file ``NAME.lock`` that a run holds locked while
+#: it writes ``NAME`` and its checkpoint (:func:`writer`).
+WRITER_SUFFIX = ".lock"
+
+
+@contextmanager
+def writer(out: str | Path, who: str) -> Iterator[None]:
+    """Be the one writer of the output directory ``out`` (and of what lies beside it, its
+    checkpoint) while the block runs: hold an exclusive ``flock`` on ``NAME.lock`` beside it,
+    holding ``who`` (the process id is added), and remove the file at the end.  Another
+    process holding it is an :class:`OutputError` naming it and what it wrote there.
+
+    The kernel drops the lock of a process that dies, so a killed run's ``NAME.lock`` is
+    taken over by the next run.  The file is removed while locked, and a lock taken on a file
+    that is no longer the one at its path (removed by the writer before) is taken again, so
+    two runs never both hold the lock of the path."""
+    out = Path(out)
+    out = out if out.name else out.absolute()
+    path = out.with_name(out.name + WRITER_SUFFIX)
+    try:  # where the run writes its output and checkpoint in any case
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise _failure(path.parent, exc) from None
+    with _held(path, out, who):
+        yield
+
+
+@contextmanager
+def _held(path: Path, out: Path, who: str) -> Iterator[None]:
+    """The lock of :func:`writer` on the file ``path`` beside ``out``."""
+    while True:
+        try:
+            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
+        except OSError as exc:
+            raise _failure(path, exc) from None
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            holder = os.read(fd, 4096).decode(errors="replace").strip() or "another process"
+            os.close(fd)
+            raise OutputError(
+                f"cannot write {out}: another fvslider run is writing it ({holder}); "
+                "wait for it to end or choose another output directory"
+            ) from None
+        try:
+            same = os.fstat(fd).st_ino == os.stat(path).st_ino
+        except FileNotFoundError:
+            same = False
+        if same:
+            break
+        os.close(fd)  # removed by the writer that held it: take the new file's lock
+    try:
+        os.ftruncate(fd, 0)
+        os.write(fd, f"pid {os.getpid()}: {who}\n".encode())
+        yield
+    finally:
+        path.unlink(missing_ok=True)
         os.close(fd)
 
 

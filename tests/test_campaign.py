@@ -199,3 +199,18 @@ def test_efficiency_of_a_constant_force_is_one_and_of_a_linear_spring_one_half()
     spring = pd.DataFrame({"t": stroke, "stroke": stroke, "force": 3.0 * stroke})
     assert reduce(constant, spec)["eta"] == pytest.approx(1.0, rel=1e-15)
     assert reduce(spring, spec)["eta"] == pytest.approx(0.5, rel=1e-15)
+
+
+def test_the_shipped_landing_gear_campaign_resolves_every_case():
+    """``studies/campaigns/landing_gear.toml``: its cases are the product of its axes (3 sink
+    speeds x 4 weights with their lift x 2 forward speeds x 2 friction peaks x 2 models = 96),
+    each setting its axes' keys, and every resolved scene validates."""
+    from test_scenes import ROOT
+
+    shipped = read_campaign(ROOT / "studies" / "campaigns" / "landing_gear.toml")
+    cases = shipped.cases()
+    assert len(cases) == 3 * 4 * 2 * 2 * 2
+    for case in cases:
+        for key, value in case.values.items():
+            assert get_value(case.scene, key) == value
+        load_scene(case.scene, base=shipped.base)

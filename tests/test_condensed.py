@@ -23,8 +23,7 @@ from fvbeam import Beam, RigidBody, Structure, Support, straight
 from fvbeam.mechanism import node_positions, rigid_modes
 from sliders.joints.slider import Slider
 from sliders.lines.rigid import CircularArc
-from sliders.solve.condensed import SINGULAR_RCOND
-from sliders.solve.statics import SliderStatics, rcond_estimate
+from sliders.solve.statics import NUMERICALLY_SINGULAR, SliderStatics, rcond_estimate
 
 EPS = np.finfo(float).eps
 
@@ -181,7 +180,8 @@ def test_the_bordered_condition_estimate_tells_singular_from_ill_scaled():
     reciprocal 1-norm condition number from above (Hager's estimate of ``|A^-1|_1`` is a
     lower bound) and within a factor 10 of it (the estimator is typically within 3, Higham,
     Sec. 15.3); on a matrix whose last row is the sum of the others (exactly singular, made
-    nonsingular by the rounding of that sum) it is at most the singular threshold."""
+    nonsingular by the rounding of that sum) it is below the unit roundoff, the threshold of
+    the bordered step (a matrix singular to working precision)."""
     rng = np.random.default_rng(4)
     n = 30
     A = rng.standard_normal((n, n)) + 5 * np.eye(n)
@@ -197,4 +197,4 @@ def test_the_bordered_condition_estimate_tells_singular_from_ill_scaled():
     B[-1] = B[:-1].sum(axis=0)
     lu = spla.splu(sp.csc_matrix(B))  # a pivot of roundoff's size, not zero
     assert np.abs(lu.U.diagonal()).min() > 0
-    assert rcond_estimate(sp.csc_matrix(B), lu) <= SINGULAR_RCOND
+    assert rcond_estimate(sp.csc_matrix(B), lu) < NUMERICALLY_SINGULAR

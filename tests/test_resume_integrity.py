@@ -19,8 +19,9 @@ from sliders.app.checkpoint import COMMIT, checkpoint_directory
 
 
 def meshed_scene(folder):
-    """The pushed body of ``test_checkpoint.scene_file``, its beam read from a mesh file."""
-    path = scene_file(folder)
+    """The pushed body of ``test_checkpoint.scene_file``, its beam read from a mesh file, a
+    checkpoint every 4 steps."""
+    path = scene_file(folder, checkpoint={"steps": 4})
     scene = tomllib.loads(path.read_text())
     straight((0.0, 0.0, 0.0), (1.0, 0.0, 0.0), 1, 3, name="cantilever").write(folder / "c.vtu")
     del scene["beam"][0]["straight"]

@@ -99,8 +99,8 @@ def test_geometry_and_its_numbers_give_the_same_model_and_results():
         ),
         (
             {"material": {"E": 210e9, "nu": 0.3, "G": 80e9}, "shape": TUBE},
-            "section[0]",
-            "material: give exactly one of nu, G",
+            "section[0].material",
+            "give exactly one of nu, G",
         ),
         (
             {"material": STEEL, "shape": {"kind": "tube", "outer": 0.05, "inner": 0.06}},
@@ -128,9 +128,10 @@ def test_a_dynamic_study_needs_the_density():
 
 
 def test_gravity_on_nothing_with_a_mass_is_named():
+    """Named where the mass is missing, the section's density (no body has a mass)."""
     scene = cantilever({"material": {"E": 210e9, "nu": 0.3}, "shape": TUBE}, gravity=[0, 0, -9.81])
     (problem,) = problems(scene)
-    assert problem.path == "study.gravity" and "weigh nothing" in problem.message
+    assert problem.path == "section[0].material.density" and "weigh nothing" in problem.message
 
 
 def own_weight(form: str, elements: int, mass: str):

@@ -3,7 +3,8 @@
 A run of the command into ``DIR`` writes its outputs only at its end
 (:func:`sliders.app.run_dynamic.write_dynamic`); meanwhile it keeps a checkpoint beside them,
 in ``DIR.checkpoint`` (:func:`checkpoint_directory`), every ``study.checkpoint.steps`` steps
-or ``study.checkpoint.seconds`` of wall time (default: every minute), and on Ctrl-C.  It
+or ``study.checkpoint.seconds`` of wall time (default: every 500 steps or every minute,
+whichever comes first), and on Ctrl-C.  It
 holds what the run needs to go on as if it had never stopped:
 
 * ``cursor_NNNNNN.npz``: the integrator's state after step ``NNNNNN``

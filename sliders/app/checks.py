@@ -15,7 +15,15 @@ from functools import partial
 from fvbeam.names import suggest
 from fvbeam.support import DOF_NAMES, held_dofs
 from sliders.app.errors import Problem, Problems
-from sliders.app.schema import Abscissa, DynamicStudy, PointLoad, Scene, SweepStudy, Translation
+from sliders.app.schema import (
+    Abscissa,
+    DynamicStudy,
+    PointLoad,
+    Scene,
+    SectionSpec,
+    SweepStudy,
+    Translation,
+)
 
 
 def part_of(ref: str) -> str:
@@ -253,6 +261,9 @@ def _check_sections(scene: Scene, problems: Problems) -> None:
         elif geometry:
             for key in {"material", "shape"} - set(geometry):
                 problems.add(f"{path}.{key}", f"missing: a section's {geometry[0]} needs its {key}")
+            material = section.material
+            if material is not None and (material.nu is None) == (material.G is None):
+                problems.add(f"{path}.material", "give exactly one of nu, G (the other follows)")
             for key in ("mass_per_length", "inertia"):
                 if getattr(section, key) is not None:
                     problems.add(
@@ -272,6 +283,13 @@ def _check_sections(scene: Scene, problems: Problems) -> None:
                 path,
                 f"give its six stiffnesses ({', '.join(STIFFNESSES)}), or its material and shape",
             )
+
+
+def _whole(section: SectionSpec) -> bool:
+    """Whether ``section`` is given by exactly one whole form (:func:`_check_sections`)."""
+    given = [k for k in STIFFNESSES if getattr(section, k) is not None]
+    geometry = [k for k in ("material", "shape") if getattr(section, k) is not None]
+    return (len(given) == len(STIFFNESSES) and not geometry) or (len(geometry) == 2 and not given)
 
 
 def _check_beams(scene: Scene, names: _Names, problems: Problems) -> None:
@@ -373,11 +391,9 @@ def _check_study(scene: Scene, names: _Names, problems: Problems) -> None:
         _check_start(scene, study, names, problems)
     else:
         if study.gravity is not None and not _has_mass(scene):
-            problems.add(
-                "study.gravity",
-                "no beam's section and no body has a mass: gravity would weigh nothing",
-                list(study.gravity),
-            )
+            # named where the mass is missing: every beam's section (no body has a mass)
+            weightless = "study.gravity (nothing has a mass: it would weigh nothing)"
+            _check_masses(scene, weightless, problems)
         for i, body in enumerate(scene.body):
             for key in ("velocity", "angular_velocity"):
                 if getattr(body, key) is not None:
@@ -471,8 +487,13 @@ def _check_masses(scene: Scene, study: str, problems: Problems) -> None:
 
 
 def _has_mass(scene: Scene) -> bool:
-    """Whether a beam's section or a body has a mass."""
+    """Whether a beam's section or a body has a mass (or may: a beam whose section is not
+    defined or not given whole, an error of its own, is not taken as massless)."""
     used = {b.section for b in scene.beam}
+    if used - {s.name for s in scene.section}:
+        return True
+    if any(not _whole(s) for s in scene.section if s.name in used):
+        return True
     return any(b.mass for b in scene.body) or any(
         s.mass_per_length or (s.material is not None and s.material.density)
         for s in scene.section

@@ -42,7 +42,7 @@ examples:
   fvslider check studies/scenes/fig4_sliding_beams.toml
   fvslider run studies/scenes/fig4_sliding_beams.toml --out results/sliding_beams
   fvslider run studies/scenes/pushed_body.toml --resume results/pushed_body   # after a kill
-  fvslider campaign studies/scenes/landing_gear_campaign.toml --out results/drops
+  fvslider campaign studies/campaigns/landing_gear.toml --out results/drops
   fvslider studies
   fvslider reproduce               # every figure study into results/
   fvslider reproduce fig1 --out out
@@ -148,15 +148,23 @@ def _check(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from fvbeam.io import OUTPUT_MARKER, remove_leftovers
-    from sliders.app import checkpoint
-    from sliders.app.run import Results, run
-    from sliders.app.tables import write_results
+    from fvbeam.io import writer
 
     model = _validated(args)
     if model is None:
         return 2
     out = _out(args)
+    with writer(out, f"fvslider run {args.scene}"):
+        return _run_into(args, model, out)
+
+
+def _run_into(args: argparse.Namespace, model: Model, out: Path) -> int:
+    """``fvslider run`` into ``out``, which this process is the one writer of."""
+    from fvbeam.io import OUTPUT_MARKER, remove_leftovers
+    from sliders.app import checkpoint
+    from sliders.app.run import Results, run
+    from sliders.app.tables import write_results
+
     removed = remove_leftovers(out, OUTPUT_MARKER) + remove_leftovers(
         checkpoint.checkpoint_directory(out), checkpoint.MARKER
     )

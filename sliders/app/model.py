@@ -975,11 +975,14 @@ class Model:
         if not events.asked(output) and not output.load:
             return
         probes = [p.name for p in output.probe]
+        # an attachment load on an undefined body (an error of its own) still names its
+        # columns, so that what reads them is not reported again
+        every = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
         probes += [
             f"{load.name}.{c}"
             for load in output.load
-            if load.body in bodies
-            for c in load.components or self._free_components(load.body)
+            for c in load.components
+            or (self._free_components(load.body) if load.body in bodies else every)
         ]
         probes += [c for e in output.event for c, _ in events.event_columns(e)]
         kept = history_columns(self.sliders)

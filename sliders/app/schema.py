@@ -565,9 +565,10 @@ class AdaptiveSpec(Table):
 class CheckpointSpec(Table):
     """Checkpoints of a run of the command (:mod:`sliders.app.checkpoint`): one every
     ``steps`` time steps or ``seconds`` of wall time, whichever comes first (0: not by that
-    rule; both 0: none)."""
+    rule; both 0: none).  The default keeps a short run resumable too (every 500 steps) and
+    a long one at most a minute behind."""
 
-    steps: Annotated[int, Strict(), Field(ge=0, description="an integer >= 0")] = 0
+    steps: Annotated[int, Strict(), Field(ge=0, description="an integer >= 0")] = 500
     seconds: NonNegative = 60.0
 
 

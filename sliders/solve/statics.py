@@ -45,7 +45,7 @@ from fvbeam.structure import Structure
 from fvbeam.support import Support, complement
 from sliders.forces.elements import ForceElement
 from sliders.joints.slider import Slider, SliderBatch
-from sliders.solve.condensed import SINGULAR_RCOND, CondensedOperator
+from sliders.solve.condensed import CondensedOperator
 from sliders.solve.diagnosis import singular_motion
 from sliders.solve.mechanism import (
     MASSLESS_REMEDY,
@@ -449,9 +449,9 @@ class SliderStatics:
         """Newton increments from the factorised bordered system of the joints' ``parts``
         (their Jacobians; a chord step's are an iteration old) under the residuals ``r_q``
         and ``r_y`` (the joints', side by side, at the state); None if it is singular:
-        a factor with a zero pivot, a matrix singular to roundoff (:func:`rcond_estimate` of
-        the equilibrated matrix at most :data:`~sliders.solve.condensed.SINGULAR_RCOND`, the
-        condensed back end's test of its small system), increments that are not finite, or,
+        a factor with a zero pivot, a matrix singular to working precision
+        (:func:`rcond_estimate` of the equilibrated matrix below :data:`NUMERICALLY_SINGULAR`),
+        increments that are not finite, or,
         at a ``cold`` state (multipliers zero), a rigid motion that the supports and sliders
         leave free (:func:`sliders.solve.mechanism.free_motion`)."""
         if cold and free_motion(self.rigid, self._position, parts, self.sliders, self.remedy):
@@ -461,7 +461,7 @@ class SliderStatics:
             lu = spla.splu(S)
         except RuntimeError:
             return None
-        if rcond_estimate(S, lu) <= SINGULAR_RCOND:
+        if rcond_estimate(S, lu) < NUMERICALLY_SINGULAR:
             return None
         z = lu.solve(-np.concatenate([r_q[self.free], r_y]))
         if not np.all(np.isfinite(z)):
@@ -518,6 +518,13 @@ class SliderStatics:
         return singular_motion(S, self.rigid, self.structure, self.free, self.sliders, self.remedy)
 
 
+#: Below this reciprocal condition number a matrix is singular to working precision
+#: (``kappa u >= 1``, ``u`` the unit roundoff: Higham, *Accuracy and Stability of Numerical
+#: Algorithms*, Sec. 1.6): a matrix singular in exact arithmetic that rounding left with a
+#: small pivot reads 1e-18 to 1e-28 here, a regular mesh of 1e4 elements about 1e-13.
+NUMERICALLY_SINGULAR = float(np.finfo(float).eps)
+
+
 def rcond_estimate(S: sp.spmatrix, lu: spla.SuperLU) -> float:
     """The reciprocal 1-norm condition number of ``S`` once its rows and then its columns are
     scaled to a largest entry of 1 (``A = D_r S D_c``; the scaling a stiffness bordered by
@@ -526,8 +533,8 @@ def rcond_estimate(S: sp.spmatrix, lu: spla.SuperLU) -> float:
     estimator (Higham, *Accuracy and Stability of Numerical Algorithms*, Sec. 15.3; scipy's
     ``onenormest`` with one column, which is deterministic), a few solves with ``lu``.
 
-    A configuration that roundoff leaves with a small nonzero pivot reads about 1e-20 and
-    below; the regular sliding-beams problems read 1e-6 to 1e-7."""
+    A configuration that roundoff leaves with a small nonzero pivot reads 1e-18 and below;
+    the regular sliding-beams problems read 1e-6 to 1e-7."""
     S = sp.csr_matrix(S)
     rows = abs(S).max(axis=1).toarray().ravel()
     rows[rows == 0] = 1.0
