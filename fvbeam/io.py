@@ -143,18 +143,13 @@ def _probe_once(directory: Path, prefix: str, path: Path) -> None:
             created.append(making)
         making = None
         os.rmdir(tempfile.mkdtemp(prefix=prefix, dir=directory))
-    except FileExistsError as exc:
-        if making is not None and making.is_dir():  # made meanwhile by another process
-            raise _Raced from None
-        action = f"create {making}" if making is not None else f"create entries in {directory}"
-        raise OutputError(f"cannot write {path}: cannot {action} ({exc.strerror or exc})") from None
-    except FileNotFoundError as exc:
-        where = making.parent if making is not None else directory
-        if not where.is_dir():  # a directory checked a moment ago removed meanwhile
-            raise _Raced from None
-        action = f"create {making}" if making is not None else f"create entries in {directory}"
-        raise OutputError(f"cannot write {path}: cannot {action} ({exc.strerror or exc})") from None
     except OSError as exc:
+        if isinstance(exc, FileExistsError) and making is not None and making.is_dir():
+            raise _Raced from None  # made meanwhile by another process
+        if isinstance(exc, FileNotFoundError):
+            where = making.parent if making is not None else directory
+            if not where.is_dir():  # a directory checked a moment ago removed meanwhile
+                raise _Raced from None
         action = f"create {making}" if making is not None else f"create entries in {directory}"
         raise OutputError(f"cannot write {path}: cannot {action} ({exc.strerror or exc})") from None
     finally:

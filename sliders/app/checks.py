@@ -250,8 +250,7 @@ def _check_sections(scene: Scene, problems: Problems) -> None:
     ``mass_per_length`` and ``inertia``), or ``material`` and ``shape`` (which give them)."""
     for i, section in enumerate(scene.section):
         path = f"section[{i}]"
-        given = [k for k in STIFFNESSES if getattr(section, k) is not None]
-        geometry = [k for k in ("material", "shape") if getattr(section, k) is not None]
+        given, geometry = _forms(section)
         if given and geometry:
             problems.add(
                 path,
@@ -285,10 +284,15 @@ def _check_sections(scene: Scene, problems: Problems) -> None:
             )
 
 
+def _forms(section: SectionSpec) -> tuple[list[str], list[str]]:
+    """The stiffness keys and the geometry keys (``material``, ``shape``) ``section`` gives."""
+    given = [k for k in STIFFNESSES if getattr(section, k) is not None]
+    return given, [k for k in ("material", "shape") if getattr(section, k) is not None]
+
+
 def _whole(section: SectionSpec) -> bool:
     """Whether ``section`` is given by exactly one whole form (:func:`_check_sections`)."""
-    given = [k for k in STIFFNESSES if getattr(section, k) is not None]
-    geometry = [k for k in ("material", "shape") if getattr(section, k) is not None]
+    given, geometry = _forms(section)
     return (len(given) == len(STIFFNESSES) and not geometry) or (len(geometry) == 2 and not given)
 
 

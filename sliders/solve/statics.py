@@ -46,7 +46,7 @@ from fvbeam.support import Support, complement
 from sliders.forces.elements import ForceElement
 from sliders.joints.slider import Slider, SliderBatch
 from sliders.solve.condensed import CondensedOperator
-from sliders.solve.diagnosis import singular_motion
+from sliders.solve.diagnosis import equilibration, singular_motion
 from sliders.solve.mechanism import (
     MASSLESS_REMEDY,
     REMEDY,
@@ -528,19 +528,15 @@ NUMERICALLY_SINGULAR = float(np.finfo(float).eps)
 def rcond_estimate(S: sp.spmatrix, lu: spla.SuperLU) -> float:
     """The reciprocal 1-norm condition number of ``S`` once its rows and then its columns are
     scaled to a largest entry of 1 (``A = D_r S D_c``; the scaling a stiffness bordered by
-    unit constraint rows needs, as :meth:`SliderStatics._singular` uses), estimated from
+    unit constraint rows needs: :func:`sliders.solve.diagnosis.equilibration`), estimated from
     ``S``'s factorisation ``lu``: ``1 / (|A|_1 |A^-1|_1)``, with ``|A^-1|_1`` by Hager's
     estimator (Higham, *Accuracy and Stability of Numerical Algorithms*, Sec. 15.3; scipy's
     ``onenormest`` with one column, which is deterministic), a few solves with ``lu``.
 
     A configuration that roundoff leaves with a small nonzero pivot reads 1e-18 and below;
     the regular sliding-beams problems read 1e-6 to 1e-7."""
-    S = sp.csr_matrix(S)
-    rows = abs(S).max(axis=1).toarray().ravel()
-    rows[rows == 0] = 1.0
-    cols = abs(sp.diags(1.0 / rows) @ S).max(axis=0).toarray().ravel()
-    cols[cols == 0] = 1.0
-    A = sp.diags(1.0 / rows) @ S @ sp.diags(1.0 / cols)
+    rows, cols = equilibration(S)
+    A = sp.diags(1.0 / rows) @ sp.csr_matrix(S) @ sp.diags(1.0 / cols)
     inverse = spla.LinearOperator(
         S.shape,
         matvec=lambda x: cols * lu.solve(rows * np.ravel(x)),
