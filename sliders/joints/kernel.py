@@ -6,24 +6,31 @@ state at ``xi``, the body's displacements, the unknowns:
 :meth:`~sliders.joints.slider.SliderBatch.joint_equations` calls :func:`joint_equations`,
 which writes, member by member, the residual on the slots and the Jacobian blocks of the
 joint's pattern (:class:`sliders.joints.blocks.SlotJacobian`: one flat array, ``where[row
-group, column group]`` the offset of a block, -1 where it is not in the pattern).  The
-equations are those of :mod:`sliders.joints.equations`, which writes them in plain numpy with
-the paper's numbers (eqs. 1-5, Sec. 4), one function per kind and orientation model
-(``section``: the section frame, ``docs/sliders.md``; ``slope``: paper eq. 4);
-``tests/test_joint_reference.py`` holds the two equal to roundoff.
+group, column group]`` the offset of a block, -1 where it is not in the pattern).
 
-The kernel writes exactly the blocks of the law's sparsity
-(:func:`sliders.joints.equations.pattern`, read off the law's derivative): the pattern a
-joint lays out, which :meth:`sliders.joints.blocks.SlotJacobian.index` checks once per layout
-(a block written outside the pattern would land at offset -1).
+Nothing here states a law.  Each member's point quantities (the body point, the line at
+``xi``, the multipliers: :data:`sliders.joints.compiled_laws.POINT`) go to the law of its
+kind and orientation, generated from its one statement in :mod:`sliders.joints.equations`
+(:mod:`sliders.joints.compiled_laws`), which returns the point rows and their derivatives in
+the point quantities.  This kernel then does what
+:func:`sliders.joints.equations.scatter` and :func:`~sliders.joints.equations.derive` do on
+dual numbers, once for every kind: it puts the rows on the slots (the load through the test
+functions ``G``, the section couple through ``W^T``) and chains the derivatives through the
+line's maps (``x`` moves with ``xi`` by ``l`` and with the interpolated dofs by ``N``, ``l`` by
+``l_/xi`` and ``dN``, ..., ``G`` and ``W`` with ``xi`` by ``G_/xi`` and ``W_/xi``).
+``tests/test_joint_reference.py`` holds it to :func:`sliders.joints.equations.joint_reference`
+entry by entry.
+
+The kernel writes the blocks ``where`` lays out, which hold the law's sparsity
+(:func:`sliders.joints.equations.pattern`, read off the law's derivative; checked once per
+layout by :meth:`sliders.joints.blocks.SlotJacobian.index`).
 
 Slot groups, in this order (their first slot ``start`` and ``size``): ``body`` (3), ``turn``
 (3, the body's rotations), ``load``, ``rotation``, ``interp``, ``beside``, then the joint's
 unknowns ``xi`` (1), ``lam`` (3), ``mu``.  The line's interpolation, recovered tangent and
 section rotation are matrices on their slots (``N``, ``T``, ``W``: the Lagrange ``N_a I`` on the
 translations, or a cubic element's functions on all six dofs of its nodes); on a cubic chain
-the constraint rows read the line's compliance at the contact too (``contact``, theory T13,
-the blocks ``(lam, lam)``, ``(lam, mu)``, ``(mu, lam)``).
+the constraint rows read the line's compliance at the contact too (``contact``, theory T13).
 """
 
 from __future__ import annotations
@@ -31,49 +38,35 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from fvbeam.scratch import stack_empty, stack_matrix3, stack_vector3
+from fvbeam.scratch import stack_empty
+from sliders.joints.compiled_laws import AT_CONSTANT, AT_POINT, AT_ROW, CODES, law
 
 BODY, TURN, LOAD, ROTATION, INTERP, BESIDE, XI, LAM, MU = range(9)
 #: Group names in the order of the indices above (:class:`sliders.joints.blocks.SlotJacobian`).
 GROUPS = ("body", "turn", "load", "rotation", "interp", "beside", "xi", "lam", "mu")
 KINDS = {"spherical": 0, "classical": 1, "spline": 2}
-ORIENTATIONS = {"section": 0, "slope": 1}
-
-
-@numba.njit(cache=True)
-def _add(values, b, where, size, R, C, i, j, v):
-    """Add ``v`` to entry ``(i, j)`` of block ``(R, C)`` of member ``b``."""
-    values[b, where[R, C] + i * size[C] + j] += v
-
-
-@numba.njit(cache=True)
-def _cross(a, b, out):
-    """``out = a x b`` for 3-vectors."""
-    out[0] = a[1] * b[2] - a[2] * b[1]
-    out[1] = a[2] * b[0] - a[0] * b[2]
-    out[2] = a[0] * b[1] - a[1] * b[0]
-
-
-@numba.njit(cache=True)
-def _dot(a, b):
-    """``a . b`` for 3-vectors."""
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-@numba.njit(cache=True)
-def _skew(v, out):
-    """``out = skew(v)``, the matrix of ``v x``."""
-    out[0, 0], out[0, 1], out[0, 2] = 0.0, -v[2], v[1]
-    out[1, 0], out[1, 1], out[1, 2] = v[2], 0.0, -v[0]
-    out[2, 0], out[2, 1], out[2, 2] = -v[1], v[0], 0.0
-
-
-@numba.njit(cache=True)
-def _axial(A, out):
-    """``out = ax(A)``, the vector of the skew-symmetric part of ``A``."""
-    out[0] = 0.5 * (A[2, 1] - A[1, 2])
-    out[1] = 0.5 * (A[0, 2] - A[2, 0])
-    out[2] = 0.5 * (A[1, 0] - A[0, 1])
+#: The compiled law of each kind code (:data:`KINDS`) on the ``section`` orientation, and
+#: the classical slider's on the ``slope`` orientation.
+_SECTION = (
+    CODES["spherical", "section"],
+    CODES["classical", "section"],
+    CODES["spline", "section"],
+)
+_SLOPE = CODES["classical", "slope"]
+# The point quantities' places (sliders.joints.compiled_laws.POINT) and sizes.
+_U, _THETA, _X, _L, _L_XI = (AT_POINT[k] for k in ("u", "theta", "x", "l", "l_xi"))
+_TANGENT, _THETA_L, _THETA_L_XI = (AT_POINT[k] for k in ("tangent", "theta_L", "theta_L_xi"))
+_FLEX, _CONTACT, _R0, _K0 = (AT_POINT[k] for k in ("flex", "contact", "R0", "k0"))
+_LAM, _MU = AT_POINT["lam"], AT_POINT["mu"]
+_POINTS = _MU + 3
+_OFFSET, _FRAME, _REFERENCE, _SCALE = (
+    AT_CONSTANT[k] for k in ("offset", "frame", "reference", "scale")
+)
+# The rows' places (sliders.joints.compiled_laws.ROWS).
+_FORCE, _COUPLE, _LINE_LOAD = AT_ROW["body_force"], AT_ROW["body_couple"], AT_ROW["line_load"]
+_SECTION_COUPLE, _XI_ROW = AT_ROW["section_couple"], AT_ROW["xi"]
+_POSITION, _ORIENTATION = AT_ROW["position"], AT_ROW["orientation"]
+_ROWS = _ORIENTATION + 3
 
 
 @numba.njit(cache=True)
@@ -96,420 +89,174 @@ def joint_equations(kind, slope, jacobian, point, index, r, values):
         Zero outputs, written here.
     """
     start, size, where = index
-    offset, frame, body, reference, q, y = (
-        point.offset,
-        point.frame,
-        point.body,
-        point.reference,
-        point.q,
-        point.y,
-    )
-    x, l, N, G, dG, T = point.x, point.l, point.N, point.G, point.dG, point.T
-    tangent, tangent_xi, contact, contact_xi, scale = (
-        point.tangent,
-        point.tangent_xi,
-        point.contact,
-        point.contact_xi,
-        point.scale,
-    )
-    B = len(y)
-    t = start[XI]
-    lam = stack_vector3()
-    arm = stack_vector3()
-    v = stack_vector3()
-    S1 = stack_matrix3()
-    S2 = stack_matrix3()
-    theta = stack_vector3()
-    axes = stack_empty(6, (2, 3), np.float64)
-    for j in range(2):
-        for c in range(3):
-            axes[j, c] = frame[c, j + 1]
-    lever = offset[0] != 0.0 or offset[1] != 0.0 or offset[2] != 0.0
-    compliant = contact.shape[1] > 0
-    n_load, n_tangent, n_interp = G.shape[1], T.shape[2], N.shape[2]
-    for b in range(B):
-        for c in range(3):
-            lam[c] = y[b, 1 + c]
-            theta[c] = q[b, body[b, 3 + c]]
-        _cross(theta, offset, v)  # f_b
-        for c in range(3):
-            arm[c] = offset[c] + v[c]
-            # body force (eq. 3) and position constraint (eq. 1)
-            r[b, c] += lam[c]
-            r[b, t + 1 + c] = reference[b, c] + q[b, body[b, c]] + v[c] - x[b, c]
-            if compliant:  # the line where the force it takes puts it (theory T13)
-                for e in range(3):
-                    r[b, t + 1 + c] -= contact[b, c, e] / scale * lam[e]
-        _cross(arm, lam, v)
-        for c in range(3):
-            r[b, 3 + c] += v[c]  # body moment (eq. 3)
-        for k in range(n_load):  # the force on the line (Sec. 4, eq. T6)
-            r[b, start[LOAD] + k] -= G[b, k, 0] * lam[0] + G[b, k, 1] * lam[1] + G[b, k, 2] * lam[2]
-        r[b, t] = -(tangent[b, 0] * lam[0] + tangent[b, 1] * lam[1] + tangent[b, 2] * lam[2])
-        if jacobian:
-            _skew(arm, S1)
-            for i in range(3):
-                for c in range(3):
-                    _add(values, b, where, size, BODY, LAM, i, c, 1.0 if i == c else 0.0)
-                    _add(values, b, where, size, LAM, BODY, i, c, 1.0 if i == c else 0.0)
-                    if lever:  # skew(f + theta_b x f), zero on the node
-                        _add(values, b, where, size, TURN, LAM, i, c, S1[i, c])
-                _add(values, b, where, size, LAM, XI, i, 0, -l[b, i])
-                _add(values, b, where, size, XI, LAM, 0, i, -tangent[b, i])
-            if compliant:
-                for i in range(3):
-                    s = 0.0
-                    for c in range(3):
-                        s += contact_xi[b, i, c] * lam[c]
-                        _add(values, b, where, size, LAM, LAM, i, c, -contact[b, i, c] / scale)
-                    _add(values, b, where, size, LAM, XI, i, 0, -s / scale)
-            if lever:
-                _skew(lam, S1)
-                _skew(offset, S2)
-                for i in range(3):
-                    for c in range(3):
-                        s = 0.0
-                        for e in range(3):
-                            s += S1[i, e] * S2[e, c]
-                        _add(values, b, where, size, TURN, TURN, i, c, s)
-                        _add(values, b, where, size, LAM, TURN, i, c, -S2[i, c])
-            for k in range(n_load):
-                s = 0.0
-                for c in range(3):
-                    s += dG[b, k, c] * lam[c]
-                    _add(values, b, where, size, LOAD, LAM, k, c, -G[b, k, c])
-                _add(values, b, where, size, LOAD, XI, k, 0, -s)
-            _add(
-                values,
-                b,
-                where,
-                size,
-                XI,
-                XI,
-                0,
-                0,
-                -(
-                    tangent_xi[b, 0] * lam[0]
-                    + tangent_xi[b, 1] * lam[1]
-                    + tangent_xi[b, 2] * lam[2]
-                ),
-            )
-            for col in range(n_tangent):
-                s = -(T[b, 0, col] * lam[0] + T[b, 1, col] * lam[1] + T[b, 2, col] * lam[2])
-                if col < n_interp:
-                    _add(values, b, where, size, XI, INTERP, 0, col, s)
-                else:
-                    _add(values, b, where, size, XI, BESIDE, 0, col - n_interp, s)
-            for col in range(n_interp):
-                for c in range(3):
-                    _add(values, b, where, size, LAM, INTERP, c, col, -N[b, c, col])
-    if kind != 0 and slope:
-        _slope(jacobian, axes, point, index, r, values)
-    elif kind != 0:
-        _section(kind, jacobian, axes, point, index, r, values)
-
-
-@numba.njit(cache=True)
-def _matvec(A, v, out):
-    """``out = A v`` for a 3x3 ``A``."""
-    for i in range(3):
-        out[i] = A[i, 0] * v[0] + A[i, 1] * v[1] + A[i, 2] * v[2]
-
-
-@numba.njit(cache=True)
-def _matmul(A, B, out):
-    """``out = A B`` for 3x3 matrices."""
-    for i in range(3):
-        for j in range(3):
-            out[i, j] = A[i, 0] * B[0, j] + A[i, 1] * B[1, j] + A[i, 2] * B[2, j]
-
-
-@numba.njit(cache=True)
-def _section(kind, jacobian, axes, point, index, r, values):
-    """Orientation constraints on the line's section frame, linear in the rotations.
-
-    ``g_j = g0_j(xi) + n_j(xi) . (theta_b - theta_L)``: classical (``j = 2, 3``)
-    ``g0 = e_j . t0``, ``n = e_j x t0``; spline (``j = 1``) ``g0 = t0 . ax(F R0^T)``,
-    ``n = t0`` -- eqs. (4), (5) and Sec. 4 linearised, with ``R0 = [t0, ...]`` the line's
-    reference frame, ``t1, t2`` the first two ``xi``-derivatives of ``t0`` and ``F`` the
-    slider frame.  The virtual work of ``sum mu_j g_j`` gives the couple ``m = sum mu_j n_j``
-    on the body, ``-W^T m`` on the dofs that carry ``theta_L = W q_rotation`` and the ``xi``
-    row.  The constraint reads ``theta_L`` plus ``C_L m`` (``flex``: the exact rotation at a
-    couple lies off the interpolation of its nodal values by that much, ``docs/sliders.md``)
-    and, on a line with a position compliance, ``G_theta u lambda`` (``contact``, whose
-    position rows then read ``G_u theta m``; theory T13).  ``axes``: ``e_2, e_3`` (rows);
-    ``point``, ``index``, ``r``, ``values``: as :func:`joint_equations`.
-    """
-    start, size, where = index
-    frame, body, q, y, contact, contact_xi = (
-        point.frame,
-        point.body,
-        point.q,
-        point.y,
-        point.contact,
-        point.contact_xi,
-    )
-    rotation_dofs, W, W_xi, W_xixi = point.rotation_dofs, point.W, point.W_xi, point.W_xixi
-    flex, flex_xi, R0, k0, k0_xi, scale = (
-        point.flex,
-        point.flex_xi,
-        point.R0,
-        point.k0,
-        point.k0_xi,
-        point.scale,
-    )
-    t = start[XI]
+    code = _SLOPE if slope else _SECTION[kind]
     n_mu = size[MU]
-    n_w = W.shape[2]
-    compliant = contact.shape[1] > 0
-    mu = stack_empty(3, (n_mu,), np.float64)
-    lam = stack_vector3()
-    theta, theta_L = stack_vector3(), stack_vector3()
-    theta_L_xi, theta_L_xixi = stack_vector3(), stack_vector3()
-    t0, t1, t2 = stack_vector3(), stack_vector3(), stack_vector3()
-    v, d = stack_vector3(), stack_vector3()
-    m, m_xi, shift = stack_vector3(), stack_vector3(), stack_vector3()
-    rate, Cn = stack_vector3(), stack_vector3()
-    a0, a1, a2 = stack_vector3(), stack_vector3(), stack_vector3()
-    # rows j of n_i: axes_j x t_i (classical), then t_i (spline); g_i likewise
-    n0, n1, n2 = (
-        stack_empty(9, (n_mu, 3), np.float64),
-        stack_empty(9, (n_mu, 3), np.float64),
-        stack_empty(9, (n_mu, 3), np.float64),
-    )
-    g0, g1, g2, along = (
-        stack_empty(3, (n_mu,), np.float64),
-        stack_empty(3, (n_mu,), np.float64),
-        stack_empty(3, (n_mu,), np.float64),
-        stack_empty(3, (n_mu,), np.float64),
-    )
-    R0T, F, K = stack_matrix3(), stack_matrix3(), stack_matrix3()
-    dF, ddF, P = stack_matrix3(), stack_matrix3(), stack_matrix3()
-    C, C_xi = stack_matrix3(), stack_matrix3()
-    for b in range(len(y)):
-        for j in range(n_mu):
-            mu[j] = y[b, 4 + j]
-        for c in range(3):
-            lam[c] = y[b, 1 + c]
-            theta[c] = q[b, body[b, 3 + c]]
-            theta_L[c] = 0.0
-            theta_L_xi[c] = 0.0
-            theta_L_xixi[c] = 0.0
-            for a in range(n_w):
-                value = q[b, rotation_dofs[b, a]]
-                theta_L[c] += W[b, c, a] * value
-                theta_L_xi[c] += W_xi[b, c, a] * value
-                theta_L_xixi[c] += W_xixi[b, c, a] * value
-            t0[c] = R0[b, c, 0]
-        _cross(k0[b], t0, t1)
-        _cross(k0_xi[b], t0, t2)
-        _cross(k0[b], t1, v)
-        for c in range(3):
-            t2[c] += v[c]
-        for j in range(2):
-            _cross(axes[j], t0, n0[j])
-            _cross(axes[j], t1, n1[j])
-            _cross(axes[j], t2, n2[j])
-            g0[j], g1[j], g2[j] = _dot(t0, axes[j]), _dot(t1, axes[j]), _dot(t2, axes[j])
-        if kind == 2:
-            for i in range(3):
-                for c in range(3):
-                    R0T[i, c] = R0[b, c, i]
-            _matmul(frame, R0T, F)
-            _skew(k0[b], K)
-            _matmul(F, K, dF)
-            dF *= -1.0
-            _matmul(dF, K, ddF)
-            _skew(k0_xi[b], K)
-            _matmul(F, K, P)
-            for i in range(3):
-                for c in range(3):
-                    ddF[i, c] = -ddF[i, c] - P[i, c]
-            _axial(F, a0)
-            _axial(dF, a1)
-            _axial(ddF, a2)
-            for c in range(3):
-                n0[2, c], n1[2, c], n2[2, c] = t0[c], t1[c], t2[c]
-            g0[2] = _dot(t0, a0)
-            g1[2] = _dot(t1, a0) + _dot(t0, a1)
-            g2[2] = _dot(t2, a0) + 2 * _dot(t1, a1) + _dot(t0, a2)
-        for c in range(3):
-            d[c] = theta[c] - theta_L[c]
-            m[c] = 0.0
-            m_xi[c] = 0.0
-            for j in range(n_mu):
-                m[c] += mu[j] * n0[j, c]
-                m_xi[c] += mu[j] * n1[j, c]
-            for i in range(3):
-                C[c, i] = flex[b, c, i] / scale
-                C_xi[c, i] = flex_xi[b, c, i] / scale
-        # shift = C_L m (+ G_theta u lambda), rate its xi-derivative at fixed multipliers
-        _matvec(C, m, shift)
-        _matvec(C_xi, m, rate)
-        _matvec(C, m_xi, v)
-        for c in range(3):
-            rate[c] += v[c]
-            if compliant:
-                for e in range(3):
-                    shift[c] += contact[b, e, 3 + c] / scale * lam[e]
-                    rate[c] += contact_xi[b, e, 3 + c] / scale * lam[e]
-                    # the position rows: - G_u theta m
-                    r[b, t + 1 + c] -= contact[b, c, 3 + e] / scale * m[e]
-        for j in range(n_mu):
-            along[j] = g1[j] + _dot(n1[j], d) - _dot(n0[j], theta_L_xi)
-            r[b, t] += mu[j] * along[j]
-            r[b, t + 4 + j] = g0[j] + _dot(n0[j], d) - _dot(n0[j], shift)
-        for c in range(3):
-            r[b, 3 + c] += m[c]
-        for a in range(n_w):
-            r[b, start[ROTATION] + a] -= W[b, 0, a] * m[0] + W[b, 1, a] * m[1] + W[b, 2, a] * m[2]
+    # stack space as literals (numba's need), checked against the layouts' sizes
+    p = stack_empty(69, (_POINTS,), np.float64)
+    rate = stack_empty(69, (_POINTS,), np.float64)  # the point quantities' xi-rates
+    c = stack_empty(16, (_SCALE + 1,), np.float64)
+    rows = stack_empty(22, (_ROWS,), np.float64)
+    jac = stack_empty(1518, (_ROWS, _POINTS), np.float64)
+    widest = max(size[BODY], size[ROTATION], size[INTERP], size[BESIDE], 3)
+    chained = np.empty((_ROWS, widest))  # every row's derivative in one column group
+    for i in range(3):
+        c[_OFFSET + i] = point.offset[i]
+        for e in range(3):
+            c[_FRAME + 3 * i + e] = point.frame[i, e]
+    c[_SCALE] = point.scale
+    for b in range(len(point.y)):
+        _point_quantities(point, b, p, rate)
+        for i in range(3):
+            c[_REFERENCE + i] = point.reference[b, i]
+        jac[:, :] = 0.0
+        law(code, p, c, rows, jac)
+        _scatter_rows(point, b, rows, n_mu, start, r)
         if not jacobian:
             continue
-        s = 0.0
-        for j in range(n_mu):
-            s += mu[j] * (
-                g2[j] + _dot(n2[j], d) - 2 * _dot(n1[j], theta_L_xi) - _dot(n0[j], theta_L_xixi)
-            )
-        _add(values, b, where, size, XI, XI, 0, 0, s)
-        for c in range(3):
-            _add(values, b, where, size, TURN, XI, c, 0, m_xi[c])
-            _add(values, b, where, size, XI, TURN, 0, c, m_xi[c])
-        for a in range(n_w):
-            s = 0.0
-            for c in range(3):
-                s -= W_xi[b, c, a] * m[c] + W[b, c, a] * m_xi[c]
-            _add(values, b, where, size, ROTATION, XI, a, 0, s)
-            _add(values, b, where, size, XI, ROTATION, 0, a, s)
-        if compliant:
-            for c in range(3):
-                s = 0.0
-                for e in range(3):
-                    s += (contact_xi[b, c, 3 + e] * m[e] + contact[b, c, 3 + e] * m_xi[e]) / scale
-                _add(values, b, where, size, LAM, XI, c, 0, -s)
-        for j in range(n_mu):
-            _add(values, b, where, size, XI, MU, 0, j, along[j])
-            _add(
-                values,
-                b,
-                where,
-                size,
-                MU,
-                XI,
-                j,
-                0,
-                along[j] - _dot(n1[j], shift) - _dot(n0[j], rate),
-            )
-            _matvec(C, n0[j], Cn)
-            for i in range(n_mu):
-                _add(values, b, where, size, MU, MU, i, j, -_dot(n0[i], Cn))
-            for c in range(3):
-                _add(values, b, where, size, TURN, MU, c, j, n0[j, c])
-                _add(values, b, where, size, MU, TURN, j, c, n0[j, c])
-            for a in range(n_w):
-                s = -(W[b, 0, a] * n0[j, 0] + W[b, 1, a] * n0[j, 1] + W[b, 2, a] * n0[j, 2])
-                _add(values, b, where, size, ROTATION, MU, a, j, s)
-                _add(values, b, where, size, MU, ROTATION, j, a, s)
-            if compliant:
-                for c in range(3):
-                    s = 0.0
-                    for e in range(3):
-                        s += contact[b, c, 3 + e] * n0[j, e]
-                    _add(values, b, where, size, LAM, MU, c, j, -s / scale)
-                    _add(values, b, where, size, MU, LAM, j, c, -s / scale)
+        for column in (BODY, TURN, ROTATION, INTERP, BESIDE, XI, LAM, MU):
+            if size[column] == 0 or np.all(where[:, column] < 0):
+                continue
+            _chain(point, b, jac, rate, column, size[column], chained)
+            _scatter_blocks(point, b, rows, chained, column, n_mu, index, values)
 
 
 @numba.njit(cache=True)
-def _slope(jacobian, axes, point, index, r, values):
-    """The classical slider on the line's gradient, ``e_bj . l = 0`` (paper eq. 4): the
-    couple ``m = sum mu_j e_bj x l`` on the body, carried to the line's rotation dofs by the
-    test functions (the rotational columns of ``G``).  Arguments as :func:`_section`."""
-    start, size, where = index
-    body, q, y, l, l_xi, l_xixi = point.body, point.q, point.y, point.l, point.l_xi, point.l_xixi
-    dN, d2N, G, dG = point.dN, point.d2N, point.G, point.dG
-    t = start[XI]
-    n_load, n_interp = G.shape[1], dN.shape[2]
-    theta, m, v, w = stack_vector3(), stack_vector3(), stack_vector3(), stack_vector3()
-    e_b = stack_empty(6, (2, 3), np.float64)
-    L, E0, E, dm_dtheta = stack_matrix3(), stack_matrix3(), stack_matrix3(), stack_matrix3()
-    dm_dxi, dm_dmu = stack_vector3(), stack_vector3()
-    for b in range(len(y)):
-        for c in range(3):
-            theta[c] = q[b, body[b, 3 + c]]
-            m[c] = 0.0
-        for j in range(2):
-            _cross(theta, axes[j], v)
-            for c in range(3):
-                e_b[j, c] = axes[j, c] + v[c]
-            _cross(e_b[j], l[b], v)
-            for c in range(3):
-                m[c] += y[b, 4 + j] * v[c]
-        for c in range(3):
-            r[b, 3 + c] += m[c]
-        for k in range(n_load):
+def _point_quantities(point, b, p, rate):
+    """Member ``b``'s point quantities ``p`` (:data:`sliders.joints.compiled_laws.POINT`) and
+    their ``xi``-rates ``rate``: ``x`` by ``l``, ``l`` by ``l_/xi``, ``l_/xi`` by ``l_/xixi``,
+    ``l~`` by ``l~_/xi``, ``theta_L = W q`` by ``W_/xi q``, ``theta_L/xi`` by ``W_/xixi q``,
+    ``C_L`` and the contact compliance by theirs, ``R_0`` by ``k_0 x R_0``, ``k_0`` by
+    ``k_0/xi``; the body's dofs and the multipliers do not move with ``xi``."""
+    q, y, W, W_xi, W_xixi = point.q, point.y, point.W, point.W_xi, point.W_xixi
+    p[:] = 0.0
+    rate[:] = 0.0
+    for i in range(3):
+        p[_U + i] = q[b, point.body[b, i]]
+        p[_THETA + i] = q[b, point.body[b, 3 + i]]
+        p[_X + i], rate[_X + i] = point.x[b, i], point.l[b, i]
+        p[_L + i], rate[_L + i] = point.l[b, i], point.l_xi[b, i]
+        p[_L_XI + i], rate[_L_XI + i] = point.l_xi[b, i], point.l_xixi[b, i]
+        p[_TANGENT + i], rate[_TANGENT + i] = point.tangent[b, i], point.tangent_xi[b, i]
+        p[_K0 + i], rate[_K0 + i] = point.k0[b, i], point.k0_xi[b, i]
+        p[_LAM + i] = y[b, 1 + i]
+        for a in range(W.shape[2]):
+            dof = q[b, point.rotation_dofs[b, a]]
+            p[_THETA_L + i] += W[b, i, a] * dof
+            rate[_THETA_L + i] += W_xi[b, i, a] * dof
+            p[_THETA_L_XI + i] += W_xi[b, i, a] * dof
+            rate[_THETA_L_XI + i] += W_xixi[b, i, a] * dof
+        k0 = point.k0[b]
+        for e in range(3):
+            p[_FLEX + 3 * i + e] = point.flex[b, i, e]
+            rate[_FLEX + 3 * i + e] = point.flex_xi[b, i, e]
+            p[_R0 + 3 * i + e] = point.R0[b, i, e]
+            # (k_0 x R_0)_ie, row i of skew(k_0) times column e of R_0
+            i1, i2 = (i + 1) % 3, (i + 2) % 3
+            rate[_R0 + 3 * i + e] = k0[i1] * point.R0[b, i2, e] - k0[i2] * point.R0[b, i1, e]
+    for i in range(point.contact.shape[1]):
+        for e in range(6):
+            p[_CONTACT + 6 * i + e] = point.contact[b, i, e]
+            rate[_CONTACT + 6 * i + e] = point.contact_xi[b, i, e]
+    for j in range(y.shape[1] - 4):
+        p[_MU + j] = y[b, 4 + j]
+
+
+@numba.njit(cache=True)
+def _scatter_rows(point, b, rows, n_mu, start, r):
+    """Member ``b``'s point rows on its slots (:func:`sliders.joints.equations.scatter`): the
+    body's force and couple, the line load through ``G``, the section couple through
+    ``W^T``, the ``xi``, position and orientation rows as they are."""
+    G, W = point.G, point.W
+    for i in range(3):
+        r[b, start[BODY] + i] += rows[_FORCE + i]
+        r[b, start[TURN] + i] += rows[_COUPLE + i]
+        r[b, start[LAM] + i] += rows[_POSITION + i]
+    for k in range(G.shape[1]):
+        for e in range(6):
+            r[b, start[LOAD] + k] += G[b, k, e] * rows[_LINE_LOAD + e]
+    for a in range(W.shape[2]):
+        for i in range(3):
+            r[b, start[ROTATION] + a] += W[b, i, a] * rows[_SECTION_COUPLE + i]
+    r[b, start[XI]] += rows[_XI_ROW]
+    for j in range(n_mu):
+        r[b, start[MU] + j] += rows[_ORIENTATION + j]
+
+
+@numba.njit(cache=True)
+def _chain(point, b, jac, rate, column, width, out):
+    """Every point row's derivative in the dofs of one column group, ``out[:, :width]``: the
+    law's derivatives ``jac`` in the point quantities times theirs in the group's dofs (the
+    body's and the multipliers' own, ``W`` and ``W_/xi`` on the rotation dofs, ``N``, ``dN``,
+    ``d2N`` and ``T`` on the interpolated dofs, ``T`` beside them, the ``xi``-rates)."""
+    out[:, :width] = 0.0
+    m = point.N.shape[2]
+    for i in range(jac.shape[0]):
+        for j in range(width):
             s = 0.0
-            for c in range(3):
-                s += G[b, k, 3 + c] * m[c]
-            r[b, start[LOAD] + k] -= s
-            if jacobian:
+            if column == BODY:
+                s = jac[i, _U + j]
+            elif column == TURN:
+                s = jac[i, _THETA + j]
+            elif column == LAM:
+                s = jac[i, _LAM + j]
+            elif column == MU:
+                s = jac[i, _MU + j]
+            elif column == XI:
+                for a in range(_POINTS):
+                    s += jac[i, a] * rate[a]
+            elif column == ROTATION:
+                for e in range(3):
+                    s += jac[i, _THETA_L + e] * point.W[b, e, j]
+                    s += jac[i, _THETA_L_XI + e] * point.W_xi[b, e, j]
+            elif column == INTERP:
+                for e in range(3):
+                    s += jac[i, _X + e] * point.N[b, e, j] + jac[i, _L + e] * point.dN[b, e, j]
+                    s += jac[i, _L_XI + e] * point.d2N[b, e, j]
+                    s += jac[i, _TANGENT + e] * point.T[b, e, j]
+            else:  # BESIDE
+                for e in range(3):
+                    s += jac[i, _TANGENT + e] * point.T[b, e, m + j]
+            out[i, j] = s
+
+
+@numba.njit(cache=True)
+def _scatter_blocks(point, b, rows, chained, column, n_mu, index, values):
+    """Member ``b``'s Jacobian blocks in one column group: the rows' derivatives ``chained``
+    put on the row groups as :func:`_scatter_rows` puts the rows (the load through ``G`` and
+    the section couple through ``W^T``, plus ``G_/xi`` and ``W_/xi^T`` of the rows in the
+    ``xi`` column), written where the pattern has a block."""
+    start, size, where = index
+    G, W = point.G, point.W
+    width = size[column]
+    for row, first, count in (
+        (BODY, _FORCE, 3),
+        (TURN, _COUPLE, 3),
+        (XI, _XI_ROW, 1),
+        (LAM, _POSITION, 3),
+        (MU, _ORIENTATION, n_mu),
+    ):
+        at = where[row, column]
+        if at >= 0:
+            for i in range(count):
+                for j in range(width):
+                    values[b, at + i * width + j] += chained[first + i, j]
+    at = where[LOAD, column]
+    if at >= 0:
+        for k in range(G.shape[1]):
+            for j in range(width):
                 s = 0.0
-                for c in range(3):
-                    s += dG[b, k, 3 + c] * m[c]
-                _add(values, b, where, size, LOAD, XI, k, 0, -s)
-        for j in range(2):
-            e, e0, mu_j = e_b[j], axes[j], y[b, 4 + j]
-            r[b, t] += mu_j * _dot(e, l_xi[b])
-            r[b, t + 4 + j] = _dot(e, l[b])
-            if not jacobian:
-                continue
-            _skew(l[b], L)
-            _skew(e0, E0)
-            _skew(e, E)
-            _matmul(L, E0, dm_dtheta)
-            dm_dtheta *= mu_j
-            _cross(e, l_xi[b], dm_dxi)
-            _cross(e, l[b], dm_dmu)
-            for i in range(3):
-                dm_dxi[i] *= mu_j
-            for i in range(3):
-                _add(values, b, where, size, TURN, XI, i, 0, dm_dxi[i])
-                _add(values, b, where, size, TURN, MU, i, j, dm_dmu[i])
-                for c in range(3):
-                    _add(values, b, where, size, TURN, TURN, i, c, dm_dtheta[i, c])
-            # d m / d q_interp = mu_j e_bj x dN (l = l_0 + dN q_interp)
-            for col in range(n_interp):
-                for c in range(3):
-                    v[c] = dN[b, c, col]
-                _matvec(E, v, w)
-                for i in range(3):
-                    _add(values, b, where, size, TURN, INTERP, i, col, mu_j * w[i])
-                for k in range(n_load):
-                    g = G[b, k, 3:]
-                    _add(values, b, where, size, LOAD, INTERP, k, col, -mu_j * _dot(g, w))
-                d2 = d2N[b, 0, col] * e[0] + d2N[b, 1, col] * e[1] + d2N[b, 2, col] * e[2]
-                _add(values, b, where, size, XI, INTERP, 0, col, mu_j * d2)
-                _add(values, b, where, size, MU, INTERP, j, col, _dot(e, v))
-            for k in range(n_load):
-                g = G[b, k, 3:]
-                _add(values, b, where, size, LOAD, XI, k, 0, -_dot(g, dm_dxi))
-                _add(values, b, where, size, LOAD, MU, k, j, -_dot(g, dm_dmu))
-                for c in range(3):
-                    _add(
-                        values,
-                        b,
-                        where,
-                        size,
-                        LOAD,
-                        TURN,
-                        k,
-                        c,
-                        -(g[0] * dm_dtheta[0, c] + g[1] * dm_dtheta[1, c] + g[2] * dm_dtheta[2, c]),
-                    )
-            _cross(e0, l_xi[b], v)
-            for c in range(3):
-                _add(values, b, where, size, XI, TURN, 0, c, mu_j * v[c])
-            _add(values, b, where, size, XI, XI, 0, 0, mu_j * _dot(e, l_xixi[b]))
-            _add(values, b, where, size, XI, MU, 0, j, _dot(e, l_xi[b]))
-            _cross(e0, l[b], v)
-            for c in range(3):
-                _add(values, b, where, size, MU, TURN, j, c, v[c])
-            _add(values, b, where, size, MU, XI, j, 0, _dot(e, l_xi[b]))
+                for e in range(6):
+                    s += G[b, k, e] * chained[_LINE_LOAD + e, j]
+                    if column == XI:
+                        s += point.dG[b, k, e] * rows[_LINE_LOAD + e]
+                values[b, at + k * width + j] += s
+    at = where[ROTATION, column]
+    if at >= 0:
+        for a in range(W.shape[2]):
+            for j in range(width):
+                s = 0.0
+                for e in range(3):
+                    s += W[b, e, a] * chained[_SECTION_COUPLE + e, j]
+                    if column == XI:
+                        s += point.W_xi[b, e, a] * rows[_SECTION_COUPLE + e]
+                values[b, at + a * width + j] += s
