@@ -1,9 +1,10 @@
 """The compiled joint kernel against its numpy reference, and the contract of its pattern.
 
-:func:`sliders.joints.kernel.joint_equations` (scalar loops, about a hundred Jacobian entries)
-and :mod:`sliders.joints.equations` (the paper's laws, their Jacobian derived by dual numbers) read
-the same inputs (:meth:`SliderBatch.joint_inputs`) and must give the same residuals and
-Jacobian blocks up to roundoff, for every slider kind, both orientation models, beam chains
+:func:`sliders.joints.kernel.joint_equations` (the laws generated from their statement,
+chained through the line's maps in compiled code) and :mod:`sliders.joints.equations` (the
+paper's laws, their Jacobian derived by dual numbers) read the same inputs
+(:meth:`SliderBatch.joint_inputs`) and must give the same residuals and Jacobian blocks up to
+roundoff, for every slider kind, both orientation models, beam chains
 (fv2, fv3, galerkin-p2, cubic, whose line has a compliance at the contact; smeared and not)
 and rigid lines (an arc, a helix), with the sliding
 point on the node and off it (the lever arm, which the pattern distinguishes), on chains

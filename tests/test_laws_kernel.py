@@ -1,9 +1,11 @@
-"""The compiled force laws (:mod:`sliders.forces.laws_kernel`) against their references
+"""The compiled force laws (:mod:`sliders.forces.compiled_laws`) against their references
 (:mod:`sliders.forces.laws`), to roundoff.
 
-Both evaluate the same closed forms in the same order of operations, except that the
-references sum the strut's three parts after evaluating each: every value and derivative
-agrees within a few ulp of the largest term it sums (bound ``8 eps`` of it).
+Both are printed from the same differentiated statements (:mod:`sliders.forces.statements`,
+``python -m sliders.forces.generate``): the same closed forms in the same order of
+operations, except that the references sum the strut's three parts after evaluating each:
+every value and derivative agrees within a few ulp of the largest term it sums (bound
+``8 eps`` of it).
 """
 
 from __future__ import annotations
@@ -12,8 +14,8 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from sliders.forces import compiled_laws as kernel
 from sliders.forces import laws
-from sliders.forces import laws_kernel as kernel
 
 EPS = np.finfo(float).eps
 GEAR = dict(area=1.6e-3, pressure=4.1e5, volume=2.8e-4, exponent=1.3)
@@ -61,11 +63,3 @@ def test_tyre(deflection: float, rate: float, forward: float, spin: float) -> No
     got = kernel.tyre_longitudinal(p, forward, spin, normal)
     for a, b in zip(got, expected, strict=True):
         assert abs(a - float(b)) <= 64 * EPS * max(abs(float(b)), 1.0) * max(normal, 1.0)
-
-
-@settings(max_examples=100, deadline=None, derandomize=True)
-@given(st.floats(-1.0, 1.0), st.floats(0.0, 3e4))
-def test_coulomb(velocity: float, normal: float) -> None:
-    p = row("coulomb", {"mu": 0.02, "v_eps": 1e-3})
-    expected = laws.coulomb_friction(velocity, normal, mu=0.02, v_eps=1e-3)
-    close(kernel.coulomb(p, velocity, normal), expected, 0.02 * normal / 1e-3)

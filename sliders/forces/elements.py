@@ -31,7 +31,7 @@ from fvbeam.geometry import direction, number, vector3
 from fvbeam.names import NodeRef, parse_node
 from fvbeam.structure import Structure
 from sliders.forces import laws
-from sliders.forces.laws_kernel import PARAMETERS
+from sliders.forces.compiled_laws import PARAMETERS
 
 AXIAL, TYRE = range(2)
 

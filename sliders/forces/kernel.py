@@ -13,9 +13,9 @@ step's force equations).  The equations:
     F_S' P (v_b - v_a))`` and ``d(F n)/d(v_b - v_a) = -F_S' n n``.
 ``TYRE`` (slots: the axle's translations, the wheel's rotations)
     deflection ``d = R0 - (x - g) . N`` and ``d' = -v . N``, the radial force ``F_z(d, d')``
-    along ``N`` (:func:`sliders.forces.laws_kernel.tyre_radial`); the axle's forward speed
+    along ``N`` (:func:`sliders.forces.compiled_laws.tyre_radial`); the axle's forward speed
     ``u = v . e`` and the spin ``omega = w . a`` (``a = N x e``), the longitudinal force
-    ``F_x(u, omega, F_z)`` along ``e`` (:func:`~sliders.forces.laws_kernel.tyre_longitudinal`);
+    ``F_x(u, omega, F_z)`` along ``e`` (:func:`~sliders.forces.compiled_laws.tyre_longitudinal`);
     the wheel takes the moment ``-R0 F_x a``.
 
 The Python reference is :func:`reference` (numpy, the same equations written with the laws of
@@ -29,8 +29,8 @@ import numba
 import numpy as np
 
 from sliders.forces import laws
+from sliders.forces.compiled_laws import strut, tyre_longitudinal, tyre_radial
 from sliders.forces.elements import AXIAL, TYRE
-from sliders.forces.laws_kernel import strut, tyre_longitudinal, tyre_radial
 
 
 @numba.njit(cache=True, inline="never")

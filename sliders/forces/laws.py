@@ -33,6 +33,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from fvbeam.geometry import number
+from sliders.forces import array_laws
 
 #: Standard sea-level atmospheric pressure [Pa], the default back pressure of :func:`gas_spring`.
 P_ATM = 101_325.0
@@ -133,8 +134,7 @@ def gas_spring(
             f"{law}: stroke {worst} m leaves no gas (it must stay below the gas column's length "
             f"V0 / A = {V0 / A} m)"
         )
-    ratio = (V0 / gas) ** n
-    return broadcast(A * (p0 * ratio - p_atm), n * A * A * p0 * ratio / gas)
+    return broadcast(*array_laws.gas_spring(S, A, p0, V0, n, p_atm))
 
 
 def gas_spring_energy(
@@ -200,8 +200,7 @@ def orifice_damper(rate: ArrayLike, *, compression: float, rebound: float) -> La
     c_comp = number(compression, f"{law}: compression", ">= 0")
     c_reb = number(rebound, f"{law}: rebound", ">= 0")
     v = state(rate, law, "rate")
-    c = np.where(v > 0, c_comp, c_reb)
-    return broadcast(c * v * np.abs(v), 2.0 * c * np.abs(v))
+    return broadcast(*array_laws.orifice_damper(v, c_comp, c_reb))
 
 
 def _stop_bounds(law: str, stiffness: float, lower: float, upper: float) -> tuple[float, ...]:
@@ -244,9 +243,7 @@ def end_stops(stroke: ArrayLike, *, stiffness: float, lower: float, upper: float
     law = "end stops"
     k, low, high = _stop_bounds(law, stiffness, lower, upper)
     S = state(stroke, law, "stroke")
-    on_stop = (S < low) | (S > high)
-    force = np.where(S < low, k * (S - low), np.where(S > high, k * (S - high), 0.0))
-    return broadcast(force, np.where(on_stop, k, 0.0))
+    return broadcast(*array_laws.end_stops(S, k, low, high))
 
 
 def end_stops_energy(
@@ -364,11 +361,7 @@ def tyre_radial(deflection: ArrayLike, rate: ArrayLike, *, stiffness: float, dam
     c = number(damping, f"{law}: damping", ">= 0")
     d = state(deflection, law, "deflection")
     v = state(rate, law, "rate")
-    push = k * d + c * v
-    loaded = (d > 0) & (push > 0)
-    return broadcast(
-        np.where(loaded, push, 0.0), np.where(loaded, k, 0.0), np.where(loaded, c, 0.0)
-    )
+    return broadcast(*array_laws.tyre_radial(d, v, k, c))
 
 
 def tyre_energy(deflection: ArrayLike, *, stiffness: float) -> np.ndarray:
@@ -414,15 +407,17 @@ def slip_ratio(
     -------
     kappa, d_forward_speed, d_spin : ndarray
     """
+    return broadcast(*array_laws.slip_ratio(*_slip(forward_speed, spin, radius, speed_eps)))
+
+
+def _slip(
+    forward_speed: ArrayLike, spin: ArrayLike, radius: float, speed_eps: float
+) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """The checked states and parameters of :func:`slip_ratio`: ``u, omega, R0, u_eps``."""
     law = "slip ratio"
     R = number(radius, f"{law}: radius", "> 0")
     eps = number(speed_eps, f"{law}: speed_eps", "> 0")
-    u = state(forward_speed, law, "forward speed")
-    w = state(spin, law, "spin")
-    scale = np.sqrt(u * u + eps * eps)
-    slip = u - w * R
-    kappa = slip / scale
-    return broadcast(kappa, 1.0 / scale - kappa * u / (scale * scale), -R / scale)
+    return state(forward_speed, law, "forward speed"), state(spin, law, "spin"), R, eps
 
 
 def friction_curve(kappa: ArrayLike, *, B: float, C: float, D: float) -> Law:
@@ -448,13 +443,18 @@ def friction_curve(kappa: ArrayLike, *, B: float, C: float, D: float) -> Law:
     -------
     mu, d_kappa : ndarray
     """
+    k = state(kappa, "friction curve", "kappa")
+    return broadcast(*array_laws.friction_curve(k, *_curve(B, C, D)))
+
+
+def _curve(B: float, C: float, D: float) -> tuple[float, float, float]:
+    """The checked parameters of :func:`friction_curve`."""
     law = "friction curve"
-    b = number(B, f"{law}: B", "> 0")
-    c = number(C, f"{law}: C", "> 0")
-    d = number(D, f"{law}: D", "> 0")
-    k = state(kappa, law, "kappa")
-    angle = c * np.arctan(b * k)
-    return broadcast(d * np.sin(angle), d * c * b * np.cos(angle) / (1.0 + (b * k) ** 2))
+    return (
+        number(B, f"{law}: B", "> 0"),
+        number(C, f"{law}: C", "> 0"),
+        number(D, f"{law}: D", "> 0"),
+    )
 
 
 def _normal(normal: ArrayLike, law: str) -> np.ndarray:
@@ -502,9 +502,8 @@ def tyre_longitudinal(
     force, d_forward_speed, d_spin, d_normal : ndarray
     """
     N = _normal(normal, "tyre longitudinal force")
-    kappa, k_u, k_w = slip_ratio(forward_speed, spin, radius=radius, speed_eps=speed_eps)
-    mu, mu_k = friction_curve(kappa, B=B, C=C, D=D)
-    return broadcast(-mu * N, -mu_k * k_u * N, -mu_k * k_w * N, -mu)
+    u, w, R, eps = _slip(forward_speed, spin, radius, speed_eps)
+    return broadcast(*array_laws.tyre_longitudinal(u, w, N, R, eps, *_curve(B, C, D)))
 
 
 def coulomb_friction(velocity: ArrayLike, normal: ArrayLike, *, mu: float, v_eps: float) -> Law:
@@ -543,8 +542,7 @@ def coulomb_friction(velocity: ArrayLike, normal: ArrayLike, *, mu: float, v_eps
     eps = number(v_eps, f"{law}: v_eps", "> 0")
     v = state(velocity, law, "velocity")
     N = _normal(normal, law)
-    t = np.tanh(v / eps)
-    return broadcast(-m * N * t, -m * N * (1.0 - t * t) / eps, -m * t)
+    return broadcast(*array_laws.coulomb_friction(v, N, m, eps))
 
 
 def stribeck_friction(
@@ -594,9 +592,5 @@ def stribeck_friction(
     v_s = number(v_stribeck, f"{law}: v_stribeck", "> 0")
     v = state(velocity, law, "velocity")
     N = _normal(normal, law)
-    drop = (mu_s - mu_k) * np.exp(-((v / v_s) ** 2))
-    g = mu_k + drop
-    # Coulomb's law with mu = 1 on the normal force N g(v), whose own rate is N g'(v)
-    force, d_velocity, d_normal = coulomb_friction(v, N * g, mu=1.0, v_eps=v_eps)
-    g_v = -2.0 * v * drop / (v_s * v_s)
-    return broadcast(force, d_velocity + d_normal * N * g_v, d_normal * g)
+    eps = number(v_eps, f"{law}: v_eps", "> 0")
+    return broadcast(*array_laws.stribeck_friction(v, N, mu_s, mu_k, v_s, eps))

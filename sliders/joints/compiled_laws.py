@@ -7,7 +7,7 @@ the point quantities (:data:`POINT`); :func:`sliders.joints.kernel.joint_equatio
 them through the line's maps.
 """
 
-# ruff: noqa: E501
+# ruff: noqa
 
 import numba
 

@@ -20,13 +20,14 @@ slot groups through the line's maps (the load transfer ``G``, the rotation map `
 same routine for every kind; :func:`derive` runs law and scatter on dual numbers
 (:mod:`sliders.joints.dual`) seeded through the line's maps and their ``xi``-derivatives,
 which gives the exact Jacobian by blocks of slot groups (:class:`Equations`);
-:func:`pattern` reads the blocks a law writes off that derivative.  :func:`joint_reference`
-is the reference the compiled kernel (:func:`sliders.joints.kernel.joint_equations`, which
-the solvers run) is held to, entry by entry, on every kind, orientation and line
-(``tests/test_joint_reference.py``), and the kernel writes exactly the blocks of
-:func:`pattern`.  Every function reads what
-:meth:`sliders.joints.slider.SliderBatch.joint_inputs` gathers (:class:`JointInputs`, the
-kernel's arguments in its order).
+:func:`pattern` reads the blocks a law writes off that derivative.  The compiled form of
+each law and of its derivatives is generated from the same function
+(:mod:`sliders.joints.generate` writes :mod:`sliders.joints.compiled_laws`), and
+:func:`joint_reference` is the reference the compiled kernel
+(:func:`sliders.joints.kernel.joint_equations`, which the solvers run) is held to, entry by
+entry, on every kind, orientation and line (``tests/test_joint_reference.py``).  Every
+function reads what :meth:`sliders.joints.slider.SliderBatch.joint_inputs` gathers
+(:class:`JointInputs`, the kernel's arguments in its order).
 
 Notation: the body node's displacement ``u_b`` and small rotation ``theta_b``, the sliding
 point's offset ``f`` and the slider axes ``F = [e_1, e_2, e_3]`` (columns), so

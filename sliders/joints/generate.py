@@ -16,6 +16,7 @@ Needs sympy (the ``test`` extra); nothing at run time imports this module.
 from __future__ import annotations
 
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -115,15 +116,23 @@ def traced(kind: str, orientation: str) -> tuple[list[sympy.Expr], list[sympy.Sy
     return flat, inputs[: len(inputs) - 3 + J]
 
 
+def common_subexpressions(
+    expressions: list[sympy.Expr], printer: Callable[[sympy.Expr], str]
+) -> tuple[list[str], list[str]]:
+    """``expressions`` after common-subexpression elimination (sympy's ``cse``), printed by
+    ``printer``: the lines assigning the shared terms ``t0, t1, ...`` (indented for a
+    function body) and each expression in their terms."""
+    shared, reduced = sympy.cse(expressions, symbols=sympy.numbered_symbols("t"), order="none")
+    return [f"    {s} = {printer(e)}" for s, e in shared], [printer(e) for e in reduced]
+
+
 def _function(name: str, kind: str, orientation: str) -> str:
     """The compiled function of one law: its rows and their derivatives in the point
     quantities, after common-subexpression elimination."""
     rows, inputs = traced(kind, orientation)
     entries = [(i, j, sympy.diff(e, s)) for i, e in enumerate(rows) for j, s in enumerate(inputs)]
     entries = [(i, j, d) for i, j, d in entries if d != 0]
-    shared, reduced = sympy.cse(
-        [*rows, *(d for _, _, d in entries)], symbols=sympy.numbered_symbols("t"), order="none"
-    )
+    shared, reduced = common_subexpressions([*rows, *(d for _, _, d in entries)], sympy.pycode)
     lines = [
         "@numba.njit(cache=True)",
         f"def {name}(p, c, rows, jac):",
@@ -132,10 +141,10 @@ def _function(name: str, kind: str, orientation: str) -> str:
         "    ``p`` (:data:`POINT`), with the constants ``c`` (:data:`CONSTANTS`); ``jac`` zero",
         '    on entry."""',
     ]
-    lines += [f"    {s} = {sympy.pycode(e)}" for s, e in shared]
-    lines += [f"    rows[{i}] = {sympy.pycode(e)}" for i, e in enumerate(reduced[: len(rows)])]
+    lines += shared
+    lines += [f"    rows[{i}] = {e}" for i, e in enumerate(reduced[: len(rows)])]
     lines += [
-        f"    jac[{i}, {j}] = {sympy.pycode(e)}"
+        f"    jac[{i}, {j}] = {e}"
         for (i, j, _), e in zip(entries, reduced[len(rows) :], strict=True)
     ]
     return "\n".join(lines)
@@ -152,7 +161,7 @@ the point quantities (:data:`POINT`); :func:`sliders.joints.kernel.joint_equatio
 them through the line's maps.
 """
 
-# ruff: noqa: E501
+# ruff: noqa
 
 import numba
 
