@@ -23,19 +23,7 @@ import sympy
 from sympy.printing.numpy import NumPyPrinter
 
 from sliders.forces import statements
-from sliders.joints.generate import common_subexpressions
-
-#: The arithmetic of the statements on sympy expressions (:data:`statements.NUMPY`'s twin).
-SYMPY = statements.SimpleNamespace(
-    where=lambda condition, a, b: sympy.Piecewise((a, condition), (b, True)),
-    both=sympy.And,
-    abs=sympy.Abs,
-    sqrt=sympy.sqrt,
-    exp=sympy.exp,
-    tanh=sympy.tanh,
-    atan=sympy.atan,
-    sin=sympy.sin,
-)
+from sliders.joints.generate import SYMPY, common_subexpressions
 
 
 class _ArrayPrinter(NumPyPrinter):

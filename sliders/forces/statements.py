@@ -1,10 +1,11 @@
 """The force laws, each stated once: its value as its source writes it, nothing else.
 
 Each function returns the law's value from its states and parameters with the arithmetic of
-``ops`` (:data:`NUMPY` here; sympy in :mod:`sliders.forces.generate`, which differentiates
-the statement and prints its value and partial derivatives as numpy code,
-:mod:`sliders.forces.array_laws`, behind :mod:`sliders.forces.laws`, and as compiled code,
-:mod:`sliders.forces.compiled_laws`, behind the force elements).  Branches are written with
+``ops`` (:data:`sliders.joints.arithmetic.NUMPY` here; sympy in
+:mod:`sliders.forces.generate`, which differentiates the statement and prints its value
+and partial derivatives as numpy code, :mod:`sliders.forces.array_laws`, behind
+:mod:`sliders.forces.laws`, and as compiled code, :mod:`sliders.forces.compiled_laws`,
+behind the force elements).  Branches are written with
 ``ops.where`` and strict inequalities, so the derivative at a kink is that of the branch the
 inequality selects (the docstrings of :mod:`sliders.forces.laws` say which).
 
@@ -15,22 +16,12 @@ Coulomb and Stribeck friction (``docs/landing_gear.md`` gives every parameter of
 
 from __future__ import annotations
 
-from types import SimpleNamespace
 from typing import Any
 
-import numpy as np
+from sliders.joints.arithmetic import NUMPY
+from sliders.joints.friction import friction_force
 
-#: The arithmetic the statements use beyond ``+ - * / **`` and comparisons, in numpy.
-NUMPY = SimpleNamespace(
-    where=np.where,
-    both=np.logical_and,
-    abs=np.abs,
-    sqrt=np.sqrt,
-    exp=np.exp,
-    tanh=np.tanh,
-    atan=np.arctan,
-    sin=np.sin,
-)
+__all__ = ["NUMPY"]
 
 
 def gas_spring(
@@ -111,14 +102,17 @@ def tyre_longitudinal(
 
 
 def coulomb_friction(v: Any, N: Any, *, mu: Any, v_eps: Any, ops: Any) -> Any:
-    """``F = -mu N tanh(v / v_eps)``: Coulomb friction regularised by a hyperbolic tangent."""
-    return -mu * N * ops.tanh(v / v_eps)
+    """``F = -mu N tanh(v / v_eps)``: Coulomb friction regularised by a hyperbolic tangent
+    (:func:`sliders.joints.friction.friction_force` without the Stribeck drop)."""
+    return friction_force(v, N, mu=mu, v_eps=v_eps, mu_static=mu, v_stribeck=1.0, ops=ops)
 
 
 def stribeck_friction(
     v: Any, N: Any, *, mu_static: Any, mu_kinetic: Any, v_stribeck: Any, v_eps: Any, ops: Any
 ) -> Any:
     """``F = -N g(v) tanh(v / v_eps)``, ``g = mu_k + (mu_s - mu_k) exp(-(v / v_s)^2)``: the
-    Stribeck drop from static to kinetic friction."""
-    g = mu_kinetic + (mu_static - mu_kinetic) * ops.exp(-((v / v_stribeck) ** 2))
-    return -N * g * ops.tanh(v / v_eps)
+    Stribeck drop from static to kinetic friction
+    (:func:`sliders.joints.friction.friction_force`)."""
+    return friction_force(
+        v, N, mu=mu_kinetic, v_eps=v_eps, mu_static=mu_static, v_stribeck=v_stribeck, ops=ops
+    )

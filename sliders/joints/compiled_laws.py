@@ -9,6 +9,8 @@ them through the line's maps.
 
 # ruff: noqa
 
+import math
+
 import numba
 
 #: The point quantities (name, size) in their flat order (``mu``: the kind's ``J``).
@@ -1229,3 +1231,84 @@ def law(code, p, c, rows, jac):
         spline_section(p, c, rows, jac)
     elif code == 3:
         classical_slope(p, c, rows, jac)
+
+
+@numba.njit(cache=True, inline="never", error_model="numpy")
+def friction_at(l, w, lam, mu, v_eps, mu_static, v_stribeck, d_l, d_w, d_lam):
+    """:func:`sliders.joints.friction.friction_term` compiled: returns ``e`` and
+    ``F``, the partials of ``e`` into ``d_l``, ``d_w``, ``d_lam`` (3,)."""
+    t0 = l[0]**2
+    t1 = l[1]**2
+    t2 = l[2]**2
+    t3 = t0 + t1 + t2
+    t4 = math.sqrt(t3)
+    t5 = 1/t4
+    t6 = l[0]*lam[0]*t5 + l[1]*lam[1]*t5 + l[2]*lam[2]*t5
+    t7 = t5*t6
+    t8 = -l[0]*t7 + lam[0]
+    t9 = -l[1]*t7 + lam[1]
+    t10 = -l[2]*t7 + lam[2]
+    t11 = math.sqrt(t10**2 + t8**2 + t9**2)
+    t12 = v_stribeck**(-2)
+    t13 = l[0]*t5*w[0] + l[1]*t5*w[1] + l[2]*t5*w[2]
+    t14 = (-mu + mu_static)*math.exp(-t12*t13**2)
+    t15 = mu + t14
+    t16 = 1/v_eps
+    t17 = math.tanh(t13*t16)
+    t18 = t15*t17
+    t19 = t11*t18
+    t20 = (t11 > 0)
+    t21 = t19*t5
+    t22 = 2*t7
+    t23 = t3**(-3/2)
+    t24 = t0*t23
+    t25 = l[0]*t23
+    t26 = l[1]*t25
+    t27 = l[2]*t25
+    t28 = 2*t5
+    t29 = t28*(-lam[0]*t24 + lam[0]*t5 - lam[1]*t26 - lam[2]*t27)
+    t30 = (1/2)*t8
+    t31 = 2*t6
+    t32 = t26*t31
+    t33 = (1/2)*t9
+    t34 = t27*t31
+    t35 = (1/2)*t10
+    t36 = t18*t4/t11
+    t37 = t24*w[0]
+    t38 = t26*w[1]
+    t39 = t27*w[2]
+    t40 = 1 - t17**2
+    t41 = t11*t15*t16*t4*t40
+    t42 = t12*t13*t14*t17
+    t43 = t11*t42
+    t44 = t4*t43
+    t45 = t1*t23
+    t46 = l[1]*l[2]
+    t47 = t23*t46
+    t48 = t28*(-lam[0]*t26 - lam[1]*t45 + lam[1]*t5 - lam[2]*t47)
+    t49 = t31*t47
+    t50 = t45*w[1]
+    t51 = t26*w[0]
+    t52 = t47*w[2]
+    t53 = t2*t23
+    t54 = t28*(-lam[0]*t27 - lam[1]*t47 + lam[2]*t5 - lam[2]*t53)
+    t55 = t53*w[2]
+    t56 = t27*w[0]
+    t57 = t47*w[1]
+    t58 = 2*t43
+    t59 = 1/t3
+    t60 = 2*t59
+    t61 = l[0]*t59
+    t62 = l[1]*t61
+    t63 = l[2]*t61
+    t64 = t46*t59
+    d_l[0] = ((l[0]*t21 + t36*(t30*(-l[0]*t29 + 2*t0*t23*t6 - t22) + t33*(-l[1]*t29 + t32) + t35*(-l[2]*t29 + t34)) + t41*(-t37 - t38 - t39 + t5*w[0]) - t44*(-2*t37 - 2*t38 - 2*t39 + 2*t5*w[0])) if t20 else (0))
+    d_l[1] = ((l[1]*t21 + t36*(t30*(-l[0]*t48 + t32) + t33*(-l[1]*t48 + 2*t1*t23*t6 - t22) + t35*(-l[2]*t48 + t49)) + t41*(t5*w[1] - t50 - t51 - t52) - t44*(2*t5*w[1] - 2*t50 - 2*t51 - 2*t52)) if t20 else (0))
+    d_l[2] = ((l[2]*t21 + t36*(t30*(-l[0]*t54 + t34) + t33*(-l[1]*t54 + t49) + t35*(-l[2]*t54 + 2*t2*t23*t6 - t22)) + t41*(t5*w[2] - t55 - t56 - t57) - t44*(2*t5*w[2] - 2*t55 - 2*t56 - 2*t57)) if t20 else (0))
+    d_w[0] = ((l[0]*t11*t15*t16*t40 - 2*l[0]*t11*t42) if t20 else (0))
+    d_w[1] = ((l[1]*t11*t15*t16*t40 - l[1]*t58) if t20 else (0))
+    d_w[2] = ((l[2]*t11*t15*t16*t40 - l[2]*t58) if t20 else (0))
+    d_lam[0] = ((t36*(-t10*t63 - t62*t9 + (1/2)*t8*(-t0*t60 + 2))) if t20 else (0))
+    d_lam[1] = ((t36*(-t10*t64 - t62*t8 + (1/2)*t9*(-t1*t60 + 2))) if t20 else (0))
+    d_lam[2] = ((t36*((1/2)*t10*(-t2*t60 + 2) - t63*t8 - t64*t9)) if t20 else (0))
+    return ((t19*t4) if t20 else (0.0)), -t19

@@ -20,8 +20,10 @@ exp(-(v / v_s)^2)`` falling from the static ``mu_s`` to the kinetic ``mu = mu_k`
 joint's ``xi`` equation makes carry it: the frictionless ``-l~ . lambda = 0``
 becomes ``-l~ . lambda - |l~| F = 0`` (the virtual work of a force between body and line
 along the line, ``F |l~| delta xi``).  Its term in that equation and the term's partial
-derivatives in ``l~``, ``w`` and ``lambda`` are :func:`friction_term` (numpy, the reference)
-and :func:`friction_at` (compiled); :mod:`sliders.joints.packed` carries them through the
+derivatives in ``l~``, ``w`` and ``lambda`` are :func:`friction_term` (the statement) and
+:func:`sliders.joints.compiled_laws.friction_at` (compiled, generated from it by
+:mod:`sliders.joints.generate`);
+:mod:`sliders.joints.packed` carries them through the
 line's dependence on ``xi`` and on the dofs, the velocities on the dofs by the integrator's
 ``gamma'``.  The friction's power ``F v_rel <= 0`` is what it dissipates.
 
@@ -33,9 +35,9 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
-import numba
-import numpy as np
+from sliders.joints.arithmetic import NUMPY
 
 
 @dataclass(frozen=True)
@@ -78,77 +80,40 @@ class Friction:
         return self.mu, self.v_eps, static, self.v_stribeck
 
 
+def friction_force(
+    v: Any, N: Any, *, mu: Any, v_eps: Any, mu_static: Any, v_stribeck: Any, ops: Any = NUMPY
+) -> Any:
+    """The friction law: ``F = -N phi(v)``, ``phi = g(v) tanh(v / v_eps)`` with the Stribeck
+    curve ``g = mu + (mu_static - mu) exp(-(v / v_stribeck)^2)`` (``g = mu`` when
+    ``mu_static = mu``: Coulomb's law, regularised), at the sliding speed ``v`` under the
+    normal force ``N``; the arithmetic ``ops`` (:mod:`sliders.joints.arithmetic`)."""
+    g = mu + (mu_static - mu) * ops.exp(-((v / v_stribeck) ** 2))
+    return -N * g * ops.tanh(v / v_eps)
+
+
 def friction_term(
-    l: np.ndarray,
-    w: np.ndarray,
-    lam: np.ndarray,
-    mu: float,
-    v_eps: float,
-    mu_static: float | None = None,
-    v_stribeck: float = 1.0,
-) -> tuple[float, np.ndarray, np.ndarray, np.ndarray, float]:
-    """The friction's term ``e = -|l| F = |l| N phi(s)`` of the ``xi`` equation (module
-    docstring), ``s = t . w``, ``phi = g tanh(s / v_eps)`` with the Stribeck curve ``g``
-    (``g = mu`` when ``mu_static`` is None or ``mu``), its partial derivatives in ``l``,
-    ``w`` and ``lambda`` (each (3,)), and the friction force ``F``, written as the equations
-    read: with ``P = I - t t`` (``dt/dl = P / |l|``) and ``dN/dt = -(t . lambda) lambda / N``,
-
-        de/dl = N phi t + phi P dN/dt + N phi'(s) P w,
-        de/dw = |l| N phi'(s) t,        de/dlambda = |l| phi (lambda - (t . lambda) t) / N.
-    """
+    l: Any,
+    w: Any,
+    lam: Any,
+    mu: Any,
+    v_eps: Any,
+    mu_static: Any = None,
+    v_stribeck: Any = 1.0,
+    ops: Any = NUMPY,
+) -> tuple[Any, Any]:
+    """The friction's term ``e = -|l| F`` of the ``xi`` equation (module docstring) and the
+    friction force ``F`` (:func:`friction_force` of the sliding speed ``s = t . w`` and the
+    transverse reaction ``N = |lambda - (t . lambda) t|``, ``t = l / |l|``; ``mu_static``
+    None: ``mu``), 3-vectors ``l``, ``w``, ``lambda``.  Without a transverse reaction
+    (``N = 0``) the term is 0 and so are its derivatives (the one-sided ones of ``N``).
+    Its partial derivatives, compiled, are generated from this statement
+    (:func:`sliders.joints.compiled_laws.friction_at`)."""
     static = mu if mu_static is None else mu_static
-    L = np.linalg.norm(l)
-    t = l / L
-    across = lam - (t @ lam) * t
-    N = np.linalg.norm(across)
-    s = t @ w
-    tau = np.tanh(s / v_eps)
-    drop = (static - mu) * np.exp(-((s / v_stribeck) ** 2))
-    g, g_s = mu + drop, -2.0 * s * drop / v_stribeck**2
-    phi, phi_s = g * tau, g_s * tau + g * (1.0 - tau * tau) / v_eps
-    P = np.eye(3) - np.outer(t, t)
-    dN_dt = -(t @ lam) * lam / N if N > 0 else np.zeros(3)
-    d_l = N * phi * t + phi * (P @ dN_dt) + N * phi_s * (P @ w)
-    d_w = L * N * phi_s * t
-    d_lam = L * phi * across / N if N > 0 else np.zeros(3)
-    return L * N * phi, d_l, d_w, d_lam, -N * phi
-
-
-@numba.njit(cache=True, inline="never")
-def friction_at(
-    l: np.ndarray,
-    w: np.ndarray,
-    lam: np.ndarray,
-    mu: float,
-    v_eps: float,
-    mu_static: float,
-    v_stribeck: float,
-    d_l: np.ndarray,
-    d_w: np.ndarray,
-    d_lam: np.ndarray,
-) -> tuple[float, float]:
-    """:func:`friction_term` compiled: returns ``e`` and ``F``, the partials into ``d_l``,
-    ``d_w``, ``d_lam`` (3,)."""
-    L = np.sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2])
-    t = l / L
+    L = ops.sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2])
+    t = [l[c] / L for c in range(3)]
     along = t[0] * lam[0] + t[1] * lam[1] + t[2] * lam[2]
-    across = lam - along * t
-    N = np.sqrt(across[0] ** 2 + across[1] ** 2 + across[2] ** 2)
-    slide = t[0] * w[0] + t[1] * w[1] + t[2] * w[2]
-    tau = np.tanh(slide / v_eps)
-    drop = (mu_static - mu) * np.exp(-((slide / v_stribeck) ** 2))
-    g = mu + drop
-    phi = g * tau
-    phi_s = -2.0 * slide * drop / (v_stribeck * v_stribeck) * tau + g * (1.0 - tau * tau) / v_eps
-    for c in range(3):
-        dN_dt = -along * lam[c] / N if N > 0 else 0.0
-        d_w[c] = L * N * phi_s * t[c]
-        d_lam[c] = L * phi * across[c] / N if N > 0 else 0.0
-        d_l[c] = N * phi * t[c] + N * phi_s * (w[c] - slide * t[c]) + phi * dN_dt
-    # the projection P = I - t t of d N / d t: remove its component along t
-    dot = 0.0
-    for c in range(3):
-        dot += t[c] * (-along * lam[c] / N if N > 0 else 0.0)
-    for c in range(3):
-        d_l[c] -= phi * dot * t[c]
-    return L * N * phi, -N * phi
+    across = [lam[c] - along * t[c] for c in range(3)]
+    N = ops.sqrt(across[0] * across[0] + across[1] * across[1] + across[2] * across[2])
+    s = t[0] * w[0] + t[1] * w[1] + t[2] * w[2]
+    F = friction_force(s, N, mu=mu, v_eps=v_eps, mu_static=static, v_stribeck=v_stribeck, ops=ops)
+    return ops.where(N > 0, -L * F, 0.0), F

@@ -18,12 +18,26 @@ from __future__ import annotations
 import sys
 from collections.abc import Callable
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import sympy
 
 from sliders.joints.equations import LAWS, BodyPoint, LinePoint, PointRows, Unknowns
+from sliders.joints.friction import friction_term
 
+#: The arithmetic of the statements on sympy expressions
+#: (:data:`sliders.joints.arithmetic.NUMPY`'s twin).
+SYMPY = SimpleNamespace(
+    where=lambda condition, a, b: sympy.Piecewise((a, condition), (b, True)),
+    both=sympy.And,
+    abs=sympy.Abs,
+    sqrt=sympy.sqrt,
+    exp=sympy.exp,
+    tanh=sympy.tanh,
+    atan=sympy.atan,
+    sin=sympy.sin,
+)
 #: The point quantities a law reads and is differentiated in, in order, with their sizes:
 #: the body node's displacement ``u_b`` and rotation ``theta_b``; the line at ``xi``
 #: (``x``, ``l``, ``l_/xi``, the recovered tangent ``l~``, the section rotation ``theta_L``
@@ -150,6 +164,32 @@ def _function(name: str, kind: str, orientation: str) -> str:
     return "\n".join(lines)
 
 
+def _friction() -> str:
+    """The compiled friction term of the ``xi`` equation (:func:`friction_term`): its value
+    ``e``, the force ``F`` and the partials of ``e`` in ``l~``, ``w`` and ``lambda``."""
+    vectors = {
+        name: [sympy.Symbol(f"{name}[{c}]", real=True) for c in range(3)]
+        for name in ("l", "w", "lam")
+    }
+    law = sympy.symbols("mu v_eps mu_static v_stribeck", real=True)
+    e, F = friction_term(*vectors.values(), *law, ops=SYMPY)
+    partials = [sympy.diff(e, x) for v in vectors.values() for x in v]
+    shared, reduced = common_subexpressions([e, F, *partials], sympy.pycode)
+    outputs = [f"d_{name}" for name in vectors]
+    return "\n".join(
+        [
+            # numpy's error model: a branch not taken (N = 0) may divide by zero first
+            '@numba.njit(cache=True, inline="never", error_model="numpy")',
+            "def friction_at(l, w, lam, mu, v_eps, mu_static, v_stribeck, d_l, d_w, d_lam):",
+            '    """:func:`sliders.joints.friction.friction_term` compiled: returns ``e`` and',
+            '    ``F``, the partials of ``e`` into ``d_l``, ``d_w``, ``d_lam`` (3,)."""',
+            *shared,
+            *(f"    {outputs[i // 3]}[{i % 3}] = {value}" for i, value in enumerate(reduced[2:])),
+            f"    return {reduced[0]}, {reduced[1]}",
+        ]
+    )
+
+
 def source() -> str:
     """The text of :mod:`sliders.joints.compiled_laws`."""
     header = f'''"""The slider laws of :mod:`sliders.joints.equations`, compiled (generated).
@@ -162,6 +202,8 @@ them through the line's maps.
 """
 
 # ruff: noqa
+
+import math
 
 import numba
 
@@ -190,10 +232,8 @@ AT_ROW = {_offsets(ROWS)!r}
     for i, key in enumerate(LAWS):
         word = "if" if i == 0 else "elif"
         dispatch += [f"    {word} code == {i}:", f"        {names[key]}(p, c, rows, jac)"]
-    return (
-        "\n\n\n".join([header.rstrip() + "\n" + footer.rstrip(), *bodies, "\n".join(dispatch)])
-        + "\n"
-    )
+    parts = [header.rstrip() + "\n" + footer.rstrip(), *bodies, "\n".join(dispatch), _friction()]
+    return "\n\n\n".join(parts) + "\n"
 
 
 def main() -> int:

@@ -38,8 +38,8 @@ from fvbeam.scratch import borrowed, stack_empty, stack_zeros
 from fvbeam.smearing import steps
 from fvbeam.structure import Structure
 from sliders.joints.blocks import SlotJacobian
+from sliders.joints.compiled_laws import friction_at
 from sliders.joints.equations import JointInputs, pattern
-from sliders.joints.friction import friction_at
 from sliders.joints.kernel import (
     BESIDE,
     GROUPS,
@@ -892,7 +892,7 @@ def _friction(
     values: np.ndarray,
 ) -> float:
     """The bearing friction's term ``e`` of the ``xi`` equation (:func:`sliders.joints.
-    friction.friction_at`) added to ``r``, and with ``jacobian`` its derivatives to
+    compiled_laws.friction_at`) added to ``r``, and with ``jacobian`` its derivatives to
     ``values`` (1, width); returns the friction force ``F``.  ``law``: ``mu, v_eps,
     mu_static, v_stribeck`` (:attr:`sliders.joints.friction.Friction.law`).  Through what it
     reads:
