@@ -53,6 +53,7 @@ from sliders.joints.kernel import (
 )
 from sliders.joints.kernel import BODY as BODY_GROUP
 from sliders.joints.slider import Slider, SliderBatch, _equations, _Layout
+from sliders.joints.stops import end_stop
 from sliders.lines.batched import KERNEL_RULE, ChainStack
 from sliders.lines.batched_kernel import (
     line_state,
@@ -850,15 +851,11 @@ def evaluate_joint(
             vb,
         )
     if hd[END_STOPS]:
-        along = l[0, 0] * y[1] + l[0, 1] * y[2] + l[0, 2] * y[3]
-        for side in range(2):
-            end, sign = (0.0, -1.0) if side == 0 else (length, 1.0)
-            beyond = sign * (xi_raw - end) > 0
-            pushing = abs(xi_raw - end) <= 1e-12 * length and sign * along > 0
-            if beyond or pushing:
-                r[t] = xi_raw - end
-                if jacobian:
-                    _unit_row(start, size, where, values)
+        hit, held = end_stop(xi_raw, l[0, 0] * y[1] + l[0, 1] * y[2] + l[0, 2] * y[3], length)
+        if hit:
+            r[t] = held
+            if jacobian:
+                _unit_row(start, size, where, values)
     if hd[DRIVEN]:
         r[t] = y[0] - drive
         if jacobian:

@@ -64,6 +64,7 @@ from sliders.joints.equations import JointInputs, pattern
 from sliders.joints.friction import Friction
 from sliders.joints.kernel import GROUPS, joint_equations
 from sliders.joints.kernel import KINDS as KERNEL_KINDS
+from sliders.joints.stops import end_stops
 from sliders.lines.batched import ChainStack, LineRotation, gather
 from sliders.lines.chain import BeamChain
 from sliders.lines.rigid import RigidLine
@@ -613,17 +614,13 @@ class SliderBatch:
         r: np.ndarray,
         J: SlotJacobian | None,
     ) -> None:
-        """Replace the ``xi`` equation (row ``slot`` of ``r``) by ``xi = end`` beyond an end,
-        or at an end where the stop pushes: the force on the body, ``-lambda``, points back
-        into the line (``l . lambda > 0`` at the far end, ``< 0`` at the start).  At the end
-        itself the derivatives in ``xi`` are the one-sided ones of the line."""
-        for end, sign in ((0.0, -1.0), (self.length, 1.0)):
-            beyond = sign * (xi - end) > 0
-            pushing = (np.abs(xi - end) <= 1e-12 * self.length) & (sign * _dot(l, lam) > 0)
-            hit = beyond | pushing
-            r[hit, slot] = xi[hit] - end
-            if J is not None:
-                J.unit_row("xi", hit)
+        """Replace the ``xi`` equation (row ``slot`` of ``r``) by ``xi = end`` where the end
+        stops hold the members (:func:`sliders.joints.stops.end_stops`)."""
+        hit, held = np.zeros(len(xi), dtype=bool), np.zeros(len(xi))
+        end_stops(_c(xi), _c(_dot(l, lam)), float(self.length), hit, held)
+        r[hit, slot] = held[hit]
+        if J is not None:
+            J.unit_row("xi", hit)
 
 
 def _c(a: np.ndarray) -> np.ndarray:
