@@ -1,0 +1,264 @@
+"""Geometrically exact finite-volume beams: the residual and its tangent.
+
+The beam of Ghiringhelli, Masarati and Mantegazza (AIAA J. 38 (2000) 131-138), the
+finite-volume beam of :mod:`fvbeam.beam` (``fv2``, ``fv3``) written on the current
+configuration.  Each node ``a`` has a position ``x_a`` and a rotation ``R_a`` (identity in
+the reference configuration; the section frames of the mesh stay in the section stiffness),
+updated on the manifold by spatial increments, ``x_a <- x_a + du_a``,
+``R_a <- exp(dphi_a) R_a`` (:func:`fvbeam.rotations.update`): the six dofs of a node are
+``[du, dphi]``, in global axes, as the linear beam's ``[u, theta]``.
+
+**Interpolation.**  In each element, from a reference node ``r`` (node 0 of a 2-node
+element, the mid node of a 3-node one), the relative rotation vectors
+``psi_a = log(R_r^T R_a)`` are interpolated with the Lagrange shape functions ``N_a``
+(objective: a rigid rotation of the whole beam leaves them unchanged)::
+
+    x = sum N_a x_a,    psi = sum N_a psi_a,    Lambda = R_r exp(psi).
+
+**Strains** at each evaluation point, in the frame ``Lambda`` of the reference axes
+(``'`` the derivative in reference arc length; ``x0'`` the reference unit tangent)::
+
+    nu = Lambda^T x' - x0',      kappa = J(psi)^T psi'          (Lambda^T Lambda' = skew(kappa))
+
+and the stress resultants ``[F; M] = blockdiag(Lambda, Lambda) C [nu; kappa]``, ``C`` the
+section stiffness in global axes at the point (:meth:`fvbeam.section.Section.global_stiffness`).
+
+**Balance of each node's region** (the fv test functions, eq. T4, on the current
+configuration): the evaluation points bound the regions, and node ``a``'s internal force is
+the sum over the points ``p`` of its elements of ``jump_a(p) [F_p; M_p + (x_p - x_a) x F_p]``,
+``jump_a(p) = chi_a(p+) - chi_a(p-)`` (:func:`fvbeam.elements.jumps`).  Equilibrium is
+``r(q) = f`` with the nodal loads ``f``.
+
+**Tangent** (material + geometric), from the variations of the spatial section rotation
+``d theta = dphi_r + R_r J(psi) d psi``, ``d psi_a = J(psi_a)^-1 R_r^T (dphi_a - dphi_r)``::
+
+    d nu = Lambda^T (dx' + x' x d theta),    d kappa = Lambda^T d theta',
+    d theta' = R_r (DJ(psi)[psi'] d psi + J(psi) d psi'),
+    d F = d theta x F + Lambda dF_C,         d M = d theta x M + Lambda dM_C,
+
+``[dF_C; dM_C] = C [d nu; d kappa]``, and ``d (x_p - x_a) x F`` for the lever arm.  In the
+reference configuration (``R = I``, no stress) the strains are the linear beam's
+``u' - theta x t`` and ``theta'`` (eq. T1) and the tangent is the linear beam's stiffness:
+linear kinematics is this law's first-order case (``tests/test_exact_beam.py`` holds the
+two equal to round-off).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import scipy.sparse as sp
+
+from fvbeam import rotations
+from fvbeam.beam import Beam
+from fvbeam.elements import evaluation_points, jumps
+from fvbeam.formulations import FiniteVolume
+from fvbeam.geometry import cross, skew_matrices
+from fvbeam.mesh import shape_functions
+
+
+@dataclass(frozen=True)
+class ExactState:
+    """A configuration of an exact beam: node positions ``x`` (n, 3) and rotations ``R``
+    (n, 3, 3) from the reference (identity there)."""
+
+    x: np.ndarray
+    R: np.ndarray
+
+    def updated(self, dq: np.ndarray) -> ExactState:
+        """The state moved by the dof increments ``dq`` (6 per node, ``[du, dphi]``):
+        ``x + du``, ``exp(dphi) R``."""
+        d = np.asarray(dq, dtype=float).reshape(-1, 6)
+        return ExactState(self.x + d[:, :3], rotations.update(self.R, d[:, 3:]))
+
+
+@dataclass(frozen=True)
+class PointState:
+    """Kinematics and stress at the evaluation points (P of them; ``npe`` nodes each)."""
+
+    psi_nodes: np.ndarray  # (P, npe, 3) relative rotation vectors psi_a
+    psi: np.ndarray  # (P, 3)
+    dpsi: np.ndarray  # (P, 3) psi'
+    Lambda: np.ndarray  # (P, 3, 3)
+    x: np.ndarray  # (P, 3) position
+    dx: np.ndarray  # (P, 3) x'
+    strain: np.ndarray  # (P, 6) [nu, kappa]
+    force: np.ndarray  # (P, 3) F, global
+    moment: np.ndarray  # (P, 3) M, global
+
+
+class ExactBeam:
+    """A geometrically exact finite-volume beam on a linear :class:`~fvbeam.beam.Beam`'s
+    mesh, section and formulation (``fv2`` or ``fv3``); the module docstring states the law.
+
+    Parameters
+    ----------
+    beam
+        The beam (its formulation must be a finite-volume one).
+    """
+
+    def __init__(self, beam: Beam) -> None:
+        if not isinstance(beam.formulation, FiniteVolume):
+            raise ValueError(
+                f"{beam.mesh.name}: exact kinematics is built for the finite-volume "
+                f"formulations fv2 and fv3, not {beam.formulation.name}"
+            )
+        self.beam = beam
+        mesh = beam.mesh
+        npe = mesh.nodes_per_element
+        Xp = evaluation_points(npe)
+        n_el, n_p = mesh.n_elements, len(Xp)
+        N, dN = shape_functions(Xp, npe)  # (npe, n_p)
+        self.npe = npe
+        self.reference_node = 0 if npe == 2 else 2
+        #: The element of each evaluation point (P,), its nodes (P, npe).
+        self.element = np.repeat(np.arange(n_el), n_p)
+        self.nodes = mesh.cells[self.element]
+        frames, metric = beam.centreline(Xp[None, :])  # (n_el, n_p, 3, 3), (n_el, n_p)
+        ds = (mesh.element_length[:, None] * metric).ravel()  # d s / d X
+        #: Shape functions and their arc-length derivatives at each point (P, npe).
+        self.N = np.tile(N.T, (n_el, 1))
+        self.dN = np.tile(dN.T, (n_el, 1)) / ds[:, None]
+        #: Section stiffness in global axes at each point (P, 6, 6).
+        self.C = beam.section.global_stiffness(frames.reshape(-1, 3, 3))
+        #: ``jump_a(p)`` of each point's nodes (P, npe).
+        self.jump = np.tile(jumps(npe).T, (n_el, 1))
+        self.dx0 = np.einsum("pa,pak->pk", self.dN, mesh.points[self.nodes])
+        self.n_dofs = beam.n_dofs
+
+    def reference(self) -> ExactState:
+        """The reference configuration: the mesh's nodes, identity rotations."""
+        n = self.beam.mesh.n_nodes
+        return ExactState(self.beam.mesh.points.copy(), np.broadcast_to(np.eye(3), (n, 3, 3)))
+
+    def displacements(self, state: ExactState) -> np.ndarray:
+        """Nodal displacements and rotation vectors ``log(R)`` (n, 6): the linear beam's
+        ``[u, theta]`` to first order."""
+        return np.hstack([state.x - self.beam.mesh.points, rotations.log_map(state.R)])
+
+    # -- kinematics and stress ---------------------------------------------------------
+    def points(self, state: ExactState) -> PointState:
+        """Strains and stress resultants at the evaluation points (module docstring)."""
+        Rr = state.R[self.nodes[:, self.reference_node]]  # (P, 3, 3)
+        Rn = state.R[self.nodes]  # (P, npe, 3, 3)
+        psi_nodes = rotations.log_map(np.swapaxes(Rr, -1, -2)[:, None] @ Rn)
+        psi = np.einsum("pa,pak->pk", self.N, psi_nodes)
+        dpsi = np.einsum("pa,pak->pk", self.dN, psi_nodes)
+        Lam = Rr @ rotations.exp_map(psi)
+        xn = state.x[self.nodes]
+        x = np.einsum("pa,pak->pk", self.N, xn)
+        dx = np.einsum("pa,pak->pk", self.dN, xn)
+        nu = np.einsum("pji,pj->pi", Lam, dx) - self.dx0
+        kappa = np.einsum("pji,pj->pi", rotations.left_jacobian(psi), dpsi)
+        strain = np.hstack([nu, kappa])
+        stress = np.einsum("pij,pj->pi", self.C, strain)
+        force = np.einsum("pij,pj->pi", Lam, stress[:, :3])
+        moment = np.einsum("pij,pj->pi", Lam, stress[:, 3:])
+        return PointState(psi_nodes, psi, dpsi, Lam, x, dx, strain, force, moment)
+
+    @cached_property
+    def _dofs(self) -> np.ndarray:
+        """Global dofs of each point's element (P, 6 npe)."""
+        return (6 * self.nodes[:, :, None] + np.arange(6)).reshape(len(self.nodes), -1)
+
+    def _nodal_terms(self, state: ExactState, pts: PointState) -> np.ndarray:
+        """Each point's contributions to its nodes' balances (P, npe, 6)."""
+        arm = pts.x[:, None, :] - state.x[self.nodes]  # (P, npe, 3)
+        moment = pts.moment[:, None, :] + cross(arm, pts.force[:, None, :])
+        terms = np.concatenate([np.broadcast_to(pts.force[:, None, :], arm.shape), moment], axis=-1)
+        return self.jump[:, :, None] * terms
+
+    def residual(self, state: ExactState) -> np.ndarray:
+        """Internal force vector ``r(q)`` (6 per node); equilibrium is ``r = f``."""
+        terms = self._nodal_terms(state, self.points(state))
+        return np.bincount(self._dofs.ravel(), terms.reshape(-1), minlength=self.n_dofs).astype(
+            float
+        )
+
+    def residual_floor(self, state: ExactState) -> np.ndarray:
+        """A bound on each dof's residual (6 per node) in units of its rounding: the sum over
+        its terms of ``|F| + |dF|`` and ``|M| + |dM| + |x_p - x_a| (|F| + |dF|)``, with
+        ``[dF; dM] = |C| [e_nu; e_kappa]`` the stresses' share of the strains' rounding,
+        ``e_nu = |x'| + |x0'|`` (the terms of ``nu``, which cancel) and
+        ``e_kappa = |kappa| + sum |N_a'| (1 + |psi_a|)`` (the relative rotation vectors carry
+        rounding of ``eps (1 + |psi_a|)``).  ``eps`` times this is the residual's round-off
+        floor (:mod:`fvbeam.exact_statics`)."""
+        pts = self.points(state)
+        e_nu = np.linalg.norm(pts.dx, axis=-1) + np.linalg.norm(self.dx0, axis=-1)
+        e_kappa = np.linalg.norm(pts.strain[:, 3:], axis=-1) + np.einsum(
+            "pa,pa->p", np.abs(self.dN), 1 + np.linalg.norm(pts.psi_nodes, axis=-1)
+        )
+        errors = np.repeat(np.column_stack([e_nu, e_kappa]), 3, axis=1)
+        d_stress = np.einsum("pij,pj->pi", np.abs(self.C), errors)
+        F = np.linalg.norm(pts.force, axis=-1) + np.linalg.norm(d_stress[:, :3], axis=-1)
+        M = np.linalg.norm(pts.moment, axis=-1) + np.linalg.norm(d_stress[:, 3:], axis=-1)
+        arm = np.linalg.norm(pts.x[:, None, :] - state.x[self.nodes], axis=-1)  # (P, npe)
+        terms = np.abs(self.jump)[:, :, None] * np.concatenate(
+            [
+                np.broadcast_to(F[:, None, None], arm.shape + (3,)),
+                np.broadcast_to((M[:, None] + arm * F[:, None])[..., None], arm.shape + (3,)),
+            ],
+            axis=-1,
+        )
+        return np.bincount(self._dofs.ravel(), terms.reshape(-1), minlength=self.n_dofs)
+
+    # -- tangent ---------------------------------------------------------------------
+    def _variations(
+        self, state: ExactState, pts: PointState
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``d theta``, ``d x`` (P, 3, 6 npe) and ``d strain`` (P, 6, 6 npe) per unit
+        element dofs ``[du_a, dphi_a]`` (module docstring)."""
+        P, npe, r = len(self.nodes), self.npe, self.reference_node
+        Rr = state.R[self.nodes[:, r]]
+        RrT = np.swapaxes(Rr, -1, -2)
+        # d psi_a = J(psi_a)^-1 R_r^T (dphi_a - dphi_r): (P, npe, 3, 6 npe)
+        Jinv = rotations.inverse_left_jacobian(pts.psi_nodes)
+        dpsi_a = np.zeros((P, npe, 3, 6 * npe))
+        for a in range(npe):
+            if a == r:
+                continue
+            block = Jinv[:, a] @ RrT
+            dpsi_a[:, a, :, 6 * a + 3 : 6 * a + 6] += block
+            dpsi_a[:, a, :, 6 * r + 3 : 6 * r + 6] -= block
+        d_psi = np.einsum("pa,paij->pij", self.N, dpsi_a)
+        d_dpsi = np.einsum("pa,paij->pij", self.dN, dpsi_a)
+        J = rotations.left_jacobian(pts.psi)
+        dJ = rotations.left_jacobian_derivative(pts.psi, pts.dpsi)
+        d_theta = Rr @ J @ d_psi
+        d_theta[:, :, 6 * r + 3 : 6 * r + 6] += np.eye(3)
+        d_theta_s = Rr @ (dJ @ d_psi + J @ d_dpsi)
+        d_x = np.zeros((P, 3, 6 * npe))
+        d_xs = np.zeros((P, 3, 6 * npe))
+        for a in range(npe):
+            d_x[:, :, 6 * a : 6 * a + 3] = self.N[:, a, None, None] * np.eye(3)
+            d_xs[:, :, 6 * a : 6 * a + 3] = self.dN[:, a, None, None] * np.eye(3)
+        LamT = np.swapaxes(pts.Lambda, -1, -2)
+        d_nu = LamT @ (d_xs + skew_matrices(pts.dx) @ d_theta)
+        d_kappa = LamT @ d_theta_s
+        return d_theta, d_x, np.concatenate([d_nu, d_kappa], axis=1)
+
+    def tangent(self, state: ExactState) -> sp.csr_matrix:
+        """``d r / d q`` for the spatial increments ``[du, dphi]`` (material + geometric)."""
+        pts = self.points(state)
+        d_theta, d_x, d_strain = self._variations(state, pts)
+        d_stress = np.einsum("pij,pjk->pik", self.C, d_strain)
+        F_hat, M_hat = skew_matrices(pts.force), skew_matrices(pts.moment)
+        dF = -F_hat @ d_theta + pts.Lambda @ d_stress[:, :3]
+        dM = -M_hat @ d_theta + pts.Lambda @ d_stress[:, 3:]
+        arm = pts.x[:, None, :] - state.x[self.nodes]  # (P, npe, 3)
+        blocks = np.empty((len(self.nodes), self.npe, 6, 6 * self.npe))
+        for a in range(self.npe):
+            d_arm = d_x.copy()
+            d_arm[:, :, 6 * a : 6 * a + 3] -= np.eye(3)
+            blocks[:, a, :3] = dF
+            blocks[:, a, 3:] = dM + skew_matrices(arm[:, a]) @ dF - F_hat @ d_arm
+        blocks *= self.jump[:, :, None, None]
+        square = blocks.reshape(len(self.nodes), 6 * self.npe, 6 * self.npe)
+        rows = np.broadcast_to(self._dofs[:, :, None], square.shape)
+        cols = np.broadcast_to(self._dofs[:, None, :], square.shape)
+        K = sp.coo_matrix(
+            (square.ravel(), (rows.ravel(), cols.ravel())), shape=(self.n_dofs, self.n_dofs)
+        )
+        return K.tocsr()
