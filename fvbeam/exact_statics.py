@@ -46,8 +46,9 @@ FAST = 5
 class ExactStaticResult:
     """A converged equilibrium and how it was reached.
 
-    ``load_factors`` the converged load steps, ``iterations`` Newton iterations per step
-    (failed attempts included in ``attempts``), ``floor_ratio`` the final residual over its
+    ``load_factors`` the converged load steps, ``iterations`` Newton iterations per step,
+    ``attempts`` the steps tried (failed ones included), ``newton_iterations`` the
+    iterations of all of them (the cost), ``floor_ratio`` the final residual over its
     round-off floor (the largest over the free dofs; below 1 when converged on the floor).
     """
 
@@ -55,6 +56,7 @@ class ExactStaticResult:
     load_factors: list[float] = field(default_factory=list)
     iterations: list[int] = field(default_factory=list)
     attempts: int = 0
+    newton_iterations: int = 0
     floor_ratio: float = 0.0
 
 
@@ -93,11 +95,12 @@ def solve_static(
     done, step = 0.0, min(first_step, 1.0)
     factors: list[float] = []
     iterations: list[int] = []
-    attempts, ratio = 0, 0.0
+    attempts, total, ratio = 0, 0, 0.0
     while done < 1.0:
         target = min(1.0, done + step)
         attempts += 1
         trial, its, ok, ratio = _newton(beam, f, target, free, current, tolerance, max_iterations)
+        total += its
         if ok:
             current, done = trial, target
             factors.append(target)
@@ -112,7 +115,7 @@ def solve_static(
                 f"{done:.6g} (a step of {step:.3g} failed; residual {ratio:.3g} times its "
                 "round-off floor)"
             )
-    return ExactStaticResult(current, factors, iterations, attempts, ratio)
+    return ExactStaticResult(current, factors, iterations, attempts, total, ratio)
 
 
 def _newton(
