@@ -170,14 +170,15 @@ class ExactBeam:
         terms = np.concatenate([np.broadcast_to(pts.force[:, None, :], arm.shape), moment], axis=-1)
         return self.jump[:, :, None] * terms
 
-    def residual(self, state: ExactState) -> np.ndarray:
-        """Internal force vector ``r(q)`` (6 per node); equilibrium is ``r = f``."""
-        terms = self._nodal_terms(state, self.points(state))
+    def residual(self, state: ExactState, pts: PointState | None = None) -> np.ndarray:
+        """Internal force vector ``r(q)`` (6 per node); equilibrium is ``r = f``.  ``pts``:
+        the state's :meth:`points`, when the caller has them."""
+        terms = self._nodal_terms(state, self.points(state) if pts is None else pts)
         return np.bincount(self._dofs.ravel(), terms.reshape(-1), minlength=self.n_dofs).astype(
             float
         )
 
-    def residual_floor(self, state: ExactState) -> np.ndarray:
+    def residual_floor(self, state: ExactState, pts: PointState | None = None) -> np.ndarray:
         """A bound on each dof's residual (6 per node) in units of its rounding: the sum over
         its terms of ``|F| + |dF|`` and ``|M| + |dM| + |x_p - x_a| (|F| + |dF|)``, with
         ``[dF; dM] = |C| [e_nu; e_kappa]`` the stresses' share of the strains' rounding,
@@ -185,7 +186,7 @@ class ExactBeam:
         ``e_kappa = |kappa| + sum |N_a'| (1 + |psi_a|)`` (the relative rotation vectors carry
         rounding of ``eps (1 + |psi_a|)``).  ``eps`` times this is the residual's round-off
         floor (:mod:`fvbeam.exact_statics`)."""
-        pts = self.points(state)
+        pts = self.points(state) if pts is None else pts
         e_nu = np.linalg.norm(pts.dx, axis=-1) + np.linalg.norm(self.dx0, axis=-1)
         e_kappa = np.linalg.norm(pts.strain[:, 3:], axis=-1) + np.einsum(
             "pa,pa->p", np.abs(self.dN), 1 + np.linalg.norm(pts.psi_nodes, axis=-1)
@@ -239,9 +240,13 @@ class ExactBeam:
         d_kappa = LamT @ d_theta_s
         return d_theta, d_x, np.concatenate([d_nu, d_kappa], axis=1)
 
-    def tangent(self, state: ExactState) -> sp.csr_matrix:
-        """``d r / d q`` for the spatial increments ``[du, dphi]`` (material + geometric)."""
-        pts = self.points(state)
+    def tangent(
+        self, state: ExactState, pts: PointState | None = None, keep: np.ndarray | None = None
+    ) -> sp.csc_matrix:
+        """``d r / d q`` for the spatial increments ``[du, dphi]`` (material + geometric);
+        with ``keep`` (sorted dofs) its rows and columns on those dofs only, assembled so
+        (a Newton step's free block)."""
+        pts = self.points(state) if pts is None else pts
         d_theta, d_x, d_strain = self._variations(state, pts)
         d_stress = np.einsum("pij,pjk->pik", self.C, d_strain)
         F_hat, M_hat = skew_matrices(pts.force), skew_matrices(pts.moment)
@@ -256,9 +261,16 @@ class ExactBeam:
             blocks[:, a, 3:] = dM + skew_matrices(arm[:, a]) @ dF - F_hat @ d_arm
         blocks *= self.jump[:, :, None, None]
         square = blocks.reshape(len(self.nodes), 6 * self.npe, 6 * self.npe)
-        rows = np.broadcast_to(self._dofs[:, :, None], square.shape)
-        cols = np.broadcast_to(self._dofs[:, None, :], square.shape)
+        number = np.arange(self.n_dofs)
+        if keep is not None:
+            number = np.full(self.n_dofs, -1)
+            number[keep] = np.arange(len(keep))
+        dofs = number[self._dofs]
+        rows = np.broadcast_to(dofs[:, :, None], square.shape).ravel()
+        cols = np.broadcast_to(dofs[:, None, :], square.shape).ravel()
+        inside = (rows >= 0) & (cols >= 0)
+        size = number.max() + 1
         K = sp.coo_matrix(
-            (square.ravel(), (rows.ravel(), cols.ravel())), shape=(self.n_dofs, self.n_dofs)
+            (square.ravel()[inside], (rows[inside], cols[inside])), shape=(size, size)
         )
-        return K.tocsr()
+        return K.tocsc()

@@ -20,9 +20,10 @@ holds no more information, whatever the load's size.  So a slender member with
 above ``eps`` times the load, converges instead of stalling.  A step is also accepted when its
 residual is below ``tolerance`` times the load.
 
-**Load stepping**: a step that does not converge in ``max_iterations`` is halved and
-retried from the last converged state; a step that converges in few iterations is doubled
-(up to the rest of the load).
+**Load stepping**: a step that does not converge in ``max_iterations``, or whose residual
+is still above its first after :data:`STALL` iterations, is halved and retried from the
+last converged state; a step that converges in few iterations is doubled (up to the rest of
+the load).
 """
 
 from __future__ import annotations
@@ -40,6 +41,9 @@ from fvbeam.exact_beam import ExactBeam, ExactState
 FLOOR_FACTOR = 16.0
 #: Fewest iterations that make the next load step larger.
 FAST = 5
+#: Iterations after which a step whose residual is still above its first is given up (and
+#: halved): Newton's residual may rise for a few iterations on the way to a large rotation.
+STALL = 10
 
 
 @dataclass(frozen=True)
@@ -132,22 +136,26 @@ def _newton(
     target = factor * f[free]
     scale = tolerance * max(float(np.abs(target).max(initial=0.0)), np.finfo(float).tiny)
     ratio = np.inf
+    first = np.inf
     for it in range(max_iterations + 1):
-        g = target - beam.residual(state)[free]
-        terms = beam.residual_floor(state)[free] + np.abs(target)
+        pts = beam.points(state)
+        g = target - beam.residual(state, pts)[free]
+        terms = beam.residual_floor(state, pts)[free] + np.abs(target)
         floor = FLOOR_FACTOR * np.finfo(float).eps * terms
         ratio = float(np.max(np.abs(g) / np.maximum(floor, np.finfo(float).tiny)))
         size = float(np.abs(g).max(initial=0.0))
         if ratio <= 1.0 or size <= scale:
             return state, it, True, ratio
-        if it == max_iterations or not np.isfinite(size):
+        if it == 0:
+            first = size
+        stalled = it >= STALL and size > first
+        if it == max_iterations or stalled or not np.isfinite(size):
             break
-        K = beam.tangent(state)[free][:, free].tocsc()
         try:
-            dq_free = spla.splu(K).solve(g)
+            dq_free = spla.splu(beam.tangent(state, pts, free)).solve(g)
         except RuntimeError:  # an exactly singular tangent: let the load step shrink
             break
         dq = np.zeros(beam.n_dofs)
         dq[free] = dq_free
         state = state.updated(dq)
-    return state, max_iterations, False, ratio
+    return state, it, False, ratio
