@@ -8,6 +8,9 @@
     :data:`TARGET`; per mesh the solve's time (``time.perf_counter`` around
     :func:`fvbeam.exact_statics.solve_static`, median and minimum of the repeats; the beam's
     build apart), the load steps and Newton iterations, beside the error.
+    ``peer``: the same elastica in Exudyn (when installed, the ``peer`` extra): its static
+    solve (:func:`peer_elastica`) on ANCF cable elements refined until the same error, timed
+    the same way.
     ``bend``: the 45-degree bend of Bathe and Bolourchi (:func:`bend`, tip force
     :data:`BEND_LOAD` out of plane) with 8 elements of each formulation: its time, its tip
     and the tip's distance from the published one (:data:`BEND_SIMO`) and from the
@@ -33,6 +36,17 @@ from fvbeam.exact_beam import ExactBeam
 from fvbeam.exact_statics import ExactStaticResult, solve_static
 
 from .bench import environment, read_existing, summary, write_merged
+from .peer_moving_load import exudyn
+
+
+def peer_available() -> bool:
+    """Whether Exudyn is installed."""
+    try:
+        exudyn()
+    except RuntimeError:
+        return False
+    return True
+
 
 KEY = "exact_statics"
 #: The elastica's load parameter ``P L^2 / EJ`` and the error to reach.
@@ -125,6 +139,72 @@ def bench_elastica(name: str, repeats: int, first: int, most: int) -> list[dict[
     return rows
 
 
+def peer_elastica(n: int) -> tuple[float, float]:
+    """The elastica on ``n`` of Exudyn's ANCF cable elements (``ObjectANCFCable2D``: cubic
+    Hermite positions, Euler-Bernoulli, ``EA = 1e8``, ``EJ = 1``), clamped by
+    ``CoordinateConstraint`` on the first node's position and slope, the dead tip force a
+    ``Force`` load; Exudyn's static solver (Newton, 10 load steps, adaptive, relative
+    tolerance 1e-10, sparse solver).  Returns the seconds of ``SolveStatic`` (the model's
+    build and assembly apart) and the tip's error as :func:`elastica_error` measures it."""
+    exu = exudyn()
+    from exudyn import itemInterface as it
+
+    system = exu.SystemContainer()
+    mbs = system.AddSystem()
+    h = 1.0 / n
+    nodes = [
+        mbs.AddNode(it.NodePoint2DSlope1(referenceCoordinates=[i * h, 0, 1, 0]))
+        for i in range(n + 1)
+    ]
+    for i in range(n):
+        mbs.AddObject(
+            it.ObjectANCFCable2D(
+                length=h,
+                massPerLength=1.0,
+                bendingStiffness=1.0,
+                axialStiffness=1e8,
+                nodeNumbers=[nodes[i], nodes[i + 1]],
+            )
+        )
+    ground = mbs.AddNode(it.NodePointGround(referenceCoordinates=[0, 0, 0]))
+    held = mbs.AddMarker(it.MarkerNodeCoordinate(nodeNumber=ground, coordinate=0))
+    for coordinate in (0, 1, 3):  # x, y and the slope's y: clamped
+        marker = mbs.AddMarker(it.MarkerNodeCoordinate(nodeNumber=nodes[0], coordinate=coordinate))
+        mbs.AddObject(it.CoordinateConstraint(markerNumbers=[held, marker]))
+    tip = mbs.AddMarker(it.MarkerNodePosition(nodeNumber=nodes[-1]))
+    mbs.AddLoad(it.Force(markerNumber=tip, loadVector=[0, -LOAD, 0]))
+    mbs.Assemble()
+    settings = exu.SimulationSettings()
+    settings.staticSolver.numberOfLoadSteps = 10
+    settings.staticSolver.adaptiveStep = True
+    settings.staticSolver.newton.relativeTolerance = 1e-10
+    settings.staticSolver.verboseMode = 0
+    settings.solution.file.write = False
+    settings.linearSolver.solverType = exu.LinearSolverType.EigenSparse
+    clock = time.perf_counter()
+    mbs.SolveStatic(settings)
+    seconds = time.perf_counter() - clock
+    d = mbs.GetNodeOutput(nodes[-1], exu.OutputVariableType.Coordinates)
+    ours = np.array([-d[0], -d[1], np.arctan2(-d[3], 1 + d[2])])
+    ref = tip_loaded_cantilever(LOAD)
+    return seconds, float(np.abs(ours - [ref.shortening, ref.deflection, ref.rotation]).max())
+
+
+def bench_peer(repeats: int, first: int, most: int) -> list[dict[str, Any]]:
+    """Rows of the peer's meshes halved from ``first`` until the error is below TARGET."""
+    rows = []
+    n = first
+    while n <= most:
+        runs = [peer_elastica(n) for _ in range(repeats)]
+        rows.append(
+            {"n_elements": n, "seconds": summary([t for t, _ in runs]), "error": runs[0][1]}
+        )
+        if rows[-1]["error"] <= TARGET:
+            break
+        n *= 2
+    return rows
+
+
 def bench_bend(repeats: int, converged_n: int) -> dict[str, Any]:
     """The bend with 8 elements of each formulation against the published and converged
     tips."""
@@ -155,6 +235,8 @@ def bench(repeats: int = 3, most: int = MOST, converged_n: int = 32) -> dict[str
             name: bench_elastica(name, repeats, first, most) for name, first in FIRST.items()
         }
         result["bend"] = bench_bend(repeats, converged_n)
+        if peer_available():
+            result["peer"] = {"exudyn-ancf": bench_peer(repeats, 8, most)}
     except KeyboardInterrupt:
         result["interrupted"] = True
     return result
@@ -178,6 +260,11 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                 f"{row['seconds']['min']:.3f} s ({row['load_steps']} steps, "
                 f"{row['newton_iterations']} iterations), error {row['error']:.2e}"
             )
+    for row in result.get("peer", {}).get("exudyn-ancf", []):
+        print(
+            f"peer (Exudyn ANCF cable) x {row['n_elements']}: {row['seconds']['min']:.3f} s, "
+            f"error {row['error']:.2e}"
+        )
     if "bend" in result:
         for name in ("fv2", "fv3"):
             row = result["bend"][name]

@@ -19,6 +19,8 @@ def test_quick_run_writes_time_beside_error_and_keeps_other_keys(tmp_path, capsy
         errors = [row["error"] for row in rows]
         assert errors == sorted(errors, reverse=True)  # refined until the target or the cap
         assert all(row["seconds"]["min"] > 0 and row["newton_iterations"] > 0 for row in rows)
+    for row in section.get("peer", {}).get("exudyn-ancf", []):  # with the peer extra
+        assert row["seconds"]["min"] > 0 and row["error"] > 0
     for name in ("fv2", "fv3"):
         assert section["bend"][name]["distance_to_published"] > 0
     assert "45-degree bend" in capsys.readouterr().out
