@@ -34,6 +34,7 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 from fvbeam.exact_beam import ExactBeam, ExactState
+from fvbeam.geometry import sized
 
 #: The residual's round-off floor: a dof's residual is a sum of a few terms (at most two per
 #: evaluation point of its elements and the load), each with a relative rounding error of a
@@ -69,8 +70,13 @@ class NotConverged(RuntimeError):
 
 
 def _free(n_dofs: int, fixed: np.ndarray) -> np.ndarray:
+    """The dofs not in ``fixed``, or ``ValueError`` naming a fixed dof outside the beam."""
+    held = np.asarray(fixed, dtype=np.int64).ravel()
+    outside = held[(held < 0) | (held >= n_dofs)]
+    if outside.size:
+        raise ValueError(f"fixed dof {int(outside[0])} is not one of the beam's 0..{n_dofs - 1}")
     mask = np.ones(n_dofs, dtype=bool)
-    mask[np.asarray(fixed, dtype=np.int64)] = False
+    mask[held] = False
     return np.flatnonzero(mask)
 
 
@@ -93,7 +99,10 @@ def solve_static(
     NotConverged
         When a load step below ``min_step`` fails, naming the load factor reached.
     """
-    f = np.asarray(load, dtype=float)
+    name = beam.beam.mesh.name
+    f = sized(load, beam.n_dofs, "load", f"6 per node of beam {name!r}")
+    if not np.all(np.isfinite(f)):
+        raise ValueError(f"load on beam {name!r} has a non-finite entry")
     free = _free(beam.n_dofs, fixed)
     current = beam.reference() if state is None else state
     done, step = 0.0, min(first_step, 1.0)

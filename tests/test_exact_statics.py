@@ -139,11 +139,12 @@ def test_bathe_bolourchi_bend():
         )
 
 
-def test_linear_limit_is_second_order():
+@pytest.mark.parametrize("name", ["fv2", "fv3"])
+def test_linear_limit_is_second_order(name):
     """At small loads the exact solution approaches the linear one with an error of second
     order in the load (the neglected terms are quadratic: the shortening of a deflected
     rod); measured slope on a 3-D load of force and couple."""
-    exact = rod("fv3", 4, slenderness=1e4)
+    exact = rod(name, 4, slenderness=1e4)
     beam = exact.beam
     fixed = beam.node_dofs("start")
     free = np.setdiff1d(np.arange(beam.n_dofs), fixed)
@@ -167,3 +168,14 @@ def test_slender_rod_converges(name):
     flexibility it drops, P L / EA + P L / GA at EA = GA = 1e6."""
     slender, moderate = elastica_tip(rod(name, 10), 10.0), elastica_tip(rod(name, 10, 1e6), 10.0)
     assert np.all(np.abs(slender - moderate) <= 2 * 10.0 / 1e6)
+
+
+def test_bad_input_is_named():
+    exact = rod("fv2", 2)
+    fixed = exact.beam.node_dofs("start")
+    with pytest.raises(ValueError, match="load must hold 18 values"):
+        solve_static(exact, np.zeros(12), fixed)
+    with pytest.raises(ValueError, match="non-finite"):
+        solve_static(exact, np.full(18, np.nan), fixed)
+    with pytest.raises(ValueError, match="fixed dof 18 "):
+        solve_static(exact, np.zeros(18), [0, 18])
