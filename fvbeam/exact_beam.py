@@ -52,7 +52,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from fvbeam import rotations
-from fvbeam.beam import Beam
+from fvbeam.beam import Beam, InternalForces
 from fvbeam.elements import evaluation_points, jumps
 from fvbeam.formulations import FiniteVolume
 from fvbeam.geometry import cross, skew_matrices
@@ -122,7 +122,11 @@ class ExactBeam:
         self.N = np.tile(N.T, (n_el, 1))
         self.dN = np.tile(dN.T, (n_el, 1)) / ds[:, None]
         #: Section stiffness in global axes at each point (P, 6, 6).
-        self.C = beam.section.global_stiffness(frames.reshape(-1, 3, 3))
+        #: Reference section frames ``[t, e2, e3]`` at each point (P, 3, 3) and their
+        #: abscissae (P,).
+        self.frames = frames.reshape(-1, 3, 3)
+        self.xi = mesh.abscissae(self.element, np.tile(Xp, n_el))
+        self.C = beam.section.global_stiffness(self.frames)
         #: ``jump_a(p)`` of each point's nodes (P, npe).
         self.jump = np.tile(jumps(npe).T, (n_el, 1))
         self.dx0 = np.einsum("pa,pak->pk", self.dN, mesh.points[self.nodes])
@@ -204,6 +208,23 @@ class ExactBeam:
             axis=-1,
         )
         return np.bincount(self._dofs.ravel(), terms.reshape(-1), minlength=self.n_dofs)
+
+    def internal_forces(self, state: ExactState) -> InternalForces:
+        """The section forces at the evaluation points: in the current section frame
+        ``Lambda [t, e2, e3]`` (axial force, two shears; twisting moment, two bending moments)
+        and in global axes.  Each is the force and couple that the part of the beam beyond
+        the point exerts on the part before it: the region balances make them the resultant
+        of the loads beyond the point, about it, in the current configuration."""
+        pts = self.points(state)
+        current = pts.Lambda @ self.frames
+        local = np.einsum("pji,pj->pi", current, pts.force)
+        return InternalForces(
+            self.xi,
+            local,
+            np.einsum("pji,pj->pi", current, pts.moment),
+            pts.force,
+            pts.moment,
+        )
 
     # -- tangent ---------------------------------------------------------------------
     def _variations(
