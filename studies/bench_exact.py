@@ -1,20 +1,21 @@
-"""Benchmark of geometrically exact fv beams in statics, merged into ``results/bench.json``.
+"""Benchmark of geometrically exact beams in statics, merged into ``results/bench.json``.
 
 ``exact_statics``
     ``elastica``: the tip-loaded cantilever at ``P L^2 / EJ = 10`` (:data:`LOAD`; EJ = 1,
-    EA = GA = 1e8) for fv2 and fv3 on meshes halved until the tip's error against the
-    elliptic-integral solution (:func:`fvbeam.elastica.tip_loaded_cantilever`: shortening,
-    deflection, rotation, the largest, in units of the length and radians) is below
-    :data:`TARGET`; per mesh the solve's time (``time.perf_counter`` around
-    :func:`fvbeam.exact_statics.solve_static`, median and minimum of the repeats; the beam's
-    build apart), the load steps and Newton iterations, beside the error.
+    EA = GA = 1e8) for fv2, fv3, galerkin-p1 and galerkin-p2 (reduced integration) on
+    meshes halved until the tip's error against the elliptic-integral solution
+    (:func:`fvbeam.elastica.tip_loaded_cantilever`: shortening, deflection, rotation, the
+    largest, in units of the length and radians) is below :data:`TARGET`; per mesh the
+    solve's time (``time.perf_counter`` around :func:`fvbeam.exact_statics.solve_static`,
+    median and minimum of the repeats; the beam's build apart), the load steps and Newton
+    iterations, beside the error.
     ``peer``: the same elastica in Exudyn (when installed, the ``peer`` extra): its static
     solve (:func:`peer_elastica`) on ANCF cable elements refined until the same error, timed
     the same way.
     ``bend``: the 45-degree bend of Bathe and Bolourchi (:func:`bend`, tip force
     :data:`BEND_LOAD` out of plane) with 8 elements of each formulation: its time, its tip
     and the tip's distance from the published one (:data:`BEND_SIMO`) and from the
-    converged one (fv3, 32 elements).
+    converged one (fv3, 32 elements), for each of :data:`BEND_FORMULATIONS`.
 
 Run as ``python -m studies.bench_exact --out results/bench.json`` (``make bench``;
 ``--quick``: coarse meshes, one repeat).  Ctrl-C keeps and writes what was measured, marked
@@ -53,11 +54,12 @@ KEY = "exact_statics"
 LOAD = 10.0
 TARGET = 1e-4
 #: First meshes of the elastica (halved from there) and the most elements tried.
-FIRST = {"fv2": 8, "fv3": 2}
+FIRST = {"fv2": 8, "fv3": 2, "galerkin-p1": 8, "galerkin-p2": 2}
 MOST = 512
 #: The bend's tip force and its published tip position (x, y, z) with 8 elements: Simo and
 #: Vu-Quoc, CMAME 58 (1986) 79-116 (the loads 300, 450 and 600).
 BEND_LOAD = 600.0
+BEND_FORMULATIONS = ("fv2", "fv3", "galerkin-p1", "galerkin-p2")
 BEND_SIMO = {
     300.0: (22.33, 58.84, 40.08),
     450.0: (18.62, 52.32, 48.39),
@@ -65,11 +67,16 @@ BEND_SIMO = {
 }
 
 
+def nodes_per_element(name: str) -> int:
+    """2 for ``fv2`` and ``galerkin-p1``, else 3."""
+    return 2 if name in ("fv2", "galerkin-p1") else 3
+
+
 def rod(name: str, n: int, slenderness: float = 1e8, GJ: float = 1.0) -> ExactBeam:
     """A unit rod along x of ``n`` elements, ``EJ = 1``, ``EA = GA = slenderness``."""
     s = slenderness
     section = Section.diagonal(EA=s, GAy=s, GAz=s, GJ=GJ, EJy=1.0, EJz=1.0)
-    mesh = straight((0, 0, 0), (1, 0, 0), n, 2 if name == "fv2" else 3)
+    mesh = straight((0, 0, 0), (1, 0, 0), n, nodes_per_element(name))
     return ExactBeam(Beam(mesh, section, name))
 
 
@@ -86,7 +93,7 @@ def bend(name: str, n: int) -> ExactBeam:
         angle = np.pi / 4 * u
         return np.column_stack([100 - 100 * np.cos(angle), 100 * np.sin(angle), 0 * u])
 
-    return ExactBeam(Beam(from_curve(arc, n, 2 if name == "fv2" else 3), section, name))
+    return ExactBeam(Beam(from_curve(arc, n, nodes_per_element(name)), section, name))
 
 
 def solve_tip(
@@ -213,7 +220,7 @@ def bench_bend(repeats: int, converged_n: int) -> dict[str, Any]:
     converged, _ = solve_tip(fine, force=force)
     reference = converged.state.x[fine.beam.node_index("end")]
     out: dict[str, Any] = {"load": BEND_LOAD, "converged_tip": reference.tolist()}
-    for name in ("fv2", "fv3"):
+    for name in BEND_FORMULATIONS:
         exact = bend(name, 8)
         result, times = timed(exact, repeats, force=force)
         tip = result.state.x[exact.beam.node_index("end")]
@@ -266,7 +273,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
             f"error {row['error']:.2e}"
         )
     if "bend" in result:
-        for name in ("fv2", "fv3"):
+        for name in BEND_FORMULATIONS:
             row = result["bend"][name]
             print(
                 f"45-degree bend P = {BEND_LOAD:g}, {name} x 8: {row['seconds']['min']:.3f} s, "

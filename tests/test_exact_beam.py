@@ -1,4 +1,4 @@
-"""The geometrically exact fv beam's law (fvbeam.exact_beam) and its rotation tools
+"""The geometrically exact beam's law (fvbeam.exact_beam) and its rotation tools
 (fvbeam.rotations): the tangent against finite differences at large rotations, its
 reference value against the linear beam's stiffness, and objectivity.
 
@@ -24,13 +24,24 @@ EPS = np.finfo(float).eps
 RNG = np.random.default_rng(20000131)
 
 
-def curved_beam(name: str, n: int = 3) -> Beam:
+#: The formulations with exact kinematics, with their integration.
+FORMULATIONS = [
+    ("fv2", "reduced"),
+    ("fv3", "reduced"),
+    ("galerkin-p1", "reduced"),
+    ("galerkin-p2", "reduced"),
+    ("galerkin-p1", "full"),
+    ("galerkin-p2", "full"),
+]
+
+
+def curved_beam(name: str, integration: str = "reduced", n: int = 3) -> Beam:
     """A 3-D curved beam with distinct stiffnesses (bending, shear and torsion coupled by
     the curvature)."""
-    npe = 2 if name == "fv2" else 3
+    npe = 2 if name in ("fv2", "galerkin-p1") else 3
     mesh = from_curve(lambda u: np.column_stack([3 * u, np.sin(2 * u), 0.5 * u**2]), n, npe)
     section = Section.diagonal(EA=100.0, GAy=50.0, GAz=40.0, GJ=3.0, EJy=2.0, EJz=1.5)
-    return Beam(mesh, section, name)
+    return Beam(mesh, section, name, integration)
 
 
 def random_state(exact: ExactBeam, displacement: float, angle: float) -> ExactState:
@@ -51,11 +62,11 @@ def central_differences(exact: ExactBeam, state: ExactState, h: float) -> np.nda
     return D
 
 
-@pytest.mark.parametrize("name", ["fv2", "fv3"])
-def test_reference_tangent_is_the_linear_stiffness(name):
+@pytest.mark.parametrize("name,integration", FORMULATIONS)
+def test_reference_tangent_is_the_linear_stiffness(name, integration):
     """Linear kinematics is the exact law's first-order case: at the reference configuration
     the exact tangent is the linear beam's stiffness, and the residual vanishes."""
-    beam = curved_beam(name)
+    beam = curved_beam(name, integration)
     exact = ExactBeam(beam)
     ref = exact.reference()
     K, K_linear = exact.tangent(ref).toarray(), beam.stiffness.toarray()
@@ -63,11 +74,12 @@ def test_reference_tangent_is_the_linear_stiffness(name):
     assert np.abs(exact.residual(ref)).max() == 0.0
 
 
-@pytest.mark.parametrize("name", ["fv2", "fv3"])
-def test_tangent_matches_finite_differences_at_large_rotations(name):
+@pytest.mark.parametrize("name,integration", FORMULATIONS)
+def test_tangent_matches_finite_differences_at_large_rotations(name, integration):
     """Material and geometric tangent at a random state: displacements of a third of an
-    element, nodal rotations up to about a radian about random axes."""
-    exact = ExactBeam(curved_beam(name))
+    element, nodal rotations up to about a radian about random axes (Galerkin: the second
+    variation of the rotation interpolation included)."""
+    exact = ExactBeam(curved_beam(name, integration))
     state = random_state(exact, 0.3, 1.0)
     K = exact.tangent(state).toarray()
     h = 1e-5
@@ -81,7 +93,7 @@ def test_tangent_matches_finite_differences_at_large_rotations(name):
     )
 
 
-@pytest.mark.parametrize("name", ["fv2", "fv3"])
+@pytest.mark.parametrize("name", ["fv2", "fv3", "galerkin-p1", "galerkin-p2"])
 def test_rigid_motion_is_stress_free(name):
     """Objectivity: a finite rigid rotation and translation of the whole beam leaves it
     unstrained (the relative rotation vectors and ``Lambda^T x'`` are invariant)."""
@@ -118,11 +130,8 @@ def test_rotation_tangent_operators_match_finite_differences():
         np.testing.assert_allclose(rotations.left_jacobian_derivative(psi, w), dJ, atol=tol)
 
 
-def test_only_finite_volume_formulations():
-    beam = Beam(
-        from_curve(lambda u: np.column_stack([u, 0 * u, 0 * u]), 2, 2),
-        Section.diagonal(EA=1.0, GAy=1.0, GAz=1.0, GJ=1.0, EJy=1.0, EJz=1.0),
-        "galerkin-p1",
-    )
-    with pytest.raises(ValueError, match="galerkin-p1"):
+def test_the_cubic_element_is_refused():
+    section = Section.diagonal(EA=1.0, GAy=1.0, GAz=1.0, GJ=1.0, EJy=1.0, EJz=1.0)
+    beam = Beam(from_curve(lambda u: np.column_stack([u, 0 * u, 0 * u]), 2, 2), section, "cubic")
+    with pytest.raises(ValueError, match="not cubic"):
         ExactBeam(beam)

@@ -22,7 +22,7 @@ from fvbeam import rotations
 from fvbeam.elastica import rolled_cantilever, tip_loaded_cantilever, twisted_cantilever
 from fvbeam.exact_beam import ExactBeam
 from fvbeam.exact_statics import solve_static
-from studies.bench_exact import BEND_SIMO, bend, rod, solve_tip
+from studies.bench_exact import BEND_SIMO, bend, nodes_per_element, rod, solve_tip
 
 EPS = np.finfo(float).eps
 #: Mattiasson, IJNME 17 (1981) 145, Table I: tip shortening u/L and deflection v/L of the
@@ -78,10 +78,18 @@ def test_elastica_fv3(load):
     assert np.all(np.abs(fine - exact) <= 2 * richardson + model)
 
 
-@pytest.mark.parametrize("name,expected,meshes", [("fv2", 2, (8, 16, 32)), ("fv3", 4, (2, 4, 8))])
+@pytest.mark.parametrize(
+    "name,expected,meshes",
+    [
+        ("fv2", 2, (8, 16, 32)),
+        ("fv3", 4, (2, 4, 8)),
+        ("galerkin-p1", 2, (8, 16, 32)),
+        ("galerkin-p2", 4, (2, 4, 8)),
+    ],
+)
 def test_elastica_convergence_order(name, expected, meshes):
-    """At P L^2 / EJ = 10 the error falls as h^2 (fv2) and h^4 (fv3), measured on two
-    successive halvings."""
+    """At P L^2 / EJ = 10 the error falls as h^2 (fv2, galerkin-p1) and h^4 (fv3,
+    galerkin-p2; reduced integration), measured on two successive halvings."""
     tip = tip_loaded_cantilever(10.0)
     exact = np.array([tip.shortening, tip.deflection, tip.rotation])
     errors = [elastica_tip(rod(name, n), 10.0) - exact for n in meshes]
@@ -90,10 +98,11 @@ def test_elastica_convergence_order(name, expected, meshes):
     assert np.abs(errors[-1]).max() < 1e-3  # the finest mesh resolves the tip to 0.1 %
 
 
-@pytest.mark.parametrize("name", ["fv2", "fv3"])
+@pytest.mark.parametrize("name", ["fv2", "fv3", "galerkin-p1", "galerkin-p2"])
 def test_roll_up(name):
     """An end couple 2 pi EJ / L rolls the rod into a circle: the tip back at the root, the
-    middle node at the top, (0, L / pi), converging at the scheme's order (2 fv2, 4 fv3)."""
+    middle node at the top, (0, L / pi), converging at the scheme's order (2 with 2-node
+    elements, 4 with 3-node ones)."""
     errors = []
     for n in (4, 8):
         exact = rod(name, n, slenderness=1e4)
@@ -103,10 +112,12 @@ def test_roll_up(name):
         np.testing.assert_allclose(x[n] - [0.0, 0.0, 0.0], 0.0, atol=tip_bound)
         errors.append(x[n // 2] - [0.0, 1 / np.pi, 0.0])
     np.testing.assert_allclose(rolled_cantilever(2 * np.pi), 0.0, atol=16 * EPS)
-    assert round(order(errors[0], errors[1])) == (2 if name == "fv2" else 4)
+    assert round(order(errors[0], errors[1])) == (2 if nodes_per_element(name) == 2 else 4)
 
 
-@pytest.mark.parametrize("name,expected", [("fv2", 2), ("fv3", 4)])
+@pytest.mark.parametrize(
+    "name,expected", [("fv2", 2), ("fv3", 4), ("galerkin-p1", 2), ("galerkin-p2", 4)]
+)
 def test_twisted_rod_bending_torsion_coupling(name, expected):
     """A dead end couple oblique to the rod (GJ = EJ / 2): a helix, the section turning about
     the couple and twisting about itself (bending and torsion coupled), against the closed
