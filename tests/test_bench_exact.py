@@ -1,0 +1,26 @@
+"""Smoke test of ``studies.bench_exact``: output structure, time beside error, never speed."""
+
+from __future__ import annotations
+
+import json
+
+from studies.bench_exact import main
+
+
+def test_quick_run_writes_time_beside_error_and_keeps_other_keys(tmp_path, capsys):
+    out = tmp_path / "b.json"
+    out.write_text(json.dumps({"other_benchmark": {"kept": True}}))
+    main(["--out", str(out), "--quick"])
+    data = json.loads(out.read_text())
+    assert data["other_benchmark"] == {"kept": True}
+    section = data["exact_statics"]
+    assert not section["interrupted"]
+    for rows in section["elastica"].values():
+        errors = [row["error"] for row in rows]
+        assert errors == sorted(errors, reverse=True)  # refined until the target or the cap
+        assert all(row["seconds"]["min"] > 0 and row["newton_iterations"] > 0 for row in rows)
+    for row in section.get("peer", {}).get("exudyn-ancf", []):  # with the peer extra
+        assert row["seconds"]["min"] > 0 and row["error"] > 0
+    for name in ("fv2", "fv3"):
+        assert section["bend"][name]["distance_to_published"] > 0
+    assert "45-degree bend" in capsys.readouterr().out
