@@ -184,9 +184,11 @@ def compiled_source() -> str:
     functions = []
     for law, row in COMPILED_LAWS:
         index = {name: i for i, name in enumerate(PARAMETERS[row])}
-        outputs = _derived(
-            law, lambda name, index=index: sympy.Symbol(f"p[{index[name]}]", real=True)
-        )
+
+        def in_row(name: str, index: dict[str, int] = index) -> sympy.Symbol:
+            return sympy.Symbol(f"p[{index[name]}]", real=True)
+
+        outputs = _derived(law, in_row)
         arguments = ", ".join(["p", *law.states])
         functions.append(
             "\n".join(

@@ -114,10 +114,10 @@ def traced(kind: str, orientation: str) -> tuple[list[sympy.Expr], list[sympy.Sy
         l=p["l"],
         l_xi=p["l_xi"],
         tangent=p["tangent"],
-        G=None,  # the scatter's, not the law's
+        G=np.zeros((0, 6)),  # the scatter's, not the law's
         theta=p["theta_L"],
         theta_xi=p["theta_L_xi"],
-        W=None,
+        W=np.zeros((3, 0)),
         flex=p["flex"].reshape(3, 3),
         contact=p["contact"].reshape(3, 6),
         R0=p["R0"].reshape(3, 3),
@@ -171,8 +171,9 @@ def _friction() -> str:
         name: [sympy.Symbol(f"{name}[{c}]", real=True) for c in range(3)]
         for name in ("l", "w", "lam")
     }
-    law = sympy.symbols("mu v_eps mu_static v_stribeck", real=True)
-    e, F = friction_term(*vectors.values(), *law, ops=SYMPY)
+    mu, v_eps, mu_static, v_stribeck = sympy.symbols("mu v_eps mu_static v_stribeck", real=True)
+    l, w, lam = vectors["l"], vectors["w"], vectors["lam"]
+    e, F = friction_term(l, w, lam, mu, v_eps, mu_static, v_stribeck, ops=SYMPY)
     partials = [sympy.diff(e, x) for v in vectors.values() for x in v]
     shared, reduced = common_subexpressions([e, F, *partials], sympy.pycode)
     outputs = [f"d_{name}" for name in vectors]

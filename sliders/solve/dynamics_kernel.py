@@ -25,7 +25,7 @@ import numba
 import numpy as np
 
 from sliders.solve.factor import factor_solve
-from sliders.solve.newton_kernel import CONVERGED, newton
+from sliders.solve.newton_kernel import CONVERGED, NewtonProblem, newton
 
 
 @numba.njit(cache=True, inline="never")
@@ -45,7 +45,7 @@ def advance(
     scheme: tuple,
     mass: tuple,
     damping: tuple,
-    problem: tuple,
+    problem: NewtonProblem,
     nonlinear: bool,
     times: np.ndarray,
     loads: np.ndarray,
@@ -150,7 +150,8 @@ def advance(
                 return status, step, joint
             iterations[step] = evaluations - 1
         else:
-            K_ptr, K_col, K_val, free, _, factor = problem[:6]
+            K_ptr, K_col, K_val = problem.K_ptr, problem.K_col, problem.K_val
+            free, factor = problem.free, problem.factor
             L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c = factor
             nf = len(free)
             work[:] = 0.0

@@ -40,6 +40,7 @@ from sliders.solve.newton_kernel import (
     OFF_LINE,
     OVERFLOW,
     SINGULAR,
+    NewtonProblem,
     newton,
 )
 
@@ -175,8 +176,8 @@ class CompiledNewton:
         #: Each joint's first and last-plus-one unknown among the joints' side by side.
         starts = np.cumsum([0] + self.sizes)[:-1].tolist()
         self.bounds = [(a, a + m) for a, m in zip(starts, self.sizes, strict=True)]
-        #: What :func:`sliders.solve.newton_kernel.newton` reads of the problem, in its order.
-        self.problem: tuple = (
+        #: What :func:`sliders.solve.newton_kernel.newton` reads of the problem.
+        self.problem = NewtonProblem(
             *self.operator,
             self.free,
             self.position,
@@ -222,14 +223,7 @@ class CompiledNewton:
         if statics.forces:  # without force elements, their (empty) constants are kept
             packed = [e.packed(statics.structure) for e in statics.forces]
             out.elements = (*self.elements[:2], np.concatenate(packed), self.elements[3])
-        F, element_values = 13, 17  # their places in the problem tuple
-        out.problem = (
-            *self.problem[:F],
-            pack.floats,
-            *self.problem[F + 1 : element_values],
-            out.elements[2],
-            *self.problem[element_values + 1 :],
-        )
+        out.problem = self.problem._replace(floats=pack.floats, element_values=out.elements[2])
         return out
 
     def solve(

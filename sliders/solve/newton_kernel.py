@@ -34,6 +34,8 @@ condition threshold: the caller names the free motion), :data:`NOT_CONVERGED`,
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numba
 import numpy as np
 
@@ -44,6 +46,72 @@ from sliders.solve.condensed_kernel import chord_step_into, condensed_step_into,
 from sliders.solve.factor import factor_solve
 
 CONVERGED, SINGULAR, NOT_CONVERGED, OFF_LINE, OVERFLOW = range(5)
+
+
+class NewtonProblem(NamedTuple):
+    """What :func:`newton` reads of a problem and does not change between its solves
+    (:attr:`sliders.solve.newton.CompiledNewton.problem`)."""
+
+    #: The operator ``A`` (n, n) in compressed rows.
+    K_ptr: np.ndarray
+    K_col: np.ndarray
+    K_val: np.ndarray
+    #: The free dofs (nf,) and the position of every dof among them (-1: held).
+    free: np.ndarray
+    position: np.ndarray
+    #: The arrays of :class:`sliders.solve.factor.Factor` of the bordered operator
+    #: ``B = [A_ff, s Phi; s Phi^T, 0]``, and the rigid modes ``Phi`` (nf, k) the operator
+    #: does not resist.
+    factor: tuple
+    phi: np.ndarray
+    #: The cache of columns of ``B^{-1}`` (:func:`_ensure_columns`), kept between calls:
+    #: the columns (as rows), each free dof's row (-1: not stored), the rows in use (1,).
+    store: np.ndarray
+    column: np.ndarray
+    filled: np.ndarray
+    #: The joints (:class:`sliders.joints.packed.JointPack`).
+    head: np.ndarray
+    joint_values: np.ndarray
+    fields: np.ndarray
+    floats: np.ndarray
+    ints: np.ndarray
+    #: The force elements (:mod:`sliders.forces.elements`): their kinds, slots (E, 6) and
+    #: packed constants (element ``e``'s from ``element_offsets[e]`` to
+    #: ``element_offsets[e + 1]``), evaluated by :func:`sliders.forces.kernel.evaluate_element`.
+    element_kind: np.ndarray
+    element_slots: np.ndarray
+    element_values: np.ndarray
+    element_offsets: np.ndarray
+    #: The layout for the condensed step of the joints and then the elements (one batch
+    #: each, :func:`sliders.solve.condensed_kernel.condensed_step`), and the slots (into
+    #: their slots side by side) that carry forces.
+    tables: np.ndarray
+    c_of: np.ndarray
+    batches: np.ndarray
+    force_slots: np.ndarray
+    nc: int
+    #: The reciprocal condition number below which a small system is singular.
+    threshold: float
+    #: The displacement increment that counts as converged whatever ``tol``
+    #: (:func:`sliders.solve.statics.converged`).
+    resolution: float
+
+
+class Evaluated(NamedTuple):
+    """What :func:`_evaluate` writes: each slot's dof (t,), the joints' residuals on their
+    slots and unknowns (t + m,), the Jacobian entries (width,), the residual ``R`` (n,), its
+    free rows (1, nf) and the joints' equations (1, m), and each joint's largest constraint
+    violation (J,)."""
+
+    dofs: np.ndarray
+    r_joint: np.ndarray
+    values: np.ndarray
+    R: np.ndarray
+    r_free: np.ndarray
+    r_y: np.ndarray
+    violation: np.ndarray
+
+
 #: How the message of a Newton loop that did not converge begins (unless a diagnosis names
 #: a free motion first; :class:`sliders.solve.dynamics.NotConverged`).
 NOT_CONVERGED_MESSAGE = "Newton did not converge"
@@ -104,9 +172,7 @@ def _ensure_columns(
 
 @numba.njit(cache=True, inline="never")
 def _evaluate(
-    K_ptr: np.ndarray,
-    K_col: np.ndarray,
-    K_val: np.ndarray,
+    problem: NewtonProblem,
     q: np.ndarray,
     f: np.ndarray,
     y: np.ndarray,
@@ -115,24 +181,7 @@ def _evaluate(
     velocity: tuple,
     jacobian: bool,
     done: bool,
-    head: np.ndarray,
-    joint_values: np.ndarray,
-    fields: np.ndarray,
-    F: np.ndarray,
-    I: np.ndarray,
-    element_kind: np.ndarray,
-    element_slots: np.ndarray,
-    element_values: np.ndarray,
-    element_offsets: np.ndarray,
-    batches: np.ndarray,
-    free: np.ndarray,
-    dofs: np.ndarray,
-    r_joint: np.ndarray,
-    values: np.ndarray,
-    R: np.ndarray,
-    r_free: np.ndarray,
-    r_y: np.ndarray,
-    violation: np.ndarray,
+    out: Evaluated,
 ) -> tuple[int, int, float]:
     """The residual at ``q``, ``y`` (:func:`newton`'s arguments): ``R = A q - f`` with the
     joints' and force elements' forces added (``r_free`` its free rows, ``r_y`` the joints'
@@ -141,21 +190,26 @@ def _evaluate(
     ``violation``.  Returns the status (0, :data:`OFF_LINE` or :data:`OVERFLOW`), the joint
     that failed (or -1) and the largest entry of the residual."""
     v_hat, q_hat, c_v = velocity
+    head, batches, element_kind = problem.head, problem.batches, problem.element_kind
+    element_slots, element_values = problem.element_slots, problem.element_values
+    element_offsets = problem.element_offsets
+    dofs, r_joint, values, R = out.dofs, out.r_joint, out.values, out.R
+    r_free, r_y, violation = out.r_free, out.r_y, out.violation
     J, E = len(head), len(element_kind)
     friction = stack_empty(1, (1,), np.float64)  # a joint's friction force, not read here
     q_e, v_e = stack_empty(6, (6,), np.float64), stack_empty(6, (6,), np.float64)
     r_e, J_e = stack_empty(6, (6,), np.float64), stack_empty(36, (6, 6), np.float64)
-    residual(K_ptr, K_col, K_val, q, f, R)
+    residual(problem.K_ptr, problem.K_col, problem.K_val, q, f, R)
     s0, v0, y0 = 0, 0, 0
     for j in range(J):
         t, mj, wj = batches[j, 1], batches[j, 2], batches[j, 3]
         status = evaluate_joint(
             j,
             head,
-            joint_values,
-            fields,
-            F,
-            I,
+            problem.joint_values,
+            problem.fields,
+            problem.floats,
+            problem.ints,
             q,
             borrowed(y, y0, (mj,)),
             velocity,
@@ -204,8 +258,8 @@ def _evaluate(
         s0 += 6
         v0 += 36
     measure = 0.0
-    for i in range(len(free)):
-        r_free[0, i] = R[free[i]]
+    for i in range(len(problem.free)):
+        r_free[0, i] = R[problem.free[i]]
         measure = max(measure, abs(r_free[0, i]))
     for c in range(r_y.shape[1]):
         measure = max(measure, abs(r_y[0, c]))
@@ -214,7 +268,7 @@ def _evaluate(
 
 @numba.njit(cache=True)
 def newton(
-    problem: tuple,
+    problem: NewtonProblem,
     f: np.ndarray,
     q: np.ndarray,
     y: np.ndarray,
@@ -231,37 +285,7 @@ def newton(
     Parameters
     ----------
     problem
-        What does not change between solves (:attr:`sliders.solve.newton.CompiledNewton.
-        problem`), in this order:
-
-        ``K_ptr, K_col, K_val``
-            the operator ``A`` (n, n) in compressed rows;
-        ``free, position``
-            the free dofs (nf,) and the position of every dof among them (-1: held);
-        ``factor``
-            the arrays of :class:`sliders.solve.factor.Factor` of the bordered operator
-            ``B = [A_ff, s Phi; s Phi^T, 0]``;
-        ``phi``
-            the rigid modes ``Phi`` (nf, k) the operator does not resist;
-        ``store, column, count``
-            the cache of columns of ``B^{-1}`` (:func:`_ensure_columns`), kept between
-            calls;
-        ``head, joint_values, fields, F, I``
-            the joints (:class:`sliders.joints.packed.JointPack`);
-        ``element_kind, element_slots, element_values, element_offsets``
-            the force elements (:mod:`sliders.forces.elements`): their kinds, slots (E, 6)
-            and packed constants (element ``e``'s from ``element_offsets[e]`` to
-            ``element_offsets[e + 1]``), evaluated by
-            :func:`sliders.forces.kernel.evaluate_element`;
-        ``tables, c_of, batches, force_slots, nc``
-            the layout for the condensed step of the joints and then the elements (one batch
-            each, :func:`sliders.solve.condensed_kernel.condensed_step`), and the slots (into
-            their slots side by side) that carry forces;
-        ``threshold``
-            the reciprocal condition number below which a small system is singular;
-        ``resolution``
-            the displacement increment that counts as converged whatever ``tol``
-            (:func:`sliders.solve.statics.converged`).
+        What does not change between solves (:class:`NewtonProblem`).
     f, q, y
         The load (n,), the state (n,) and the joints' unknowns side by side.
     drives, scale
@@ -284,34 +308,11 @@ def newton(
     The status (module docstring), the number of residual evaluations written to
     ``history``, and the joint that failed (:data:`OFF_LINE`, :data:`OVERFLOW`) or -1.
     """
-    (
-        K_ptr,
-        K_col,
-        K_val,
-        free,
-        position,
-        factor,
-        phi,
-        store,
-        column,
-        count,
-        head,
-        joint_values,
-        fields,
-        F,
-        I,
-        element_kind,
-        element_slots,
-        element_values,
-        element_offsets,
-        tables,
-        c_of,
-        batches,
-        force_slots,
-        nc,
-        threshold,
-        resolution,
-    ) = problem
+    free, position, factor, phi = problem.free, problem.position, problem.factor, problem.phi
+    store, column, count = problem.store, problem.column, problem.filled
+    tables, c_of, batches, nc = problem.tables, problem.c_of, problem.batches, problem.nc
+    force_slots, threshold, resolution = problem.force_slots, problem.threshold, problem.resolution
+    head, joint_values, element_kind = problem.head, problem.joint_values, problem.element_kind
     n, nf, k = len(q), len(free), phi.shape[1]
     J, E = len(head), len(element_kind)
     m = len(y)
@@ -327,6 +328,7 @@ def newton(
     R = np.zeros(n)
     r_free = np.zeros((1, nf))
     r_y = np.zeros((1, m))
+    evaluated = Evaluated(dofs, r_joint, values, R, r_free, r_y, violation)
     rhs, solution, scratch = np.zeros(nf + k), np.zeros((1, nf + k)), np.zeros(nf + k)
     L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c = factor
     added = np.zeros(nf, np.bool_)
@@ -355,35 +357,7 @@ def newton(
         jacobian = not (done or kept)
         while True:
             status, joint, measure = _evaluate(
-                K_ptr,
-                K_col,
-                K_val,
-                q,
-                f,
-                y,
-                drives,
-                scale,
-                velocity,
-                jacobian,
-                done,
-                head,
-                joint_values,
-                fields,
-                F,
-                I,
-                element_kind,
-                element_slots,
-                element_values,
-                element_offsets,
-                batches,
-                free,
-                dofs,
-                r_joint,
-                values,
-                R,
-                r_free,
-                r_y,
-                violation,
+                problem, q, f, y, drives, scale, velocity, jacobian, done, evaluated
             )
             if status:
                 return status, iteration, joint
