@@ -516,7 +516,7 @@ class Canvas:
 
     def _scalar_bar(self) -> None:
         left, bottom, width, height = BAR_BOX
-        self.plotter.add_scalar_bar(
+        bar = self.plotter.add_scalar_bar(
             BAR_TITLE.replace(" [", "\n["),
             mapper=self.actors[-1].mapper,
             vertical=True,
@@ -530,6 +530,8 @@ class Canvas:
             label_font_size=self._font(BAR_FONT[1]),
             n_labels=6,
         )
+        # the top label reaches half its height above the bar: the title clears it
+        bar.SetVerticalTitleSeparation(self._font(BAR_FONT[1]))
         self.bar_added = True
 
     def _font(self, size: int) -> int:
