@@ -125,6 +125,11 @@ class Shape(Protocol):
         """``(A_2, A_3)``: along ``e2`` and ``e3``, for Poisson's ratio ``nu``."""
         ...
 
+    def enclosing_radius(self) -> float:
+        """The radius of the smallest circle about the centroid holding the section (its
+        size in a picture)."""
+        ...
+
 
 def _positive(shape: object, *keys: str) -> None:
     for key in keys:
@@ -172,6 +177,10 @@ class Tube:
         k = 6 * (1 + nu) * (1 + m2) ** 2 / ((7 + 6 * nu) * (1 + m2) ** 2 + (20 + 12 * nu) * m2)
         return k * self.area(), k * self.area()
 
+    def enclosing_radius(self) -> float:
+        """The outer radius, ``outer / 2``."""
+        return self.outer / 2
+
 
 @dataclass(frozen=True)
 class Circle:
@@ -197,6 +206,9 @@ class Circle:
 
     def shear_areas(self, nu: float) -> tuple[float, float]:
         return self.tube.shear_areas(nu)
+
+    def enclosing_radius(self) -> float:
+        return self.tube.enclosing_radius()
 
 
 @dataclass(frozen=True)
@@ -227,6 +239,10 @@ class Rectangle:
     def shear_areas(self, nu: float) -> tuple[float, float]:
         k = rectangle_coefficient(nu)
         return k * self.area(), k * self.area()
+
+    def enclosing_radius(self) -> float:
+        """Half the diagonal, ``sqrt(width^2 + height^2) / 2`` (the corners on the circle)."""
+        return float(np.hypot(self.width, self.height)) / 2
 
 
 @dataclass(frozen=True)
@@ -276,6 +292,11 @@ class ISection:
             )
         )
         return rectangle_coefficient(nu) * 2 * b * tf, k3 * self.area()
+
+    def enclosing_radius(self) -> float:
+        """Half the diagonal of the bounding rectangle, ``sqrt(width^2 + height^2) / 2`` (the
+        flanges' tips on the circle)."""
+        return float(np.hypot(self.width, self.height)) / 2
 
 
 #: The shapes by the ``kind`` a scene names them with.

@@ -10,7 +10,12 @@ What is drawn (:mod:`sliders.app.shapes` gives the sizes):
 * the undeformed beams, carried by their rigid motion, as translucent grey tubes;
 * sliders as red spheres at their contact points on the deformed lines; rigid bodies as
   dark cubes; a tyre's wheel as a disc with its tyre and a mark that turns with its spin,
-  and the ground it rolls on.
+  and the ground it rolls on;
+* the rigid lines the sliders run on as thin dark rails, and each axial force element (a
+  strut, a spring-damper) as an orange coil spring between its nodes.
+
+Each part is a named actor of the plotter (:data:`ACTORS` gives the names), so a picture's
+parts can be counted.
 
 Every point is drawn at ``X + u_R + m (u - u_R)``: its reference position, the rigid part
 ``u_R`` of its displacement at true size and the elastic part magnified ``m`` times.  Given
@@ -41,7 +46,7 @@ from __future__ import annotations
 import ctypes.util
 import os
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -53,13 +58,20 @@ from fvbeam.names import NodeRef
 from fvbeam.structure import Structure
 from sliders.app.schema import RenderSpec
 from sliders.app.shapes import (
+    COIL_FACTOR,
     HUB_FACTOR,
     HUB_WIDTH,
+    RAIL_FACTOR,
     TYRE_WIDTH,
+    WIRE_FACTOR,
     Ground,
     TubeSizes,
     Wheel,
+    axial_forces,
+    coil,
     ground_under,
+    line_points,
+    rigid_lines,
     tube_sizes,
     tyres,
     wheel,
@@ -92,6 +104,21 @@ OUTER_OPACITY, GHOST_OPACITY = 0.35, 0.2
 #: Animations: the formats and the frame rate.
 FORMATS = ("mp4", "gif")
 FPS = 20
+#: The names of the actors a picture draws, ``{k}`` the part's index: beams and their ghosts
+#: by the beam's, rigid lines by their order among the sliders' lines, force elements by
+#: their order among the axial ones, wheels and grounds by the tyre's.
+ACTORS = (
+    "beam {k}",
+    "ghost {k}",
+    "sliders",
+    "bodies",
+    "rigid line {k}",
+    "force element {k}",
+    "tyre {k}",
+    "hub {k}",
+    "spin mark {k}",
+    "ground {k}",
+)
 
 
 def headless_defaults() -> None:
@@ -153,7 +180,8 @@ class Drawing:
     ``ghosts``, the same points undeformed, ``X + u_R``; ``sliders``, the contact points
     (k, 3); ``bodies``, the body nodes (k, 3) (not the tyres' wheels); ``wheels``, the
     tyres' wheels on their drawn axles; ``grounds``, the tyres' ground (empty until
-    :func:`with_grounds`)."""
+    :func:`with_grounds`); ``rails``, the points of each rigid line the sliders run on;
+    ``springs``, the drawn end points (2, 3) of each axial force element."""
 
     beams: list[tuple[np.ndarray, np.ndarray]]
     ghosts: list[np.ndarray]
@@ -163,13 +191,18 @@ class Drawing:
     grounds: list[Ground] = field(default_factory=list)
     #: The displacement taken off every point (``follow``), zero without it.
     shift: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    rails: list[np.ndarray] = field(default_factory=list)
+    springs: list[np.ndarray] = field(default_factory=list)
 
     def points(self) -> np.ndarray:
-        """Every drawn centre point (beams, sliders, bodies, wheel centres), (n, 3)."""
+        """Every drawn centre point (beams, sliders, bodies, wheel centres, rigid lines,
+        force elements' ends), (n, 3)."""
         return np.vstack(
             [p for p, _ in self.beams]
             + [self.sliders, self.bodies, np.zeros((0, 3))]
             + [w.centre[None] for w in self.wheels]
+            + self.rails
+            + self.springs
         )
 
 
@@ -207,10 +240,13 @@ def drawing(
         dofs = structure.node_dofs(body.name)[:3]
         if dofs[0] not in hidden:
             bodies.append(place(body.position, q[dofs], rigid[dofs], scale) - shift)
+
+    def node(ref: NodeRef) -> np.ndarray:
+        dofs = structure.node_dofs(ref)[:3]
+        return place(structure.node_position(ref), q[dofs], rigid[dofs], scale) - shift
+
     for tyre in wheels:
-        dofs = structure.node_dofs(tyre.axle)[:3]
-        centre = place(structure.node_position(tyre.axle), q[dofs], rigid[dofs], scale)
-        drawn_wheels.append(wheel(tyre, structure, q, centre - shift, shift))
+        drawn_wheels.append(wheel(tyre, structure, q, node(tyre.axle), shift))
     return Drawing(
         [(place(X, u, u_R, scale) - shift, bending) for X, u, u_R, bending in samples],
         [X + u_R - shift for X, _, u_R, _ in samples],
@@ -219,6 +255,8 @@ def drawing(
         drawn_wheels,
         [],
         shift,
+        [line_points(line) - shift for line in rigid_lines(sliders)],
+        [np.stack([node(f.a), node(f.b)]) for f in axial_forces(forces)],
     )
 
 
@@ -299,7 +337,7 @@ def with_grounds(
     out = []
     for d in drawings:
         grounds = [ground_under(t, points, size, d.shift) for t in tyres(forces)]
-        out.append(Drawing(d.beams, d.ghosts, d.sliders, d.bodies, d.wheels, grounds, d.shift))
+        out.append(replace(d, grounds=grounds))
     return out
 
 
@@ -384,10 +422,11 @@ class Canvas:
             plotter.remove_actor(actor, render=False)
         self.actors = []
         sizes = style.sizes
-        for ghost, (points, bending), r, outer in zip(
-            drawn.ghosts, drawn.beams, sizes.radii, sizes.translucent, strict=True
+        for k, (ghost, (points, bending), r, outer) in enumerate(
+            zip(drawn.ghosts, drawn.beams, sizes.radii, sizes.translucent, strict=True)
         ):
             self._add(
+                f"ghost {k}",
                 polyline(pv, ghost).tube(radius=r, n_sides=24),
                 color="grey",
                 opacity=GHOST_OPACITY,
@@ -395,6 +434,7 @@ class Canvas:
             line = polyline(pv, points)
             line.point_data[BAR_TITLE] = bending
             self._add(
+                f"beam {k}",
                 line.tube(radius=r, n_sides=24),
                 cmap="viridis",
                 clim=list(style.clim),
@@ -404,9 +444,23 @@ class Canvas:
             )
             if style.scalar_bar and not self.bar_added:
                 self._scalar_bar()
+        for k, rail in enumerate(drawn.rails):
+            self._add(
+                f"rigid line {k}",
+                polyline(pv, rail).tube(radius=RAIL_FACTOR * sizes.marker, n_sides=16),
+                color="#404040",
+            )
+        radius = COIL_FACTOR * sizes.marker
+        for k, (a, b) in enumerate(drawn.springs):
+            self._add(
+                f"force element {k}",
+                polyline(pv, coil(a, b, radius)).tube(radius=WIRE_FACTOR * radius, n_sides=12),
+                color="#e07000",
+            )
         if len(drawn.sliders):
             sphere = pv.Sphere(radius=SPHERE_FACTOR * sizes.marker)
             self._add(
+                "sliders",
                 pv.PolyData(drawn.sliders).glyph(geom=sphere, scale=False, orient=False),
                 color="red",
             )
@@ -414,10 +468,11 @@ class Canvas:
             edge = CUBE_FACTOR * sizes.marker
             cube = pv.Cube(x_length=edge, y_length=edge, z_length=edge)
             self._add(
+                "bodies",
                 pv.PolyData(drawn.bodies).glyph(geom=cube, scale=False, orient=False),
                 color="#333333",
             )
-        for w in drawn.wheels:
+        for k, w in enumerate(drawn.wheels):
             tyre = pv.Cylinder(
                 center=w.centre,
                 direction=w.axis,
@@ -435,10 +490,10 @@ class Canvas:
             mark = pv.Cylinder(
                 center=w.mark(), direction=w.axis, radius=0.08 * w.radius, height=w.radius
             )
-            self._add(tyre, color="#202020")
-            self._add(hub, color="#b0b0b0")
-            self._add(mark, color="white")
-        for g in drawn.grounds:
+            self._add(f"tyre {k}", tyre, color="#202020")
+            self._add(f"hub {k}", hub, color="#b0b0b0")
+            self._add(f"spin mark {k}", mark, color="white")
+        for k, g in enumerate(drawn.grounds):
             across = np.cross(g.normal, g.forward)
             box = pv.Box(bounds=(-0.5, 0.5, -0.5, 0.5, -1.0, 0.0))
             box.points = (
@@ -447,16 +502,21 @@ class Canvas:
                 + np.outer(box.points[:, 1] * g.width, across)
                 + np.outer(box.points[:, 2] * g.thickness, g.normal)
             )
-            self._add(box, color="#c8b48c")
+            self._add(f"ground {k}", box, color="#c8b48c")
         self._title(title)
         plotter.renderer.ResetCameraClippingRange()
 
-    def _add(self, mesh, **kwargs) -> None:
-        self.actors.append(self.plotter.add_mesh(mesh, reset_camera=False, **kwargs))
+    def _add(self, name: str, mesh, **kwargs) -> None:
+        """Add ``mesh`` as the actor ``name`` (one of :data:`ACTORS`)."""
+        self.actors.append(self.plotter.add_mesh(mesh, name=name, reset_camera=False, **kwargs))
+
+    def parts(self) -> list[str]:
+        """The names of the parts drawn now (:data:`ACTORS`), in drawing order."""
+        return [a.name for a in self.actors]
 
     def _scalar_bar(self) -> None:
         left, bottom, width, height = BAR_BOX
-        self.plotter.add_scalar_bar(
+        bar = self.plotter.add_scalar_bar(
             BAR_TITLE.replace(" [", "\n["),
             mapper=self.actors[-1].mapper,
             vertical=True,
@@ -470,6 +530,8 @@ class Canvas:
             label_font_size=self._font(BAR_FONT[1]),
             n_labels=6,
         )
+        # the top label reaches half its height above the bar: the title clears it
+        bar.SetVerticalTitleSeparation(self._font(BAR_FONT[1]))
         self.bar_added = True
 
     def _font(self, size: int) -> int:

@@ -1,17 +1,29 @@
 """The sizes and shapes a picture gives the parts: tube radii, wheels and the ground.
 
-**Tube radii.**  A section is given by its stiffness, so the drawn radius is the one of the
-thin-walled circular tube with the section's ratio of bending to axial stiffness: with mean
-radius ``R`` and wall ``t``, ``A = 2 pi R t`` and ``J = pi R^3 t``, so
-``R = sqrt(2 EJ / EA)`` (``EJ`` the mean of ``EJ2`` and ``EJ3``; the radius of gyration is
-``R / sqrt 2``).  A 54 x 4 mm steel tube (``EA = 1.3e8 N``, ``EJ = 4.1e4 N m^2``) is drawn
-with ``R = 25 mm``, its mean radius.  The radius is kept between :data:`RADIUS_LIMITS` of
-the structure's size, so that no beam is invisible or a blob (a rigid or a thread-like
-section).  In a *telescope*, two beams each sliding in the other (a slider on either with
-its body on the other: a piston in its cylinder), the inner beam is drawn at most
-:data:`INNER_FACTOR` of the outer's radius and the outer one translucent, so the inner one
-shows through it: the inner beam is the one with the smaller radius, or, for equal radii,
-the one declared second.
+**Tube radii.**  A section built from its shape (:meth:`fvbeam.section.Section.from_shape`)
+is drawn with the radius of the smallest circle about its centroid that holds it
+(:meth:`fvbeam.shapes.Shape.enclosing_radius`): a tube's or a circle's outer radius, half the
+diagonal of a rectangle or of an I-section's bounding rectangle.  A section given by its
+stiffness is drawn as the thin-walled circular tube with the section's ratio of bending to
+axial stiffness: with mean radius ``R`` and wall ``t``, ``A = 2 pi R t`` and ``J = pi R^3
+t``, so ``R = sqrt(2 EJ / EA)`` (``EJ`` the mean of ``EJ2`` and ``EJ3``; the radius of
+gyration is ``R / sqrt 2``).  A 54 x 4 mm steel tube (``EA = 1.3e8 N``, ``EJ = 4.1e4 N
+m^2``) is drawn with ``R = 25 mm``, its mean radius.  Either radius is kept between
+:data:`RADIUS_LIMITS` of the structure's size, so that no beam is invisible or a blob (a
+rigid or a thread-like section): there the drawn size is not the section's.  In a
+*telescope*, two beams each sliding in the other (a slider on either with its body on the
+other: a piston in its cylinder), the inner beam is drawn at most :data:`INNER_FACTOR` of
+the outer's radius and the outer one translucent, so the inner one shows through it: the
+inner beam is the one with the smaller radius, or, for equal radii, the one declared
+second.  The VTU files carry the same radii (:func:`sliders.app.vtu.to_meshio`).
+
+**Rigid lines and force elements.**  A rigid line a slider runs on is drawn as a thin
+dark rail, :data:`RAIL_FACTOR` of the largest tube radius, through :data:`LINE_SAMPLES`
+points (on an arc or a helix of radius ``R`` and length ``l`` the chords' sag is at most
+``R (1 - cos(l / (2 R (LINE_SAMPLES - 1))))``: 7.6e-5 ``R`` for a whole turn).  An axial force
+element (a strut, a spring-damper: :class:`sliders.forces.elements.AxialForce`) is drawn as
+a coil spring of :data:`COIL_TURNS` turns between its two nodes' drawn points, of radius
+:data:`COIL_FACTOR` of the largest tube radius (inside a cylinder drawn around it).
 
 **Wheels and ground.**  A tyre (:class:`sliders.forces.elements.Tyre`) is drawn as a wheel:
 a black tyre of its rolling radius and a grey hub of :data:`HUB_FACTOR` of it, centred on
@@ -28,9 +40,10 @@ import numpy as np
 
 from fvbeam.section import Section
 from fvbeam.structure import Structure
-from sliders.forces.elements import ForceElement, Tyre
+from sliders.forces.elements import AxialForce, ForceElement, Tyre
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
+from sliders.lines.rigid import RigidLine
 
 #: Smallest and largest drawn tube radius, fractions of the structure's size.
 RADIUS_LIMITS = (0.003, 0.04)
@@ -42,11 +55,19 @@ HUB_FACTOR, TYRE_WIDTH, HUB_WIDTH = 0.55, 0.35, 0.45
 GROUND_THICKNESS = 0.03
 #: The ground's margin around what is drawn, a fraction of the structure's size.
 GROUND_MARGIN = 0.25
+#: A rigid line's drawn radius, a fraction of the largest tube radius; its points.
+RAIL_FACTOR, LINE_SAMPLES = 0.4, 257
+#: An axial force element's coil: its turns, its radius (a fraction of the largest tube
+#: radius) and its wire's radius (a fraction of the coil's).
+COIL_TURNS, COIL_FACTOR, WIRE_FACTOR = 8, 0.6, 0.12
 
 
 def section_radius(section: Section) -> float:
-    """``sqrt(2 EJ / EA)``: the mean radius of the thin-walled circular tube with the
-    section's bending to axial stiffness ratio (module docstring)."""
+    """The drawn radius of ``section`` (module docstring): its shape's enclosing radius,
+    else ``sqrt(2 EJ / EA)``, the mean radius of the thin-walled circular tube with the
+    section's bending to axial stiffness ratio."""
+    if section.shape is not None:
+        return float(section.shape.enclosing_radius())
     K = section.stiffness
     return float(np.sqrt((K[4, 4] + K[5, 5]) / K[0, 0]))
 
@@ -172,3 +193,46 @@ def ground_under(tyre: Tyre, points: np.ndarray, size: float, shift: np.ndarray)
         float(np.ptp(side)) + 2 * margin,
         GROUND_THICKNESS * size,
     )
+
+
+def rigid_lines(sliders: Sequence[Slider]) -> list[RigidLine]:
+    """The rigid lines the ``sliders`` run on, each once, in the sliders' order."""
+    lines: dict[int, RigidLine] = {}
+    for slider in sliders:
+        if isinstance(slider.line, RigidLine):
+            lines.setdefault(id(slider.line), slider.line)
+    return list(lines.values())
+
+
+def line_points(line: RigidLine) -> np.ndarray:
+    """:data:`LINE_SAMPLES` points (n, 3) along ``line``, its ends among them."""
+    xi = np.linspace(0.0, line.length, LINE_SAMPLES)
+    return np.array([line.derivatives(x)[0] for x in xi])
+
+
+def axial_forces(forces: Sequence[ForceElement]) -> list[AxialForce]:
+    """The axial force elements (struts, spring-dampers) among ``forces``."""
+    return [f for f in forces if isinstance(f, AxialForce)]
+
+
+def coil(a: np.ndarray, b: np.ndarray, radius: float, samples_per_turn: int = 24) -> np.ndarray:
+    """The points (n, 3) of a coil spring of :data:`COIL_TURNS` turns and ``radius`` from
+    ``a`` to ``b``: straight from ``a`` to the first turn and from the last to ``b``."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    axis = b - a
+    length = float(np.linalg.norm(axis))
+    if length == 0.0:
+        return np.vstack([a, b])
+    t = axis / length
+    other = np.eye(3)[int(np.argmin(np.abs(t)))]
+    e1 = np.cross(t, other)
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(t, e1)
+    phase = np.linspace(0.0, 2 * np.pi * COIL_TURNS, COIL_TURNS * samples_per_turn + 1)
+    along = 0.1 + 0.8 * phase / phase[-1]
+    turns = (
+        a
+        + np.outer(along * length, t)
+        + radius * (np.outer(np.cos(phase), e1) + np.outer(np.sin(phase), e2))
+    )
+    return np.vstack([a, a + 0.1 * axis, turns, b - 0.1 * axis, b])

@@ -24,7 +24,11 @@ the sliding travel, a drive's motion, a free part's mean motion), and
 ``rigid_displacement`` at scale 1 and then by ``elastic_displacement`` at any scale ``m``,
 the points are the picture :mod:`sliders.app.render` draws: sliding bodies and driven parts
 at their true places, the deformation magnified ``m`` times, sliders on their lines.  Without
-the held dofs (``held=None``) the rigid part is zero.  ``radius`` (N,) for tubes.
+the held dofs (``held=None``) the rigid part is zero.  ``radius`` (N,): by default each
+beam's drawn radius (:func:`sliders.app.shapes.tube_sizes`: its section's size, the inner
+tube of a telescope thinner than the outer), the one a render gives its tube, on its nodes
+and recovery points; sliders and bodies carry the largest.  ParaView's *Tube* filter draws
+the beams at their size with *Vary Radius* "By Absolute Scalar" on ``radius``.
 
 Cell data, one value per cell of every block (meshio needs every name on every block; a
 value that does not apply is NaN, or -1 for integers):
@@ -61,6 +65,7 @@ from fvbeam.names import suggest
 from fvbeam.structure import Structure
 from fvbeam.support import complement
 from sliders.app.motion import rigid_motion
+from sliders.app.shapes import tube_sizes
 from sliders.app.state_tables import contact_point
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
@@ -68,8 +73,6 @@ from sliders.lines.chain import BeamChain
 if TYPE_CHECKING:  # meshio is imported where a VTU is made
     import meshio
 
-#: Default tube radius as a fraction of the diagonal of the structure's bounding box.
-RADIUS_FRACTION = 0.01
 #: Values of the ``part`` cell field.
 PARTS = {"beam": 0, "evaluation point": 1, "slider": 2, "body": 3}
 FLOAT_CELL_FIELDS = {
@@ -122,12 +125,12 @@ def structure_size(structure: Structure) -> float:
 
 
 def tube_radii(
-    structure: Structure, radius: float | Sequence[float] | None
+    structure: Structure, radius: float | Sequence[float] | None, sliders: Sequence[Slider] = ()
 ) -> tuple[np.ndarray, float]:
     """One tube radius per beam, and the radius of the vertex markers (the largest).
 
-    ``radius``: one value for all, one per beam, or ``None`` for ``RADIUS_FRACTION`` times
-    :func:`structure_size`.
+    ``radius``: one value for all, one per beam, or ``None`` for each beam's drawn radius
+    with the ``sliders`` (:func:`sliders.app.shapes.tube_sizes`).
     """
     n = len(structure.beams)
     if radius is None:
@@ -136,7 +139,8 @@ def tube_radii(
             raise ValueError(
                 "radius: the structure has no extent, so there is no default radius; give one"
             )
-        radius = RADIUS_FRACTION * size
+        sizes = tube_sizes(structure, sliders, size)
+        return sizes.radii, sizes.marker
     try:
         values = np.array(radius, dtype=float, ndmin=1)
     except (TypeError, ValueError):
@@ -310,8 +314,8 @@ def to_meshio(
         The sliders and their unknowns ``[xi, lambda, mu...]`` in the same order
         (:class:`sliders.solve.statics.SliderSolution` ``.unknowns``).
     radius
-        Tube radius: one value, one per beam, or ``None`` for ``RADIUS_FRACTION`` of the
-        structure's size; sliders and bodies carry the largest beam radius.
+        Tube radius: one value, one per beam, or ``None`` for each beam's drawn radius
+        (:func:`sliders.app.shapes.tube_sizes`); sliders and bodies carry the largest.
     held
         The global dofs the supports and dof drives hold, for the rigid part of the motion
         (:func:`rigid_part`); ``None``: no rigid part.
@@ -323,7 +327,7 @@ def to_meshio(
     structure, q, sliders, unknowns, held = _solved(structure, q, sliders, unknowns, held)
     q, ys = check_solution(structure, q, sliders, unknowns)
     asked = check_fields(fields)
-    radii, marker = tube_radii(structure, radius)
+    radii, marker = tube_radii(structure, radius, sliders)
     split = bool(asked & {"rigid_displacement", "elastic_displacement"})
     q_rigid = rigid_part(structure, q, sliders, ys, held) if split else np.zeros_like(q)
     forces_asked = bool(asked & {"force", "moment", "force_global", "moment_global"})
