@@ -37,6 +37,10 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from fvbeam.kernel_cache import guard
+
+guard(__file__)  # numba's cache of these kernels, consistent with their sources
+
 
 @dataclass(frozen=True)
 class Friction:

@@ -31,7 +31,10 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from fvbeam.kernel_cache import guard
 from fvbeam.scratch import stack_empty, stack_matrix3, stack_vector3
+
+guard(__file__)  # numba's cache of these kernels, consistent with their sources
 
 BODY, TURN, LOAD, ROTATION, INTERP, BESIDE, XI, LAM, MU = range(9)
 #: Group names in the order of the indices above (:class:`sliders.joints.blocks.SlotJacobian`).
