@@ -148,6 +148,7 @@ def test_command_benchmark_scenes_are_valid():
     from studies.bench_command import cantilever, pushed
 
     assert parse_scene(cantilever(10)).beam[0].straight.elements == 10
+    assert parse_scene(cantilever(10, dynamic=True)).study.kind == "dynamic"
     for record in (True, False):
         scene = parse_scene(pushed(0.1, record))
         assert scene.study.t_end == 0.1
