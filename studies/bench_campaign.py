@@ -17,7 +17,6 @@ Run as ``python -m studies.bench_campaign --out results/bench.json`` (``make ben
 
 from __future__ import annotations
 
-import argparse
 import tempfile
 import time
 import tomllib
@@ -27,7 +26,7 @@ from typing import Any
 from sliders.app.campaign import run_campaign
 from sliders.app.campaign_spec import Campaign, parse_campaign
 
-from .bench import environment, read_existing, write_merged
+from .bench import bench_arguments, environment, write_merged
 
 KEY = "campaign"
 CAMPAIGN = Path(__file__).parent / "campaigns" / "landing_gear.toml"
@@ -68,13 +67,7 @@ def measure(campaign: Campaign, workers: int) -> dict[str, Any]:
 
 def main(argv: list[str] | None = None) -> None:
     """Run the benchmark, merge it into ``--out`` (``--quick``: four drops)."""
-    parser = argparse.ArgumentParser(
-        prog="python -m studies.bench_campaign", description=__doc__.splitlines()[0]
-    )
-    parser.add_argument("--quick", action="store_true", help="four drops (smoke test)")
-    parser.add_argument("--out", type=Path, default=Path("results/bench.json"))
-    args = parser.parse_args(argv)
-    read_existing(args.out)  # fail before spending the time if the file cannot be merged
+    args = bench_arguments("studies.bench_campaign", __doc__ or "", "four drops (smoke test)", argv)
     campaign = sample(4 if args.quick else CASES)
     runs = [measure(campaign, workers) for workers in (1, 2)]
     speed_up = runs[1]["cases_per_second"] / runs[0]["cases_per_second"]

@@ -28,7 +28,6 @@ Run as ``python -m studies.bench_command --out results/bench.json`` (``make benc
 
 from __future__ import annotations
 
-import argparse
 import csv
 import subprocess
 import sys
@@ -42,7 +41,7 @@ import tomli_w
 
 from fvbeam.closed_forms import cantilever_exact
 
-from .bench import environment, read_existing, summary, write_merged
+from .bench import bench_arguments, environment, summary, write_merged
 
 KEY = "command"
 SCENES = Path(__file__).parent / "scenes"
@@ -186,13 +185,7 @@ def large(sizes: tuple[int, ...]) -> list[dict[str, Any]]:
 def main(argv: list[str] | None = None) -> None:
     """Run the benchmarks, merge them into ``--out`` (``--quick``: the smoke test's short
     runs)."""
-    parser = argparse.ArgumentParser(
-        prog="python -m studies.bench_command", description=__doc__.splitlines()[0]
-    )
-    parser.add_argument("--quick", action="store_true", help="short runs (smoke test)")
-    parser.add_argument("--out", type=Path, default=Path("results/bench.json"))
-    args = parser.parse_args(argv)
-    read_existing(args.out)  # fail before spending the time if the file cannot be merged
+    args = bench_arguments("studies.bench_command", __doc__ or "", "short runs (smoke test)", argv)
     short = args.quick
     result = {
         "start_up": start_up(repeats=1 if short else 5),
