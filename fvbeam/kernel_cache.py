@@ -12,8 +12,9 @@ of its kernels runs.  :func:`guard` keeps a digest of that module's sources
 (:func:`sources`: the module and every module of the guarded packages it imports, directly
 or through others) beside its cache; when the digest changes, it deletes that module's cache
 files, so its kernels compile again from the sources as they are.  An edit elsewhere (a
-module no kernel imports) leaves every cache alone.  It costs reading those few files once
-per module and process (about a millisecond).
+module no kernel's module imports: the application, the scenes' checks, the studies) leaves
+every cache alone.  It costs reading those modules once per process (a few tens of files),
+about what a digest of every module of both packages cost.
 """
 
 from __future__ import annotations
@@ -28,10 +29,13 @@ PACKAGES = ("fvbeam", "sliders")
 #: The stamp of a module ``NAME.py``: ``__pycache__/NAME.`` followed by this.
 STAMP = "kernel-sources.sha256"
 
-_FROM = re.compile(r"^\s*from\s+([\w.]+)\s+import\s+(\([^)]*\)|[^\n]*)", re.MULTILINE)
-_IMPORT = re.compile(r"^\s*import\s+([\w., ]+)", re.MULTILINE)
+_FROM = re.compile(r"^[ \t]*from[ \t]+([\w.]+)[ \t]+import[ \t]+(\([^)]*\)|[^\n]*)", re.MULTILINE)
+_IMPORT = re.compile(r"^[ \t]*import[ \t]+([\w., ]+)", re.MULTILINE)
+#: An ``if TYPE_CHECKING:`` block: the line and the indented (or blank) lines after it.
+_TYPE_CHECKING = re.compile(r"^if TYPE_CHECKING:\n(?:(?:[ \t]+.*)?\n)*", re.MULTILINE)
 
 
+@cache
 def _module_file(root: Path, name: str) -> Path | None:
     """The file of module ``name`` under ``root`` (the directory holding the packages), or
     None when it is not one of :data:`PACKAGES`' modules."""
@@ -52,9 +56,11 @@ def _read(path: Path) -> bytes:
 
 
 def imported(source: str, root: Path) -> set[Path]:
-    """The files of the guarded packages' modules that ``source`` imports by name: ``from X
-    import a, b`` names ``X`` and its submodules ``X.a``, ``X.b`` where they exist; ``import
-    X.Y`` names ``X.Y``."""
+    """The files of the guarded packages' modules that ``source`` imports by name, outside
+    ``if TYPE_CHECKING:`` blocks: ``from X import a, b`` names ``X`` and its submodules
+    ``X.a``, ``X.b`` where they exist; ``import X.Y`` names ``X.Y``."""
+    if "TYPE_CHECKING" in source:
+        source = _TYPE_CHECKING.sub("", source)
     names: list[str] = []
     for module, items in _FROM.findall(source):
         names.append(module)
@@ -63,23 +69,20 @@ def imported(source: str, root: Path) -> set[Path]:
                 names.append(f"{module}.{item}")
     for group in _IMPORT.findall(source):
         names += [part.split(" as ")[0].strip() for part in group.split(",")]
-    return {path for name in names if (path := _module_file(root, name)) is not None}
+    found = {path for name in names if (path := _module_file(root, name)) is not None}
+    return found - {Path(__file__).resolve()}  # the guard itself is never compiled
 
 
 def sources(module: Path) -> list[Path]:
-    """The module ``module`` and the modules of :data:`PACKAGES` it imports, followed through
-    the modules that define kernels (whose text names ``numba``), sorted: what its compiled
-    kernels may contain (the kernels they call, and the constants they read, which numba
-    freezes into the code).  A module without kernels is counted, but not what it imports:
-    its functions are not compiled into the kernels."""
+    """The module ``module`` and every module of :data:`PACKAGES` it imports, directly or
+    through the others, sorted: what its compiled kernels may contain (the kernels they
+    call, and the constants they read, which numba freezes into the code).  Imports under
+    ``if TYPE_CHECKING:`` are not followed (they never run)."""
     module = module.resolve()
     root = _root(module)
     seen, todo = {module}, [module]
     while todo:
-        text = _read(todo.pop()).decode()
-        if "numba" not in text:
-            continue
-        for path in imported(text, root):
+        for path in imported(_read(todo.pop()).decode(), root):
             if path not in seen:
                 seen.add(path)
                 todo.append(path)

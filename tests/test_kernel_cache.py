@@ -19,18 +19,24 @@ ROOT = Path(fvbeam.__file__).parent.parent
 def fresh_reads():
     """Each guard below sees the files as they are (a process reads them once)."""
     kernel_cache._read.cache_clear()
+    kernel_cache._module_file.cache_clear()
     yield
     kernel_cache._read.cache_clear()
+    kernel_cache._module_file.cache_clear()
 
 
 MODULES = {
     "fvbeam/__init__.py": "",
     "fvbeam/low.py": "import numba\n\n@numba.njit(cache=True)\ndef f(x):\n    return x\n",
-    "fvbeam/constants.py": "from fvbeam.unrelated import helper\n\nSCALE = 2.0\n",
+    "fvbeam/constants.py": "from fvbeam.base import UNIT\n\nSCALE = 2.0 * UNIT\n",
+    "fvbeam/base.py": "UNIT = 1.0\n",
+    "fvbeam/typing_only.py": "class Thing:\n    pass\n",
     "fvbeam/unrelated.py": "def helper():\n    return 1\n",
     "sliders/__init__.py": "",
     "sliders/high.py": (
-        "import numba\n\nfrom fvbeam import constants\nfrom fvbeam.low import (\n    f,\n)\n\n"
+        "from typing import TYPE_CHECKING\n\nimport numba\n\nfrom fvbeam import constants\n"
+        "from fvbeam.low import (\n    f,\n)\n\nif TYPE_CHECKING:\n"
+        "    from fvbeam.typing_only import Thing\n\n"
         "@numba.njit(cache=True)\ndef g(x):\n    return f(x) * constants.SCALE\n"
     ),
 }
@@ -66,9 +72,11 @@ def edit(path: Path) -> None:
 def test_sources_are_the_kernels_closure(tmp_path: Path) -> None:
     high = tree(tmp_path)
     names = [p.relative_to(tmp_path.resolve()).as_posix() for p in sources(high)]
-    # the callee, and the module of constants it reads, but not what that module imports
+    # the callee, the module of constants it reads and what that reads, the package; not
+    # what is imported for type checking only, nor what nothing imports
     assert names == [
         "fvbeam/__init__.py",
+        "fvbeam/base.py",
         "fvbeam/constants.py",
         "fvbeam/low.py",
         "sliders/high.py",
@@ -83,20 +91,23 @@ def test_a_change_in_a_callee_empties_the_callers_cache(tmp_path: Path) -> None:
     cache(high)  # compiled anew
     guard(high)
     assert cached(tmp_path / "sliders") == ["high.g-8.py311.1.nbc", "high.g-8.py311.nbi"]
-    edit(tmp_path / "fvbeam/unrelated.py")  # imported by a module it reads, not compiled
-    guard(high)
-    assert len(cached(tmp_path / "sliders")) == 2  # not among its sources: kept
+    for elsewhere in ("fvbeam/unrelated.py", "fvbeam/typing_only.py"):
+        edit(tmp_path / elsewhere)
+        guard(high)
+        assert len(cached(tmp_path / "sliders")) == 2, elsewhere  # not among its sources: kept
     edit(tmp_path / "fvbeam/low.py")
     guard(high)
     assert cached(tmp_path / "sliders") == []  # a callee changed: the caller's cache is stale
     assert len(cached(tmp_path / "fvbeam")) == 2  # low's own cache: numba's index checks it
 
 
-def test_a_change_in_a_read_constant_empties_the_cache(tmp_path: Path) -> None:
+@pytest.mark.parametrize("module", ["fvbeam/constants.py", "fvbeam/base.py"])
+def test_a_change_in_a_read_constant_empties_the_cache(tmp_path: Path, module: str) -> None:
+    """A constant the kernel reads, directly or through the module that defines it."""
     high = tree(tmp_path)
     guard(high)
     cache(high)
-    edit(tmp_path / "fvbeam/constants.py")
+    edit(tmp_path / module)
     guard(high)
     assert cached(tmp_path / "sliders") == []
 
@@ -115,6 +126,7 @@ def test_the_projects_kernels_depend_on_their_callees_only() -> None:
         "fvbeam/pointwise.py",
     } <= step
     assert not {p for p in step if p.startswith("sliders/app/")}
+    assert "fvbeam/kernel_cache.py" not in step  # the guard is never compiled
     pointwise = {p.relative_to(ROOT).as_posix() for p in sources(ROOT / "fvbeam/pointwise.py")}
     assert not {p for p in pointwise if p.startswith("sliders/")}
 
