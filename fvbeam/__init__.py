@@ -18,14 +18,9 @@ transverse force at its tip.  Its tip deflection and rotation are the exact Timo
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import TYPE_CHECKING
 
-from fvbeam.kernel_cache import guard
 from fvbeam.lazy import lazy_names
-
-# numba's cache of this package's kernels, consistent with its sources (fvbeam.kernel_cache)
-guard(Path(__file__).parent, [Path(__file__).parent])
 
 if TYPE_CHECKING:
     from fvbeam.beam import Beam, InternalForces

@@ -39,9 +39,12 @@ import scipy.sparse as sp
 
 from fvbeam.elements import jumps
 from fvbeam.formulations import FiniteVolume, Formulation, Galerkin, gauss
+from fvbeam.kernel_cache import guard
 from fvbeam.mesh import BeamMesh
 from fvbeam.pointwise import cubic_local_at, shape_at
 from fvbeam.section import Section
+
+guard(__file__)  # numba's cache of these kernels, consistent with their sources
 
 
 def compiled(formulation: Formulation) -> bool:

@@ -24,12 +24,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cache
-from typing import ClassVar, Literal, get_args
+from typing import ClassVar
 
 import numpy as np
 from skfem.element import Element, ElementLineP1, ElementLineP2, ElementVector
 
 from fvbeam.elements import ElementBeamCubic, ElementBeamFV, influence_regions
+from fvbeam.formulation_names import FORMULATIONS
 from fvbeam.mesh import BeamMesh, shape_functions
 from fvbeam.pointwise import CUBIC, FINITE_VOLUME, LAGRANGE, transfer_many
 from fvbeam.section import Section
@@ -239,11 +240,6 @@ class Cubic(Formulation):
     def load_quadrature(self) -> tuple[np.ndarray, np.ndarray]:
         X, W = gauss(4)
         return X[None, :], W
-
-
-#: The formulations by name (the scenes' ``formulation`` takes one of them).
-FormulationName = Literal["fv2", "fv3", "galerkin-p1", "galerkin-p2", "cubic"]
-FORMULATIONS: tuple[str, ...] = get_args(FormulationName)
 
 
 def formulation(name: str, integration: str = "reduced") -> Formulation:

@@ -228,7 +228,13 @@ def closest_to_up(coefficients: np.ndarray, breaks: np.ndarray, up: np.ndarray) 
     for i in range(k):
         for j in range(k):
             square[i + j] += np.sum(across[i] * across[j], axis=-1)
-    from scipy.interpolate import PPoly  # only a curved line's frames need it
+    if k == 2:  # a linear tangent: a quadratic square, stationary where 2 a s + b = 0
+        a, b = square[0], square[1]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s = -b / (2 * a)
+        inside = (a != 0) & (s >= 0) & (s <= np.diff(breaks))
+        return np.concatenate([breaks, breaks[:-1][inside] + s[inside]])
+    from scipy.interpolate import PPoly  # only a spline's frames need it
 
     stationary = PPoly(square, breaks).derivative().roots(discontinuity=False, extrapolate=False)
     return np.concatenate([breaks, stationary[np.isfinite(stationary)]])

@@ -38,6 +38,9 @@ import numpy as np
 from numpy.polynomial import Polynomial
 
 from fvbeam.geometry import skew_matrices
+from fvbeam.kernel_cache import guard
+
+guard(__file__)  # numba's cache of these kernels, consistent with their sources
 
 #: Distance (reference coordinate) within which a point counts as on a region boundary.
 TIE = 1e-12

@@ -22,15 +22,9 @@ The subpackages: :mod:`sliders.lines` (rigid lines, beam chains), :mod:`sliders.
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import TYPE_CHECKING
 
-import fvbeam
-from fvbeam.kernel_cache import guard
 from fvbeam.lazy import lazy_names
-
-# numba's cache of this package's kernels, which call fvbeam's too (fvbeam.kernel_cache)
-guard(Path(__file__).parent, [Path(fvbeam.__file__).parent, Path(__file__).parent])
 
 if TYPE_CHECKING:
     from sliders.app.errors import SceneError

@@ -350,6 +350,20 @@ def read_existing(path: Path) -> dict[str, Any]:
     return data
 
 
+def bench_arguments(
+    module: str, doc: str, quick: str, argv: list[str] | None
+) -> argparse.Namespace:
+    """The arguments of a benchmark module ``module`` (``python -m studies.NAME``, described
+    by the first line of its ``doc``): ``--out`` (its JSON, checked mergeable before any time
+    is spent) and ``--quick`` (helped by ``quick``)."""
+    parser = argparse.ArgumentParser(prog=f"python -m {module}", description=doc.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help=quick)
+    parser.add_argument("--out", type=Path, default=Path("results/bench.json"))
+    args = parser.parse_args(argv)
+    read_existing(args.out)
+    return args
+
+
 def write_merged(path: Path, sections: dict[str, Any]) -> dict[str, Any]:
     """Replace ``sections``' keys in the JSON object at ``path``, keeping the others; atomic."""
     data = read_existing(path)

@@ -148,8 +148,19 @@ def test_command_benchmark_scenes_are_valid():
     from studies.bench_command import cantilever, pushed
 
     assert parse_scene(cantilever(10)).beam[0].straight.elements == 10
+    assert parse_scene(cantilever(10, dynamic=True)).study.kind == "dynamic"
     for record in (True, False):
         scene = parse_scene(pushed(0.1, record))
         assert scene.study.t_end == 0.1
         assert scene.output.csv == (("nodes",) if record else ())
         assert scene.output.history == (None if record else ())
+
+
+def test_campaign_benchmark_samples_200_drops():
+    """The campaign ``studies.bench_campaign`` runs (its speed is measured by ``make bench``
+    only): 200 distinct drops (the sink speed drawn from a range), the same on every call
+    (seeded)."""
+    from studies.bench_campaign import CASES, sample
+
+    keys = [c.key for c in sample(CASES).cases()]
+    assert len(set(keys)) == CASES and keys == [c.key for c in sample(CASES).cases()]

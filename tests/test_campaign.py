@@ -7,7 +7,10 @@ cases a resumed campaign runs.
 """
 
 import csv
+import importlib
+import shutil
 import tomllib
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -214,3 +217,40 @@ def test_the_shipped_landing_gear_campaign_resolves_every_case():
         for key, value in case.values.items():
             assert get_value(case.scene, key) == value
         load_scene(case.scene, base=shipped.base)
+
+
+def compiled_kernels(root: Path) -> dict[str, int]:
+    """Each numba cache index under ``root`` and the time it was last written (ns)."""
+    return {str(p): p.stat().st_mtime_ns for p in root.rglob("*.nbi")}
+
+
+def test_dask_workers_load_the_kernels_from_the_shared_cache(tmp_path, monkeypatch):
+    """A local cluster's worker gives the cases the numbers this process gives them (bit for
+    bit: the same computation) and compiles nothing: the kernels this process compiled (or
+    loaded) are loaded from the cache beside their modules, whose index files the worker
+    does not rewrite (numba rewrites a kernel's index when it compiles it).  The workers
+    import a copy of the packages with their caches (first on the ``sys.path`` they are
+    spawned with), so that no other test process compiling at the same time touches the
+    files watched."""
+    import fvbeam
+    import sliders
+
+    campaign = read_campaign(tiny(tmp_path, MATRIX[:1]))
+    here = run_campaign(campaign, tmp_path / "here", workers=0, progress=False)
+    copy = tmp_path / "packages"
+    for package in (fvbeam, sliders):
+        source = Path(package.__file__).parent
+        shutil.copytree(source, copy / source.name)  # sources and caches, their times kept
+    monkeypatch.syspath_prepend(str(copy))  # a spawned worker starts with this sys.path
+    before = compiled_kernels(copy)
+    assert before
+    with campaign_module.local_client(1) as client:
+        imported = client.submit(lambda: importlib.import_module("sliders").__file__).result()
+        address = client.scheduler.address
+        there = run_campaign(campaign, tmp_path / "there", scheduler=address, progress=False)
+    assert Path(imported).is_relative_to(copy)  # the worker imported the copy
+    assert there.failed == 0 and there.run == 2
+    pd.testing.assert_frame_equal(
+        here.table.drop(columns="seconds"), there.table.drop(columns="seconds")
+    )
+    assert compiled_kernels(copy) == before

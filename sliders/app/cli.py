@@ -27,7 +27,6 @@ from __future__ import annotations
 import argparse
 import ast
 import importlib
-import importlib.metadata
 import importlib.util
 import sys
 import time
@@ -240,6 +239,8 @@ def _campaign(args: argparse.Namespace) -> int:
 def registered_studies() -> dict[str, str]:
     """The paper's figure studies registered under :data:`STUDY_GROUP`: key (``fig4`` draws
     Figures 4 and 5) to module name, in key order."""
+    import importlib.metadata  # a tenth of a second: only the figure studies need it
+
     found = {ep.name: ep.value for ep in importlib.metadata.entry_points(group=STUDY_GROUP)}
     return dict(sorted(found.items()))
 

@@ -57,6 +57,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from fvbeam.names import suggest
+from sliders.app.columns import ENERGIES, STEP, history_columns
 from sliders.app.probes import LinearProbe, Probe
 from sliders.app.state_tables import (
     STEP_COLUMNS,
@@ -67,24 +68,11 @@ from sliders.app.state_tables import (
     quote,
     state_table,
 )
-from sliders.joints.slider import Slider
 from sliders.solve.dynamics import Dynamics
 from sliders.solve.integrator import State
 
-ENERGIES = ("kinetic", "strain", "external_work", "constraint_work", "dissipated", "energy_error")
-#: The columns of ``history.csv`` before the energies; ``step, t`` are always kept.
-STEP = ("step", "t", "h", "iterations")
 #: Steps and seconds between the blocks a streaming recorder writes.
 FLUSH_ROWS, FLUSH_SECONDS = 1000, 5.0
-
-
-def history_columns(sliders: Sequence[Slider]) -> list[str]:
-    """Every column ``history.csv`` can hold for a dynamics of ``sliders``, before its
-    probes."""
-    columns = [*STEP, *ENERGIES]
-    for s in sliders:
-        columns += [f"{s.name}.{u}" for u in s.unknown_names] + [f"{s.name}.residual"]
-    return columns
 
 
 class _Records:

@@ -36,8 +36,8 @@ from fvbeam.smearing import check_smearing
 from fvbeam.support import DOF_NAMES, complement
 from sliders.app import events
 from sliders.app.checks import SELECTED, part_of, tied_parts
+from sliders.app.columns import history_columns
 from sliders.app.errors import Problems
-from sliders.app.history import history_columns
 from sliders.app.limits import Limits, element_problems
 from sliders.app.probes import (
     VELOCITY_NAMES,
@@ -893,7 +893,7 @@ class Model:
 
     def _check_output(self, problems: Problems) -> None:
         """The names ``[output]`` uses, against the model: ``history`` columns
-        (:func:`sliders.app.history.history_columns`), each table's rows and columns
+        (:func:`sliders.app.columns.history_columns`), each table's rows and columns
         (:func:`sliders.app.state_tables.items`, :data:`~sliders.app.state_tables.CHOICES`),
         VTU fields (:data:`sliders.app.vtu.FIELDS`), probes' values and abscissae."""
         output = self.scene.output

@@ -20,7 +20,7 @@ from pydantic import (
     ValidationInfo,
 )
 
-from fvbeam.formulations import FormulationName as Formulation
+from fvbeam.formulation_names import FormulationName as Formulation
 from fvbeam.geometry import inertia3, orthonormal3
 
 NAME_PATTERN = r"^[A-Za-z_][A-Za-z0-9_\-]*$"

@@ -13,6 +13,10 @@ import math
 
 import numba
 
+from fvbeam.kernel_cache import guard
+
+guard(__file__)  # numba's cache of these kernels, consistent with their sources
+
 #: The parameter rows of the laws, by name (:mod:`sliders.forces.laws` keyword arguments).
 PARAMETERS = {'strut': ('area', 'pressure', 'volume', 'exponent', 'ambient', 'compression', 'rebound', 'stop_stiffness', 'stroke_min', 'stroke_max'), 'tyre': ('radius', 'stiffness', 'damping', 'B', 'C', 'D', 'speed_eps')}
 

@@ -216,6 +216,10 @@ import math
 
 import numba
 
+from fvbeam.kernel_cache import guard
+
+guard(__file__)  # numba's cache of these kernels, consistent with their sources
+
 #: The parameter rows of the laws, by name (:mod:`sliders.forces.laws` keyword arguments).
 PARAMETERS = {PARAMETERS!r}
 '''

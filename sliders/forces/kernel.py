@@ -28,9 +28,12 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from fvbeam.kernel_cache import guard
 from sliders.forces import laws
 from sliders.forces.compiled_laws import strut, tyre_longitudinal, tyre_radial
 from sliders.forces.elements import AXIAL, TYRE
+
+guard(__file__)  # numba's cache of these kernels, consistent with their sources
 
 
 @numba.njit(cache=True, inline="never")

@@ -13,6 +13,10 @@ import math
 
 import numba
 
+from fvbeam.kernel_cache import guard
+
+guard(__file__)  # numba's cache of these kernels, consistent with their sources
+
 #: The point quantities (name, size) in their flat order (``mu``: the kind's ``J``).
 POINT = (('u', 3), ('theta', 3), ('x', 3), ('l', 3), ('l_xi', 3), ('tangent', 3), ('theta_L', 3), ('theta_L_xi', 3), ('flex', 9), ('contact', 18), ('R0', 9), ('k0', 3), ('lam', 3), ('mu', 3))
 #: The constants (name, size): offset, slider axes (row-major), reference, scale.

@@ -208,6 +208,10 @@ import math
 
 import numba
 
+from fvbeam.kernel_cache import guard
+
+guard(__file__)  # numba's cache of these kernels, consistent with their sources
+
 #: The point quantities (name, size) in their flat order (``mu``: the kind's ``J``).
 POINT = {POINT!r}
 #: The constants (name, size): offset, slider axes (row-major), reference, scale.

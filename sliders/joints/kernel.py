@@ -38,8 +38,11 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from fvbeam.kernel_cache import guard
 from fvbeam.scratch import stack_empty
 from sliders.joints.compiled_laws import AT_CONSTANT, AT_POINT, AT_ROW, CODES, law
+
+guard(__file__)  # numba's cache of these kernels, consistent with their sources
 
 BODY, TURN, LOAD, ROTATION, INTERP, BESIDE, XI, LAM, MU = range(9)
 #: Group names in the order of the indices above (:class:`sliders.joints.blocks.SlotJacobian`).

@@ -34,6 +34,7 @@ import numba
 import numpy as np
 
 from fvbeam.copies import shallow_copy
+from fvbeam.kernel_cache import guard
 from fvbeam.scratch import borrowed, stack_empty, stack_zeros
 from fvbeam.smearing import steps
 from fvbeam.structure import Structure
@@ -65,6 +66,8 @@ from sliders.lines.batched_kernel import (
 from sliders.lines.chain import BeamChain
 from sliders.lines.rigid import RigidLine
 from sliders.lines.rigid_kernel import curvature_rate_at, frame_at, line_at
+
+guard(__file__)  # numba's cache of these kernels, consistent with their sources
 
 # The columns of a joint's row of :attr:`JointPack.head` (integers).
 KIND, SLOPE, SECTION, CHAIN, SMEARED, BOX, END_STOPS, DRIVEN = range(8)

@@ -14,6 +14,10 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from fvbeam.kernel_cache import guard
+
+guard(__file__)  # numba's cache of these kernels, consistent with their sources
+
 
 @numba.njit(cache=True, inline="never")
 def end_stop(xi: float, along: float, length: float) -> tuple[bool, float]:

@@ -26,6 +26,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from fvbeam.kernel_cache import guard
 from fvbeam.pointwise import (
     CUBIC,
     cubic_flex_at,
@@ -36,6 +37,8 @@ from fvbeam.pointwise import (
     transfer_at,
 )
 from fvbeam.scratch import stack_empty, stack_zeros
+
+guard(__file__)  # numba's cache of these kernels, consistent with their sources
 
 #: The most nodes of an element the kernels' scratch arrays hold (three-node elements).
 MAX_NPE = 3

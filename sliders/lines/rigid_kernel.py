@@ -23,6 +23,10 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from fvbeam.kernel_cache import guard
+
+guard(__file__)  # numba's cache of these kernels, consistent with their sources
+
 POLYNOMIAL, HELICAL = 0, 1
 
 

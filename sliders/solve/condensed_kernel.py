@@ -25,7 +25,10 @@ from collections import namedtuple
 import numba
 import numpy as np
 
+from fvbeam.kernel_cache import guard
 from fvbeam.scratch import borrowed
+
+guard(__file__)  # numba's cache of these kernels, consistent with their sources
 
 
 @numba.njit(inline="never")

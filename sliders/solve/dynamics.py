@@ -33,12 +33,11 @@ import itertools
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Protocol, runtime_checkable
+from typing import TYPE_CHECKING, Protocol, runtime_checkable
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
-from tqdm.auto import tqdm
 
 from fvbeam.geometry import vector3
 from fvbeam.mass import weight
@@ -58,6 +57,9 @@ from sliders.solve.newton import CompiledNewton
 from sliders.solve.newton_kernel import CONVERGED, NOT_CONVERGED_MESSAGE
 from sliders.solve.planar import check, check_load, out_of_plane
 from sliders.solve.statics import SliderStatics
+
+if TYPE_CHECKING:
+    from tqdm import tqdm
 
 #: What holds a motion left free at the static start of a time integration.
 START_REMEDY = (
@@ -562,6 +564,8 @@ class Dynamics:
                 f"steps = {cursor.steps}"
             )
         state, h, steps = cursor.state, cursor.h, cursor.steps
+        from tqdm.auto import tqdm  # asyncio with it: not imported before a run
+
         try:
             with tqdm(
                 total=max(t_end - state.t, 0.0),

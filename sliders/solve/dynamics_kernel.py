@@ -24,8 +24,11 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from fvbeam.kernel_cache import guard
 from sliders.solve.factor import factor_solve
 from sliders.solve.newton_kernel import CONVERGED, NewtonProblem, newton
+
+guard(__file__)  # numba's cache of these kernels, consistent with their sources
 
 
 @numba.njit(cache=True, inline="never")

@@ -20,6 +20,10 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from fvbeam.kernel_cache import guard
+
+guard(__file__)  # numba's cache of these kernels, consistent with their sources
+
 
 class Factor:
     """``A`` (square, sparse) factorised once by SuperLU, its factors kept as arrays.

@@ -39,11 +39,14 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
+from fvbeam.kernel_cache import guard
 from fvbeam.scratch import borrowed, stack_empty
 from sliders.forces.kernel import evaluate_element
 from sliders.joints.packed import evaluate_joint
 from sliders.solve.condensed_kernel import chord_step_into, condensed_step_into, step_scratch
 from sliders.solve.factor import factor_solve
+
+guard(__file__)  # numba's cache of these kernels, consistent with their sources
 
 CONVERGED, SINGULAR, NOT_CONVERGED, OFF_LINE, OVERFLOW = range(5)
 
