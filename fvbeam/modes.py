@@ -53,6 +53,19 @@ def _finite(values: np.ndarray, vectors: np.ndarray) -> tuple[np.ndarray, np.nda
     return values[keep], vectors[:, keep]
 
 
+def _start(op: spla.LinearOperator, N: int) -> np.ndarray:
+    """ARPACK's start vector: a fixed random vector mapped three times by the operator, which
+    takes out its components along the infinite eigenvalues (the null space of ``M`` and the
+    Jordan chains of constraints, up to index 3: Nour-Omid, Parlett, Ericsson and Jensen,
+    "How to implement the spectral transformation", Math. Comp. 48 (1987) 663), so that no
+    spurious root enters the Krylov space; fixed, so a solve repeats exactly."""
+    v = np.random.default_rng(0).standard_normal(N).astype(op.dtype)
+    for _ in range(3):
+        v = op.matvec(v)
+        v /= np.linalg.norm(v)
+    return v
+
+
 def lowest_modes(
     K: sp.spmatrix,
     M: sp.spmatrix,
@@ -83,7 +96,7 @@ def lowest_modes(
         else:
             lu = spla.splu((K - shift * M).tocsc())
             op = spla.LinearOperator((N, N), matvec=lambda x: lu.solve(M @ x), dtype=float)
-            nu, vectors = spla.eigs(op, k=min(count, N - 2), which="LM")
+            nu, vectors = spla.eigs(op, k=min(count, N - 2), which="LM", v0=_start(op, N))
         nu, vectors = _finite(nu, vectors)
         order = np.argsort(-np.abs(nu))[:count]
         nu, vectors = nu[order], vectors[:, order]
@@ -112,7 +125,8 @@ def lowest_modes(
 
         kind = complex if isinstance(sigma, complex) else float
         op = spla.LinearOperator((2 * N, 2 * N), matvec=solve, dtype=kind)
-        nu, vectors = spla.eigs(op, k=min(2 * count + 2, 2 * N - 2), which="LM")
+        v0 = _start(op, 2 * N)
+        nu, vectors = spla.eigs(op, k=min(2 * count + 2, 2 * N - 2), which="LM", v0=v0)
         values = sigma + 1 / nu
     oscillating = values.imag > 1e-9 * np.abs(values)
     values, vectors = values[oscillating], vectors[:N, oscillating]
