@@ -53,6 +53,7 @@ bench: $(VENV)/.installed-all
 	$(BIN)/python -m studies.bench_command --out $(RESULTS)/bench.json
 	$(BIN)/python -m studies.bench_exact --out $(RESULTS)/bench.json
 	$(BIN)/python -m studies.bench_campaign --out $(RESULTS)/bench.json
+	$(BIN)/python -m studies.bench_modes --out $(RESULTS)/bench.json
 
 # Run time against error (docs/performance.md, "Work-precision"): the peer first (Exudyn, the
 # `peer` extra), then our grid, whose tables replace the ones in docs/performance.md.

@@ -9,6 +9,8 @@ evaluation point it is shared half and half between the two regions, as
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 import scipy.linalg
 import scipy.optimize
@@ -138,6 +140,37 @@ def quarter_circle_tip(R: float, P: float, GJ: float, EJ_radial: float, GA_norma
     )
 
 
+def timoshenko_transfer(
+    omega: float, s: float, EJ: float = 1.0, GA: float = 1.0, m: float = 1.0, rhoJ: float = 0.0
+) -> np.ndarray:
+    """The transfer matrix ``expm(A s)`` (4, 4) of a Timoshenko beam in free vibration at
+    ``omega`` over a length ``s``: ``y(s) = expm(A s) y(0)``, ``y = (w, phi, w', phi')``.
+
+    Free vibration ``w(s) e^{i omega t}``, ``phi(s) e^{i omega t}`` (transverse displacement,
+    section rotation) obeys (Timoshenko 1921; e.g. Han, Benaroya and Wei, J. Sound Vib. 225
+    (1999) 935, eqs. 43-44)::
+
+        GA (w'' - phi') + m omega^2 w = 0
+        EJ phi'' + GA (w' - phi) + rhoJ omega^2 phi = 0
+
+    a linear system ``y' = A y``.  The shear force is ``GA (w' - phi)``, the moment
+    ``EJ phi'``."""
+    A = np.array(
+        [
+            [0.0, 0.0, 1.0, 0.0],
+            [0.0, 0.0, 0.0, 1.0],
+            [-m * omega**2 / GA, 0.0, 0.0, 1.0],
+            [0.0, (GA - rhoJ * omega**2) / EJ, -GA / EJ, 0.0],
+        ]
+    )
+    return scipy.linalg.expm(A * s)
+
+
+#: Rows of ``y = (w, phi, w', phi')`` that vanish at a free end: the shear ``w' - phi`` and the
+#: moment ``phi'`` (scaled by ``1 / GA`` and ``1 / EJ``).
+_FREE = np.array([[0.0, -1.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
+
+
 def timoshenko_cantilever_determinant(
     omega: float,
     L: float = 1.0,
@@ -149,56 +182,69 @@ def timoshenko_cantilever_determinant(
     """Characteristic function of a clamped-free Timoshenko beam; its roots in ``omega`` are
     the exact natural frequencies (rad/s) of planar bending.
 
-    Free vibration ``w(s) e^{i omega t}``, ``phi(s) e^{i omega t}`` (transverse displacement,
-    section rotation) obeys (Timoshenko 1921; e.g. Han, Benaroya and Wei, J. Sound Vib. 225
-    (1999) 935, eqs. 43-44)::
-
-        GA (w'' - phi') + m omega^2 w = 0
-        EJ phi'' + GA (w' - phi) + rhoJ omega^2 phi = 0
-
-    a linear system ``y' = A y`` in ``y = (w, phi, w', phi')``.  Clamped at 0 (``w = phi = 0``)
-    the solution is ``y(s) = expm(A s) [0, 0, a, b]``; free at ``L`` the shear
-    ``GA (w' - phi)`` and the moment ``EJ phi'`` vanish.  The determinant of that 2x2 system in
-    ``(a, b)`` is the frequency equation (equivalent to Huang's closed form, J. Appl. Mech. 28
-    (1961) 579), scaled here by ``1 / (GA EJ)``.  Its Euler-Bernoulli limit (``GA -> inf``,
-    ``rhoJ = 0``) has the roots ``omega = (beta L)^2 sqrt(EJ / (m L^4))``,
-    ``beta L = 1.8751, 4.6941, 7.8548``.
+    Clamped at 0 (``w = phi = 0``) the solution is ``y(s) =`` :func:`timoshenko_transfer`
+    ``[0, 0, a, b]``; free at ``L`` the shear ``GA (w' - phi)`` and the moment ``EJ phi'``
+    vanish.  The determinant of that 2x2 system in ``(a, b)`` is the frequency equation
+    (equivalent to Huang's closed form, J. Appl. Mech. 28 (1961) 579), scaled here by
+    ``1 / (GA EJ)``.  Its Euler-Bernoulli limit (``GA -> inf``, ``rhoJ = 0``) has the roots
+    ``omega = (beta L)^2 sqrt(EJ / (m L^4))``, ``beta L = 1.8751, 4.6941, 7.8548``.
     """
-    A = np.array(
-        [
-            [0.0, 0.0, 1.0, 0.0],
-            [0.0, 0.0, 0.0, 1.0],
-            [-m * omega**2 / GA, 0.0, 0.0, 1.0],
-            [0.0, (GA - rhoJ * omega**2) / EJ, -GA / EJ, 0.0],
-        ]
-    )
-    Y = scipy.linalg.expm(A * L)
-    free = np.array([[0.0, -1.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]]) @ Y[:, 2:]
-    return float(np.linalg.det(free))
+    Y = timoshenko_transfer(omega, L, EJ, GA, m, rhoJ)
+    return float(np.linalg.det(_FREE @ Y[:, 2:]))
+
+
+def timoshenko_pinned_cantilever_determinant(
+    omega: float,
+    a: float,
+    L: float = 1.0,
+    EJ: float = 1.0,
+    GA: float = 1.0,
+    m: float = 1.0,
+    rhoJ: float = 0.0,
+) -> float:
+    """Characteristic function of a Timoshenko beam clamped at 0, pinned at ``0 < a < L``
+    (``w(a) = 0``, rotation free) and free at ``L``.
+
+    From ``y(0) = [0, 0, c, d]``, ``y(a^-) =`` :func:`timoshenko_transfer` ``(a) y(0)``; the
+    pin's reaction ``R`` makes the shear jump, rotation and moment continuous:
+    ``y(a^+) = y(a^-) + [0, 0, R / GA, 0]``; then ``w(a) = 0`` and the free end's two
+    conditions at ``L`` are three equations in ``(c, d, R / GA)``, whose determinant this
+    is."""
+    Ya = timoshenko_transfer(omega, a, EJ, GA, m, rhoJ)
+    Yb = timoshenko_transfer(omega, L - a, EJ, GA, m, rhoJ)
+    rows = np.zeros((3, 3))
+    rows[0, :2] = Ya[0, 2:]
+    rows[1:, :2] = _FREE @ Yb @ Ya[:, 2:]
+    rows[1:, 2] = _FREE @ Yb[:, 2]
+    return float(np.linalg.det(rows))
+
+
+def frequency_roots(
+    determinant: Callable[..., float], n: int, step: float, args: tuple = ()
+) -> np.ndarray:
+    """The ``n`` lowest positive roots of ``determinant(omega, *args)``: sign changes on a grid
+    ``step`` apart (which must be finer than the roots' spacing), refined by ``brentq`` to
+    ``rtol`` 1e-14."""
+    roots: list[float] = []
+    a = step
+    fa = determinant(a, *args)
+    while len(roots) < n:
+        b = a + step
+        fb = determinant(b, *args)
+        if fa * fb < 0:
+            roots.append(scipy.optimize.brentq(determinant, a, b, args=args, rtol=1e-14))
+        a, fa = b, fb
+    return np.array(roots)
 
 
 def timoshenko_cantilever_frequencies(
     n: int, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, m: float = 1.0, rhoJ: float = 0.0
 ) -> np.ndarray:
-    """The ``n`` lowest roots of :func:`timoshenko_cantilever_determinant` (rad/s): sign
-    changes on a grid 1/200 of the first Euler-Bernoulli frequency apart (the Timoshenko roots
-    lie below the Euler-Bernoulli ones, spaced wider than that), refined by ``brentq`` to
-    ``rtol`` 1e-14."""
+    """The ``n`` lowest roots of :func:`timoshenko_cantilever_determinant` (rad/s), on a grid
+    1/200 of the first Euler-Bernoulli frequency apart (the Timoshenko roots lie below the
+    Euler-Bernoulli ones, spaced wider than that; :func:`frequency_roots`)."""
     step = 3.5160 * np.sqrt(EJ / (m * L**4)) / 200
-    roots: list[float] = []
-    a = step
-    fa = timoshenko_cantilever_determinant(a, L, EJ, GA, m, rhoJ)
-    while len(roots) < n:
-        b = a + step
-        fb = timoshenko_cantilever_determinant(b, L, EJ, GA, m, rhoJ)
-        if fa * fb < 0:
-            roots.append(
-                scipy.optimize.brentq(
-                    timoshenko_cantilever_determinant, a, b, args=(L, EJ, GA, m, rhoJ), rtol=1e-14
-                )
-            )
-        a, fa = b, fb
-    return np.array(roots)
+    return frequency_roots(timoshenko_cantilever_determinant, n, step, (L, EJ, GA, m, rhoJ))
 
 
 def simply_supported_point_load(

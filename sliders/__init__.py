@@ -41,6 +41,7 @@ if TYPE_CHECKING:
     from sliders.lines.chain import BeamChain
     from sliders.lines.rigid import CircularArc, CubicSpline, Helix, StraightLine
     from sliders.solve.dynamics import Adaptive, Dynamics, DynamicsError
+    from sliders.solve.modes import StateModes, modes_about
     from sliders.solve.statics import SliderSolution, SliderStatics, solve_translated
     from sliders.solve.sweep import sweep
 
@@ -72,6 +73,8 @@ _MODULES = {
     "CubicSpline": "sliders.lines.rigid",
     "Helix": "sliders.lines.rigid",
     "StraightLine": "sliders.lines.rigid",
+    "StateModes": "sliders.solve.modes",
+    "modes_about": "sliders.solve.modes",
     "Adaptive": "sliders.solve.dynamics",
     "Dynamics": "sliders.solve.dynamics",
     "DynamicsError": "sliders.solve.dynamics",
@@ -101,9 +104,11 @@ __all__ = [
     "Slider",
     "SliderSolution",
     "SliderStatics",
+    "StateModes",
     "StraightLine",
     "Tabulated",
     "load_scene",
+    "modes_about",
     "parse_scene",
     "render",
     "run",

@@ -18,6 +18,7 @@ from sliders.app.errors import Problem, Problems
 from sliders.app.schema import (
     Abscissa,
     DynamicStudy,
+    ModesStudy,
     PointLoad,
     Scene,
     SectionSpec,
@@ -398,6 +399,10 @@ def _check_study(scene: Scene, names: _Names, problems: Problems) -> None:
             # named where the mass is missing: every beam's section (no body has a mass)
             weightless = "study.gravity (nothing has a mass: it would weigh nothing)"
             _check_masses(scene, weightless, problems)
+        if isinstance(study, ModesStudy):
+            _check_masses(scene, "a modes study", problems)
+            if study.window is not None and study.window[0] >= study.window[1]:
+                problems.add("study.window", "f_min must be below f_max", list(study.window))
         for i, body in enumerate(scene.body):
             for key in ("velocity", "angular_velocity"):
                 if getattr(body, key) is not None:
@@ -412,7 +417,9 @@ def _check_study(scene: Scene, names: _Names, problems: Problems) -> None:
             "'condensed' eliminates slider unknowns and needs at least one slider; use 'bordered'",
             study.method,
         )
-    if not isinstance(study, SweepStudy):
+    if not isinstance(study, SweepStudy) or study.parameter is None:
+        if isinstance(study, SweepStudy) and (study.values, study.range) != (None, None):
+            problems.add("study", "values and range sweep a parameter: give one")
         return
     if (study.values is None) == (study.range is None):
         problems.add("study", "give exactly one of values, range")

@@ -135,7 +135,7 @@ def _check(args: argparse.Namespace) -> int:
 
     scene, spec = model.scene, model.scene.study
     study: str = spec.kind
-    if isinstance(spec, SweepStudy):
+    if isinstance(spec, SweepStudy) and spec.parameter is not None:
         study += f" over {spec.parameter.kind}, {len(spec.sweep_values())} values"
     if isinstance(spec, DynamicStudy):
         study += f" to t = {spec.t_end:g} s, step {spec.step:g} s, {len(scene.drive)} drives"

@@ -4,16 +4,17 @@ A valid scene may set an option that has no effect on its study: friction in a s
 (a static solve has no sliding speed), a slider's or point load's ``kernel`` without
 ``smearing``, ``mu_static``'s Stribeck speed without ``mu_static``, ``study.every`` when
 nothing keeps states (no VTU, no renders of every state), ``study.planar`` with the bordered
-back end (which solves every dof).  The result is what it would be without the option, which
-is not what the scene asks for: :func:`ignored_options` lists them, and ``fvslider check`` and
-``run`` print each as a warning (the scene stays valid).  Only keys the scene writes count
-(pydantic's ``model_fields_set``): a default is never reported.
+back end (which solves every dof) or in a modes study. The result is what it would be
+without the option, which is not what the scene asks for: :func:`ignored_options` lists
+them, and ``fvslider check`` and ``run`` print each as a warning (the scene stays valid).
+Only keys the scene writes count (pydantic's ``model_fields_set``): a default is never
+reported.
 """
 
 from __future__ import annotations
 
 from sliders.app.errors import Problem
-from sliders.app.schema import DynamicStudy, PointLoad, Scene
+from sliders.app.schema import DynamicStudy, ModesStudy, PointLoad, Scene
 
 
 def ignored_options(scene: Scene) -> list[Problem]:
@@ -47,6 +48,15 @@ def ignored_options(scene: Scene) -> list[Problem]:
         if isinstance(load, PointLoad) and "kernel" in load.model_fields_set:
             if load.smearing == 0:
                 found.append(_unsmeared(f"load[{i}].kernel", load.kernel))
+    if isinstance(study, ModesStudy) and "planar" in study.model_fields_set:
+        found.append(
+            Problem(
+                "study.planar",
+                "ignored: a modes study solves the three-dimensional problem (the modes of "
+                "both planes)",
+                study.planar,
+            )
+        )
     if isinstance(study, DynamicStudy) and "every" in study.model_fields_set:
         output = scene.output
         if not output.vtu and output.png != "all":

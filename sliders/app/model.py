@@ -54,6 +54,7 @@ from sliders.app.schema import (
     DofDriveSpec,
     DynamicStudy,
     LoadFactor,
+    ModesStudy,
     PointLoad,
     Scene,
     SliderSpec,
@@ -465,7 +466,7 @@ class Model:
                         self.scene.slider[i].body,
                     )
         study = self.scene.study
-        if not problems and isinstance(study, SweepStudy):
+        if not problems and isinstance(study, SweepStudy) and study.parameter is not None:
             self._check_sweep(study, problems)
 
     def _check_held(self, problems: Problems) -> None:
@@ -696,8 +697,8 @@ class Model:
         (``study.planar``, default true; not with the bordered back end, which cannot pin
         the joints' out-of-plane reactions)."""
         study = self.scene.study
-        if not study.planar or study.method == "bordered":
-            return None
+        if not study.planar or study.method == "bordered" or isinstance(study, ModesStudy):
+            return None  # the modes are the 3-D problem's (sliders.solve.modes)
         structure = self.structure
         matrices = [structure.tangent(np.zeros(structure.n_dofs))]
         vectors = [("the loads", self.load_vector(structure, None))]
@@ -917,6 +918,12 @@ class Model:
                     CHOICES[table],
                     KEY_COLUMNS[table],
                 )
+        if "modes" in output.csv and not isinstance(self.scene.study, ModesStudy):
+            problems.add(
+                "output.csv",
+                f"modes.csv is a modes study's, not a {self.scene.study.kind} study's",
+                "modes",
+            )
         if output.animation != "none" and not isinstance(self.scene.study, DynamicStudy):
             problems.add(
                 "output.animation",

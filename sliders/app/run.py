@@ -3,7 +3,8 @@
 A static study has one sample; a sweep has one per parameter value, solved as a continuation
 (:func:`sliders.solve.sweep.sweep`: a progress bar on a terminal, failed points recorded with their
 message, Ctrl-C keeping the completed points).  A dynamic study is a time integration
-(:func:`sliders.app.run_dynamic.integrate`).  Writing is a separate step:
+(:func:`sliders.app.run_dynamic.integrate`).  A modes study adds the modes about every
+converged sample (:func:`sliders.app.run_modes.modes_of`).  Writing is a separate step:
 :func:`sliders.app.tables.write_results` for samples, :func:`sliders.app.run_dynamic.write_dynamic`
 for a time integration.
 """
@@ -18,7 +19,7 @@ import numpy as np
 
 from sliders.app.model import Model
 from sliders.app.run_dynamic import DynamicRun, integrate
-from sliders.app.schema import DynamicStudy, Scene, SweepStudy
+from sliders.app.schema import DynamicStudy, ModesStudy, Scene, SweepStudy
 from sliders.solve.statics import SliderSolution, SliderStatics
 from sliders.solve.sweep import sweep
 
@@ -46,6 +47,8 @@ class Results:
     planned: int = 1
     interrupted: bool = False
     seconds: float = 0.0
+    #: A modes study's modes about every converged sample (:mod:`sliders.app.run_modes`).
+    modes: list | None = None
 
     @property
     def scene(self) -> Scene:
@@ -79,11 +82,25 @@ def run(model: Model, progress: bool = True) -> Results | DynamicRun:
     study = model.scene.study
     if isinstance(study, DynamicStudy):
         return integrate(model, progress)
+    results = _samples(model, progress)
+    if isinstance(study, ModesStudy):
+        from sliders.app.run_modes import modes_of
+
+        start = time.perf_counter()
+        results.modes = modes_of(results.samples, study, progress)
+        results.seconds += time.perf_counter() - start
+    return results
+
+
+def _samples(model: Model, progress: bool) -> Results:
+    """The samples of a static study or a sweep (a modes study's states)."""
+    study = model.scene.study
+    assert not isinstance(study, DynamicStudy)
     options: dict[str, Any] = dict(
         tol=study.tol, max_iterations=study.max_iterations, load_steps=study.load_steps
     )
     start = time.perf_counter()
-    if not isinstance(study, SweepStudy):
+    if not isinstance(study, SweepStudy) or study.parameter is None:
         statics, f = model.problem()
         try:
             sample = Sample(0, None, statics, f, statics.solve(f, **options))

@@ -25,8 +25,9 @@ from fvbeam.geometry import inertia3, orthonormal3
 
 NAME_PATTERN = r"^[A-Za-z_][A-Za-z0-9_\-]*$"
 #: The CSV tables a run can write (:mod:`sliders.app.tables`).
-TableName = Literal["samples", "nodes", "sliders", "internal_forces", "reactions"]
-TABLES = get_args(TableName)
+TableName = Literal["samples", "nodes", "sliders", "internal_forces", "reactions", "modes"]
+#: The tables every static study and sweep writes by default (a modes study adds ``modes``).
+TABLES = get_args(TableName)[:-1]
 
 Number = Annotated[float, Strict(), Field(allow_inf_nan=False, description="a finite number")]
 Positive = Annotated[
@@ -553,6 +554,21 @@ class SweepStudy(Solver):
         return np.linspace(self.range.start, self.range.stop, self.range.num)
 
 
+class ModesStudy(SweepStudy):
+    """Modes about the static state (:func:`sliders.solve.modes.modes_about`): the ``count``
+    lowest, or with ``window = [f_min, f_max]`` (Hz) at most ``count`` in it; ``damping`` the
+    beams' stiffness-proportional coefficient (s), as a dynamic study's.  With a
+    ``parameter`` (and its ``values`` or ``range``) about every point of that sweep, each
+    mode followed from point to point by its shape (MAC); without one, about the scene as
+    written."""
+
+    kind: Literal["modes"]  # type: ignore[assignment]
+    parameter: Parameter | None = None  # type: ignore[assignment]
+    count: Count = 6
+    window: tuple[NonNegative, Positive] | None = None
+    damping: NonNegative = 0.0
+
+
 class AdaptiveSpec(Table):
     """Error-controlled steps (:class:`sliders.solve.dynamics.Adaptive`)."""
 
@@ -607,7 +623,7 @@ class DynamicStudy(Newton):
     start: StartSpec | None = None
 
 
-Study = Annotated[StaticStudy | SweepStudy | DynamicStudy, Field(discriminator="kind")]
+Study = Annotated[StaticStudy | SweepStudy | ModesStudy | DynamicStudy, Field(discriminator="kind")]
 
 
 Names = Annotated[tuple[Text, ...], Field(description="a list of names")]

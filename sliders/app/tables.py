@@ -42,8 +42,9 @@ from fvbeam.io import OUTPUT_MARKER as MARKER
 from fvbeam.io import replace_directory
 from fvbeam.support import complement
 from sliders.app.run import Results, Sample
+from sliders.app.run_modes import write_modes
 from sliders.app.scene import dump_scene
-from sliders.app.schema import Scene
+from sliders.app.schema import ModesStudy, Scene
 from sliders.app.state_tables import (
     STATE_COLUMNS,
     Selection,
@@ -147,7 +148,13 @@ def write_results(results: Results, out: str | Path, tables: Sequence[str] | Non
     def fill(directory: Path) -> None:
         (directory / "scene.toml").write_text(dump_scene(results.scene))
         for name in tables:
-            write_table(results, name, directory / f"{name}.csv", selections.get(name))
+            if name != "modes":
+                write_table(results, name, directory / f"{name}.csv", selections.get(name))
+        study = results.scene.study
+        if results.modes is not None and isinstance(study, ModesStudy):
+            default = "csv" not in output.model_fields_set
+            sweep = study.parameter is not None
+            write_modes(results.modes, directory, default or "modes" in tables, sweep)
         if output.vtu:
             write_series(
                 directory / "states",

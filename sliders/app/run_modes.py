@@ -1,0 +1,192 @@
+"""A modes study: the modes about the static state of every sample, followed along a sweep.
+
+:func:`modes_of` takes the samples of a run (:func:`sliders.app.run.run`: the scene as
+written, or every point of the sweep) and solves the modes about each converged one
+(:func:`sliders.solve.modes.modes_about`, one factorisation per sample).  Along a sweep each
+mode keeps its number from point to point by its shape: the modes of a point are numbered
+as those of the previous point they resemble most (:func:`sliders.solve.modes.follow`, the
+largest total MAC), so a number names one mode where frequencies cross.
+
+Outputs (:func:`write_modes`, into the run's new output directory, which replaces the old one
+whole): ``modes.csv`` (:data:`MODES_COLUMNS`), the shapes as a VTU
+series per sample (``modes_NNNNNN/modes_NNNNNN.pvd``, one state per mode, its number as the
+time: ParaView steps through the modes, and Warp By Vector shows each), and along a sweep
+``campbell.png``, the frequencies against the parameter, one curve per mode number (with
+matplotlib, the ``plot`` extra).
+"""
+
+from __future__ import annotations
+
+import csv
+import importlib.util
+import warnings
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Protocol
+
+import numpy as np
+
+from fvbeam.support import complement
+from sliders.app.schema import ModesStudy
+from sliders.app.state_tables import cell
+from sliders.app.vtu import Frame, write_series
+from sliders.solve.modes import PRELOAD_WARNING, StateModes, follow, modes_about
+from sliders.solve.statics import SliderSolution, SliderStatics
+
+#: The columns of ``modes.csv``: a row per converged sample and mode.
+MODES_COLUMNS = ("sample", "value", "mode", "frequency_hz", "damping_ratio", "mac")
+
+
+class Solved(Protocol):
+    """What the modes read of a sample (:class:`sliders.app.run.Sample`)."""
+
+    @property
+    def index(self) -> int: ...
+
+    @property
+    def value(self) -> float | None: ...
+
+    @property
+    def statics(self) -> SliderStatics | None: ...
+
+    @property
+    def solution(self) -> SliderSolution | None: ...
+
+
+@dataclass(frozen=True)
+class SampleModes:
+    """The modes about one converged sample: ``number`` (k,) each mode's number (from 1,
+    followed along a sweep) and ``mac`` (k,) its MAC to the previous sample's mode of that
+    number (NaN at the first sample, or for a mode new at this one); or the ``error`` that
+    stopped its eigen solve."""
+
+    sample: Solved
+    modes: StateModes | None
+    number: np.ndarray
+    mac: np.ndarray
+    error: str | None = None
+
+
+def modes_of(
+    samples: Sequence[Solved], study: ModesStudy, progress: bool = True
+) -> list[SampleModes]:
+    """The modes of ``study`` about every converged one of ``samples``, in order (module
+    docstring); a tqdm progress bar on a terminal; the preload warning
+    (:data:`~sliders.solve.modes.PRELOAD_WARNING`) once for the run."""
+    from tqdm import tqdm
+
+    out: list[SampleModes] = []
+    previous: np.ndarray | None = None  # the last shapes, one column per mode number
+    loaded = False
+    samples = [s for s in samples if s.solution is not None]
+    for sample in tqdm(samples, disable=None if progress else True, desc="modes"):
+        assert sample.statics is not None and sample.solution is not None
+        try:
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                modes = modes_about(
+                    sample.statics,
+                    sample.solution,
+                    study.count,
+                    mass=study.mass,
+                    damping=study.damping,
+                    window=study.window,
+                )
+            loaded = loaded or any(PRELOAD_WARNING in str(w.message) for w in caught)
+        except ValueError as exc:
+            out.append(SampleModes(sample, None, np.zeros(0, int), np.zeros(0), str(exc)))
+            continue
+        k = len(modes.omega)
+        if previous is None:
+            number, mac = np.arange(k), np.full(k, np.nan)
+        else:
+            number, mac = follow(previous, modes.shapes)
+        out.append(SampleModes(sample, modes, number + 1, mac))
+        width = max(number.max() + 1 if k else 0, 0 if previous is None else previous.shape[1])
+        shapes = np.zeros((modes.shapes.shape[0], width), dtype=modes.shapes.dtype)
+        if previous is not None:  # a number missing here keeps its last shape
+            shapes[:, : previous.shape[1]] = previous
+        shapes[:, number] = modes.shapes
+        previous = shapes
+    if loaded:
+        warnings.warn(PRELOAD_WARNING, UserWarning, stacklevel=2)
+    return out
+
+
+def _rows(found: list[SampleModes]) -> Iterator[list[str]]:
+    for entry in found:
+        if entry.modes is None:
+            continue
+        order = np.argsort(entry.number)
+        for j in order:
+            yield [
+                cell(v)
+                for v in (
+                    entry.sample.index,
+                    entry.sample.value,
+                    int(entry.number[j]),
+                    float(entry.modes.hertz[j]),
+                    float(entry.modes.damping_ratio[j]),
+                    None if np.isnan(entry.mac[j]) else float(entry.mac[j]),
+                )
+            ]
+
+
+def write_modes(found: list[SampleModes], directory: Path, table: bool, sweep: bool) -> None:
+    """Write ``modes.csv`` (when ``table``), the shapes' VTU series and, for a ``sweep``,
+    ``campbell.png`` into ``directory`` (module docstring)."""
+    if table:
+        with open(directory / "modes.csv", "w", newline="") as handle:
+            writer = csv.writer(handle)
+            writer.writerow(MODES_COLUMNS)
+            writer.writerows(_rows(found))
+    for entry in found:
+        if entry.modes is not None and len(entry.number):
+            series = directory / f"modes_{entry.sample.index:06d}"
+            write_series(series, _frames(entry))
+    if sweep and importlib.util.find_spec("matplotlib") is not None:
+        _campbell(found, directory / "campbell.png")
+
+
+def _frames(entry: SampleModes) -> Iterator[Frame]:
+    """One state per mode, by number: the shape's real part as the displacement about the
+    sample's state (sliders at their abscissae)."""
+    statics, solution, modes = entry.sample.statics, entry.sample.solution, entry.modes
+    assert statics is not None and solution is not None and modes is not None
+    held = complement(statics.structure.n_dofs, statics.free)
+    for j in np.argsort(entry.number):
+        yield Frame(
+            float(entry.number[j]),
+            statics.structure,
+            modes.shapes[:, j].real,
+            statics.sliders,
+            solution.unknowns,
+            held,
+        )
+
+
+def _campbell(found: list[SampleModes], path: Path) -> None:
+    """The frequencies against the sweep's parameter, one line per mode number, as a PNG at
+    ``path`` (inside the run's new output directory, which replaces the old one whole)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    curves: dict[int, list[tuple[float, float]]] = {}
+    for entry in found:
+        if entry.modes is None:
+            continue
+        for n, f in zip(entry.number, entry.modes.hertz, strict=True):
+            curves.setdefault(int(n), []).append((float(entry.sample.value or 0.0), float(f)))
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for n, points in sorted(curves.items()):
+        x, y = np.array(points).T
+        ax.plot(x, y, marker=".", label=f"mode {n}")
+    ax.set_xlabel("parameter")
+    ax.set_ylabel("frequency (Hz)")
+    ax.legend(fontsize="small", ncol=2)
+    ax.grid(True, alpha=0.3)
+    fig.savefig(path, dpi=120, bbox_inches="tight")
+    plt.close(fig)
