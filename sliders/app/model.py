@@ -168,13 +168,26 @@ def _body(spec) -> RigidBody:
     )
 
 
-def _force(spec) -> ForceElement:
-    """A ``[[force]]`` table's element (its parameters checked where it is built)."""
+def _force(spec, where: str, problems: Problems) -> ForceElement | None:
+    """A ``[[force]]`` table's element, or None with its problems recorded at their keys: an
+    axial element's law at ``WHERE.law``, a tyre's directions at ``WHERE.normal`` and
+    ``WHERE.forward``, the rest (what the element checks of its parts together) at
+    ``WHERE``."""
+    found = len(problems)
     if spec.kind == "axial":
-        law = Strut(**{k: v for k, v in spec.law.model_dump().items() if k != "kind"})
-        return AxialForce(spec.nodes[0], spec.nodes[1], law, spec.extended, name=spec.name)
+        fields = {k: v for k, v in spec.law.model_dump().items() if k != "kind"}
+        law = problems.attempt(f"{where}.law", partial(Strut, **fields))
+        if len(problems) > found:
+            return None
+        build = partial(AxialForce, spec.nodes[0], spec.nodes[1], law, spec.extended)
+        return problems.attempt(where, partial(build, name=spec.name))
+    for key in ("normal", "forward"):
+        problems.attempt(f"{where}.{key}", partial(direction, getattr(spec, key), key))
+    if len(problems) > found:
+        return None
     keys = ("radius", "stiffness", "damping", "B", "C", "D", "speed_eps")
-    return Tyre(
+    tyre = partial(
+        Tyre,
         spec.axle,
         spec.wheel,
         **{k: getattr(spec, k) for k in keys},
@@ -183,6 +196,7 @@ def _force(spec) -> ForceElement:
         forward=spec.forward,
         name=spec.name,
     )
+    return problems.attempt(where, tyre)
 
 
 def _motion(spec) -> Linear | Ramp | Tabulated:
@@ -312,9 +326,7 @@ class Model:
             problems.attempt(f"slider[{i}]", partial(self._slider, s, self.structure))
             for i, s in enumerate(scene.slider)
         ]
-        self.forces = [
-            problems.attempt(f"force[{i}]", partial(_force, s)) for i, s in enumerate(scene.force)
-        ]
+        self.forces = [_force(s, f"force[{i}]", problems) for i, s in enumerate(scene.force)]
         problems.raise_if_any(source)
         self._check_force_geometry(problems)
         self._check_back_end(problems)
