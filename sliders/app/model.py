@@ -326,7 +326,8 @@ class Model:
             problems.attempt(f"slider[{i}]", partial(self._slider, s, self.structure))
             for i, s in enumerate(scene.slider)
         ]
-        self.forces = [_force(s, f"force[{i}]", problems) for i, s in enumerate(scene.force)]
+        forces = [_force(s, f"force[{i}]", problems) for i, s in enumerate(scene.force)]
+        self.forces = [f for f in forces if f is not None]  # None: a problem, raised next
         problems.raise_if_any(source)
         self._check_force_geometry(problems)
         self._check_back_end(problems)
