@@ -13,31 +13,46 @@ an axial force element, a tyre, a static start and derived outputs.  Its study i
   underflow; a power of two scales a float exactly, so the direction read is exactly the
   unit one and the run's bytes are the unscaled run's);
 * friction on either slider or none (``mu``, ``mu_static``, ``v_eps``, ``v_stribeck``);
-* the start's velocity and held nodes, or no start table;
+* the start's velocity and held nodes (the airframe and the wheel, maybe the axle);
 * the tables of ``output.csv``, the columns of ``history`` and of ``[output.nodes]``, the
   probes (the derived outputs, which read them all, kept or dropped);
 * the checkpoint's interval in steps.
 
-Property: the variant with one thing made wrong (:func:`broken`, each kind of
-:data:`BROKEN` in turn: a geometry ``run`` would refuse, a name that is not there or is
-repeated, a number out of range or of the wrong type, an unknown key) is refused by both
-commands with one message naming its key path, and nothing is written
-(:func:`test_cli_properties.examine`).
+Properties:
 
-Examples are few (each runs the command) and derandomised: the same ones on every run.
+* a valid variant is accepted by ``check``, with a warning at its key for every option the
+  study ignores (``v_stribeck`` without ``mu_static``), and ``run`` writes exactly the
+  selected tables, with exactly the selected columns in the tables' order (the probes in
+  the scene's);
+* with its tyre's vectors scaled by powers of two, its ``history.csv`` is byte for byte the
+  one of the unit vectors (an overflowing norm once made ``[0, 0, 1e200]`` a zero normal);
+* killed after a drawn step and resumed, it writes the files of an uninterrupted run and
+  exits with its code; killed before its first checkpoint, ``--resume`` says there is none;
+* with one thing made wrong (:func:`broken`, each kind of :data:`BROKEN` in turn: a
+  geometry ``run`` would refuse, a name that is not there or is repeated, a number out of
+  range or of the wrong type, an unknown key) it is refused by both commands with one
+  message naming the key path, and nothing is written (:func:`test_cli_properties.examine`).
+
+Examples are few (each runs the command), derandomised (the same ones on every run) and not
+shrunk (a failure is reported as drawn): about 20 s in all once the kernels are loaded.
 """
 
 from __future__ import annotations
 
 import copy
 import math
+import re
 from datetime import timedelta
+from pathlib import Path
 
 import pytest
-from hypothesis import HealthCheck, given, settings
+import tomli_w
+from hypothesis import HealthCheck, Phase, event, given, settings
 from hypothesis import strategies as st
-from test_cli_properties import examine, small
+from test_checkpoint import Killed, files, kill_after
+from test_cli_properties import command, examine, small
 
+from sliders.app.checkpoint import checkpoint_directory
 from sliders.sliding_beams.model import compile_kernels
 
 #: Time steps of a variant's study: enough for checkpoints to fall between a kill and the end.
@@ -123,13 +138,13 @@ def variants(draw, scale_vectors: bool = True) -> tuple[dict, dict]:
                 warned.append(f"slider[{i}].friction.v_stribeck")
         slider["friction"] = friction
     study = scene["study"]
-    if draw(st.booleans()):
-        study["start"] = {
-            "velocity": [draw(st.floats(0.0, 60.0)), 0.0, draw(st.floats(-4.0, 0.0))],
-            "hold": ["airframe", *subset(draw, ["wheel"])],
-        }
-    else:
-        del study["start"]
+    study["start"] = {  # the static start holds what only the dynamics hold (the wheel's
+        # spin, the airframe's fore-aft and vertical motion) and maybe the axle
+        "velocity": [draw(st.floats(0.0, 60.0)), 0.0, draw(st.floats(-4.0, 0.0))],
+        "hold": subset(draw, ["airframe", "wheel", "axle"], 3)
+        if draw(st.booleans())
+        else draw(st.permutations(["airframe", "wheel"])),
+    }
     study["checkpoint"] = {"steps": draw(st.integers(1, STEPS))}
     output = scene["output"]
     expected: dict = {"tables": subset(draw, TABLES), "warned": warned, "nodes": None}
@@ -144,6 +159,10 @@ def variants(draw, scale_vectors: bool = True) -> tuple[dict, dict]:
         output["nodes"] = {"nodes": rows, "columns": columns}
         expected["nodes"] = columns
     expected["derived"] = draw(st.booleans())
+    if expected["derived"] and expected["history"] is not None:  # a peak reads top.xi
+        expected["history"] = [*expected["history"], "top.xi"]
+        output["history"] = sorted(set(expected["history"]), key=expected["history"].index)
+        expected["history"] = output["history"]
     if not expected["derived"]:
         for key in DERIVED:
             del output[key]
@@ -151,6 +170,122 @@ def variants(draw, scale_vectors: bool = True) -> tuple[dict, dict]:
         output["probe"] = [probes[i] for i in subset(draw, range(len(probes)))]
     expected["probes"] = [p["name"] for p in output["probe"]]
     return scene, expected
+
+
+def header(path: Path) -> list[str]:
+    return path.read_text().partition("\n")[0].split(",")
+
+
+def run_to(folder: Path, scene: dict, name: str) -> tuple[int, Path, str]:
+    """``fvslider run`` of ``scene`` written to ``folder/NAME.toml``, into ``folder/NAME``."""
+    path, out = folder / f"{name}.toml", folder / name
+    path.write_text(tomli_w.dumps(scene))
+    code, _, err = command("run", str(path), "--out", str(out))
+    assert "Traceback" not in err
+    return code, out, err
+
+
+@pytest.fixture(scope="module")
+def everything(tmp_path_factory) -> list[str]:
+    """The ``history.csv`` header of :func:`gear` with every output kept: the order every
+    selection keeps."""
+    scene = gear()
+    del scene["output"]["history"]
+    code, out, err = run_to(tmp_path_factory.mktemp("everything"), scene, "all")
+    assert code == 0, err
+    return header(out / "history.csv")
+
+
+SETTINGS = settings(
+    max_examples=8,
+    phases=[Phase.explicit, Phase.generate],
+    report_multiple_bugs=False,
+    deadline=timedelta(seconds=60),
+    derandomize=True,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture],
+)
+
+
+@SETTINGS
+@given(variant=variants())
+def test_a_valid_gear_runs_and_writes_what_it_selects(variant, everything, tmp_path_factory):
+    scene, expected = variant
+    folder = tmp_path_factory.mktemp("gear")
+    path = folder / "scene.toml"
+    path.write_text(tomli_w.dumps(scene))
+    code, stdout, err = command("check", str(path))
+    assert code == 0 and "valid" in stdout, err
+    assert re.findall(r": warning: ([^ :]+)", err) == expected["warned"], err
+    code, out, err = run_to(folder, scene, "out")
+    event(f"run exits {code}")
+    assert code == 0, err
+    written = {p.name for p in out.iterdir()}
+    summary = {"summary.csv"} if expected["derived"] else set()
+    tables = {f"{t}.csv" for t in expected["tables"]}
+    assert written == {
+        ".fvslider-output",
+        "history.csv",
+        "state.npz",
+        "scene.toml",
+        *tables,
+        *summary,
+    }
+    kept = {"step", "t", *(HISTORY if expected["history"] is None else expected["history"])}
+    derived = [c for c in everything if "." in c and c not in HISTORY]  # loads, events
+    columns = [c for c in everything if c in kept] + expected["probes"]  # in the scene's order
+    if expected["derived"]:
+        columns += derived
+    assert header(out / "history.csv") == columns
+    if expected["nodes"] is not None:
+        chosen = [c for c in NODE_COLUMNS if c in expected["nodes"]]
+        assert header(out / "nodes.csv") == ["step", "t", "part", "xi", *chosen]
+
+
+@SETTINGS
+@given(variant=variants(scale_vectors=False), powers=st.tuples(*[st.integers(-1000, 1000)] * 2))
+def test_the_tyre_is_the_same_whatever_the_length_of_its_vectors(variant, powers, tmp_path_factory):
+    """``2^a e_z`` and ``2^b e_x`` are read as ``e_z`` and ``e_x``: the same bytes out (the
+    overflowing norm of ``[0, 0, 1e200]`` once made the normal zero and the run exit 0)."""
+    scene, _ = variant
+    folder = tmp_path_factory.mktemp("tyre")
+    unit = run_to(folder, scene, "unit")
+    tyre = scene["force"][1]
+    tyre["normal"] = [0.0, 0.0, 2.0 ** powers[0]]
+    tyre["forward"] = [2.0 ** powers[1], 0.0, 0.0]
+    long = run_to(folder, scene, "scaled")
+    assert unit[0] == long[0] == 0, (unit[2], long[2])
+    assert files(unit[1])["history.csv"] == files(long[1])["history.csv"]
+
+
+@SETTINGS
+@given(variant=variants(), kill=st.integers(2, STEPS - 1), every=st.integers(1, 3))
+def test_a_gear_killed_and_resumed_writes_an_uninterrupted_runs_bytes(
+    variant, kill, every, tmp_path_factory, monkeypatch
+):
+    """Killed after step ``kill``, with a checkpoint every ``every`` steps (before that
+    step's checkpoint), resumed: the files of the uninterrupted run, and its exit code."""
+    scene, _ = variant
+    scene["study"]["checkpoint"] = {"steps": every}
+    scene["output"]["vtu"] = True  # the states, too
+    scene["study"]["every"] = 2
+    folder = tmp_path_factory.mktemp("resume")
+    code, whole, err = run_to(folder, scene, "whole")
+    event(f"the whole run exits {code}")  # 1: a step failed, its steps written
+    assert code in (0, 1), err
+    path, out = folder / "whole.toml", folder / "killed"
+    with monkeypatch.context() as patch:
+        kill_after(patch, kill)
+        with pytest.raises(Killed):
+            command("run", str(path), "--out", str(out))
+    event("a checkpoint to resume from" if kill > every else "no checkpoint yet")
+    if kill <= every:  # killed before its first checkpoint: nothing to resume, and said so
+        code, _, err = command("run", str(path), "--resume", str(out))
+        assert code == 2 and "no checkpoint to resume from" in err
+        return
+    assert checkpoint_directory(out).is_dir()
+    resumed, _, err = command("run", str(path), "--resume", str(out))
+    assert resumed == code, err
+    assert files(out) == files(whole) and (out / "history.csv").is_file()
 
 
 def _one_of(draw, items):
