@@ -309,6 +309,7 @@ BROKEN = (
     "non-finite tyre vector",
     "force number",
     "friction number",
+    "mu_static below mu",
     "bordered with force elements",
     "undefined held node",
     "held twice",
@@ -372,6 +373,10 @@ def broken(draw, kind: str) -> tuple[dict, str, str, bool]:
         friction = {"mu": 0.1, key: _wrong_number(draw, positive=key.startswith("v"))}
         scene["slider"][i]["friction"] = friction
         return scene, kind, f"slider[{i}].friction.{key}", False
+    if kind == "mu_static below mu":
+        i = draw(st.integers(0, 1))
+        scene["slider"][i]["friction"] = {"mu": 0.2, "mu_static": draw(st.floats(0.0, 0.19))}
+        return scene, kind, f"slider[{i}].friction", False
     if kind == "bordered with force elements":
         study["method"] = "bordered"
         return scene, kind, "study.method", False

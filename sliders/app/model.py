@@ -322,9 +322,15 @@ class Model:
             d.slider: _motion(d.motion) for d in scene.drive if d.kind == "abscissa"
         }
         self.structure = Structure(self.beams, self.ties, self.bodies)
-        self.sliders = [
-            problems.attempt(f"slider[{i}]", partial(self._slider, s, self.structure))
+        frictions = [  # at their own key: what the friction law checks of its coefficients
+            problems.attempt(f"slider[{i}].friction", partial(Friction, **s.friction.model_dump()))
+            if s.friction
+            else None
             for i, s in enumerate(scene.slider)
+        ]
+        self.sliders = [
+            problems.attempt(f"slider[{i}]", partial(self._slider, s, self.structure, friction))
+            for i, (s, friction) in enumerate(zip(scene.slider, frictions, strict=True))
         ]
         forces = [_force(s, f"force[{i}]", problems) for i, s in enumerate(scene.force)]
         self.forces = [f for f in forces if f is not None]  # None: a problem, raised next
@@ -362,7 +368,7 @@ class Model:
             return self.lines[spec.line[0]]
         return BeamChain(structure, spec.line)
 
-    def _slider(self, spec: SliderSpec, structure: Structure) -> Slider:
+    def _slider(self, spec: SliderSpec, structure: Structure, friction: Friction | None) -> Slider:
         return Slider(
             spec.kind,
             self._line(spec, structure),
@@ -374,7 +380,7 @@ class Model:
             spec.orientation,
             spec.end_stops,
             self.slider_drives.get(spec.name),
-            Friction(**spec.friction.model_dump()) if spec.friction else None,
+            friction,
             spec.name,
         )
 
@@ -768,7 +774,10 @@ class Model:
             ]
             if self._previous is None:
                 structure = Structure(beams, self.ties, bodies)
-                sliders = [self._slider(s, structure) for s in self.scene.slider]
+                sliders = [
+                    self._slider(s, structure, built.friction)
+                    for s, built in zip(self.scene.slider, self.sliders, strict=True)
+                ]
                 self._previous = SliderStatics(
                     structure,
                     self.supports,
