@@ -96,3 +96,21 @@ def test_options_a_dynamic_study_ignores():
 @pytest.mark.parametrize("path", sorted(SCENES.glob("*.toml")), ids=lambda p: p.name)
 def test_the_shipped_scenes_set_no_ignored_option(path):
     assert ignored_options(parse_scene(tomllib.loads(path.read_text()), SCENES)) == []
+
+
+@pytest.mark.parametrize(
+    "change,path,message",
+    [
+        (lambda f: f[0]["law"].update(volume=1e-5), "force[0].law", "leaves no gas"),
+        (lambda f: f[1].update(normal=[0.0, 0.0, 0.0]), "force[1].normal", "non-zero"),
+        (lambda f: f[1].update(forward=[0.0, 0.0, 0.0]), "force[1].forward", "non-zero"),
+    ],
+)
+def test_a_force_elements_part_is_named_by_its_key(tmp_path, capsys, change, path, message):
+    """A gas column ``volume / area`` shorter than ``stroke_max`` (6 mm against 0.16 m) and
+    a zero tyre direction are refused at the key that holds them, not at the element."""
+    data = gear()
+    change(data["force"])
+    code, _, err = check(tmp_path, data, capsys)
+    (line,) = err.splitlines()[1:]
+    assert code == 2 and line.startswith(f"  {path}") and message in line, err

@@ -84,7 +84,7 @@ def test_force_problems_are_named():
     scene["force"][0]["law"]["stroke_max"] = -0.1
     paths = {p.path: p.message for p in problems(scene)}
     assert "forward must be normal" in paths["force[1]"]
-    assert "lower (0.0) must be below upper (-0.1)" in paths["force[0]"]
+    assert "lower (0.0) must be below upper (-0.1)" in paths["force[0].law"]
     scene = data("landing_gear")
     scene["force"].append({"kind": "spring", "name": "s"})
     scene["force"][0]["law"]["pressur"] = 4.1e5

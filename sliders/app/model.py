@@ -169,13 +169,26 @@ def _body(spec) -> RigidBody:
     )
 
 
-def _force(spec) -> ForceElement:
-    """A ``[[force]]`` table's element (its parameters checked where it is built)."""
+def _force(spec, where: str, problems: Problems) -> ForceElement | None:
+    """A ``[[force]]`` table's element, or None with its problems recorded at their keys: an
+    axial element's law at ``WHERE.law``, a tyre's directions at ``WHERE.normal`` and
+    ``WHERE.forward``, the rest (what the element checks of its parts together) at
+    ``WHERE``."""
+    found = len(problems)
     if spec.kind == "axial":
-        law = Strut(**{k: v for k, v in spec.law.model_dump().items() if k != "kind"})
-        return AxialForce(spec.nodes[0], spec.nodes[1], law, spec.extended, name=spec.name)
+        fields = {k: v for k, v in spec.law.model_dump().items() if k != "kind"}
+        law = problems.attempt(f"{where}.law", partial(Strut, **fields))
+        if len(problems) > found:
+            return None
+        build = partial(AxialForce, spec.nodes[0], spec.nodes[1], law, spec.extended)
+        return problems.attempt(where, partial(build, name=spec.name))
+    for key in ("normal", "forward"):
+        problems.attempt(f"{where}.{key}", partial(direction, getattr(spec, key), key))
+    if len(problems) > found:
+        return None
     keys = ("radius", "stiffness", "damping", "B", "C", "D", "speed_eps")
-    return Tyre(
+    tyre = partial(
+        Tyre,
         spec.axle,
         spec.wheel,
         **{k: getattr(spec, k) for k in keys},
@@ -184,6 +197,7 @@ def _force(spec) -> ForceElement:
         forward=spec.forward,
         name=spec.name,
     )
+    return problems.attempt(where, tyre)
 
 
 def _motion(spec) -> Linear | Ramp | Tabulated:
@@ -309,13 +323,18 @@ class Model:
             d.slider: _motion(d.motion) for d in scene.drive if d.kind == "abscissa"
         }
         self.structure = Structure(self.beams, self.ties, self.bodies)
-        self.sliders = [
-            problems.attempt(f"slider[{i}]", partial(self._slider, s, self.structure))
+        frictions = [  # at their own key: what the friction law checks of its coefficients
+            problems.attempt(f"slider[{i}].friction", partial(Friction, **s.friction.model_dump()))
+            if s.friction
+            else None
             for i, s in enumerate(scene.slider)
         ]
-        self.forces = [
-            problems.attempt(f"force[{i}]", partial(_force, s)) for i, s in enumerate(scene.force)
+        self.sliders = [
+            problems.attempt(f"slider[{i}]", partial(self._slider, s, self.structure, friction))
+            for i, (s, friction) in enumerate(zip(scene.slider, frictions, strict=True))
         ]
+        forces = [_force(s, f"force[{i}]", problems) for i, s in enumerate(scene.force)]
+        self.forces = [f for f in forces if f is not None]  # None: a problem, raised next
         problems.raise_if_any(source)
         self._check_force_geometry(problems)
         self._check_back_end(problems)
@@ -350,7 +369,7 @@ class Model:
             return self.lines[spec.line[0]]
         return BeamChain(structure, spec.line)
 
-    def _slider(self, spec: SliderSpec, structure: Structure) -> Slider:
+    def _slider(self, spec: SliderSpec, structure: Structure, friction: Friction | None) -> Slider:
         return Slider(
             spec.kind,
             self._line(spec, structure),
@@ -362,7 +381,7 @@ class Model:
             spec.orientation,
             spec.end_stops,
             self.slider_drives.get(spec.name),
-            Friction(**spec.friction.model_dump()) if spec.friction else None,
+            friction,
             spec.name,
         )
 
@@ -756,7 +775,10 @@ class Model:
             ]
             if self._previous is None:
                 structure = Structure(beams, self.ties, bodies)
-                sliders = [self._slider(s, structure) for s in self.scene.slider]
+                sliders = [
+                    self._slider(s, structure, built.friction)
+                    for s, built in zip(self.scene.slider, self.sliders, strict=True)
+                ]
                 self._previous = SliderStatics(
                     structure,
                     self.supports,
