@@ -22,6 +22,7 @@ import tomllib
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from sliders.app.cli import main
 from sliders.app.model import Model
@@ -135,3 +136,43 @@ def test_planar_is_reported_as_ignored_by_a_modes_study():
     found = ignored_options(parse_scene(scene(planar=True), SCENES, "modes.toml"))
     assert [p.path for p in found] == ["study.planar"]
     assert ignored_options(parse_scene(scene(), SCENES, "modes.toml")) == []
+
+
+def test_a_modes_frames_are_one_period_of_the_shape_about_the_state():
+    """A real mode swings as ``phi cos(2 pi k / N)`` at ``t = k / (N f)``: the first frame is
+    the shape, the middle one its negative (exactly: ``e^{i pi} = -1`` to round-off), and
+    the frames span one period."""
+    from sliders.app.run_modes import MODE_FRAMES, mode_frames
+
+    data = scene(range={"start": 0.0, "stop": 0.0, "num": 1})
+    found = run(Model(parse_scene(data, SCENES, "modes.toml")), progress=False).modes
+    assert found is not None and found[0].modes is not None
+    frames = mode_frames(found[0], 0)
+    phi, hertz = found[0].modes.shapes[:, 0].real, found[0].modes.hertz[0]
+    assert len(frames) == MODE_FRAMES
+    np.testing.assert_array_equal(frames[0].q, phi)
+    half = frames[MODE_FRAMES // 2]
+    np.testing.assert_allclose(half.q, -phi, atol=4 * np.finfo(float).eps * np.abs(phi).max())
+    np.testing.assert_allclose(
+        [f.time for f in frames], np.arange(MODE_FRAMES) / (MODE_FRAMES * hertz), rtol=1e-15
+    )
+
+
+def test_a_modes_study_animates_each_mode_of_its_first_sample(tmp_path):
+    """``animation = "gif"`` on a modes study writes ``mode_NN.gif`` per mode of the first
+    sample, one period each (``MODE_FRAMES`` frames)."""
+    imageio = pytest.importorskip("imageio")
+    pytest.importorskip("pyvista")
+    from sliders.app.run_modes import MODE_FRAMES
+
+    path = tmp_path / "modes.toml"
+    text = SCENE.read_text().replace("num = 20", "num = 2").replace("count = 4", "count = 2")
+    path.write_text(
+        text.replace('csv = ["samples", "modes"]', 'csv = ["modes"]\nanimation = "gif"')
+    )
+    assert main(["check", str(path)]) == 0
+    assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 0
+    written = sorted(p.name for p in (tmp_path / "out").glob("mode_*.gif"))
+    assert written == ["mode_01.gif", "mode_02.gif"]
+    for name in written:
+        assert len(imageio.mimread(tmp_path / "out" / name)) == MODE_FRAMES

@@ -946,10 +946,13 @@ class Model:
                 f"modes.csv is a modes study's, not a {self.scene.study.kind} study's",
                 "modes",
             )
-        if output.animation != "none" and not isinstance(self.scene.study, DynamicStudy):
+        if output.animation != "none" and not isinstance(
+            self.scene.study, DynamicStudy | ModesStudy
+        ):
             problems.add(
                 "output.animation",
-                f"animates a dynamic study's states, not a {self.scene.study.kind} study's",
+                "animates a dynamic study's states or a modes study's modes, not a "
+                f"{self.scene.study.kind} study's",
                 output.animation,
             )
         if output.render.follow is not None:

@@ -12,7 +12,9 @@ whole): ``modes.csv`` (:data:`MODES_COLUMNS`), the shapes as a VTU
 series per sample (``modes_NNNNNN/modes_NNNNNN.pvd``, one state per mode, its number as the
 time: ParaView steps through the modes, and Warp By Vector shows each), and along a sweep
 ``campbell.png``, the frequencies against the parameter, one curve per mode number (with
-matplotlib, the ``plot`` extra).
+matplotlib, the ``plot`` extra); with ``output.animation``, each mode of the first converged
+sample as ``mode_NN.mp4`` or ``mode_NN.gif`` (:func:`mode_frames`: one period, one camera,
+magnification and colour range; pyvista, the ``render`` extra).
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ from __future__ import annotations
 import csv
 import importlib.util
 import warnings
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Protocol
@@ -36,6 +38,11 @@ from sliders.solve.statics import SliderSolution, SliderStatics
 
 #: The columns of ``modes.csv``: a row per converged sample and mode.
 MODES_COLUMNS = ("sample", "value", "mode", "frequency_hz", "damping_ratio", "mac")
+#: The frames of one period of a mode's animation.
+MODE_FRAMES = 24
+#: What writes an animation: ``(path, frames, title)`` (:func:`sliders.app.render.animate`
+#: with the scene's force elements and render options).
+Animator = Callable[[Path, Sequence[Frame], str], object]
 
 
 class Solved(Protocol):
@@ -133,9 +140,17 @@ def _rows(found: list[SampleModes]) -> Iterator[list[str]]:
             ]
 
 
-def write_modes(found: list[SampleModes], directory: Path, table: bool, sweep: bool) -> None:
-    """Write ``modes.csv`` (when ``table``), the shapes' VTU series and, for a ``sweep``,
-    ``campbell.png`` into ``directory`` (module docstring)."""
+def write_modes(
+    found: list[SampleModes],
+    directory: Path,
+    table: bool,
+    sweep: bool,
+    animation: tuple[str, Animator] | None = None,
+) -> None:
+    """Write ``modes.csv`` (when ``table``), the shapes' VTU series, for a ``sweep``
+    ``campbell.png``, and with ``animation`` (its format, ``mp4`` or ``gif``, and what
+    writes it) each mode of the first converged sample animated, into ``directory`` (module
+    docstring)."""
     if table:
         with open(directory / "modes.csv", "w", newline="") as handle:
             writer = csv.writer(handle)
@@ -147,6 +162,38 @@ def write_modes(found: list[SampleModes], directory: Path, table: bool, sweep: b
             write_series(series, _frames(entry))
     if sweep and importlib.util.find_spec("matplotlib") is not None:
         _campbell(found, directory / "campbell.png")
+    solved = [entry for entry in found if entry.modes is not None and len(entry.number)]
+    if animation is not None and solved:
+        kind, animate = animation
+        entry = solved[0]
+        assert entry.modes is not None
+        for j in np.argsort(entry.number):
+            number, hertz = int(entry.number[j]), float(entry.modes.hertz[j])
+            title = f"mode {number} ({hertz:.4g} Hz)"
+            animate(directory / f"mode_{number:02d}.{kind}", mode_frames(entry, j), title)
+
+
+def mode_frames(entry: SampleModes, j: int, count: int = MODE_FRAMES) -> list[Frame]:
+    """One period of mode ``j`` (its column) about the sample's state in ``count`` frames:
+    the displacement ``Re(phi e^{i 2 pi k / count})`` at ``t = k / (count f)``, ``phi`` the
+    shape and ``f`` its frequency (a real mode swings as ``phi cos``; a damped, complex one
+    shows the phases of its parts), the sliders at their abscissae."""
+    statics, solution, modes = entry.sample.statics, entry.sample.solution, entry.modes
+    assert statics is not None and solution is not None and modes is not None
+    held = complement(statics.structure.n_dofs, statics.free)
+    shape, hertz = modes.shapes[:, j], float(modes.hertz[j])
+    period = 1.0 / hertz if hertz > 0 else 1.0
+    return [
+        Frame(
+            k * period / count,
+            statics.structure,
+            (shape * np.exp(2j * np.pi * k / count)).real,
+            statics.sliders,
+            solution.unknowns,
+            held,
+        )
+        for k in range(count)
+    ]
 
 
 def _frames(entry: SampleModes) -> Iterator[Frame]:

@@ -42,7 +42,7 @@ from fvbeam.io import OUTPUT_MARKER as MARKER
 from fvbeam.io import replace_directory
 from fvbeam.support import complement
 from sliders.app.run import Results, Sample
-from sliders.app.run_modes import write_modes
+from sliders.app.run_modes import Animator, write_modes
 from sliders.app.scene import dump_scene
 from sliders.app.schema import ModesStudy, Scene
 from sliders.app.state_tables import (
@@ -154,7 +154,9 @@ def write_results(results: Results, out: str | Path, tables: Sequence[str] | Non
         if results.modes is not None and isinstance(study, ModesStudy):
             default = "csv" not in output.model_fields_set
             sweep = study.parameter is not None
-            write_modes(results.modes, directory, default or "modes" in tables, sweep)
+            write_modes(
+                results.modes, directory, default or "modes" in tables, sweep, _animator(results)
+            )
         if output.vtu:
             write_series(
                 directory / "states",
@@ -165,6 +167,23 @@ def write_results(results: Results, out: str | Path, tables: Sequence[str] | Non
             _render(sample, directory / f"render_{sample.index:06d}.png", results.scene)
 
     replace_directory(out, fill, MARKER)
+
+
+def _animator(results: Results) -> tuple[str, Animator] | None:
+    """The format of ``output.animation`` and what writes an animation of the scene (its
+    force elements and render options), or None without one."""
+    output = results.scene.output
+    if output.animation == "none":
+        return None
+    from sliders.app.render import Options, animate
+
+    options = Options.of(output.render)
+
+    def write(path: Path, frames: Sequence[Frame], title: str) -> object:
+        heading = f"{results.scene.title}, {title}" if results.scene.title else title
+        return animate(path, frames, heading, results.model.forces, options, output.render.fps)
+
+    return output.animation, write
 
 
 def _held(sample: Sample) -> np.ndarray:
