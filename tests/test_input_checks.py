@@ -3,6 +3,7 @@
 helper that checks that kind of input on every path."""
 
 import re
+import tomllib
 
 import numpy as np
 import pytest
@@ -254,3 +255,18 @@ def test_scene_input_checks(tmp_path, capsys, text, message):
     err = refused(tmp_path, text, capsys)
     assert message in err, err
     assert "invalid scene, 1 problem" in err
+
+
+@pytest.mark.parametrize(
+    "value, path", [([7, "bottom_friction"], "output.peak[0].of[0]"), (7, "output.peak[0].of")]
+)
+def test_a_value_or_list_is_judged_by_the_shape_given(value, path):
+    """A key that takes a column or a list of columns (``output.peak.of``) reports a wrong
+    entry of a list at that entry, and a wrong single value at the key: one problem, from the
+    branch the scene's shape chose, never both."""
+    from test_scenes import problems
+
+    scene = tomllib.loads((SCENES / "landing_gear.toml").read_text())
+    scene["output"]["peak"][0]["of"] = value
+    found = problems(scene)
+    assert [p.path for p in found] == [path]

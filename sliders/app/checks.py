@@ -560,8 +560,11 @@ def _check_translation(
             )
     if not any(parameter.direction):
         problems.add(f"{path}.direction", "must not be zero", list(parameter.direction))
+    known = set(names.beams) | set(names.bodies)
     for k, tie in enumerate(scene.tie):
         a, b = (part_of(n) for n in tie.nodes)
+        if a not in known or b not in known or not moved <= known:
+            continue  # an undefined name, reported where it is
         if (a in moved) != (b in moved):
             problems.add(
                 f"{path}.move",

@@ -147,6 +147,16 @@ def _union_members(annotation: Any) -> tuple | None:
     return None
 
 
+def _sequence(annotation: Any) -> bool:
+    """Whether ``annotation`` is a tuple or list type."""
+    return typing.get_origin(annotation) in (tuple, list)
+
+
+def _sequence_label(label: str) -> bool:
+    """Whether pydantic's name of a union member, ``label``, is a tuple's or a list's."""
+    return label.startswith(("tuple[", "list["))
+
+
 def _kind_tag(model: Any) -> str | None:
     """The literal ``kind`` of a tagged table class, if it has one."""
     field = getattr(model, "model_fields", {}).get("kind")
@@ -178,6 +188,11 @@ def _walk(root: type[BaseModel], loc: Sequence[Any]) -> _Place:
             tags = {_kind_tag(m): m for m in members}
             if item in tags:
                 node = tags[item]
+                continue
+            if isinstance(item, str) and all(t is None for t in tags):
+                # an untagged union's member, named by pydantic (``tuple[...]`` for the
+                # sequence): not a key of the scene
+                node = next((m for m in members if _sequence(m) == _sequence_label(item)), None)
                 continue
         if isinstance(node, type) and issubclass(node, BaseModel):
             place.table, place.field = node, node.model_fields.get(item)
@@ -256,13 +271,41 @@ def _message(error: ErrorDetails, place: _Place) -> tuple[str, str]:
     return place.path, error["msg"]
 
 
+def _one_branch(errors: list[ErrorDetails]) -> list[ErrorDetails]:
+    """The errors of an untagged union of a value and a sequence of it (``X | tuple[X, ...]``)
+    from the branch the input's shape chose: a list in the scene is judged as the sequence,
+    anything else as the value (pydantic reports both branches, each under its label)."""
+    unions = {
+        e["loc"][:i]
+        for e in errors
+        for i, item in enumerate(e["loc"])
+        if isinstance(item, str) and _sequence_label(item)
+    }
+    is_sequence = {  # the value branch's error is at the union itself: its input the value
+        e["loc"][:-1]: isinstance(e.get("input"), list | tuple)
+        for e in errors
+        if e["loc"][:-1] in unions and isinstance(e["loc"][-1], str)
+    }
+
+    def chosen(error: ErrorDetails) -> bool:
+        loc = error["loc"]
+        for at in unions:
+            n = len(at)
+            label = loc[n] if len(loc) > n else None
+            if at in is_sequence and loc[:n] == at and isinstance(label, str):
+                return _sequence_label(label) == is_sequence[at]
+        return True
+
+    return [e for e in errors if chosen(e)]
+
+
 def schema_problems(exc: ValidationError, root: type[BaseModel]) -> list[Problem]:
     """The errors of validating ``root`` as problems at their scene paths.
 
     A list's length is only reported when none of its entries is wrong (pydantic counts the
     entries that passed)."""
     problems = []
-    errors = exc.errors(include_url=False)
+    errors = _one_branch(exc.errors(include_url=False))
     for error in errors:
         loc = error["loc"]
         if error["type"] in ("too_short", "too_long") and any(
