@@ -103,25 +103,13 @@ PARAMETERS = {
     ),
     "tyre": ("radius", "stiffness", "damping", "B", "C", "D", "speed_eps"),
 }
+_ARRAY = {law.name: law for law in ARRAY_LAWS}
 #: The compiled laws: each reads the row ``PARAMETERS[row]`` (the names the statement's
-#: keywords take from it in ``parameters``).
+#: keywords take from it in ``parameters``); the tyre's are its array laws.
 COMPILED_LAWS = (
     (Printed("strut", statements.strut, ("stroke", "rate"), PARAMETERS["strut"]), "strut"),
-    (
-        Printed(
-            "tyre_radial", statements.tyre_radial, ("deflection", "rate"), ("stiffness", "damping")
-        ),
-        "tyre",
-    ),
-    (
-        Printed(
-            "tyre_longitudinal",
-            statements.tyre_longitudinal,
-            ("forward_speed", "spin", "normal"),
-            ("radius", "speed_eps", "B", "C", "D"),
-        ),
-        "tyre",
-    ),
+    (_ARRAY["tyre_radial"], "tyre"),
+    (_ARRAY["tyre_longitudinal"], "tyre"),
 )
 ARRAY_TARGET = Path(__file__).with_name("array_laws.py")
 COMPILED_TARGET = Path(__file__).with_name("compiled_laws.py")

@@ -107,6 +107,13 @@ def joint_equations(kind, slope, jacobian, point, index, r, values):
         for e in range(3):
             c[_FRAME + 3 * i + e] = point.frame[i, e]
     c[_SCALE] = point.scale
+    # the column groups the pattern writes, the same for every member
+    columns = stack_empty(8, (8,), np.int64)
+    n_columns = 0
+    for column in (BODY, TURN, ROTATION, INTERP, BESIDE, XI, LAM, MU):
+        if size[column] > 0 and np.any(where[:, column] >= 0):
+            columns[n_columns] = column
+            n_columns += 1
     for b in range(len(point.y)):
         _point_quantities(point, b, p, rate)
         for i in range(3):
@@ -116,9 +123,7 @@ def joint_equations(kind, slope, jacobian, point, index, r, values):
         _scatter_rows(point, b, rows, n_mu, start, r)
         if not jacobian:
             continue
-        for column in (BODY, TURN, ROTATION, INTERP, BESIDE, XI, LAM, MU):
-            if size[column] == 0 or np.all(where[:, column] < 0):
-                continue
+        for column in columns[:n_columns]:
             _chain(point, b, jac, rate, column, size[column], chained)
             _scatter_blocks(point, b, rows, chained, column, n_mu, index, values)
 
