@@ -30,7 +30,7 @@ def test_a_mutated_statement_regenerates_the_laws_that_read_it(monkeypatch):
     spline section laws (which read the section axis) and leaves the spherical law and the
     slope law (which do not) as they were."""
     laws = list(equations.LAWS)
-    before = {key: generate._function("law", *key) for key in laws}
+    before = {key: generate._function("law", *key)[0] for key in laws}
     section_axis = equations._section_axis
 
     def mutated(line_point):
@@ -38,16 +38,18 @@ def test_a_mutated_statement_regenerates_the_laws_that_read_it(monkeypatch):
         return t0, t1 * 1.001
 
     monkeypatch.setattr(equations, "_section_axis", mutated)
-    after = {key: generate._function("law", *key) for key in laws}
+    after = {key: generate._function("law", *key)[0] for key in laws}
     changed = {key for key in laws if after[key] != before[key]}
     assert changed == {("classical", "section"), ("spline", "section")}
 
 
 def test_the_layout_fits_the_kernels_stack_space():
-    """The kernel reserves 69 point quantities, 16 constants and 22 rows on its stack
-    (literals, as numba needs them): the generated layout's sizes."""
+    """The kernel reserves 69 point quantities, 16 constants, 22 rows and 256 derivatives on
+    its stack (literals, as numba needs them): the generated layout's sizes, and the most
+    nonzero derivatives of any law."""
     sizes = [
         sum(size for _, size in fields)
         for fields in (compiled_laws.POINT, compiled_laws.CONSTANTS, compiled_laws.ROWS)
     ]
     assert sizes == [69, 16, 22]
+    assert compiled_laws.DERIVATIVE_ROW.shape[1] == max(compiled_laws.DERIVATIVES) <= 256

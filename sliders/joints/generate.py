@@ -140,28 +140,51 @@ def common_subexpressions(
     return [f"    {s} = {printer(e)}" for s, e in shared], [printer(e) for e in reduced]
 
 
-def _function(name: str, kind: str, orientation: str) -> str:
-    """The compiled function of one law: its rows and their derivatives in the point
-    quantities, after common-subexpression elimination."""
-    rows, inputs = traced(kind, orientation)
+def derivatives(
+    rows: list[sympy.Expr], inputs: list[sympy.Symbol]
+) -> list[tuple[int, int, sympy.Expr]]:
+    """The derivatives of ``rows`` in ``inputs`` that are not identically zero: ``(row, point
+    quantity, derivative)`` in row-major order (the law's sparsity)."""
     entries = [(i, j, sympy.diff(e, s)) for i, e in enumerate(rows) for j, s in enumerate(inputs)]
-    entries = [(i, j, d) for i, j, d in entries if d != 0]
+    return [(i, j, d) for i, j, d in entries if d != 0]
+
+
+def _function(name: str, kind: str, orientation: str) -> tuple[str, list[tuple[int, int]]]:
+    """The compiled function of one law (its rows and their nonzero derivatives in the point
+    quantities, in the order of :func:`derivatives`, after common-subexpression
+    elimination), and the row and point quantity of each derivative."""
+    rows, inputs = traced(kind, orientation)
+    entries = derivatives(rows, inputs)
     shared, reduced = common_subexpressions([*rows, *(d for _, _, d in entries)], sympy.pycode)
     lines = [
         "@numba.njit(cache=True)",
-        f"def {name}(p, c, rows, jac):",
+        f"def {name}(p, c, rows, d):",
         f'    """The {kind} slider ({orientation} orientation): rows ``rows`` ({len(rows)})',
-        f"    and their derivatives ``jac`` ({len(rows)}, {len(inputs)}) in the point quantities",
-        "    ``p`` (:data:`POINT`), with the constants ``c`` (:data:`CONSTANTS`); ``jac`` zero",
-        '    on entry."""',
+        f"    and their {len(entries)} nonzero derivatives ``d`` in the point quantities ``p``",
+        "    (:data:`POINT`; the row and quantity of each: :data:`DERIVATIVE_ROW`,",
+        '    :data:`DERIVATIVE_OF`), with the constants ``c`` (:data:`CONSTANTS`)."""',
     ]
     lines += shared
     lines += [f"    rows[{i}] = {e}" for i, e in enumerate(reduced[: len(rows)])]
-    lines += [
-        f"    jac[{i}, {j}] = {e}"
-        for (i, j, _), e in zip(entries, reduced[len(rows) :], strict=True)
-    ]
-    return "\n".join(lines)
+    lines += [f"    d[{k}] = {e}" for k, e in enumerate(reduced[len(rows) :])]
+    return "\n".join(lines), [(i, j) for i, j, _ in entries]
+
+
+def _sparsity(entries: list[list[tuple[int, int]]]) -> str:
+    """The module's constants naming each law's derivatives (``entries``, in :data:`CODES`
+    order): their count, row and point quantity, padded to the longest."""
+    most = max(len(e) for e in entries)
+    row = [[i for i, _ in e] + [0] * (most - len(e)) for e in entries]
+    of = [[j for _, j in e] + [0] * (most - len(e)) for e in entries]
+    return "\n".join(
+        [
+            "#: The nonzero derivatives of each law (:data:`CODES`): their count, and the row",
+            "#: (:data:`ROWS`) and the point quantity (:data:`POINT`) of each, padded with zeros.",
+            f"DERIVATIVES = np.array({[len(e) for e in entries]!r})",
+            f"DERIVATIVE_ROW = np.array({row!r})",
+            f"DERIVATIVE_OF = np.array({of!r})",
+        ]
+    )
 
 
 def _friction() -> str:
@@ -197,9 +220,10 @@ def source() -> str:
 
 Written by ``python -m sliders.joints.generate`` from the laws' one statement (sympy traces
 each law and differentiates it); ``tests/test_compiled_laws.py`` checks that regenerating
-changes nothing.  Each function writes a law's rows (:data:`ROWS`) and their derivatives in
-the point quantities (:data:`POINT`); :func:`sliders.joints.kernel.joint_equations` chains
-them through the line's maps.
+changes nothing.  Each function writes a law's rows (:data:`ROWS`) and its nonzero
+derivatives in the point quantities (:data:`POINT`; which they are: :data:`DERIVATIVE_ROW`,
+:data:`DERIVATIVE_OF`); :func:`sliders.joints.kernel.joint_equations` chains them through
+the line's maps.
 """
 
 # ruff: noqa
@@ -207,6 +231,7 @@ them through the line's maps.
 import math
 
 import numba
+import numpy as np
 
 from fvbeam.kernel_cache import guard
 
@@ -224,20 +249,22 @@ AT_CONSTANT = {_offsets(CONSTANTS)!r}
 AT_ROW = {_offsets(ROWS)!r}
 '''
     names = {key: f"{key[0]}_{key[1]}" for key in LAWS}
-    bodies = [_function(names[key], *key) for key in LAWS]
+    laws = [_function(names[key], *key) for key in LAWS]
     codes = ", ".join(f"{key!r}: {i}" for i, key in enumerate(LAWS))
     footer = (
         f"#: The code of each ``(kind, orientation)`` law (:func:`law`).\nCODES = {{{codes}}}\n"
     )
     dispatch = [
         "@numba.njit(cache=True)",
-        "def law(code, p, c, rows, jac):",
+        "def law(code, p, c, rows, d):",
         '    """Run the law of ``code`` (:data:`CODES`)."""',
     ]
     for i, key in enumerate(LAWS):
         word = "if" if i == 0 else "elif"
-        dispatch += [f"    {word} code == {i}:", f"        {names[key]}(p, c, rows, jac)"]
-    parts = [header.rstrip() + "\n" + footer.rstrip(), *bodies, "\n".join(dispatch), _friction()]
+        dispatch += [f"    {word} code == {i}:", f"        {names[key]}(p, c, rows, d)"]
+    sparsity = _sparsity([entries for _, entries in laws])
+    constants = header.rstrip() + "\n" + footer.rstrip() + "\n" + sparsity
+    parts = [constants, *(text for text, _ in laws), "\n".join(dispatch), _friction()]
     return "\n\n\n".join(parts) + "\n"
 
 

@@ -40,7 +40,18 @@ import numpy as np
 
 from fvbeam.kernel_cache import guard
 from fvbeam.scratch import stack_empty
-from sliders.joints.compiled_laws import AT_CONSTANT, AT_POINT, AT_ROW, CODES, law
+from sliders.joints.compiled_laws import (
+    AT_CONSTANT,
+    AT_POINT,
+    AT_ROW,
+    CODES,
+    DERIVATIVE_OF,
+    DERIVATIVE_ROW,
+    DERIVATIVES,
+    POINT,
+    ROWS,
+    law,
+)
 
 guard(__file__)  # numba's cache of these kernels, consistent with their sources
 
@@ -70,6 +81,59 @@ _FORCE, _COUPLE, _LINE_LOAD = AT_ROW["body_force"], AT_ROW["body_couple"], AT_RO
 _SECTION_COUPLE, _XI_ROW = AT_ROW["section_couple"], AT_ROW["xi"]
 _POSITION, _ORIENTATION = AT_ROW["position"], AT_ROW["orientation"]
 _ROWS = _ORIENTATION + 3
+#: How each point quantity moves with the dofs besides ``xi`` (:func:`_chain`): as one dof of
+#: its own group (the body's displacement and rotation, the multipliers), through a line map
+#: on the interpolated dofs (``x`` by ``N``, ``l`` by ``dN``, ``l_/xi`` by ``d2N``, ``l~`` by
+#: ``T``, which reaches the dofs beside them too) or on the rotation dofs (``theta_L`` by
+#: ``W``, ``theta_L/xi`` by ``W_/xi``), or with ``xi`` alone.
+_OWN, _BY_N, _BY_DN, _BY_D2N, _BY_T, _BY_W, _BY_W_XI, _XI_ONLY = range(8)
+_WAYS = {
+    "u": (_OWN, BODY),
+    "theta": (_OWN, TURN),
+    "x": (_BY_N, INTERP),
+    "l": (_BY_DN, INTERP),
+    "l_xi": (_BY_D2N, INTERP),
+    "tangent": (_BY_T, INTERP),
+    "theta_L": (_BY_W, ROTATION),
+    "theta_L_xi": (_BY_W_XI, ROTATION),
+    "lam": (_OWN, LAM),
+    "mu": (_OWN, MU),
+}
+_WAY = np.full(_POINTS, _XI_ONLY)
+_OWN_GROUP = np.full(_POINTS, -1)
+_COMPONENT = np.zeros(_POINTS, dtype=np.int64)
+for _name, _size in POINT:
+    _at = AT_POINT[_name]
+    _COMPONENT[_at : _at + _size] = np.arange(_size)
+    _WAY[_at : _at + _size], _OWN_GROUP[_at : _at + _size] = _WAYS.get(_name, (_XI_ONLY, -1))
+#: The row group of each point row (:data:`sliders.joints.compiled_laws.ROWS`) and its
+#: component there.
+_ROW_GROUPS = {
+    "body_force": BODY,
+    "body_couple": TURN,
+    "line_load": LOAD,
+    "section_couple": ROTATION,
+    "xi": XI,
+    "position": LAM,
+    "orientation": MU,
+}
+_ROW_GROUP = np.zeros(_ROWS, dtype=np.int64)
+_ROW_COMPONENT = np.zeros(_ROWS, dtype=np.int64)
+for _name, _size in ROWS:
+    _at = AT_ROW[_name]
+    _ROW_GROUP[_at : _at + _size] = _ROW_GROUPS[_name]
+    _ROW_COMPONENT[_at : _at + _size] = np.arange(_size)
+#: Each law's derivatives in the order :func:`_chain` takes them (by :data:`_WAY`: the own
+#: dofs first, then through the line's maps, then those that move with ``xi`` alone), and
+#: where the own dofs' and the maps' end in that order.
+_ORDER = np.zeros_like(DERIVATIVE_OF)
+_OWN_END = np.zeros(len(DERIVATIVES), dtype=np.int64)
+_MAPS_END = np.zeros(len(DERIVATIVES), dtype=np.int64)
+for _code, _n in enumerate(DERIVATIVES):
+    _ways = _WAY[DERIVATIVE_OF[_code, :_n]]
+    _ORDER[_code, :_n] = np.argsort(_ways, kind="stable")
+    _OWN_END[_code] = np.count_nonzero(_ways == _OWN)
+    _MAPS_END[_code] = _n - np.count_nonzero(_ways == _XI_ONLY)
 
 
 @numba.njit(cache=True)
@@ -99,36 +163,23 @@ def joint_equations(kind, slope, jacobian, point, index, r, values):
     rate = stack_empty(69, (_POINTS,), np.float64)  # the point quantities' xi-rates
     c = stack_empty(16, (_SCALE + 1,), np.float64)
     rows = stack_empty(22, (_ROWS,), np.float64)
-    jac = stack_empty(1518, (_ROWS, _POINTS), np.float64)
-    widest = max(size[BODY], size[ROTATION], size[INTERP], size[BESIDE], 3)
-    chained = np.empty((_ROWS, widest))  # every row's derivative in one column group
+    d = stack_empty(256, (DERIVATIVE_ROW.shape[1],), np.float64)
     for i in range(3):
         c[_OFFSET + i] = point.offset[i]
         for e in range(3):
             c[_FRAME + 3 * i + e] = point.frame[i, e]
     c[_SCALE] = point.scale
-    # the column groups the pattern writes, the same for every member
-    columns = stack_empty(8, (8,), np.int64)
-    n_columns = 0
-    for column in (BODY, TURN, ROTATION, INTERP, BESIDE, XI, LAM, MU):
-        if size[column] > 0 and np.any(where[:, column] >= 0):
-            columns[n_columns] = column
-            n_columns += 1
     for b in range(len(point.y)):
         _point_quantities(point, b, p, rate)
         for i in range(3):
             c[_REFERENCE + i] = point.reference[b, i]
-        jac[:, :] = 0.0
-        law(code, p, c, rows, jac)
+        law(code, p, c, rows, d)
         _scatter_rows(point, b, rows, n_mu, start, r)
-        if not jacobian:
-            continue
-        for column in columns[:n_columns]:
-            _chain(point, b, jac, rate, column, size[column], chained)
-            _scatter_blocks(point, b, rows, chained, column, n_mu, index, values)
+        if jacobian:
+            _chain(point, b, code, d, rate, rows, index, values)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _point_quantities(point, b, p, rate):
     """Member ``b``'s point quantities ``p`` (:data:`sliders.joints.compiled_laws.POINT`) and
     their ``xi``-rates ``rate``: ``x`` by ``l``, ``l`` by ``l_/xi``, ``l_/xi`` by ``l_/xixi``,
@@ -169,7 +220,7 @@ def _point_quantities(point, b, p, rate):
         p[_MU + j] = y[b, 4 + j]
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _scatter_rows(point, b, rows, n_mu, start, r):
     """Member ``b``'s point rows on its slots (:func:`sliders.joints.equations.scatter`): the
     body's force and couple, the line load through ``G``, the section couple through
@@ -190,81 +241,100 @@ def _scatter_rows(point, b, rows, n_mu, start, r):
         r[b, start[MU] + j] += rows[_ORIENTATION + j]
 
 
-@numba.njit(cache=True)
-def _chain(point, b, jac, rate, column, width, out):
-    """Every point row's derivative in the dofs of one column group, ``out[:, :width]``: the
-    law's derivatives ``jac`` in the point quantities times theirs in the group's dofs (the
-    body's and the multipliers' own, ``W`` and ``W_/xi`` on the rotation dofs, ``N``, ``dN``,
-    ``d2N`` and ``T`` on the interpolated dofs, ``T`` beside them, the ``xi``-rates)."""
-    out[:, :width] = 0.0
-    m = point.N.shape[2]
-    for i in range(jac.shape[0]):
-        for j in range(width):
-            s = 0.0
-            if column == BODY:
-                s = jac[i, _U + j]
-            elif column == TURN:
-                s = jac[i, _THETA + j]
-            elif column == LAM:
-                s = jac[i, _LAM + j]
-            elif column == MU:
-                s = jac[i, _MU + j]
-            elif column == XI:
-                for a in range(_POINTS):
-                    s += jac[i, a] * rate[a]
-            elif column == ROTATION:
-                for e in range(3):
-                    s += jac[i, _THETA_L + e] * point.W[b, e, j]
-                    s += jac[i, _THETA_L_XI + e] * point.W_xi[b, e, j]
-            elif column == INTERP:
-                for e in range(3):
-                    s += jac[i, _X + e] * point.N[b, e, j] + jac[i, _L + e] * point.dN[b, e, j]
-                    s += jac[i, _L_XI + e] * point.d2N[b, e, j]
-                    s += jac[i, _TANGENT + e] * point.T[b, e, j]
-            else:  # BESIDE
-                for e in range(3):
-                    s += jac[i, _TANGENT + e] * point.T[b, e, m + j]
-            out[i, j] = s
-
-
-@numba.njit(cache=True)
-def _scatter_blocks(point, b, rows, chained, column, n_mu, index, values):
-    """Member ``b``'s Jacobian blocks in one column group: the rows' derivatives ``chained``
-    put on the row groups as :func:`_scatter_rows` puts the rows (the load through ``G`` and
-    the section couple through ``W^T``, plus ``G_/xi`` and ``W_/xi^T`` of the rows in the
-    ``xi`` column), written where the pattern has a block."""
+@numba.njit(cache=True, inline="always")
+def _chain(point, b, code, d, rate, rows, index, values):
+    """Member ``b``'s Jacobian blocks: each nonzero derivative ``d`` of a point row in a point
+    quantity (:data:`sliders.joints.compiled_laws.DERIVATIVE_ROW`, ``DERIVATIVE_OF``) times
+    that quantity's derivatives in the dofs (:data:`_WAYS`: the body's and the multipliers'
+    own, ``N``, ``dN``, ``d2N`` and ``T`` on the interpolated dofs, ``T`` beside them, ``W``
+    and ``W_/xi`` on the rotation dofs; in ``xi`` its rate), put on the row groups as
+    :func:`_scatter_rows` puts the row, where the pattern has the block: the line load's and
+    the section couple's rows gathered first (``through``), then put through ``G`` and
+    ``W^T`` with the ``xi``-derivatives of those maps, ``G_/xi`` and ``W_/xi^T``."""
     start, size, where = index
-    G, W = point.G, point.W
-    width = size[column]
-    for row, first, count in (
-        (BODY, _FORCE, 3),
-        (TURN, _COUPLE, 3),
-        (XI, _XI_ROW, 1),
-        (LAM, _POSITION, 3),
-        (MU, _ORIENTATION, n_mu),
-    ):
-        at = where[row, column]
+    G, W, W_xi, T = point.G, point.W, point.W_xi, point.T
+    N, dN, d2N = point.N, point.dN, point.d2N
+    m, beside, rotation = size[INTERP], size[BESIDE], size[ROTATION]
+    # the columns of every group side by side from ``first`` (the load is no column)
+    first = stack_empty(10, (10,), np.int64)
+    first[0] = 0
+    for group in range(9):
+        first[group + 1] = first[group] + (size[group] if group != LOAD else 0)
+    # the line load's six rows and the section couple's three, in every column
+    through = stack_empty(1152, (9, first[9]), np.float64)  # 9 rows, 128 columns
+    for i in range(9):
+        for j in range(first[9]):
+            through[i, j] = 0.0
+    order, row_of, of = _ORDER[code], DERIVATIVE_ROW[code], DERIVATIVE_OF[code]
+    for s in range(DERIVATIVES[code]):
+        k = order[s]
+        i, a, v = row_of[k], of[k], d[k]
+        way, e = _WAY[a], _COMPONENT[a]
+        group, r = _ROW_GROUP[i], _ROW_COMPONENT[i]
+        if group == LOAD or group == ROTATION:
+            h = r if group == LOAD else 6 + r
+            if way == _OWN:
+                through[h, first[_OWN_GROUP[a]] + e] += v
+            else:
+                through[h, first[XI]] += v * rate[a]
+            if way == _BY_W or way == _BY_W_XI:
+                for j in range(rotation):
+                    slope = W[b, e, j] if way == _BY_W else W_xi[b, e, j]
+                    through[h, first[ROTATION] + j] += v * slope
+            elif way == _BY_T:
+                for j in range(beside):
+                    through[h, first[BESIDE] + j] += v * T[b, e, m + j]
+            if way == _BY_N or way == _BY_DN or way == _BY_D2N or way == _BY_T:
+                M = N if way == _BY_N else dN if way == _BY_DN else d2N if way == _BY_D2N else T
+                for j in range(m):
+                    through[h, first[INTERP] + j] += v * M[b, e, j]
+            continue
+        # a row put as it is: straight into its blocks
+        if way == _OWN:
+            column = _OWN_GROUP[a]
+            at = where[group, column]
+            if at >= 0:
+                values[b, at + r * size[column] + e] += v
+            continue
+        at = where[group, XI]
         if at >= 0:
-            for i in range(count):
-                for j in range(width):
-                    values[b, at + i * width + j] += chained[first + i, j]
-    at = where[LOAD, column]
-    if at >= 0:
-        for k in range(G.shape[1]):
-            for j in range(width):
-                s = 0.0
-                for e in range(6):
-                    s += G[b, k, e] * chained[_LINE_LOAD + e, j]
+            values[b, at + r] += v * rate[a]
+        if way == _BY_W or way == _BY_W_XI:
+            at = where[group, ROTATION]
+            if at >= 0:
+                for j in range(rotation):
+                    slope = W[b, e, j] if way == _BY_W else W_xi[b, e, j]
+                    values[b, at + r * rotation + j] += v * slope
+        elif way == _BY_T:
+            at = where[group, BESIDE]
+            if at >= 0:
+                for j in range(beside):
+                    values[b, at + r * beside + j] += v * T[b, e, m + j]
+        if way == _BY_N or way == _BY_DN or way == _BY_D2N or way == _BY_T:
+            at = where[group, INTERP]
+            if at >= 0:
+                M = N if way == _BY_N else dN if way == _BY_DN else d2N if way == _BY_D2N else T
+                for j in range(m):
+                    values[b, at + r * m + j] += v * M[b, e, j]
+    # the gathered rows through G and W^T, skipping a zero factor (the maps' sparsity)
+    for column in (BODY, TURN, ROTATION, INTERP, BESIDE, XI, LAM, MU):
+        width, j0 = size[column], first[column]
+        at = where[LOAD, column]
+        if at >= 0:
+            for e in range(6):
+                for q in range(G.shape[1]):
+                    g = G[b, q, e]
+                    if g != 0.0:
+                        for j in range(width):
+                            values[b, at + q * width + j] += g * through[e, j0 + j]
                     if column == XI:
-                        s += point.dG[b, k, e] * rows[_LINE_LOAD + e]
-                values[b, at + k * width + j] += s
-    at = where[ROTATION, column]
-    if at >= 0:
-        for a in range(W.shape[2]):
-            for j in range(width):
-                s = 0.0
-                for e in range(3):
-                    s += W[b, e, a] * chained[_SECTION_COUPLE + e, j]
+                        values[b, at + q] += point.dG[b, q, e] * rows[_LINE_LOAD + e]
+        at = where[ROTATION, column]
+        if at >= 0:
+            for e in range(3):
+                for q in range(W.shape[2]):
+                    w = W[b, e, q]
+                    for j in range(width):
+                        values[b, at + q * width + j] += w * through[6 + e, j0 + j]
                     if column == XI:
-                        s += point.W_xi[b, e, a] * rows[_SECTION_COUPLE + e]
-                values[b, at + a * width + j] += s
+                        values[b, at + q] += W_xi[b, e, q] * rows[_SECTION_COUPLE + e]
