@@ -19,8 +19,12 @@ import numpy as np
 import pytest
 
 from fvbeam import rotations
+from fvbeam.beam import Beam
 from fvbeam.body import RigidBody
+from fvbeam.exact_beam import ExactBeam, ExactState
 from fvbeam.exact_statics import FLOOR_FACTOR, solve_static
+from fvbeam.mesh import straight
+from fvbeam.section import Section
 from sliders.joints.exact_laws import KINDS, JointLaw, derive, rows
 from sliders.joints.exact_model import ExactModel, Joint, JointedState
 
@@ -226,3 +230,202 @@ def test_the_model_is_invariant_under_a_rigid_rotation():
     tol = FLOOR_FACTOR * EPS * 8 / np.cos(angle)
     np.testing.assert_allclose(b.x[0], Q @ a.x[0], rtol=0, atol=tol * L)
     np.testing.assert_allclose(b.R[0], Q @ a.R[0] @ Q.T, rtol=0, atol=tol)
+
+
+def truss(formulation: str = "fv2", n: int = 2) -> ExactModel:
+    """Two bars from the ground at ``(-1, 0)`` and ``(1, 0)`` to an apex at ``(0, 1)``, hinged
+    (revolute, axis ``z``) to the ground and to each other: stocky bars (``EA = 100``,
+    ``EJ = 100``: Euler's load is far above their force), so they only shorten."""
+    section = Section.diagonal(EA=100.0, GAy=100.0, GAz=100.0, GJ=100.0, EJy=100.0, EJz=100.0)
+    npe = 2 if formulation in ("fv2", "galerkin-p1") else 3
+    bars = [
+        ExactBeam(Beam(straight(start, [0, 1, 0], n, npe, name=name), section, formulation))
+        for name, start in (("left", [-1, 0, 0]), ("right", [1, 0, 0]))
+    ]
+    hinges = [
+        Joint("revolute", "ground", "left.start", frame=Z_AXIS),
+        Joint("revolute", "ground", "right.start", frame=Z_AXIS),
+        Joint("revolute", "left.end", "right.end", frame=Z_AXIS),
+    ]
+    return ExactModel(beams=bars, joints=hinges, name="truss")
+
+
+def truss_load(model: ExactModel, height: float) -> tuple[np.ndarray, float, float]:
+    """The apex load that brings the apex to ``height`` (closed form: each bar of length
+    ``l = sqrt(1 + h^2)`` carries ``N = EA (l / L_0 - 1)``, and ``P = -2 N h / l``), with
+    ``N`` and ``l``."""
+    EA, L0 = 100.0, np.sqrt(2.0)
+    length = np.hypot(1.0, height)
+    force = EA * (length / L0 - 1.0)
+    load = np.zeros(model.n_dofs)
+    load[int(model.structure.node_dofs("left.end")[1])] = 2 * force * height / length
+    return load, force, length
+
+
+@pytest.mark.parametrize("formulation", ["fv2", "galerkin-p2"])
+def test_a_hinged_two_bar_truss_meets_its_closed_form(formulation):
+    """The toggle: an apex load ``P`` lowers the apex of a hinged two-bar truss from 1 to
+    0.6 (each bar turned by 0.245 rad, shortened by 26 %), as the closed form of
+    :func:`truss_load` gives; each ground hinge pushes its bar along the bar with ``|N|``.
+    A straight bar in uniform axial strain is exact in every formulation, so the agreement
+    is to round-off: the next Newton correction, the floor over the axial stiffness."""
+    model = truss(formulation)
+    load, force, length = truss_load(model, 0.6)
+    result = solve(model, load)
+    apex = result.state.nodes.x[model.structure.node_dofs("left.end")[0] // 6]
+    tol = FLOOR_FACTOR * EPS * 100.0 * 8  # floor of terms of size EA, stiffness about EA/8
+    np.testing.assert_allclose(apex, [0.0, 0.6, 0.0], rtol=0, atol=tol)
+    for i, root in enumerate(([-1.0, 0.0, 0.0], [1.0, 0.0, 0.0])):
+        along = (np.array([0.0, 0.6, 0.0]) - root) / length
+        pushed = -model.reactions(result.state)[i][1, :3]  # the hinge's force on the bar
+        np.testing.assert_allclose(pushed, -force * along, rtol=0, atol=tol * 100.0)
+
+
+def chain(Q: np.ndarray | None = None) -> ExactModel:
+    """Two bobs on a chain of two hinges (axis ``z``): the first at ``(0, -1)`` hung from the
+    origin, the second at ``(0, -3)`` hung from the first at ``(0, -1.5)`` (an offset on
+    both)."""
+    bobs = [RigidBody("upper", [0.0, -1.0, 0.0]), RigidBody("lower", [0.0, -3.0, 0.0])]
+    hinges = [
+        Joint("revolute", "ground", "upper", position=[0.0, 0.0, 0.0], frame=Z_AXIS),
+        Joint("revolute", "upper", "lower", position=[0.0, -1.5, 0.0], frame=Z_AXIS),
+    ]
+    return ExactModel(bodies=bobs, joints=hinges, name="chain")
+
+
+def chain_state(first: float, second: float) -> ExactState:
+    """The chain's bodies with the links turned by ``first`` and ``second`` from the
+    vertical (an exact configuration of the mechanism)."""
+    upper = rotations.exp_map([0.0, 0.0, first])
+    lower = rotations.exp_map([0.0, 0.0, second])
+    knee = upper @ [0.0, -1.5, 0.0]
+    x = np.array([upper @ [0.0, -1.0, 0.0], knee + lower @ [0.0, -1.5, 0.0]])
+    return ExactState(x, np.array([upper, lower]))
+
+
+def test_a_hinged_chain_meets_its_closed_form_and_is_stationary():
+    """Two bobs (weights 1 and 2) on a chain of hinges, the lower pulled sideways by 3: the
+    lower link hangs at ``tan(theta_2) = P / W_2 = 3 / 2`` and the upper at
+    ``tan(theta_1) = 1.5 P / (W_1 + 1.5 W_2) = 4.5 / 4`` (moments about each hinge: the
+    upper bob 1 below the top hinge, the knee 1.5).  The equilibrium is a stationary point
+    of the potential of the dead loads, ``-sum f . x``, along the mechanism's exact motions
+    (the two hinge angles): its central differences vanish to their truncation, ``h^2``
+    times the potential's third derivatives (of the size of the loads times the arms, 10),
+    and rounding, while at a configuration off the equilibrium they are of the loads' size.
+    """
+    model = chain()
+    load = np.zeros(model.n_dofs)
+    load[1], load[7], load[6] = -1.0, -2.0, 3.0
+    result = solve(model, load, model.balanced(model.reference(), load))
+    first, second = np.arctan(4.5 / 4.0), np.arctan(1.5)
+    expected = chain_state(first, second)
+    assert (
+        np.abs(model.residual(JointedState(expected, result.state.multipliers))[12:]).max()
+        <= 16 * EPS * 4
+    )
+    tol = FLOOR_FACTOR * EPS * 10 / 2.0  # the floor over the chain's smallest stiffness
+    np.testing.assert_allclose(result.state.nodes.x, expected.x, rtol=0, atol=tol)
+    np.testing.assert_allclose(result.state.nodes.R, expected.R, rtol=0, atol=tol)
+
+    def potential(angles: np.ndarray) -> float:
+        x = chain_state(*angles).x
+        return -float(load[0:3] @ x[0] + load[6:9] @ x[1])
+
+    h = 1e-4
+    for angles, stationary in (((first, second), True), ((first + 0.2, second), False)):
+        slope = [
+            (potential(np.add(angles, h * e)) - potential(np.subtract(angles, h * e))) / (2 * h)
+            for e in np.eye(2)
+        ]
+        bound = 2 * (10.0 * h**2 + EPS * 10.0 / h)
+        assert (np.abs(slope).max() <= bound) == stationary
+
+
+def test_the_models_tangent_matches_finite_differences():
+    """The bordered tangent of an exact beam (fv3, one element) hinged to a body by a
+    universal joint, at a random state (nodes moved by 0.3, turned by up to about a radian)
+    with random multipliers: the beam's material and geometric stiffness, the joint's
+    geometric stiffness and its rows' borders, against central differences of the residual
+    (tolerance as in the beam's own test)."""
+    section = Section.diagonal(EA=100.0, GAy=50.0, GAz=40.0, GJ=3.0, EJy=2.0, EJz=1.5)
+    beam = ExactBeam(Beam(straight([0, 0, 0], [2, 1, 0], 1, 3, name="arm"), section, "fv3"))
+    frame = rotations.exp_map([0.4, -0.3, 1.0])
+    model = ExactModel(
+        beams=[beam],
+        bodies=[RigidBody("hub", [2.5, 1.5, 0.5])],
+        joints=[Joint("universal", "arm.end", "hub", position=[2.2, 1.2, 0.1], frame=frame)],
+    )
+    ref = model.reference()
+    n = len(ref.nodes.x)
+    nodes = ExactState(
+        ref.nodes.x + 0.3 * RNG.standard_normal((n, 3)),
+        rotations.exp_map(RNG.uniform(-1, 1, (n, 3))),
+    )
+    state = JointedState(nodes, 10 * RNG.standard_normal(len(ref.multipliers)))
+    K = model.tangent(state).toarray()
+
+    def differences(h):
+        columns = []
+        for dq in h * np.eye(model.n_dofs):
+            columns.append(
+                (model.residual(state.updated(dq)) - model.residual(state.updated(-dq))) / (2 * h)
+            )
+        return np.column_stack(columns)
+
+    h = 1e-5
+    D1, D2 = differences(h), differences(2 * h)
+    truncation = np.abs(D2 - D1).max() / 3
+    rounding = 2 * EPS * model.residual_floor(state).max() / h
+    assert np.abs(K - D1).max() <= 2 * (truncation + rounding)
+    # the joint's geometric stiffness is felt: without it the tangent is off
+    joint = model.points(state).joints[0].stiffness
+    assert np.abs(joint).max() > 1e3 * (truncation + rounding)
+
+
+def test_a_prismatic_support_in_an_inclined_frame_carries_what_is_across_its_axis():
+    """A body on a prismatic support whose axis ``e_1`` is inclined in space, held along it
+    by a second support of the one row ``ux`` in the same frame: the load's part across the
+    axis (with the couple) is the prismatic support's, its multipliers the components in the
+    support's frame (position rows: ``e_2, e_3``; rotation rows ``rx, ry, rz``, to first
+    order ``-theta_1, theta_2, -theta_3``: the couple's components with those signs), the
+    part along the axis the other's; the body does not move."""
+    frame = rotations.exp_map([0.5, -0.9, 0.7])
+    model = ExactModel(
+        bodies=[RigidBody("slider", [1.0, 2.0, 3.0])],
+        joints=[
+            Joint("prismatic", "ground", "slider", frame=frame),
+            Joint("ux", "ground", "slider", frame=frame),
+        ],
+    )
+    force = frame @ [1.5, 2.0, -0.5]
+    couple = frame @ [0.3, -0.2, 0.7]
+    load = np.concatenate([force, couple, np.zeros(6)])
+    result = solve(model, load)
+    tol = FLOOR_FACTOR * EPS * 8
+    np.testing.assert_allclose(result.state.nodes.x[0], [1.0, 2.0, 3.0], rtol=0, atol=tol)
+    np.testing.assert_allclose(result.state.nodes.R[0], np.eye(3), rtol=0, atol=tol)
+    expected = [2.0, -0.5, -0.3, -0.2, -0.7, 1.5]
+    np.testing.assert_allclose(result.state.multipliers, expected, rtol=0, atol=tol)
+    prismatic, axial = model.reactions(result.state)
+    np.testing.assert_allclose(
+        prismatic[1], load[:6] - 1.5 * np.r_[frame[:, 0], 0, 0, 0], rtol=0, atol=tol
+    )
+    np.testing.assert_allclose(axial[1], 1.5 * np.r_[frame[:, 0], 0, 0, 0], rtol=0, atol=tol)
+
+
+@pytest.mark.parametrize(
+    "joint,message",
+    [
+        (Joint("hinge", "ground", "hub"), r"joints\[0\]: 'hinge' is neither a kind"),
+        (Joint("ux+ux", "ground", "hub"), r"joints\[0\]: a row is named twice"),
+        (Joint("fixed", "ground", "hbu"), r"joints\[0\]: b: .*'hbu'"),
+        (Joint("fixed", "ground", "ground"), r"joints\[0\]: both ends are the ground"),
+        (Joint("fixed", "hub", "arm.middle"), r"joints\[0\]: b: "),
+        (Joint("fixed", "hub", "ground", frame=np.ones((3, 3))), r"joints\[0\]: frame must be"),
+        (Joint("fixed", "hub", "ground", position=[0, np.nan, 0]), r"joints\[0\]: position"),
+    ],
+)
+def test_bad_joints_are_refused_by_name(joint, message):
+    """A wrong kind, row, node or frame: one ValueError naming the joint and the item."""
+    with pytest.raises(ValueError, match=message):
+        ExactModel(bodies=[RigidBody("hub", [0, 0, 0])], joints=[joint])
