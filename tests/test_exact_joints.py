@@ -17,6 +17,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+import scipy.sparse.linalg
 
 from fvbeam import rotations
 from fvbeam.beam import Beam
@@ -36,13 +37,13 @@ Z_AXIS = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
 CHOICES = [*KINDS, "uy+rz", "ux+rx+ry"]
 
 
-def solve(model: ExactModel, load: np.ndarray, state: JointedState | None = None):
+def solve(model: ExactModel, load: np.ndarray, state: JointedState | None = None, fixed=()):
     """``solve_static`` on an exact model, named in its messages by the model's name."""
     named = SimpleNamespace(**{k: getattr(model, k) for k in ("n_dofs", "name")})
     for method in ("reference", "points", "residual", "residual_floor", "tangent"):
         setattr(named, method, getattr(model, method))
     named.beam = SimpleNamespace(mesh=SimpleNamespace(name=model.name))
-    return solve_static(named, load, [], state=state)
+    return solve_static(named, load, fixed, state=state)
 
 
 def random_ends(scale: float = 1.0):
@@ -423,9 +424,90 @@ def test_a_prismatic_support_in_an_inclined_frame_carries_what_is_across_its_axi
         (Joint("fixed", "hub", "arm.middle"), r"joints\[0\]: b: "),
         (Joint("fixed", "hub", "ground", frame=np.ones((3, 3))), r"joints\[0\]: frame must be"),
         (Joint("fixed", "hub", "ground", position=[0, np.nan, 0]), r"joints\[0\]: position"),
+        (Joint("fixed", "hub", "ground", frame=np.eye(3), axis=[0, 0, 1]), r"not both"),
+        (Joint("revolute", "hub", "ground", axis=[0, 0, 0]), r"joints\[0\]: axis must be"),
     ],
 )
 def test_bad_joints_are_refused_by_name(joint, message):
     """A wrong kind, row, node or frame: one ValueError naming the joint and the item."""
     with pytest.raises(ValueError, match=message):
         ExactModel(bodies=[RigidBody("hub", [0, 0, 0])], joints=[joint])
+
+
+def test_an_axis_gives_a_straight_beams_section_frame():
+    """``axis`` is ``e_1``; ``e_3`` is ``z`` made orthogonal to it (``y`` near ``z``)."""
+    frame = Joint("revolute", "ground", "hub", axis=[2.0, 0.0, 0.0]).axes("joint")
+    np.testing.assert_allclose(frame, np.eye(3), rtol=0, atol=EPS)
+    frame = Joint("revolute", "ground", "hub", axis=[0.0, 0.0, 3.0]).axes("joint")
+    np.testing.assert_allclose(frame, Z_AXIS, rtol=0, atol=EPS)
+
+
+def test_other_beams_and_a_body_named_ground_are_refused():
+    section = Section.diagonal(EA=1.0, GAy=1.0, GAz=1.0, GJ=1.0, EJy=1.0, EJz=1.0)
+    linear = Beam(straight([0, 0, 0], [1, 0, 0], 2, 2, name="C"), section, "fv2")
+    with pytest.raises(ValueError, match=r"beams\[0\] must be an ExactBeam"):
+        ExactModel(beams=[linear])
+    with pytest.raises(ValueError, match="may not be named 'ground'"):
+        ExactModel(bodies=[RigidBody("ground", [0, 0, 0])])
+
+
+def test_a_pendulum_hung_from_a_cantilevers_tip():
+    """A bob hung 0.5 below the tip of an elastic cantilever (fv3, ``EJ = 1``, ``L = 1``) by
+    a hinge about ``z``, under its weight 1 and a side pull 0.5: the bob swings to
+    ``tan(theta) = 0.5`` about the tip, and the beam is the cantilever under the tip force
+    ``(0.5, -1)`` (the hinge carries no couple about its axis), solved alone: the two
+    agree to their round-off floors (``16 eps`` of terms of size ``EA = 1e4`` over the tip's
+    stiffness ``3 EJ / L^3``, twice)."""
+    section = Section.diagonal(EA=1e4, GAy=1e4, GAz=1e4, GJ=1.0, EJy=1.0, EJz=1.0)
+    beam = ExactBeam(Beam(straight([0, 0, 0], [1, 0, 0], 4, 3, name="C"), section, "fv3"))
+    model = ExactModel(
+        beams=[beam],
+        bodies=[RigidBody("bob", [1.0, -0.5, 0.0])],
+        joints=[Joint("revolute", "C.end", "bob", position=[1, 0, 0], axis=[0, 0, 1])],
+    )
+    pull = np.array([0.5, -1.0, 0.0])
+    load = np.zeros(model.n_dofs)
+    bob = model.structure.node_dofs("bob")
+    load[bob[:3]] = pull
+    clamp = beam.beam.node_dofs("start")
+    start = model.balanced(model.reference(), load, clamp)
+    nodes = solve(model, load, start, clamp).state.nodes
+    alone = solve_static(beam, beam.beam.nodal_load("end", force=pull), clamp).state
+    tol = 2 * FLOOR_FACTOR * EPS * 1e4 / 3
+    np.testing.assert_allclose(nodes.x[: len(alone.x)], alone.x, rtol=0, atol=tol)
+    np.testing.assert_allclose(nodes.R[: len(alone.x)], alone.R, rtol=0, atol=tol)
+    theta = np.arctan(0.5)
+    tip = alone.x[beam.beam.node_index("end")]
+    swing = 0.5 * np.array([np.sin(theta), -np.cos(theta), 0.0])
+    np.testing.assert_allclose(nodes.x[bob[0] // 6], tip + swing, rtol=0, atol=tol)
+    np.testing.assert_allclose(nodes.R[bob[0] // 6], rotations.exp_map([0, 0, theta]), atol=tol)
+
+
+def test_the_linear_model_is_the_first_order_case():
+    """The toggle's linear solution, the reference tangent (the beams' linear stiffness
+    bordered by the joints' first-order rows) solved once, is the limit of the exact one:
+    their difference (displacements, rotation vectors and multipliers) falls as the square
+    of the load (measured slope; the next term is of third order, loads of 1e-3 of the
+    toggle's)."""
+    model = truss()
+    reference = model.reference()
+    K = model.tangent(reference).tocsc()
+    differences = []
+    loads = (1e-3, 2e-3, 4e-3)
+    for s in loads:
+        load, _, _ = truss_load(model, 0.6)
+        load = s * load
+        load[int(model.structure.node_dofs("left.end")[0])] = 0.3 * load.min()
+        linear = scipy.sparse.linalg.spsolve(K, load)
+        state = solve(model, load).state
+        exact = np.concatenate(
+            [
+                np.hstack(
+                    [state.nodes.x - reference.nodes.x, rotations.log_map(state.nodes.R)]
+                ).ravel(),
+                state.multipliers,
+            ]
+        )
+        differences.append(np.abs(exact - linear).max())
+    slopes = np.diff(np.log(differences)) / np.diff(np.log(loads))
+    np.testing.assert_allclose(slopes, 2.0, atol=0.01)

@@ -35,6 +35,7 @@ from numpy.typing import ArrayLike
 from fvbeam.body import RigidBody
 from fvbeam.exact_beam import ExactBeam, ExactState
 from fvbeam.exact_bodies import ExactBodies
+from fvbeam.geometry import direction, section_frames
 from fvbeam.names import NodeRef
 from fvbeam.structure import Structure
 from sliders.joints.exact_laws import Derived, JointLaw, derive
@@ -62,6 +63,10 @@ class Joint:
         The joint's axes in the reference configuration, columns ``[e_1, e_2, e_3]`` in
         global axes (default the identity): a hinge turns about ``e_1``, a prismatic joint
         slides along it.
+    axis
+        Instead of ``frame``: ``e_1``, with ``e_3`` the global ``z`` axis made orthogonal to
+        it (``y`` for an axis within 26 degrees of ``z``) and ``e_2 = e_3 x e_1``, as a
+        straight beam's section axes.
     """
 
     kind: str
@@ -69,6 +74,18 @@ class Joint:
     b: NodeRef
     position: ArrayLike | None = None
     frame: ArrayLike | None = None
+    axis: ArrayLike | None = None
+
+    def axes(self, label: str) -> np.ndarray:
+        """The joint's frame (columns) from ``frame`` or ``axis``; ``ValueError`` naming
+        ``label`` when both are given."""
+        if self.axis is None:
+            return np.eye(3) if self.frame is None else np.asarray(self.frame)
+        if self.frame is not None:
+            raise ValueError(f"{label}: give a frame or an axis, not both")
+        e1 = direction(self.axis, f"{label}: axis")
+        up = np.array([0.0, 1.0, 0.0]) if abs(e1[2]) > 0.9 else np.array([0.0, 0.0, 1.0])
+        return section_frames(e1, up)
 
 
 @dataclass(frozen=True)
@@ -117,9 +134,15 @@ class ExactModel:
         name: str = "model",
     ) -> None:
         self.name = name
-        self.structure = Structure([b.beam for b in beams], bodies=bodies)
-        if GROUND in self.structure._body_index:
+        for i, beam in enumerate(beams):
+            if not isinstance(beam, ExactBeam):
+                raise ValueError(
+                    f"{name}: beams[{i}] must be an ExactBeam (ExactBeam(beam)), "
+                    f"got {type(beam).__name__}"
+                )
+        if any(getattr(body, "name", None) == GROUND for body in bodies):
             raise ValueError(f"{name}: a rigid body may not be named {GROUND!r} (the fixed frame)")
+        self.structure = Structure([b.beam for b in beams], bodies=bodies)
         self.parts: list[Any] = list(beams) + ([ExactBodies(bodies)] if bodies else [])
         self._starts = np.cumsum([0] + [part.n_dofs // 6 for part in self.parts])
         self.n_nodes = int(self._starts[-1])
@@ -143,8 +166,7 @@ class ExactModel:
             where = reference.x[ends[1]] if ends[1] >= 0 else reference.x[ends[0]]
             point = where if joint.position is None else joint.position
             at = [point if k < 0 else reference.x[k] for k in ends]
-            frame = np.eye(3) if joint.frame is None else joint.frame
-            law = JointLaw.at(joint.kind, point, frame, at[0], at[1], label)
+            law = JointLaw.at(joint.kind, point, joint.axes(label), at[0], at[1], label)
             self.laws.append(law)
             self.ends.append((int(ends[0]), int(ends[1])))
             self.anchors.append(law.offset_a + at[0])
