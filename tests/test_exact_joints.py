@@ -233,20 +233,28 @@ def test_the_model_is_invariant_under_a_rigid_rotation():
     np.testing.assert_allclose(b.R[0], Q @ a.R[0] @ Q.T, rtol=0, atol=tol)
 
 
-def truss(formulation: str = "fv2", n: int = 2) -> ExactModel:
+def truss(formulation: str = "fv2", n: int = 2, Q: np.ndarray | None = None) -> ExactModel:
     """Two bars from the ground at ``(-1, 0)`` and ``(1, 0)`` to an apex at ``(0, 1)``, hinged
     (revolute, axis ``z``) to the ground and to each other: stocky bars (``EA = 100``,
-    ``EJ = 100``: Euler's load is far above their force), so they only shorten."""
+    ``EJ = 100``: Euler's load is far above their force), so they only shorten; everything
+    turned by ``Q``."""
+    Q = np.eye(3) if Q is None else Q
     section = Section.diagonal(EA=100.0, GAy=100.0, GAz=100.0, GJ=100.0, EJy=100.0, EJz=100.0)
     npe = 2 if formulation in ("fv2", "galerkin-p1") else 3
     bars = [
-        ExactBeam(Beam(straight(start, [0, 1, 0], n, npe, name=name), section, formulation))
+        ExactBeam(
+            Beam(
+                straight(Q @ start, Q @ [0, 1, 0], n, npe, up=Q @ [0, 0, 1], name=name),
+                section,
+                formulation,
+            )
+        )
         for name, start in (("left", [-1, 0, 0]), ("right", [1, 0, 0]))
     ]
     hinges = [
-        Joint("revolute", "ground", "left.start", frame=Z_AXIS),
-        Joint("revolute", "ground", "right.start", frame=Z_AXIS),
-        Joint("revolute", "left.end", "right.end", frame=Z_AXIS),
+        Joint("revolute", "ground", "left.start", frame=Q @ Z_AXIS),
+        Joint("revolute", "ground", "right.start", frame=Q @ Z_AXIS),
+        Joint("revolute", "left.end", "right.end", frame=Q @ Z_AXIS),
     ]
     return ExactModel(beams=bars, joints=hinges, name="truss")
 
@@ -302,6 +310,22 @@ def chain_state(first: float, second: float) -> ExactState:
     knee = upper @ [0.0, -1.5, 0.0]
     x = np.array([upper @ [0.0, -1.0, 0.0], knee + lower @ [0.0, -1.5, 0.0]])
     return ExactState(x, np.array([upper, lower]))
+
+
+def test_the_truss_is_invariant_under_a_rigid_rotation():
+    """The toggle built turned by a finite rotation ``Q`` (bars, section axes, hinges and
+    load) reaches ``Q`` times the unturned equilibrium: positions ``Q x``, rotations
+    ``Q R Q^T``, to the round-off of the truss test."""
+    Q = rotations.exp_map([0.9, -1.7, 0.4])
+    here, there = truss(), truss(Q=Q)
+    load, _, _ = truss_load(here, 0.6)
+    n = 6 * here.n_nodes
+    turned = load.copy()
+    turned[:n] = np.kron(np.eye(2 * here.n_nodes), Q) @ load[:n]  # forces and couples
+    a, b = solve(here, load).state.nodes, solve(there, turned).state.nodes
+    tol = FLOOR_FACTOR * EPS * 100.0 * 8
+    np.testing.assert_allclose(b.x, a.x @ Q.T, rtol=0, atol=tol)
+    np.testing.assert_allclose(b.R, Q @ a.R @ Q.T, rtol=0, atol=tol)
 
 
 def test_a_hinged_chain_meets_its_closed_form_and_is_stationary():
