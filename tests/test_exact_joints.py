@@ -13,6 +13,7 @@ Tolerances:
   the next Newton correction, bounded by the floor divided by the smallest stiffness.
 """
 
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -26,7 +27,8 @@ from fvbeam.exact_beam import ExactBeam, ExactState
 from fvbeam.exact_statics import FLOOR_FACTOR, solve_static
 from fvbeam.mesh import straight
 from fvbeam.section import Section
-from sliders.joints.exact_laws import KINDS, JointLaw, derive, rows
+from sliders.joints import exact_rows
+from sliders.joints.exact_laws import KINDS, JointLaw, derive, derive_many, rows
 from sliders.joints.exact_model import ExactModel, Joint, JointedState
 
 EPS = np.finfo(float).eps
@@ -122,6 +124,38 @@ def test_a_joint_to_the_ground_has_no_columns_of_the_ground(kind):
         rtol=0,
         atol=16 * EPS * np.abs(lam).sum() * 8,
     )
+
+
+def test_the_generated_rows_are_the_statements():
+    """:func:`derive_many` (the rows' generated form, :mod:`sliders.joints.exact_rows`) gives
+    :func:`derive`'s rows, ``B`` and ``H`` (dual numbers on the same statement) for every
+    kind and choice at once, random finite rotations, a ground end among them: to the
+    rounding of sums of a few products of terms of the sizes of the positions, offsets and
+    multipliers (64 eps of their products)."""
+    laws = [random_law(kind) for kind in CHOICES]
+    ends = [random_ends() for _ in laws]
+    lam = [RNG.standard_normal(len(law.rows)) for law in laws]
+    moving = np.ones((len(laws), 2), dtype=bool)
+    moving[-1, 0] = False
+    fields = [np.array([e[k] for e in ends]) for k in range(4)]
+    many = derive_many(laws, *fields, lam, moving)
+    for law, end, m, move, got in zip(laws, ends, lam, moving, many, strict=True):
+        want = derive(law, *end, m, tuple(move))
+        size = 1 + sum(np.linalg.norm(v) for v in (end[0], end[2], law.offset_a, law.offset_b))
+        tol = 64 * EPS * size
+        np.testing.assert_allclose(got.rows, want.rows, rtol=0, atol=tol)
+        np.testing.assert_allclose(got.jacobian, want.jacobian, rtol=0, atol=tol)
+        np.testing.assert_allclose(
+            got.stiffness, want.stiffness, rtol=0, atol=tol * np.abs(m).sum()
+        )
+
+
+def test_regenerating_the_rows_changes_nothing():
+    """The committed :mod:`sliders.joints.exact_rows` is the generator's text."""
+    pytest.importorskip("sympy")
+    from sliders.joints import exact_generate
+
+    assert exact_generate.source() == Path(exact_rows.__file__).read_text()
 
 
 def allowed_motion(kind: str, law: JointLaw, angle: float) -> tuple[np.ndarray, np.ndarray]:

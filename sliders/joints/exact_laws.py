@@ -46,11 +46,15 @@ nested twice, a virtual variation ``eta`` inside a change of state ``epsilon``, 
 as ``x + epsilon du``, ``(I + epsilon skew(dphi)) R``; the first order in ``eta`` is ``B``
 and ``B^T lambda``, the mixed order ``eta epsilon`` is ``H``, which is exactly Newton's
 tangent for the update ``R <- exp(dphi) R`` (the exponential's second-order term has no
-mixed part).
+mixed part).  The same seeding on sympy symbols writes the rows' generated form
+(:mod:`sliders.joints.exact_generate` writes :mod:`sliders.joints.exact_rows`), which
+:func:`derive_many` runs over many joints at once and the models use; :func:`derive` is the
+reference it is held to.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any, NamedTuple
 
@@ -58,6 +62,7 @@ import numpy as np
 
 from fvbeam.geometry import orthonormal3, skew_matrices, vector3
 from sliders.joints.dual import gradients, seeded, values
+from sliders.joints.exact_rows import ROW_FUNCTIONS
 
 #: The six rows a joint may hold, in order (module docstring).
 ROWS = ("ux", "uy", "uz", "rx", "ry", "rz")
@@ -182,3 +187,54 @@ def derive(
         values(gradients(c, 12)).astype(float),
         gradients(gradients(work, 12)[0], 12).astype(float),
     )
+
+
+def derive_many(
+    laws: Sequence[JointLaw],
+    x_a: np.ndarray,
+    R_a: np.ndarray,
+    x_b: np.ndarray,
+    R_b: np.ndarray,
+    multipliers: Sequence[np.ndarray],
+    moving: np.ndarray,
+) -> list[Derived]:
+    """:func:`derive` of many joints at once, by the rows' generated form
+    (:mod:`sliders.joints.exact_rows`, written from :func:`rows` by
+    :mod:`sliders.joints.exact_generate`): each row name evaluated over every joint that
+    holds it.  ``x_a``, ``x_b`` (J, 3), ``R_a``, ``R_b`` (J, 3, 3) the ends' states,
+    ``multipliers`` each joint's, ``moving`` (J, 2) whether each end is a node (else the
+    ground: its columns are zero)."""
+    J = len(laws)
+    values = [np.zeros(len(law.rows)) for law in laws]
+    jacobians = [np.zeros((len(law.rows), 12)) for law in laws]
+    stiffness = np.zeros((J, 12, 12))
+    fields = [
+        x_a,
+        R_a.reshape(J, 9),
+        x_b,
+        R_b.reshape(J, 9),
+        np.array([law.offset_a for law in laws]).reshape(J, 3),
+        np.array([law.offset_b for law in laws]).reshape(J, 3),
+        np.array([law.frame_a for law in laws]).reshape(J, 9),
+        np.array([law.frame_b for law in laws]).reshape(J, 9),
+    ]
+    inputs = np.hstack(fields).T  # (48, J)
+    for name, function in ROW_FUNCTIONS.items():
+        pairs = [(j, law.rows.index(name)) for j, law in enumerate(laws) if name in law.rows]
+        if not pairs:
+            continue
+        joints = np.array([j for j, _ in pairs])
+        B, H = np.zeros((12, len(pairs))), np.zeros((12, 12, len(pairs)))
+        value = np.broadcast_to(function(inputs[:, joints], B, H), len(pairs))
+        for n, (j, k) in enumerate(pairs):
+            values[j][k] = value[n]
+            jacobians[j][k] = B[:, n]
+            stiffness[j] += multipliers[j][k] * H[:, :, n]
+    held = np.repeat(~np.asarray(moving, dtype=bool), 6, axis=1)  # (J, 12) ground columns
+    out = []
+    for j in range(J):
+        jacobians[j][:, held[j]] = 0.0
+        stiffness[j][held[j]] = 0.0
+        stiffness[j][:, held[j]] = 0.0
+        out.append(Derived(values[j], jacobians[j], stiffness[j]))
+    return out

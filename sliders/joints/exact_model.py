@@ -38,7 +38,7 @@ from fvbeam.exact_bodies import ExactBodies
 from fvbeam.geometry import direction, section_frames
 from fvbeam.names import NodeRef
 from fvbeam.structure import Structure
-from sliders.joints.exact_laws import Derived, JointLaw, derive
+from sliders.joints.exact_laws import Derived, JointLaw, derive_many
 
 #: The name of the fixed frame in a joint's ends.
 GROUND = "ground"
@@ -105,7 +105,8 @@ class JointedState:
 
 @dataclass(frozen=True)
 class ModelPoints:
-    """What a state evaluates to: each part's points, each joint's rows and derivatives."""
+    """What a state evaluates to: each part's points, each joint's rows and derivatives
+    (:func:`sliders.joints.exact_laws.derive_many`)."""
 
     parts: list[Any]
     joints: list[Derived]
@@ -214,15 +215,20 @@ class ExactModel:
         parts = [
             p.points(s) for p, s in zip(self.parts, self._part_states(state.nodes), strict=True)
         ]
-        joints = [
-            derive(
-                law,
-                *self._ends(i, state.nodes),
-                self._multipliers(state, self.slices[i]),
-                (self.ends[i][0] >= 0, self.ends[i][1] >= 0),
-            )
-            for i, law in enumerate(self.laws)
-        ]
+        ends = [self._ends(i, state.nodes) for i in range(len(self.laws))]
+        x_a, R_a, x_b, R_b = (
+            np.array([e[k] for e in ends]).reshape((-1,) + shape)
+            for k, shape in enumerate(((3,), (3, 3), (3,), (3, 3)))
+        )
+        joints = derive_many(
+            self.laws,
+            x_a,
+            R_a,
+            x_b,
+            R_b,
+            [self._multipliers(state, where) for where in self.slices],
+            np.array(self.ends).reshape(-1, 2) >= 0,
+        )
         return ModelPoints(parts, joints)
 
     def _columns(self, ends: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
