@@ -164,8 +164,8 @@ class ExactModel:
             )
             if ends == (-1, -1):
                 raise ValueError(f"{label}: both ends are the ground")
-            where = reference.x[ends[1]] if ends[1] >= 0 else reference.x[ends[0]]
-            point = where if joint.position is None else joint.position
+            default = reference.x[ends[1]] if ends[1] >= 0 else reference.x[ends[0]]
+            point = default if joint.position is None else joint.position
             at = [point if k < 0 else reference.x[k] for k in ends]
             law = JointLaw.at(joint.kind, point, joint.axes(label), at[0], at[1], label)
             self.laws.append(law)
