@@ -40,7 +40,8 @@ CHOICES = [*KINDS, "uy+rz", "ux+rx+ry"]
 
 
 def solve(model: ExactModel, load: np.ndarray, state: JointedState | None = None, fixed=()):
-    """``solve_static`` on an exact model, named in its messages by the model's name."""
+    """``solve_static`` on an exact model: its interface, with the name its messages read
+    (``beam.beam.mesh.name`` of an exact beam) given as the model's ``name``."""
     named = SimpleNamespace(**{k: getattr(model, k) for k in ("n_dofs", "name")})
     for method in ("reference", "points", "residual", "residual_floor", "tangent"):
         setattr(named, method, getattr(model, method))
@@ -182,7 +183,8 @@ def allowed_motion(kind: str, law: JointLaw, angle: float) -> tuple[np.ndarray, 
 def test_rows_vanish_on_the_motions_the_joint_allows(kind):
     """Each kind's rows are zero, to round-off, after a finite motion it allows (1.3 rad
     about the free axes, a slide of 4 along a prismatic axis), and after a rigid motion of
-    both nodes together; a motion it does not allow leaves a row of the motion's size."""
+    both nodes together; a turn it does not allow leaves a rotation row of the turn's sine
+    (the dot product of two axes it keeps orthogonal)."""
     law = JointLaw.at(
         kind, [0.4, -0.2, 0.9], rotations.exp_map([0.3, 1.1, -0.5]), [0, 0, 0], [1, 2, -1]
     )
@@ -193,10 +195,13 @@ def test_rows_vanish_on_the_motions_the_joint_allows(kind):
     G, t = rotations.exp_map([2.0, -1.0, 0.5]), np.array([5.0, 1.0, -2.0])
     both = rows(law, t, G, G @ x_b + t, G @ Q).astype(float)
     assert np.abs(both).max() <= tol * 2
-    # a turn about the axis every kind but the spherical one holds (e_2 for the revolute)
-    held = rotations.exp_map(0.3 * law.frame_a[:, 1 if kind in ("revolute", "universal") else 0])
+    # a turn by 0.3 about the joint's point and an axis the kind holds (e_2 for the
+    # revolute, the twist e_1 for the others): a rotation row of sin(0.3) exactly
     if kind != "spherical":
-        assert np.abs(rows(law, np.zeros(3), np.eye(3), x_b, held @ Q).astype(float)).max() > 0.1
+        G = rotations.exp_map(0.3 * law.frame_a[:, 1 if kind == "revolute" else 0])
+        point, x_ref = law.offset_a, law.offset_a - law.offset_b
+        turned = rows(law, np.zeros(3), np.eye(3), point + G @ (x_ref - point), G)
+        assert abs(np.abs(turned.astype(float)).max() - np.sin(0.3)) <= tol
 
 
 def test_first_order_rows_are_the_linear_joints():
