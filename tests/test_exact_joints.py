@@ -18,6 +18,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+import scipy.linalg
 import scipy.sparse.linalg
 
 from fvbeam import rotations
@@ -574,3 +575,54 @@ def test_the_linear_model_is_the_first_order_case():
         differences.append(np.abs(exact - linear).max())
     slopes = np.diff(np.log(differences)) / np.diff(np.log(loads))
     np.testing.assert_allclose(slopes, 2.0, atol=0.01)
+
+
+def test_the_elastic_toggle_is_a_stationary_point_of_its_potential():
+    """A conservative problem with elastic energy: the Galerkin toggle (``galerkin-p2``)
+    under a dead apex load, its equilibrium a stationary point of the potential
+    ``U - f . x`` (``U = sum_p w_p [nu; kappa]^T C [nu; kappa] / 2`` of the bars) on the
+    joints' manifold.  Perturbations along random directions of the rows' null space,
+    projected back onto ``c = 0`` (Gauss-Newton, to round-off): the central slope of the
+    potential vanishes to its truncation (estimated from a doubled step) and rounding, and
+    does not at the equilibrium of a load 10 % smaller (the same potential)."""
+    model = truss("galerkin-p2")
+    load, _, _ = truss_load(model, 0.6)
+    n = 6 * model.n_nodes
+
+    def potential(state: JointedState) -> float:
+        energy = 0.0
+        for beam, part in zip(model.parts, model._part_states(state.nodes), strict=True):
+            strain = beam.points(part).strain
+            energy += 0.5 * float(np.einsum("p,pi,pij,pj->", beam.weight, strain, beam.C, strain))
+        return energy - float(load[:n].reshape(-1, 6)[:, :3].ravel() @ state.nodes.x.ravel())
+
+    def projected(state: JointedState, dq: np.ndarray) -> JointedState:
+        state = state.updated(np.concatenate([dq, np.zeros(model.n_dofs - n)]))
+        for _ in range(20):
+            rows = model.residual(state)[n:]
+            if np.abs(rows).max() <= 16 * EPS:
+                return state
+            B = model.tangent(state)[n:, :n].toarray()
+            step = -np.linalg.lstsq(B, rows, rcond=None)[0]
+            state = state.updated(np.concatenate([step, np.zeros(model.n_dofs - n)]))
+        raise AssertionError("the projection onto the joints' rows did not converge")
+
+    def slopes(state: JointedState, h: float, directions: np.ndarray) -> np.ndarray:
+        return np.array(
+            [
+                (potential(projected(state, h * v)) - potential(projected(state, -h * v))) / (2 * h)
+                for v in directions
+            ]
+        )
+
+    for factor, stationary in ((1.0, True), (0.9, False)):
+        state = solve(model, factor * load).state
+        B = model.tangent(state)[n:, :n].toarray()
+        free = scipy.linalg.null_space(B)
+        directions = (free @ RNG.standard_normal((free.shape[1], 2))).T
+        directions /= np.linalg.norm(directions, axis=1)[:, None]
+        h = 1e-4
+        D1, D2 = slopes(state, h, directions), slopes(state, 2 * h, directions)
+        truncation = np.abs(D2 - D1).max() / 3
+        rounding = 2 * EPS * (abs(potential(state)) + 100.0) / h  # terms of size EA = 100
+        assert (np.abs(D1).max() <= 2 * (truncation + rounding)) == stationary
