@@ -1,9 +1,10 @@
 """Write the vectorised joint rows from their one statement.
 
-``python -m sliders.joints.exact_generate``: each of the six rows of
-:func:`sliders.joints.exact_laws.rows` (:data:`~sliders.joints.exact_laws.ROWS`) runs on
-sympy symbols in place of the two nodes' positions and rotations and of the joint's offsets
-and frames, each node moved as :func:`~sliders.joints.exact_laws.derive` seeds it,
+``python -m sliders.joints.exact_generate``: the rows ``ux`` and ``rx`` of
+:func:`sliders.joints.exact_laws.rows` (the other four are these two on the frames' columns
+taken in another order, :data:`sliders.joints.exact_laws.GENERATED`) run on sympy symbols
+in place of the two nodes' positions and rotations and of the joint's offsets and frames,
+each node moved as :func:`~sliders.joints.exact_laws.derive` seeds it,
 ``R -> (I + skew(eta)) (I + skew(epsilon)) R`` and ``x -> x + eta + epsilon`` (the variation
 ``eta`` inside the change of state ``epsilon``).  The row, its first derivatives in ``eta``
 (a row of ``B``) and its mixed second derivatives in ``eta`` and ``epsilon`` (the row's share
@@ -11,20 +12,19 @@ of ``H`` per unit multiplier), at zero, after common-subexpression elimination, 
 as one numpy function per row into :mod:`sliders.joints.exact_rows`, vectorised over any
 number of joints.  The module is committed; ``tests/test_exact_joints.py`` regenerates it
 and requires the same text, and holds it to :func:`~sliders.joints.exact_laws.derive` (the
-dual numbers' derivation of the same statement) to round-off.
+dual numbers' derivation of the same statement) on every row to round-off.
 
 Needs sympy (the ``test`` extra); nothing at run time imports this module.
 """
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import numpy as np
 import sympy
 
-from sliders.joints.exact_laws import ROWS, JointLaw, rows
+from sliders.joints.exact_laws import GENERATED, JointLaw, rows
 
 #: What a row reads, in order, with sizes: the nodes' positions and rotations (row-major),
 #: the joint's offsets and frames (row-major).
@@ -126,21 +126,15 @@ once: its values, its ``B`` row and its share of ``H`` per unit multiplier.
 #: The inputs (name, size) in their order (rotations and frames row-major).
 INPUTS = {INPUTS!r}
 '''
-    bodies = [_function(row) for row in ROWS]
+    bodies = [_function(row) for row in GENERATED]
     table = (
         "#: The function of each row.\nROW_FUNCTIONS = {"
-        + ", ".join(f"{row!r}: row_{row}" for row in ROWS)
+        + ", ".join(f"{row!r}: row_{row}" for row in GENERATED)
         + "}"
     )
     return "\n\n\n".join([header.rstrip(), *bodies, table]) + "\n"
 
 
-def main() -> int:
-    """Write :data:`TARGET`."""
+if __name__ == "__main__":
     TARGET.write_text(source())
     print(f"wrote {TARGET}")
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -59,6 +59,7 @@ from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from fvbeam.geometry import orthonormal3, skew_matrices, vector3
 from sliders.joints.dual import gradients, seeded, values
@@ -68,6 +69,19 @@ from sliders.joints.exact_rows import ROW_FUNCTIONS
 ROWS = ("ux", "uy", "uz", "rx", "ry", "rz")
 #: The axes of frame ``a`` and frame ``b`` whose directions stay orthogonal, per rotation row.
 ORTHOGONAL = {"rx": (1, 2), "ry": (0, 2), "rz": (0, 1)}
+#: The rows written in generated form (:mod:`sliders.joints.exact_rows`), and each row as one
+#: of them on the frames' columns in another order: ``ux`` reads ``d_a1``, so ``uy`` is
+#: ``ux`` with frame ``a``'s columns ``(2, 1, 3)``; ``rx`` reads ``d_a2, d_b3``, so ``ry`` is
+#: ``rx`` with frame ``a``'s ``(2, 1, 3)``.  (row, frame a's columns, frame b's columns).
+GENERATED = ("ux", "rx")
+AS_GENERATED = {
+    "ux": ("ux", (0, 1, 2), (0, 1, 2)),
+    "uy": ("ux", (1, 0, 2), (0, 1, 2)),
+    "uz": ("ux", (2, 1, 0), (0, 1, 2)),
+    "rx": ("rx", (0, 1, 2), (0, 1, 2)),
+    "ry": ("rx", (1, 0, 2), (0, 1, 2)),
+    "rz": ("rx", (1, 0, 2), (0, 2, 1)),
+}
 #: The rows of each kind of joint.
 KINDS = {
     "spherical": "ux+uy+uz",
@@ -110,10 +124,10 @@ class JointLaw:
     def at(
         cls,
         kind: str,
-        position: Any,
-        frame: Any,
-        node_a: Any,
-        node_b: Any,
+        position: ArrayLike,
+        frame: ArrayLike,
+        node_a: ArrayLike,
+        node_b: ArrayLike,
         label: str = "joint",
     ) -> JointLaw:
         """The joint of ``kind`` (:func:`selected_rows`) at ``position`` with the frame
@@ -208,24 +222,20 @@ def derive_many(
     values = [np.zeros(len(law.rows)) for law in laws]
     jacobians = [np.zeros((len(law.rows), 12)) for law in laws]
     stiffness = np.zeros((J, 12, 12))
-    fields = [
-        x_a,
-        R_a.reshape(J, 9),
-        x_b,
-        R_b.reshape(J, 9),
-        np.array([law.offset_a for law in laws]).reshape(J, 3),
-        np.array([law.offset_b for law in laws]).reshape(J, 3),
-        np.array([law.frame_a for law in laws]).reshape(J, 9),
-        np.array([law.frame_b for law in laws]).reshape(J, 9),
-    ]
-    inputs = np.hstack(fields).T  # (48, J)
-    for name, function in ROW_FUNCTIONS.items():
+    nodes = [x_a, R_a.reshape(J, 9), x_b, R_b.reshape(J, 9)]
+    offsets = [np.array([law.offset_a for law in laws]), np.array([law.offset_b for law in laws])]
+    frames = [np.array([law.frame_a for law in laws]), np.array([law.frame_b for law in laws])]
+    for name, (generated, columns_a, columns_b) in AS_GENERATED.items():
         pairs = [(j, law.rows.index(name)) for j, law in enumerate(laws) if name in law.rows]
         if not pairs:
             continue
-        joints = np.array([j for j, _ in pairs])
+        joints = [j for j, _ in pairs]
+        turned = [
+            F[joints][:, :, list(c)] for F, c in zip(frames, (columns_a, columns_b), strict=True)
+        ]
+        fields = [f[joints] for f in nodes + offsets] + [F.reshape(-1, 9) for F in turned]
         B, H = np.zeros((12, len(pairs))), np.zeros((12, 12, len(pairs)))
-        value = np.broadcast_to(function(inputs[:, joints], B, H), len(pairs))
+        value = ROW_FUNCTIONS[generated](np.hstack(fields).T, B, H)  # inputs (48, n)
         for n, (j, k) in enumerate(pairs):
             values[j][k] = value[n]
             jacobians[j][k] = B[:, n]
