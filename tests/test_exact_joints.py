@@ -626,3 +626,79 @@ def test_the_elastic_toggle_is_a_stationary_point_of_its_potential():
         truncation = np.abs(D2 - D1).max() / 3
         rounding = 2 * EPS * (abs(potential(state)) + 100.0) / h  # terms of size EA = 100
         assert (np.abs(D1).max() <= 2 * (truncation + rounding)) == stationary
+
+
+#: A four-bar linkage: crank ``a``, coupler ``b``, rocker ``c``, ground pivots ``d`` apart.
+FOUR_BAR = (1.0, 2.2, 1.5, 2.0)
+
+
+def four_bar_geometry(crank: float) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """The crank's tip ``A``, the rocker's tip ``B`` (the open branch: two circles'
+    upper intersection) and the coupler's and rocker's angles at the crank angle ``crank``."""
+    a, b, c, d = FOUR_BAR
+    A, pivot = a * np.array([np.cos(crank), np.sin(crank), 0.0]), np.array([d, 0.0, 0.0])
+    gap = np.linalg.norm(pivot - A)
+    u = (pivot - A) / gap
+    along = (b * b - c * c + gap * gap) / (2 * gap)
+    B = A + along * u + np.sqrt(b * b - along * along) * np.array([-u[1], u[0], 0.0])
+    return A, B, np.arctan2(*(B - A)[1::-1]), np.arctan2(*(B - pivot)[1::-1])
+
+
+def four_bar_ratio(crank: float) -> float:
+    """``d theta_4 / d theta_2``: the loop ``a e_2 + b e_3 - c e_4 = d e_1`` differentiated
+    and dotted with ``e_3``, ``a sin(theta_3 - theta_2) / (c sin(theta_3 - theta_4))``."""
+    a, _, c, _ = FOUR_BAR
+    _, _, coupler, rocker = four_bar_geometry(crank)
+    return a * np.sin(coupler - crank) / (c * np.sin(coupler - rocker))
+
+
+def test_a_four_bar_linkage_balances_by_virtual_work():
+    """A spatial four-bar of rigid bodies that moves in its plane: hinges (revolute, ``z``)
+    to the ground at the crank and the rocker, a spherical joint from crank to coupler and a
+    universal joint from coupler to rocker (its pins ``z`` and across the coupler; it stops
+    the coupler's spin about its axis, so the 17 rows hold 18 dofs to one motion, without a
+    redundant row).  Built at a crank angle of 80 degrees, under a dead couple ``T`` on the
+    rocker and ``M = -T d theta_4 / d theta_2`` at 60 degrees on the crank (virtual work):
+    the crank turns to 60 degrees and the rocker and coupler to the closed-form loop's
+    angles, to the floor over the mechanism's stiffness ``T d^2 theta_4 / d theta_2^2``."""
+    a, b, c, d = FOUR_BAR
+    start, target = np.radians(80.0), np.radians(60.0)
+    A, B, _, _ = four_bar_geometry(start)
+    pivot, z = np.array([d, 0.0, 0.0]), np.array([0.0, 0.0, 1.0])
+    u = (B - A) / b
+    model = ExactModel(
+        bodies=[
+            RigidBody("crank", A / 2),
+            RigidBody("coupler", (A + B) / 2),
+            RigidBody("rocker", (pivot + B) / 2),
+        ],
+        joints=[
+            Joint("revolute", "ground", "crank", position=[0.0, 0.0, 0.0], axis=z),
+            Joint("spherical", "crank", "coupler", position=A),
+            Joint(
+                "universal",
+                "coupler",
+                "rocker",
+                position=B,
+                frame=np.column_stack([u, z, np.cross(u, z)]),
+            ),
+            Joint("revolute", "ground", "rocker", position=pivot, axis=z),
+        ],
+        name="four-bar",
+    )
+    T = 1.0
+    load = np.zeros(model.n_dofs)
+    load[5], load[17] = -T * four_bar_ratio(target), T
+    result = solve(model, load, model.balanced(model.reference(), load))
+    step = 1e-4  # the stiffness needs only its size: its central difference
+    stiffness = T * abs(four_bar_ratio(target + step) - four_bar_ratio(target - step)) / (2 * step)
+    tol = FLOOR_FACTOR * EPS * 4 * (a + b + c) / stiffness
+    A_t, B_t, coupler, rocker = four_bar_geometry(target)
+    _, _, coupler_0, rocker_0 = four_bar_geometry(start)
+    nodes = result.state.nodes
+    for R, turn in zip(
+        nodes.R, (target - start, coupler - coupler_0, rocker - rocker_0), strict=True
+    ):
+        np.testing.assert_allclose(R, rotations.exp_map(turn * z), rtol=0, atol=tol)
+    expected = np.array([A_t / 2, (A_t + B_t) / 2, (pivot + B_t) / 2])
+    np.testing.assert_allclose(nodes.x, expected, rtol=0, atol=tol * (a + b + c))
