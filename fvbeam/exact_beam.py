@@ -60,7 +60,7 @@ from functools import cached_property
 import numpy as np
 import scipy.sparse as sp
 
-from fvbeam import rotations
+from fvbeam import exact_kernel, rotations
 from fvbeam.beam import Beam, InternalForces
 from fvbeam.elements import evaluation_points, jumps
 from fvbeam.formulations import FiniteVolume, Galerkin
@@ -125,9 +125,13 @@ class ExactBeam:
     ----------
     beam
         The beam (any formulation but the cubic element, which is refused).
+    compiled
+        Whether the points, and an fv beam's balances, their floor and tangent, run as the
+        compiled kernels of :mod:`fvbeam.exact_kernel` (the default), else as the numpy
+        statement here (for reading and testing; the two agree to round-off).
     """
 
-    def __init__(self, beam: Beam) -> None:
+    def __init__(self, beam: Beam, compiled: bool = True) -> None:
         form = beam.formulation
         if not isinstance(form, (FiniteVolume, Galerkin)):
             raise ValueError(
@@ -135,6 +139,7 @@ class ExactBeam:
                 f"galerkin-p1 and galerkin-p2, not {form.name}"
             )
         self.beam = beam
+        self.compiled = compiled
         #: Whether the balances are the fv regions' (else Galerkin's weak form).
         self.finite_volume = isinstance(form, FiniteVolume)
         mesh = beam.mesh
@@ -169,6 +174,8 @@ class ExactBeam:
         self.weight = np.tile(Wp, n_el) * ds
         self.dx0 = np.einsum("pa,pak->pk", self.dN, mesh.points[self.nodes])
         self.n_dofs = beam.n_dofs
+        #: The tangent's compressed-column pattern on the last ``keep`` (:meth:`_pattern`).
+        self._last_pattern: tuple[bytes, tuple[np.ndarray, ...]] | None = None
 
     def reference(self) -> ExactState:
         """The reference configuration: the mesh's nodes, identity rotations."""
@@ -183,6 +190,19 @@ class ExactBeam:
     # -- kinematics and stress ---------------------------------------------------------
     def points(self, state: ExactState) -> PointState:
         """Strains and stress resultants at the evaluation points (module docstring)."""
+        if self.compiled:
+            return PointState(
+                *exact_kernel.points(
+                    np.ascontiguousarray(state.x),
+                    np.ascontiguousarray(state.R),
+                    self.nodes,
+                    self.reference_node,
+                    self.N,
+                    self.dN,
+                    self.dx0,
+                    self.C,
+                )
+            )
         Rr = state.R[self.nodes[:, self.reference_node]]  # (P, 3, 3)
         Rn = state.R[self.nodes]  # (P, npe, 3, 3)
         psi_nodes = rotations.log_map(np.swapaxes(Rr, -1, -2)[:, None] @ Rn)
@@ -216,6 +236,16 @@ class ExactBeam:
         """Internal force vector ``r(q)`` (6 per node); equilibrium is ``r = f``.  ``pts``:
         the state's :meth:`points`, when the caller has them."""
         pts = self.points(state) if pts is None else pts
+        if self.finite_volume and self.compiled:
+            return exact_kernel.fv_residual(
+                np.ascontiguousarray(state.x),
+                self.nodes,
+                self.jump,
+                pts.x,
+                pts.force,
+                pts.moment,
+                self.n_dofs,
+            )
         if self.finite_volume:
             terms = self._nodal_terms(state, pts)
         else:
@@ -233,6 +263,22 @@ class ExactBeam:
         rounding of ``eps (1 + |psi_a|)``).  ``eps`` times this is the residual's round-off
         floor (:mod:`fvbeam.exact_statics`)."""
         pts = self.points(state) if pts is None else pts
+        if self.finite_volume and self.compiled:
+            return exact_kernel.fv_floor(
+                np.ascontiguousarray(state.x),
+                self.nodes,
+                self.jump,
+                self.dN,
+                self.dx0,
+                self.C,
+                pts.psi_nodes,
+                pts.x,
+                pts.dx,
+                pts.strain,
+                pts.force,
+                pts.moment,
+                self.n_dofs,
+            )
         e_nu = np.linalg.norm(pts.dx, axis=-1) + np.linalg.norm(self.dx0, axis=-1)
         e_kappa = np.linalg.norm(pts.strain[:, 3:], axis=-1) + np.einsum(
             "pa,pa->p", np.abs(self.dN), 1 + np.linalg.norm(pts.psi_nodes, axis=-1)
@@ -366,21 +412,55 @@ class ExactBeam:
         with ``keep`` (sorted dofs) its rows and columns on those dofs only, assembled so
         (a Newton step's free block)."""
         pts = self.points(state) if pts is None else pts
-        var = self._variations(state, pts)
-        square = (self._fv_blocks if self.finite_volume else self._galerkin_blocks)(state, pts, var)
-        number = np.arange(self.n_dofs)
-        if keep is not None:
-            number = np.full(self.n_dofs, -1)
-            number[keep] = np.arange(len(keep))
+        if self.finite_volume and self.compiled:
+            square = exact_kernel.fv_blocks(
+                np.ascontiguousarray(state.x),
+                np.ascontiguousarray(state.R),
+                self.nodes,
+                self.reference_node,
+                self.N,
+                self.dN,
+                self.C,
+                self.jump,
+                pts.psi_nodes,
+                pts.psi,
+                pts.dpsi,
+                pts.Lambda,
+                pts.x,
+                pts.dx,
+                pts.force,
+                pts.moment,
+            )
+        else:
+            var = self._variations(state, pts)
+            blocks = self._fv_blocks if self.finite_volume else self._galerkin_blocks
+            square = blocks(state, pts, var)
+        keep = np.arange(self.n_dofs) if keep is None else np.asarray(keep)
+        inside, order, indices, indptr = self._pattern(keep)
+        data = np.bincount(order, square.ravel()[inside], minlength=len(indices))
+        return sp.csc_matrix((data, indices, indptr), shape=(len(keep), len(keep)))
+
+    def _pattern(self, keep: np.ndarray) -> tuple[np.ndarray, ...]:
+        """The tangent's compressed-column structure on the dofs ``keep``, built once per
+        ``keep`` (the last one is kept): which entries of the points' blocks fall inside,
+        the slot of each in the matrix's data (duplicates summed there), the rows of the
+        slots and the columns' starts."""
+        key = keep.tobytes()
+        if self._last_pattern is not None and self._last_pattern[0] == key:
+            return self._last_pattern[1]
+        number = np.full(self.n_dofs, -1)
+        number[keep] = np.arange(len(keep))
         dofs = number[self._dofs]
-        rows = np.broadcast_to(dofs[:, :, None], square.shape).ravel()
-        cols = np.broadcast_to(dofs[:, None, :], square.shape).ravel()
-        inside = (rows >= 0) & (cols >= 0)
-        size = number.max() + 1
-        K = sp.coo_matrix(
-            (square.ravel()[inside], (rows[inside], cols[inside])), shape=(size, size)
-        )
-        return K.tocsc()
+        shape = dofs.shape + dofs.shape[1:]
+        rows = np.broadcast_to(dofs[:, :, None], shape).ravel()
+        cols = np.broadcast_to(dofs[:, None, :], shape).ravel()
+        inside = np.flatnonzero((rows >= 0) & (cols >= 0))
+        slots, order = np.unique(cols[inside] * len(keep) + rows[inside], return_inverse=True)
+        indices = slots % len(keep)
+        indptr = np.searchsorted(slots // len(keep), np.arange(len(keep) + 1))
+        pattern = (inside, order, indices, indptr)
+        self._last_pattern = (key, pattern)
+        return pattern
 
     def _fv_blocks(self, state: ExactState, pts: PointState, var: Variations) -> np.ndarray:
         """Each point's tangent block of the region balances (P, 6 npe, 6 npe)."""
