@@ -67,6 +67,9 @@ from fvbeam.formulations import FiniteVolume, Galerkin
 from fvbeam.geometry import cross, skew_matrices
 from fvbeam.mesh import shape_functions
 
+#: How many tangent patterns an :class:`ExactBeam` keeps.
+PATTERNS = 4
+
 
 @dataclass(frozen=True)
 class ExactState:
@@ -174,8 +177,8 @@ class ExactBeam:
         self.weight = np.tile(Wp, n_el) * ds
         self.dx0 = np.einsum("pa,pak->pk", self.dN, mesh.points[self.nodes])
         self.n_dofs = beam.n_dofs
-        #: The tangent's compressed-column pattern on the last ``keep`` (:meth:`_pattern`).
-        self._last_pattern: tuple[bytes, tuple[np.ndarray, ...]] | None = None
+        #: The tangent's compressed-column patterns by the dofs kept (:meth:`_pattern`).
+        self._patterns: dict[bytes, tuple[np.ndarray, ...]] = {}
 
     def reference(self) -> ExactState:
         """The reference configuration: the mesh's nodes, identity rotations."""
@@ -444,10 +447,13 @@ class ExactBeam:
         """The tangent's compressed-column structure on the dofs ``keep``, built once per
         ``keep`` (the last one is kept): which entries of the points' blocks fall inside,
         the slot of each in the matrix's data (duplicates summed there), the rows of the
-        slots and the columns' starts."""
+        slots and the columns' starts.  The few last are kept (a solver alternates the free
+        dofs and the free positions)."""
         key = keep.tobytes()
-        if self._last_pattern is not None and self._last_pattern[0] == key:
-            return self._last_pattern[1]
+        if key in self._patterns:
+            return self._patterns[key]
+        if len(self._patterns) >= PATTERNS:
+            self._patterns.clear()
         number = np.full(self.n_dofs, -1)
         number[keep] = np.arange(len(keep))
         dofs = number[self._dofs]
@@ -456,11 +462,11 @@ class ExactBeam:
         cols = np.broadcast_to(dofs[:, None, :], shape).ravel()
         inside = np.flatnonzero((rows >= 0) & (cols >= 0))
         slots, order = np.unique(cols[inside] * len(keep) + rows[inside], return_inverse=True)
-        indices = slots % len(keep)
-        indptr = np.searchsorted(slots // len(keep), np.arange(len(keep) + 1))
-        pattern = (inside, order, indices, indptr)
-        self._last_pattern = (key, pattern)
-        return pattern
+        index = np.int32 if len(slots) < np.iinfo(np.int32).max else np.int64
+        indices = (slots % len(keep)).astype(index)
+        indptr = np.searchsorted(slots // len(keep), np.arange(len(keep) + 1)).astype(index)
+        self._patterns[key] = (inside, order, indices, indptr)
+        return self._patterns[key]
 
     def _fv_blocks(self, state: ExactState, pts: PointState, var: Variations) -> np.ndarray:
         """Each point's tangent block of the region balances (P, 6 npe, 6 npe)."""

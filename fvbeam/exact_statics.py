@@ -8,7 +8,26 @@ supports clamping the dofs they name (zero increment, so a clamped node keeps it
 position and rotation).
 
 **Newton** on each load step: ``K_ff dq = lambda f_f - r_f(q)``, the state updated on the
-manifold (:meth:`~fvbeam.exact_beam.ExactState.updated`).
+manifold (:meth:`~fvbeam.exact_beam.ExactState.updated`), then its **positions corrected**
+so that the force balances hold exactly.  A Newton update leaves strains of the order of its
+rotations squared (the linearisation's error in ``nu = Lambda^T x' - x0'``), which the axial
+and shear stiffness of a slender member turn into forces of ``EA |dphi|^2``: Newton then
+spends every other iteration removing them, and diverges from a load a soft member carries
+easily.  At fixed rotations, though, the strains ``nu``, and so the forces ``F`` and the
+force balances ``r_u``, are *affine* in the positions (``kappa`` does not depend on them):
+one solve with the tangent's position block, ``K_uu du = lambda f_u - r_u``, the rotations
+kept, satisfies them exactly (a nonlinear elimination of the positions, one step of it per
+iteration).  Newton's remaining error is in the moment balances, governed by the bending
+stiffness.
+
+**Step length**: an increment that turns a node by more than :data:`MAX_TURN` (a radian) in
+any component is scaled down to it, its direction kept.  The linearisation behind it (the
+tangent operators of the rotations, the lever arms) holds for small turns only, and the
+first iterate of a large load (the linear solution: a tip rotation of 5 rad for the elastica
+at ``P L^2 / EJ = 10``) lies far outside it; near the solution the increments are small and
+Newton's quadratic convergence is untouched.  With both, the elastica at ``P L^2 / EJ = 10``
+with ``EA L^2 / EJ = 1e8`` converges in one load step of 4 iterations (56 in 4 steps
+without them), the 45-degree bend in 4 (62).
 
 **Convergence** is judged against the round-off floor of the residual, not a fixed tolerance:
 each dof's residual is a sum of terms (:meth:`~fvbeam.exact_beam.ExactBeam.residual_floor`)
@@ -40,6 +59,9 @@ from fvbeam.geometry import sized
 #: evaluation point of its elements and the load), each with a relative rounding error of a
 #: few ``eps``; 16 bounds their sum.
 FLOOR_FACTOR = 16.0
+#: The largest rotation (radians, any component of a node's increment) a Newton iteration
+#: applies; a larger increment is scaled down to it, the direction kept (module docstring).
+MAX_TURN = 1.0
 #: Fewest iterations that make the next load step larger.
 FAST = 5
 #: Iterations after which a step whose residual is still above its first is given up (and
@@ -166,5 +188,30 @@ def _newton(
             break
         dq = np.zeros(beam.n_dofs)
         dq[free] = dq_free
-        state = state.updated(dq)
+        turn = float(np.abs(dq.reshape(-1, 6)[:, 3:]).max(initial=0.0))
+        if turn > MAX_TURN:
+            dq *= MAX_TURN / turn
+        state = _balance_forces(beam, f, factor, free, state.updated(dq))
     return state, it, False, ratio
+
+
+def _balance_forces(
+    beam: ExactBeam, f: np.ndarray, factor: float, free: np.ndarray, state: ExactState
+) -> ExactState:
+    """The state with its free positions corrected so that the force balances hold
+    exactly, its rotations kept (the position correction of the module docstring): at fixed
+    rotations the force balances are affine in the positions, so one solve with their
+    block of the tangent, ``K_uu du = lambda f_u - r_u``, satisfies them.  A singular block
+    (positions held by rotations only) leaves the state as it is."""
+    positions = free[free % 6 < 3]
+    if positions.size == 0:
+        return state
+    pts = beam.points(state)
+    g = factor * f[positions] - beam.residual(state, pts)[positions]
+    try:
+        du = spla.splu(beam.tangent(state, pts, positions)).solve(g)
+    except RuntimeError:
+        return state
+    dq = np.zeros(beam.n_dofs)
+    dq[positions] = du
+    return state.updated(dq)
