@@ -11,7 +11,10 @@
     iterations, beside the error.
     ``peer``: the same elastica in Exudyn (when installed, the ``peer`` extra): its static
     solve (:func:`peer_elastica`) on ANCF cable elements refined until the same error, timed
-    the same way.
+    the same way, for each of its load-step settings :data:`PEER_LOAD_STEPS` (its best is
+    the fewest that converge: one);
+    ``side_by_side``: per formulation, its first mesh within :data:`TARGET` against the
+    peer's fastest setting within it, and the ratio of their minimum times.
     ``bend``: the 45-degree bend of Bathe and Bolourchi (:func:`bend`, tip force
     :data:`BEND_LOAD` out of plane) with 8 elements of each formulation: its time, its tip
     and the tip's distance from the published one (:data:`BEND_SIMO`) and from the
@@ -56,6 +59,8 @@ TARGET = 1e-4
 #: First meshes of the elastica (halved from there) and the most elements tried.
 FIRST = {"fv2": 8, "fv3": 2, "galerkin-p1": 8, "galerkin-p2": 2}
 MOST = 512
+#: The peer's load-step settings (Exudyn's ``staticSolver.numberOfLoadSteps``, adaptive).
+PEER_LOAD_STEPS = (1, 2, 5, 10)
 #: The bend's tip force and its published tip position (x, y, z) with 8 elements: Simo and
 #: Vu-Quoc, CMAME 58 (1986) 79-116 (the loads 300, 450 and 600).
 BEND_LOAD = 600.0
@@ -146,13 +151,14 @@ def bench_elastica(name: str, repeats: int, first: int, most: int) -> list[dict[
     return rows
 
 
-def peer_elastica(n: int) -> tuple[float, float]:
+def peer_elastica(n: int, load_steps: int = 1) -> tuple[float, float]:
     """The elastica on ``n`` of Exudyn's ANCF cable elements (``ObjectANCFCable2D``: cubic
     Hermite positions, Euler-Bernoulli, ``EA = 1e8``, ``EJ = 1``), clamped by
     ``CoordinateConstraint`` on the first node's position and slope, the dead tip force a
-    ``Force`` load; Exudyn's static solver (Newton, 10 load steps, adaptive, relative
-    tolerance 1e-10, sparse solver).  Returns the seconds of ``SolveStatic`` (the model's
-    build and assembly apart) and the tip's error as :func:`elastica_error` measures it."""
+    ``Force`` load; Exudyn's static solver (Newton, ``load_steps`` load steps, adaptive,
+    relative tolerance 1e-10, Eigen's sparse solver: its fastest, ahead of its dense one
+    from 32 elements on).  Returns the seconds of ``SolveStatic`` (the model's build and
+    assembly apart) and the tip's error as :func:`elastica_error` measures it."""
     exu = exudyn()
     from exudyn import itemInterface as it
 
@@ -182,7 +188,7 @@ def peer_elastica(n: int) -> tuple[float, float]:
     mbs.AddLoad(it.Force(markerNumber=tip, loadVector=[0, -LOAD, 0]))
     mbs.Assemble()
     settings = exu.SimulationSettings()
-    settings.staticSolver.numberOfLoadSteps = 10
+    settings.staticSolver.numberOfLoadSteps = load_steps
     settings.staticSolver.adaptiveStep = True
     settings.staticSolver.newton.relativeTolerance = 1e-10
     settings.staticSolver.verboseMode = 0
@@ -197,12 +203,12 @@ def peer_elastica(n: int) -> tuple[float, float]:
     return seconds, float(np.abs(ours - [ref.shortening, ref.deflection, ref.rotation]).max())
 
 
-def bench_peer(repeats: int, first: int, most: int) -> list[dict[str, Any]]:
+def bench_peer(repeats: int, first: int, most: int, load_steps: int) -> list[dict[str, Any]]:
     """Rows of the peer's meshes halved from ``first`` until the error is below TARGET."""
     rows = []
     n = first
     while n <= most:
-        runs = [peer_elastica(n) for _ in range(repeats)]
+        runs = [peer_elastica(n, load_steps) for _ in range(repeats)]
         rows.append(
             {"n_elements": n, "seconds": summary([t for t, _ in runs]), "error": runs[0][1]}
         )
@@ -210,6 +216,30 @@ def bench_peer(repeats: int, first: int, most: int) -> list[dict[str, Any]]:
             break
         n *= 2
     return rows
+
+
+def side_by_side(
+    elastica: dict[str, list[dict[str, Any]]], peer: dict[str, list[dict[str, Any]]]
+) -> dict[str, Any]:
+    """Each formulation's first mesh within TARGET beside the peer's fastest setting within
+    it, with the ratio of their minimum times (ours over the peer's)."""
+    within = [
+        (setting, row) for setting, rows in peer.items() for row in rows if row["error"] <= TARGET
+    ]
+    if not within:
+        return {}
+    setting, best = min(within, key=lambda item: item[1]["seconds"]["min"])
+    out: dict[str, Any] = {"peer": {"setting": setting, **best}}
+    for name, rows in elastica.items():
+        ours = next((row for row in rows if row["error"] <= TARGET), None)
+        if ours is not None:
+            out[name] = {
+                "n_elements": ours["n_elements"],
+                "error": ours["error"],
+                "seconds": ours["seconds"]["min"],
+                "ratio_to_peer": ours["seconds"]["min"] / best["seconds"]["min"],
+            }
+    return out
 
 
 def bench_bend(repeats: int, converged_n: int) -> dict[str, Any]:
@@ -234,7 +264,7 @@ def bench_bend(repeats: int, converged_n: int) -> dict[str, Any]:
     return out
 
 
-def bench(repeats: int = 3, most: int = MOST, converged_n: int = 32) -> dict[str, Any]:
+def bench(repeats: int = 10, most: int = MOST, converged_n: int = 32) -> dict[str, Any]:
     """The benchmark's JSON section (module docstring)."""
     result: dict[str, Any] = {"load": LOAD, "target": TARGET, "interrupted": False}
     try:
@@ -243,7 +273,11 @@ def bench(repeats: int = 3, most: int = MOST, converged_n: int = 32) -> dict[str
         }
         result["bend"] = bench_bend(repeats, converged_n)
         if peer_available():
-            result["peer"] = {"exudyn-ancf": bench_peer(repeats, 8, most)}
+            result["peer"] = {
+                f"exudyn-ancf, {steps} load steps": bench_peer(repeats, 8, most, steps)
+                for steps in PEER_LOAD_STEPS
+            }
+            result["side_by_side"] = side_by_side(result["elastica"], result["peer"])
     except KeyboardInterrupt:
         result["interrupted"] = True
     return result
@@ -267,11 +301,21 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                 f"{row['seconds']['min']:.3f} s ({row['load_steps']} steps, "
                 f"{row['newton_iterations']} iterations), error {row['error']:.2e}"
             )
-    for row in result.get("peer", {}).get("exudyn-ancf", []):
-        print(
-            f"peer (Exudyn ANCF cable) x {row['n_elements']}: {row['seconds']['min']:.3f} s, "
-            f"error {row['error']:.2e}"
-        )
+    for setting, rows in result.get("peer", {}).items():
+        for row in rows:
+            print(
+                f"peer ({setting}) x {row['n_elements']}: {row['seconds']['min']:.4f} s, "
+                f"error {row['error']:.2e}"
+            )
+    pair = result.get("side_by_side", {})
+    for name in FIRST:
+        if name in pair:
+            print(
+                f"at error <= {TARGET:g}: {name} x {pair[name]['n_elements']} "
+                f"{pair[name]['seconds']:.4f} s, {pair[name]['ratio_to_peer']:.2f} times the "
+                f"peer's {pair['peer']['seconds']['min']:.4f} s ({pair['peer']['setting']} x "
+                f"{pair['peer']['n_elements']})"
+            )
     if "bend" in result:
         for name in BEND_FORMULATIONS:
             row = result["bend"][name]
