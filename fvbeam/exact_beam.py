@@ -81,9 +81,11 @@ class ExactState:
 
     def updated(self, dq: np.ndarray) -> ExactState:
         """The state moved by the dof increments ``dq`` (6 per node, ``[du, dphi]``):
-        ``x + du``, ``exp(dphi) R``."""
+        ``x + du``, ``exp(dphi) R`` (:func:`fvbeam.rotations.update`, run compiled:
+        :func:`fvbeam.exact_kernel.update`)."""
         d = np.asarray(dq, dtype=float).reshape(-1, 6)
-        return ExactState(self.x + d[:, :3], rotations.update(self.R, d[:, 3:]))
+        turned = exact_kernel.update(np.ascontiguousarray(self.R), np.ascontiguousarray(d[:, 3:]))
+        return ExactState(self.x + d[:, :3], turned)
 
 
 @dataclass(frozen=True)

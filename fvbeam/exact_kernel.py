@@ -6,11 +6,11 @@ law as the module docstring of :mod:`fvbeam.exact_beam` writes it: :func:`points
 beams :func:`fv_residual`, :func:`fv_floor` and :func:`fv_blocks` of ``residual``,
 ``residual_floor`` and ``_fv_blocks`` (the region balances, their round-off bound and their
 tangent blocks), with the rotation tools of :mod:`fvbeam.rotations` they need at one point
-(:func:`exp_at`, :func:`log_at`, the coefficients of the tangent operators with the same
-series below :data:`fvbeam.rotations.SERIES`).  ``tests/test_exact_kernel.py`` holds each
-equal to its numpy statement to round-off at random finite rotations; the numpy statement is
-for reading and testing, the solver runs these (``ExactBeam(beam, compiled=False)`` runs the
-statement).
+(:func:`exp_at`, :func:`log_at`, :func:`update`, the coefficients of the tangent operators
+with the same series below :data:`fvbeam.rotations.SERIES`).  ``tests/test_exact_kernel.py``
+holds each equal to its numpy statement to round-off at random finite rotations; the numpy
+statement is for reading and testing, the solver runs these
+(``ExactBeam(beam, compiled=False)`` runs the statement).
 
 One point's work is a few hundred flops on 3x3 and 6x6 blocks: written as loops over them,
 without temporaries from numpy's broadcasting, it takes about a microsecond, where the
@@ -133,6 +133,16 @@ def log_at(R: np.ndarray) -> np.ndarray:
     # angle / v -> 2 / w (its series below 1e-4: the next term, v^2 / 3, is below eps there)
     scale = angle / v if v > 1e-4 else 2 / w * (1 + v * v / (3 * w * w))
     return q[:3] / norm * scale
+
+
+@numba.njit(cache=True)
+def update(R: np.ndarray, dphi: np.ndarray) -> np.ndarray:
+    """Rotations ``R`` (n, 3, 3) turned by the spatial increments ``dphi`` (n, 3),
+    ``exp(skew(dphi)) R``: :func:`fvbeam.rotations.update`."""
+    out = np.empty_like(R)
+    for a in range(R.shape[0]):
+        out[a] = mm(exp_at(dphi[a]), R[a])
+    return out
 
 
 @numba.njit(cache=True)

@@ -63,3 +63,15 @@ def test_rotation_logarithm_and_exponential_equal_scipys():
         np.testing.assert_allclose(exact_kernel.exp_at(psi), R, rtol=0, atol=16 * EPS)
         tol = 16 * EPS * (angle + 1 / np.sin(angle))
         np.testing.assert_allclose(exact_kernel.log_at(R), rotations.log_map(R), rtol=0, atol=tol)
+
+
+def test_compiled_update_equals_the_statements():
+    """``ExactState.updated`` turns the rotations as :func:`fvbeam.rotations.update` does (to
+    ``16 eps``, the matrices' entries being of size 1), the positions by the increment."""
+    exact = ExactBeam(curved_beam("fv3"))
+    state = random_state(exact, 0.3, 1.0)
+    dq = np.random.default_rng(3).uniform(-2.0, 2.0, exact.n_dofs)
+    moved = state.updated(dq)
+    turn = rotations.update(state.R, dq.reshape(-1, 6)[:, 3:])
+    np.testing.assert_allclose(moved.R, turn, rtol=0, atol=16 * EPS)
+    np.testing.assert_array_equal(moved.x, state.x + dq.reshape(-1, 6)[:, :3])
