@@ -54,7 +54,7 @@ two equal to round-off).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from functools import cached_property
 
 import numpy as np
@@ -101,6 +101,10 @@ class PointState:
     strain: np.ndarray  # (P, 6) [nu, kappa]
     force: np.ndarray  # (P, 3) F, global
     moment: np.ndarray  # (P, 3) M, global
+
+    def arrays(self) -> tuple[np.ndarray, ...]:
+        """The fields in their order (as :func:`fvbeam.exact_kernel.points` returns them)."""
+        return tuple(getattr(self, f.name) for f in fields(self))
 
 
 @dataclass(frozen=True)
@@ -179,6 +183,18 @@ class ExactBeam:
         self.weight = np.tile(Wp, n_el) * ds
         self.dx0 = np.einsum("pa,pak->pk", self.dN, mesh.points[self.nodes])
         self.n_dofs = beam.n_dofs
+        #: What the compiled kernels read of the beam (:mod:`fvbeam.exact_kernel`): the
+        #: points' nodes, the reference node, ``N``, ``N'``, ``x0'``, ``C`` and the jumps
+        #: (fv; an empty (0, npe) for Galerkin).
+        self.geometry = (
+            self.nodes,
+            self.reference_node,
+            self.N,
+            self.dN,
+            self.dx0,
+            self.C,
+            self.jump if self.finite_volume else np.zeros((0, npe)),
+        )
         #: The tangent's compressed-column patterns by the dofs kept (:meth:`_pattern`).
         self._patterns: dict[bytes, tuple[np.ndarray, ...]] = {}
 
@@ -196,18 +212,8 @@ class ExactBeam:
     def points(self, state: ExactState) -> PointState:
         """Strains and stress resultants at the evaluation points (module docstring)."""
         if self.compiled:
-            return PointState(
-                *exact_kernel.points(
-                    np.ascontiguousarray(state.x),
-                    np.ascontiguousarray(state.R),
-                    self.nodes,
-                    self.reference_node,
-                    self.N,
-                    self.dN,
-                    self.dx0,
-                    self.C,
-                )
-            )
+            R = np.ascontiguousarray(state.R)
+            return PointState(*exact_kernel.points(state.x, R, self.geometry))
         Rr = state.R[self.nodes[:, self.reference_node]]  # (P, 3, 3)
         Rn = state.R[self.nodes]  # (P, npe, 3, 3)
         psi_nodes = rotations.log_map(np.swapaxes(Rr, -1, -2)[:, None] @ Rn)
@@ -242,15 +248,7 @@ class ExactBeam:
         the state's :meth:`points`, when the caller has them."""
         pts = self.points(state) if pts is None else pts
         if self.finite_volume and self.compiled:
-            return exact_kernel.fv_residual(
-                np.ascontiguousarray(state.x),
-                self.nodes,
-                self.jump,
-                pts.x,
-                pts.force,
-                pts.moment,
-                self.n_dofs,
-            )
+            return exact_kernel.fv_residual(state.x, self.geometry, pts.arrays(), self.n_dofs)
         if self.finite_volume:
             terms = self._nodal_terms(state, pts)
         else:
@@ -269,21 +267,7 @@ class ExactBeam:
         floor (:mod:`fvbeam.exact_statics`)."""
         pts = self.points(state) if pts is None else pts
         if self.finite_volume and self.compiled:
-            return exact_kernel.fv_floor(
-                np.ascontiguousarray(state.x),
-                self.nodes,
-                self.jump,
-                self.dN,
-                self.dx0,
-                self.C,
-                pts.psi_nodes,
-                pts.x,
-                pts.dx,
-                pts.strain,
-                pts.force,
-                pts.moment,
-                self.n_dofs,
-            )
+            return exact_kernel.fv_floor(state.x, self.geometry, pts.arrays(), self.n_dofs)
         e_nu = np.linalg.norm(pts.dx, axis=-1) + np.linalg.norm(self.dx0, axis=-1)
         e_kappa = np.linalg.norm(pts.strain[:, 3:], axis=-1) + np.einsum(
             "pa,pa->p", np.abs(self.dN), 1 + np.linalg.norm(pts.psi_nodes, axis=-1)
@@ -418,24 +402,8 @@ class ExactBeam:
         (a Newton step's free block)."""
         pts = self.points(state) if pts is None else pts
         if self.finite_volume and self.compiled:
-            square = exact_kernel.fv_blocks(
-                np.ascontiguousarray(state.x),
-                np.ascontiguousarray(state.R),
-                self.nodes,
-                self.reference_node,
-                self.N,
-                self.dN,
-                self.C,
-                self.jump,
-                pts.psi_nodes,
-                pts.psi,
-                pts.dpsi,
-                pts.Lambda,
-                pts.x,
-                pts.dx,
-                pts.force,
-                pts.moment,
-            )
+            R = np.ascontiguousarray(state.R)
+            square = exact_kernel.fv_blocks(state.x, R, self.geometry, pts.arrays())
         else:
             var = self._variations(state, pts)
             blocks = self._fv_blocks if self.finite_volume else self._galerkin_blocks

@@ -62,7 +62,7 @@ def skew_at(v: np.ndarray) -> np.ndarray:
 
 @numba.njit(cache=True)
 def mm(A: np.ndarray, B: np.ndarray) -> np.ndarray:
-    """``A @ B`` of small matrices, as loops."""
+    """``A @ B`` of small matrices (either may be a transposed view), as loops."""
     n, k, m = A.shape[0], A.shape[1], B.shape[1]
     out = np.zeros((n, m))
     for i in range(n):
@@ -71,20 +71,6 @@ def mm(A: np.ndarray, B: np.ndarray) -> np.ndarray:
             if aij != 0.0:
                 for c in range(m):
                     out[i, c] += aij * B[j, c]
-    return out
-
-
-@numba.njit(cache=True)
-def mtm(A: np.ndarray, B: np.ndarray) -> np.ndarray:
-    """``A^T @ B`` of small matrices, as loops."""
-    n, k, m = A.shape[1], A.shape[0], B.shape[1]
-    out = np.zeros((n, m))
-    for j in range(k):
-        for i in range(n):
-            aji = A[j, i]
-            if aji != 0.0:
-                for c in range(m):
-                    out[i, c] += aji * B[j, c]
     return out
 
 
@@ -146,18 +132,11 @@ def update(R: np.ndarray, dphi: np.ndarray) -> np.ndarray:
 
 
 @numba.njit(cache=True)
-def points(
-    x: np.ndarray,
-    R: np.ndarray,
-    nodes: np.ndarray,
-    reference: int,
-    N: np.ndarray,
-    dN: np.ndarray,
-    dx0: np.ndarray,
-    C: np.ndarray,
-) -> tuple[np.ndarray, ...]:
+def points(x: np.ndarray, R: np.ndarray, geometry: tuple) -> tuple[np.ndarray, ...]:
     """``ExactBeam.points``: ``psi_a, psi, psi', Lambda, x, x', [nu; kappa], F, M`` at each
-    point (shapes of :class:`fvbeam.exact_beam.PointState`)."""
+    point (shapes of :class:`fvbeam.exact_beam.PointState`), for the node positions ``x``
+    and rotations ``R`` and the beam's ``geometry`` (``ExactBeam.geometry``)."""
+    nodes, reference, N, dN, dx0, C, _ = geometry
     P, npe = nodes.shape
     psi_nodes = np.zeros((P, npe, 3))
     psi = np.zeros((P, 3))
@@ -172,7 +151,7 @@ def points(
         Rr = R[nodes[p, reference]]
         for a in range(npe):
             if a != reference:
-                psi_nodes[p, a] = log_at(mtm(Rr, R[nodes[p, a]]))
+                psi_nodes[p, a] = log_at(mm(Rr.T, R[nodes[p, a]]))
             psi[p] += N[p, a] * psi_nodes[p, a]
             dpsi[p] += dN[p, a] * psi_nodes[p, a]
             xp[p] += N[p, a] * x[nodes[p, a]]
@@ -198,16 +177,11 @@ def points(
 
 
 @numba.njit(cache=True)
-def fv_residual(
-    x: np.ndarray,
-    nodes: np.ndarray,
-    jump: np.ndarray,
-    xp: np.ndarray,
-    force: np.ndarray,
-    moment: np.ndarray,
-    n_dofs: int,
-) -> np.ndarray:
-    """``ExactBeam.residual`` of an fv beam: ``sum_p jump_a(p) [F; M + (x_p - x_a) x F]``."""
+def fv_residual(x: np.ndarray, geometry: tuple, state: tuple, n_dofs: int) -> np.ndarray:
+    """``ExactBeam.residual`` of an fv beam: ``sum_p jump_a(p) [F; M + (x_p - x_a) x F]``,
+    ``state`` the points' (``PointState.arrays``)."""
+    nodes, jump = geometry[0], geometry[6]
+    xp, force, moment = state[4], state[7], state[8]
     r = np.zeros(n_dofs)
     P, npe = nodes.shape
     for p in range(P):
@@ -223,22 +197,10 @@ def fv_residual(
 
 
 @numba.njit(cache=True)
-def fv_floor(
-    x: np.ndarray,
-    nodes: np.ndarray,
-    jump: np.ndarray,
-    dN: np.ndarray,
-    dx0: np.ndarray,
-    C: np.ndarray,
-    psi_nodes: np.ndarray,
-    xp: np.ndarray,
-    dxp: np.ndarray,
-    strain: np.ndarray,
-    force: np.ndarray,
-    moment: np.ndarray,
-    n_dofs: int,
-) -> np.ndarray:
+def fv_floor(x: np.ndarray, geometry: tuple, state: tuple, n_dofs: int) -> np.ndarray:
     """``ExactBeam.residual_floor`` of an fv beam (its docstring states the bound)."""
+    nodes, _, _, dN, dx0, C, jump = geometry
+    psi_nodes, _, _, _, xp, dxp, strain, force, moment = state
     out = np.zeros(n_dofs)
     P, npe = nodes.shape
     for p in range(P):
@@ -263,26 +225,11 @@ def fv_floor(
 
 
 @numba.njit(cache=True)
-def fv_blocks(
-    x: np.ndarray,
-    R: np.ndarray,
-    nodes: np.ndarray,
-    reference: int,
-    N: np.ndarray,
-    dN: np.ndarray,
-    C: np.ndarray,
-    jump: np.ndarray,
-    psi_nodes: np.ndarray,
-    psi: np.ndarray,
-    dpsi: np.ndarray,
-    Lam: np.ndarray,
-    xp: np.ndarray,
-    dxp: np.ndarray,
-    force: np.ndarray,
-    moment: np.ndarray,
-) -> np.ndarray:
+def fv_blocks(x: np.ndarray, R: np.ndarray, geometry: tuple, state: tuple) -> np.ndarray:
     """``ExactBeam._fv_blocks``: each point's tangent block of the region balances
     (P, 6 npe, 6 npe), from the variations of ``ExactBeam._variations``."""
+    nodes, reference, N, dN, _, C, jump = geometry
+    psi_nodes, psi, dpsi, Lam, xp, dxp, _, force, moment = state
     P, npe = nodes.shape
     m = 6 * npe
     r = reference
@@ -297,7 +244,7 @@ def fv_blocks(
                 continue
             t = np.linalg.norm(psi_nodes[p, a])
             _, _, c, _, _ = coefficients_at(t)
-            block = mm(series_matrix(skew_at(psi_nodes[p, a]), -0.5, c), Rr.T.copy())
+            block = mm(series_matrix(skew_at(psi_nodes[p, a]), -0.5, c), Rr.T)
             for i in range(3):
                 for j in range(3):
                     for col, sign in ((6 * a + 3 + j, 1.0), (6 * r + 3 + j, -1.0)):
@@ -320,12 +267,12 @@ def fv_blocks(
                 d_x[i, 6 * a + i] = N[p, a]
                 d_xs[i, 6 * a + i] = dN[p, a]
         d_strain = np.zeros((6, m))
-        d_strain[:3] = mtm(Lam[p], d_xs + mm(skew_at(dxp[p]), d_theta))
-        d_strain[3:] = mtm(Lam[p], d_theta_s)
+        d_strain[:3] = mm(Lam[p].T, d_xs + mm(skew_at(dxp[p]), d_theta))
+        d_strain[3:] = mm(Lam[p].T, d_theta_s)
         d_stress = mm(C[p], d_strain)
         F_hat = skew_at(force[p])
-        dF = -mm(F_hat, d_theta) + mm(Lam[p], d_stress[:3].copy())
-        dM = -mm(skew_at(moment[p]), d_theta) + mm(Lam[p], d_stress[3:].copy())
+        dF = -mm(F_hat, d_theta) + mm(Lam[p], d_stress[:3])
+        dM = -mm(skew_at(moment[p]), d_theta) + mm(Lam[p], d_stress[3:])
         F_dx = mm(F_hat, d_x)
         for a in range(npe):
             arm_dF = mm(skew_at(xp[p] - x[nodes[p, a]]), dF)
