@@ -18,8 +18,6 @@ from functools import cached_property
 import numpy as np
 
 from fvbeam import Beam, Section, Structure, Support, straight
-from fvbeam.exact_beam import ExactBeam
-from fvbeam.exact_statics import solve_static
 from fvbeam.formulations import formulation as get_formulation
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
@@ -156,6 +154,9 @@ def compile_kernels() -> None:
     each slider kind on one fv3 element (``fvslider compile``; about half a minute the
     first time on a machine, well under a second once cached); and the geometrically exact
     beam's (:mod:`fvbeam.exact_kernel`), by a static solve of one fv3 element."""
+    from fvbeam.exact_beam import ExactBeam  # only here: the figures' runs do not need it
+    from fvbeam.exact_statics import solve_static
+
     for kind in KINDS:
         SlidingBeams("fv3", 1, kind).solve(np.array([0.0, 0.01]))
     section = Section.diagonal(EA=1.0, GAy=1.0, GAz=1.0, GJ=1.0, EJy=1.0, EJz=1.0)
