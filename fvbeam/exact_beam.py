@@ -54,7 +54,7 @@ two equal to round-off).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
@@ -104,7 +104,17 @@ class PointState:
 
     def arrays(self) -> tuple[np.ndarray, ...]:
         """The fields in their order (as :func:`fvbeam.exact_kernel.points` returns them)."""
-        return tuple(getattr(self, f.name) for f in fields(self))
+        return (
+            self.psi_nodes,
+            self.psi,
+            self.dpsi,
+            self.Lambda,
+            self.x,
+            self.dx,
+            self.strain,
+            self.force,
+            self.moment,
+        )
 
 
 @dataclass(frozen=True)

@@ -14,6 +14,8 @@ size, summed in another order by the two forms:
   (``tests/test_exact_beam.py``).
 """
 
+from dataclasses import fields
+
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
@@ -75,3 +77,12 @@ def test_compiled_update_equals_the_statements():
     turn = rotations.update(state.R, dq.reshape(-1, 6)[:, 3:])
     np.testing.assert_allclose(moved.R, turn, rtol=0, atol=16 * EPS)
     np.testing.assert_array_equal(moved.x, state.x + dq.reshape(-1, 6)[:, :3])
+
+
+def test_point_state_arrays_are_its_fields_in_order():
+    """``PointState.arrays`` hands the kernels the fields in the order they are declared (and
+    :func:`fvbeam.exact_kernel.points` returns them)."""
+    exact = ExactBeam(curved_beam("fv2"))
+    pts = exact.points(random_state(exact, 0.3, 1.0))
+    assert [f.name for f in fields(pts)] == list(FIELDS)
+    assert all(a is getattr(pts, name) for a, name in zip(pts.arrays(), FIELDS, strict=True))
