@@ -30,7 +30,7 @@ from fvbeam.rotations import SERIES
 guard(__file__)  # numba's cache of these kernels, consistent with their sources
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def coefficients_at(t: float) -> tuple[float, float, float, float, float]:
     """``a, b, c, a'/t, b'/t`` at the angle ``t`` (:func:`fvbeam.rotations._coefficients`)."""
     t2 = t * t
@@ -50,7 +50,7 @@ def coefficients_at(t: float) -> tuple[float, float, float, float, float]:
     return a, b, c, da, db
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def skew_at(v: np.ndarray) -> np.ndarray:
     """The matrix of ``v x`` (3, 3)."""
     out = np.zeros((3, 3))
@@ -60,7 +60,7 @@ def skew_at(v: np.ndarray) -> np.ndarray:
     return out
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def mm(A: np.ndarray, B: np.ndarray) -> np.ndarray:
     """``A @ B`` of small matrices (either may be a transposed view), as loops."""
     n, k, m = A.shape[0], A.shape[1], B.shape[1]
@@ -74,7 +74,7 @@ def mm(A: np.ndarray, B: np.ndarray) -> np.ndarray:
     return out
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def series_matrix(S: np.ndarray, first: float, second: float) -> np.ndarray:
     """``I + first S + second S^2`` (3, 3): ``exp``, ``J`` and ``J^-1`` of ``S = skew(psi)``."""
     S2 = mm(S, S)
@@ -84,7 +84,7 @@ def series_matrix(S: np.ndarray, first: float, second: float) -> np.ndarray:
     return out
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def exp_at(psi: np.ndarray) -> np.ndarray:
     """``exp(skew(psi))`` (Rodrigues, ``sin t / t = 1 - t^2 b``, ``(1 - cos t) / t^2 = a``):
     :func:`fvbeam.rotations.exp_map` at one rotation vector."""
@@ -93,7 +93,7 @@ def exp_at(psi: np.ndarray) -> np.ndarray:
     return series_matrix(skew_at(psi), 1 - t * t * b, a)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def log_at(R: np.ndarray) -> np.ndarray:
     """The principal rotation vector of ``R`` (:func:`fvbeam.rotations.log_map` at one
     rotation): the unit quaternion of ``R`` by its largest component (Shepperd's choice,
@@ -121,7 +121,7 @@ def log_at(R: np.ndarray) -> np.ndarray:
     return q[:3] / norm * scale
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def update(R: np.ndarray, dphi: np.ndarray) -> np.ndarray:
     """Rotations ``R`` (n, 3, 3) turned by the spatial increments ``dphi`` (n, 3),
     ``exp(skew(dphi)) R``: :func:`fvbeam.rotations.update`."""
@@ -131,7 +131,7 @@ def update(R: np.ndarray, dphi: np.ndarray) -> np.ndarray:
     return out
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def points(x: np.ndarray, R: np.ndarray, geometry: tuple) -> tuple[np.ndarray, ...]:
     """``ExactBeam.points``: ``psi_a, psi, psi', Lambda, x, x', [nu; kappa], F, M`` at each
     point (shapes of :class:`fvbeam.exact_beam.PointState`), for the node positions ``x``
@@ -176,7 +176,7 @@ def points(x: np.ndarray, R: np.ndarray, geometry: tuple) -> tuple[np.ndarray, .
     return psi_nodes, psi, dpsi, Lam, xp, dxp, strain, force, moment
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def fv_residual(x: np.ndarray, geometry: tuple, state: tuple, n_dofs: int) -> np.ndarray:
     """``ExactBeam.residual`` of an fv beam: ``sum_p jump_a(p) [F; M + (x_p - x_a) x F]``,
     ``state`` the points' (``PointState.arrays``)."""
@@ -196,7 +196,7 @@ def fv_residual(x: np.ndarray, geometry: tuple, state: tuple, n_dofs: int) -> np
     return r
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def fv_floor(x: np.ndarray, geometry: tuple, state: tuple, n_dofs: int) -> np.ndarray:
     """``ExactBeam.residual_floor`` of an fv beam (its docstring states the bound)."""
     nodes, _, _, dN, dx0, C, jump = geometry
@@ -224,7 +224,7 @@ def fv_floor(x: np.ndarray, geometry: tuple, state: tuple, n_dofs: int) -> np.nd
     return out
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def fv_blocks(x: np.ndarray, R: np.ndarray, geometry: tuple, state: tuple) -> np.ndarray:
     """``ExactBeam._fv_blocks``: each point's tangent block of the region balances
     (P, 6 npe, 6 npe), from the variations of ``ExactBeam._variations``."""

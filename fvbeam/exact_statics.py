@@ -49,9 +49,10 @@ on the cylinder ``|Delta u| = arc``: its predictor along the tangent's response 
 least from the current one; the positions' force correction follows each iteration, at its
 load factor.  The first arc is the linear response's position change at the load factor
 ``first_step``; a step converging in few iterations doubles the next (up to the linear
-response at the full load), a step that fails or turns back along the path halves it and is
-retried.  The path ends at the first crossing of the full load, landed on by Newton at the
-load factor 1; ``result.path`` and ``result.load_factors`` hold the path traced
+response at the full load), a step that fails, turns back along the path or turns a node by
+more than :data:`MAX_TURN` halves it and is retried.  The path ends at the first crossing of
+the full load, landed on by Newton at the load factor 1; ``result.path`` and
+``result.load_factors`` hold the path traced
 (``tests/test_exact_arc_length.py``: a shallow two-bar truss snapping through, against its
 closed form).
 
@@ -69,6 +70,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from fvbeam import rotations
 from fvbeam.exact_beam import ExactBeam, ExactState, PointState
 from fvbeam.geometry import sized
 
@@ -297,6 +299,8 @@ def _arc_length(
         step = (trial.x - state.x).ravel()[_positions(moved)]
         if ok and previous is not None and float(step @ previous) <= 0.0:
             ok = False  # turned back along the path (or jumped to another branch)
+        if ok and _largest_turn(state, trial) > MAX_TURN:
+            ok = False  # beyond the linearisation's reach: a shorter arc follows the path
         if not ok:
             arc /= 2.0
             if arc < min_step * first:
@@ -319,6 +323,12 @@ def _arc_length(
         f"steps (load factors {min(factors, default=0.0):.6g} to "
         f"{max(factors, default=0.0):.6g})"
     )
+
+
+def _largest_turn(start: ExactState, end: ExactState) -> float:
+    """The largest component of the nodes' turns from ``start`` to ``end`` (radians)."""
+    turns = rotations.log_map(end.R @ np.swapaxes(start.R, -1, -2))
+    return float(np.abs(turns).max(initial=0.0))
 
 
 def _positions(dofs: np.ndarray) -> np.ndarray:

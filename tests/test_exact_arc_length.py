@@ -30,6 +30,8 @@ from scipy.optimize import brentq
 from fvbeam import Beam, Section, from_curve
 from fvbeam.exact_beam import ExactBeam
 from fvbeam.exact_statics import NotConverged, solve_static
+from studies.bench_exact import rod
+from tests.test_exact_statics import next_correction
 
 A, H, EA = 1.0, 0.5, 1.0
 L0 = float(np.hypot(A, H))
@@ -124,3 +126,29 @@ def test_an_unknown_method_is_refused(truss):
     exact, fixed = truss
     with pytest.raises(ValueError, match="method must be one of load, arc-length, got 'riks'"):
         solve_static(exact, apex_load(exact, 0.01), fixed, method="riks")
+
+
+@pytest.mark.parametrize(
+    "name,slenderness,force,moment",
+    [
+        ("fv3", 1e8, (0.0, -10.0, 0.0), (0.0, 0.0, 0.0)),  # the elastica, P L^2/EJ = 10
+        ("fv2", 1e4, (0.0, 0.0, 0.0), (0.0, 0.0, 2 * np.pi)),  # the roll-up into a circle
+    ],
+)
+def test_arc_length_reaches_load_steppings_equilibrium(name, slenderness, force, moment):
+    """Without a limit point both methods end on the same equilibrium (the rotations of a
+    node up to a full turn, the arc shortened to keep each step within a radian): to the
+    sum of the two states' next Newton corrections plus the positions' rounding."""
+    exact = rod(name, 8, slenderness)
+    load = exact.beam.nodal_load("end", force=force, moment=moment)
+    fixed = exact.beam.node_dofs("start")
+    stepped = solve_static(exact, load, fixed)
+    traced = solve_static(exact, load, fixed, method="arc-length")
+    assert traced.load_factors[-1] == 1.0 and len(traced.path) == len(traced.load_factors)
+    bound = (
+        next_correction(exact, stepped, load)
+        + next_correction(exact, traced, load)
+        + 16 * np.finfo(float).eps * 8
+    )
+    assert np.abs(traced.state.x - stepped.state.x).max() <= bound
+    assert np.abs(traced.state.R - stepped.state.R).max() <= bound
