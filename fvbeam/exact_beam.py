@@ -411,32 +411,43 @@ class ExactBeam:
         with ``keep`` (sorted dofs) its rows and columns on those dofs only, assembled so
         (a Newton step's free block)."""
         pts = self.points(state) if pts is None else pts
-        if self.finite_volume and self.compiled:
+        keep = np.arange(self.n_dofs) if keep is None else np.asarray(keep)
+        dofs = self._dofs
+        if self.finite_volume and self.compiled and np.all(keep % 6 < 3):
+            # positions only: their block, which the rotations alone set
+            square = exact_kernel.fv_position_blocks(self.geometry, pts.arrays())
+            dofs = self._position_dofs
+        elif self.finite_volume and self.compiled:
             R = np.ascontiguousarray(state.R)
             square = exact_kernel.fv_blocks(state.x, R, self.geometry, pts.arrays())
         else:
             var = self._variations(state, pts)
             blocks = self._fv_blocks if self.finite_volume else self._galerkin_blocks
             square = blocks(state, pts, var)
-        keep = np.arange(self.n_dofs) if keep is None else np.asarray(keep)
-        inside, order, indices, indptr = self._pattern(keep)
+        inside, order, indices, indptr = self._pattern(keep, dofs)
         data = np.bincount(order, square.ravel()[inside], minlength=len(indices))
         return sp.csc_matrix((data, indices, indptr), shape=(len(keep), len(keep)))
 
-    def _pattern(self, keep: np.ndarray) -> tuple[np.ndarray, ...]:
-        """The tangent's compressed-column structure on the dofs ``keep``, built once per
-        ``keep`` (the last one is kept): which entries of the points' blocks fall inside,
-        the slot of each in the matrix's data (duplicates summed there), the rows of the
-        slots and the columns' starts.  The few last are kept (a solver alternates the free
-        dofs and the free positions)."""
-        key = keep.tobytes()
+    @cached_property
+    def _position_dofs(self) -> np.ndarray:
+        """Global position dofs of each point's element (P, 3 npe)."""
+        return (6 * self.nodes[:, :, None] + np.arange(3)).reshape(len(self.nodes), -1)
+
+    def _pattern(self, keep: np.ndarray, blocks: np.ndarray) -> tuple[np.ndarray, ...]:
+        """The tangent's compressed-column structure on the dofs ``keep`` from the points'
+        blocks on the dofs ``blocks`` (:attr:`_dofs` or :attr:`_position_dofs`), built once
+        per ``keep``: which entries of the blocks fall inside, the slot of each in the
+        matrix's data (duplicates summed there), the rows of the slots and the columns'
+        starts.  The few last are kept (a solver alternates the free dofs and the free
+        positions)."""
+        key = keep.tobytes() + bytes([blocks.shape[1]])
         if key in self._patterns:
             return self._patterns[key]
         if len(self._patterns) >= PATTERNS:
             self._patterns.clear()
         number = np.full(self.n_dofs, -1)
         number[keep] = np.arange(len(keep))
-        dofs = number[self._dofs]
+        dofs = number[blocks]
         shape = dofs.shape + dofs.shape[1:]
         rows = np.broadcast_to(dofs[:, :, None], shape).ravel()
         cols = np.broadcast_to(dofs[:, None, :], shape).ravel()

@@ -5,12 +5,13 @@ law as the module docstring of :mod:`fvbeam.exact_beam` writes it: :func:`points
 ``ExactBeam.points`` (kinematics and stress at every point), and for the finite-volume
 beams :func:`fv_residual`, :func:`fv_floor` and :func:`fv_blocks` of ``residual``,
 ``residual_floor`` and ``_fv_blocks`` (the region balances, their round-off bound and their
-tangent blocks), with the rotation tools of :mod:`fvbeam.rotations` they need at one point
-(:func:`exp_at`, :func:`log_at`, :func:`update`, the coefficients of the tangent operators
-with the same series below :data:`fvbeam.rotations.SERIES`).  ``tests/test_exact_kernel.py``
-holds each equal to its numpy statement to round-off at random finite rotations; the numpy
-statement is for reading and testing, the solver runs these
-(``ExactBeam(beam, compiled=False)`` runs the statement).
+tangent blocks; :func:`fv_position_blocks` the last's block on the positions), with the
+rotation tools of :mod:`fvbeam.rotations` they need at one point (:func:`exp_at`,
+:func:`log_at`, :func:`update`, the coefficients of the tangent operators with the same
+series below :data:`fvbeam.rotations.SERIES`).  ``tests/test_exact_kernel.py`` holds each
+equal to its numpy statement to round-off at random finite rotations; the numpy statement is
+for reading and testing, the solver runs these (``ExactBeam(beam, compiled=False)`` runs the
+statement).
 
 One point's work is a few hundred flops on 3x3 and 6x6 blocks: written as loops over them,
 without temporaries from numpy's broadcasting, it takes about a microsecond, where the
@@ -222,6 +223,27 @@ def fv_floor(x: np.ndarray, geometry: tuple, state: tuple, n_dofs: int) -> np.nd
                 out[d + i] += weight * F
                 out[d + 3 + i] += weight * (M + arm * F)
     return out
+
+
+@numba.njit(cache=True, error_model="numpy")
+def fv_position_blocks(geometry: tuple, state: tuple) -> np.ndarray:
+    """The force balances' block on the positions of :func:`fv_blocks` (P, 3 npe, 3 npe):
+    at fixed rotations ``dF = Lambda C_nn Lambda^T dx'`` (``d theta`` and ``d kappa`` vanish),
+    so node ``a``'s row and node ``b``'s column hold ``jump_a N_b' Lambda C_nn Lambda^T``,
+    ``C_nn`` the section's force-strain block in global axes."""
+    nodes, _, _, dN, _, C, jump = geometry
+    Lam = state[3]
+    P, npe = nodes.shape
+    blocks = np.zeros((P, 3 * npe, 3 * npe))
+    for p in range(P):
+        stiffness = mm(mm(Lam[p], C[p, :3, :3]), Lam[p].T)
+        for a in range(npe):
+            for b in range(npe):
+                weight = jump[p, a] * dN[p, b]
+                for i in range(3):
+                    for j in range(3):
+                        blocks[p, 3 * a + i, 3 * b + j] = weight * stiffness[i, j]
+    return blocks
 
 
 @numba.njit(cache=True, error_model="numpy")

@@ -86,3 +86,18 @@ def test_point_state_arrays_are_its_fields_in_order():
     pts = exact.points(random_state(exact, 0.3, 1.0))
     assert [f.name for f in fields(pts)] == list(FIELDS)
     assert all(a is getattr(pts, name) for a, name in zip(pts.arrays(), FIELDS, strict=True))
+
+
+@pytest.mark.parametrize("name", ["fv2", "fv3"])
+def test_position_block_is_the_tangents(name):
+    """The tangent on the positions alone (the force correction's) from its own kernel
+    equals the full tangent's block on them (64 eps of its largest entry)."""
+    exact = ExactBeam(curved_beam(name))
+    state = random_state(exact, 0.3, 1.0)
+    keep = np.arange(6, exact.n_dofs)
+    positions = keep[keep % 6 < 3]
+    full = exact.tangent(state, keep=keep).toarray()
+    inside = np.searchsorted(keep, positions)
+    block = exact.tangent(state, keep=positions).toarray()
+    assert np.abs(block - full[np.ix_(inside, inside)]).max() <= 64 * EPS * np.abs(full).max()
+    assert np.abs(block).max() > 0.1 * np.abs(full).max()  # the axial and shear stiffness
