@@ -76,12 +76,21 @@ def mm(A: np.ndarray, B: np.ndarray) -> np.ndarray:
 
 
 @numba.njit(cache=True, error_model="numpy")
-def series_matrix(S: np.ndarray, first: float, second: float) -> np.ndarray:
-    """``I + first S + second S^2`` (3, 3): ``exp``, ``J`` and ``J^-1`` of ``S = skew(psi)``."""
-    S2 = mm(S, S)
-    out = first * S + second * S2
+def series_matrix(psi: np.ndarray, first: float, second: float) -> np.ndarray:
+    """``I + first S + second S^2`` (3, 3) with ``S = skew(psi)``,
+    ``S^2 = psi psi^T - |psi|^2 I``: ``exp``, ``J`` and ``J^-1`` of ``psi``."""
+    t2 = psi[0] * psi[0] + psi[1] * psi[1] + psi[2] * psi[2]
+    out = np.empty((3, 3))
     for i in range(3):
-        out[i, i] += 1.0
+        for j in range(3):
+            out[i, j] = second * psi[i] * psi[j]
+        out[i, i] += 1.0 - second * t2
+    out[0, 1] -= first * psi[2]
+    out[0, 2] += first * psi[1]
+    out[1, 0] += first * psi[2]
+    out[1, 2] -= first * psi[0]
+    out[2, 0] -= first * psi[1]
+    out[2, 1] += first * psi[0]
     return out
 
 
@@ -91,7 +100,7 @@ def exp_at(psi: np.ndarray) -> np.ndarray:
     :func:`fvbeam.rotations.exp_map` at one rotation vector."""
     t = math.sqrt(psi[0] * psi[0] + psi[1] * psi[1] + psi[2] * psi[2])
     a, b, _, _, _ = coefficients_at(t)
-    return series_matrix(skew_at(psi), 1 - t * t * b, a)
+    return series_matrix(psi, 1 - t * t * b, a)
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -160,7 +169,7 @@ def points(x: np.ndarray, R: np.ndarray, geometry: tuple) -> tuple[np.ndarray, .
         Lam[p] = mm(Rr, exp_at(psi[p]))
         t = math.sqrt(psi[p, 0] ** 2 + psi[p, 1] ** 2 + psi[p, 2] ** 2)
         a_, b_, _, _, _ = coefficients_at(t)
-        J = series_matrix(skew_at(psi[p]), a_, b_)
+        J = series_matrix(psi[p], a_, b_)
         for i in range(3):
             for j in range(3):
                 strain[p, i] += Lam[p, j, i] * dxp[p, j]
@@ -266,7 +275,7 @@ def fv_blocks(x: np.ndarray, R: np.ndarray, geometry: tuple, state: tuple) -> np
                 continue
             t = np.linalg.norm(psi_nodes[p, a])
             _, _, c, _, _ = coefficients_at(t)
-            block = mm(series_matrix(skew_at(psi_nodes[p, a]), -0.5, c), Rr.T)
+            block = mm(series_matrix(psi_nodes[p, a], -0.5, c), Rr.T)
             for i in range(3):
                 for j in range(3):
                     for col, sign in ((6 * a + 3 + j, 1.0), (6 * r + 3 + j, -1.0)):
@@ -276,7 +285,7 @@ def fv_blocks(x: np.ndarray, R: np.ndarray, geometry: tuple, state: tuple) -> np
         a_, b_, _, da, db = coefficients_at(t)
         S = skew_at(psi[p])
         W = skew_at(dpsi[p])
-        J = series_matrix(S, a_, b_)
+        J = series_matrix(psi[p], a_, b_)
         dot = psi[p, 0] * dpsi[p, 0] + psi[p, 1] * dpsi[p, 1] + psi[p, 2] * dpsi[p, 2]
         dJ = a_ * W + b_ * (mm(W, S) + mm(S, W)) + dot * da * S + dot * db * mm(S, S)
         d_theta = mm(Rr, mm(J, d_psi))
