@@ -60,12 +60,15 @@ from functools import cached_property
 import numpy as np
 import scipy.sparse as sp
 
-from fvbeam import rotations
+from fvbeam import exact_kernel, rotations
 from fvbeam.beam import Beam, InternalForces
 from fvbeam.elements import evaluation_points, jumps
 from fvbeam.formulations import FiniteVolume, Galerkin
 from fvbeam.geometry import cross, skew_matrices
 from fvbeam.mesh import shape_functions
+
+#: How many tangent patterns an :class:`ExactBeam` keeps.
+PATTERNS = 4
 
 
 @dataclass(frozen=True)
@@ -78,9 +81,11 @@ class ExactState:
 
     def updated(self, dq: np.ndarray) -> ExactState:
         """The state moved by the dof increments ``dq`` (6 per node, ``[du, dphi]``):
-        ``x + du``, ``exp(dphi) R``."""
+        ``x + du``, ``exp(dphi) R`` (:func:`fvbeam.rotations.update`, run compiled:
+        :func:`fvbeam.exact_kernel.update`)."""
         d = np.asarray(dq, dtype=float).reshape(-1, 6)
-        return ExactState(self.x + d[:, :3], rotations.update(self.R, d[:, 3:]))
+        turned = exact_kernel.update(np.ascontiguousarray(self.R), np.ascontiguousarray(d[:, 3:]))
+        return ExactState(self.x + d[:, :3], turned)
 
 
 @dataclass(frozen=True)
@@ -96,6 +101,20 @@ class PointState:
     strain: np.ndarray  # (P, 6) [nu, kappa]
     force: np.ndarray  # (P, 3) F, global
     moment: np.ndarray  # (P, 3) M, global
+
+    def arrays(self) -> tuple[np.ndarray, ...]:
+        """The fields in their order (as :func:`fvbeam.exact_kernel.points` returns them)."""
+        return (
+            self.psi_nodes,
+            self.psi,
+            self.dpsi,
+            self.Lambda,
+            self.x,
+            self.dx,
+            self.strain,
+            self.force,
+            self.moment,
+        )
 
 
 @dataclass(frozen=True)
@@ -125,9 +144,13 @@ class ExactBeam:
     ----------
     beam
         The beam (any formulation but the cubic element, which is refused).
+    compiled
+        Whether the points, and an fv beam's balances, their floor and tangent, run as the
+        compiled kernels of :mod:`fvbeam.exact_kernel` (the default), else as the numpy
+        statement here (for reading and testing; the two agree to round-off).
     """
 
-    def __init__(self, beam: Beam) -> None:
+    def __init__(self, beam: Beam, compiled: bool = True) -> None:
         form = beam.formulation
         if not isinstance(form, (FiniteVolume, Galerkin)):
             raise ValueError(
@@ -135,6 +158,7 @@ class ExactBeam:
                 f"galerkin-p1 and galerkin-p2, not {form.name}"
             )
         self.beam = beam
+        self.compiled = compiled
         #: Whether the balances are the fv regions' (else Galerkin's weak form).
         self.finite_volume = isinstance(form, FiniteVolume)
         mesh = beam.mesh
@@ -169,6 +193,20 @@ class ExactBeam:
         self.weight = np.tile(Wp, n_el) * ds
         self.dx0 = np.einsum("pa,pak->pk", self.dN, mesh.points[self.nodes])
         self.n_dofs = beam.n_dofs
+        #: What the compiled kernels read of the beam (:mod:`fvbeam.exact_kernel`): the
+        #: points' nodes, the reference node, ``N``, ``N'``, ``x0'``, ``C`` and the jumps
+        #: (fv; an empty (0, npe) for Galerkin).
+        self.geometry = (
+            self.nodes,
+            self.reference_node,
+            self.N,
+            self.dN,
+            self.dx0,
+            self.C,
+            self.jump if self.finite_volume else np.zeros((0, npe)),
+        )
+        #: The tangent's compressed-column patterns by the dofs kept (:meth:`_pattern`).
+        self._patterns: dict[bytes, tuple[np.ndarray, ...]] = {}
 
     def reference(self) -> ExactState:
         """The reference configuration: the mesh's nodes, identity rotations."""
@@ -183,6 +221,9 @@ class ExactBeam:
     # -- kinematics and stress ---------------------------------------------------------
     def points(self, state: ExactState) -> PointState:
         """Strains and stress resultants at the evaluation points (module docstring)."""
+        if self.compiled:
+            R = np.ascontiguousarray(state.R)
+            return PointState(*exact_kernel.points(state.x, R, self.geometry))
         Rr = state.R[self.nodes[:, self.reference_node]]  # (P, 3, 3)
         Rn = state.R[self.nodes]  # (P, npe, 3, 3)
         psi_nodes = rotations.log_map(np.swapaxes(Rr, -1, -2)[:, None] @ Rn)
@@ -216,6 +257,8 @@ class ExactBeam:
         """Internal force vector ``r(q)`` (6 per node); equilibrium is ``r = f``.  ``pts``:
         the state's :meth:`points`, when the caller has them."""
         pts = self.points(state) if pts is None else pts
+        if self.finite_volume and self.compiled:
+            return exact_kernel.fv_residual(state.x, self.geometry, pts.arrays(), self.n_dofs)
         if self.finite_volume:
             terms = self._nodal_terms(state, pts)
         else:
@@ -233,6 +276,8 @@ class ExactBeam:
         rounding of ``eps (1 + |psi_a|)``).  ``eps`` times this is the residual's round-off
         floor (:mod:`fvbeam.exact_statics`)."""
         pts = self.points(state) if pts is None else pts
+        if self.finite_volume and self.compiled:
+            return exact_kernel.fv_floor(state.x, self.geometry, pts.arrays(), self.n_dofs)
         e_nu = np.linalg.norm(pts.dx, axis=-1) + np.linalg.norm(self.dx0, axis=-1)
         e_kappa = np.linalg.norm(pts.strain[:, 3:], axis=-1) + np.einsum(
             "pa,pa->p", np.abs(self.dN), 1 + np.linalg.norm(pts.psi_nodes, axis=-1)
@@ -366,21 +411,53 @@ class ExactBeam:
         with ``keep`` (sorted dofs) its rows and columns on those dofs only, assembled so
         (a Newton step's free block)."""
         pts = self.points(state) if pts is None else pts
-        var = self._variations(state, pts)
-        square = (self._fv_blocks if self.finite_volume else self._galerkin_blocks)(state, pts, var)
-        number = np.arange(self.n_dofs)
-        if keep is not None:
-            number = np.full(self.n_dofs, -1)
-            number[keep] = np.arange(len(keep))
-        dofs = number[self._dofs]
-        rows = np.broadcast_to(dofs[:, :, None], square.shape).ravel()
-        cols = np.broadcast_to(dofs[:, None, :], square.shape).ravel()
-        inside = (rows >= 0) & (cols >= 0)
-        size = number.max() + 1
-        K = sp.coo_matrix(
-            (square.ravel()[inside], (rows[inside], cols[inside])), shape=(size, size)
-        )
-        return K.tocsc()
+        keep = np.arange(self.n_dofs) if keep is None else np.asarray(keep)
+        dofs = self._dofs
+        if self.finite_volume and self.compiled and np.all(keep % 6 < 3):
+            # positions only: their block, which the rotations alone set
+            square = exact_kernel.fv_position_blocks(self.geometry, pts.arrays())
+            dofs = self._position_dofs
+        elif self.finite_volume and self.compiled:
+            R = np.ascontiguousarray(state.R)
+            square = exact_kernel.fv_blocks(state.x, R, self.geometry, pts.arrays())
+        else:
+            var = self._variations(state, pts)
+            blocks = self._fv_blocks if self.finite_volume else self._galerkin_blocks
+            square = blocks(state, pts, var)
+        inside, order, indices, indptr = self._pattern(keep, dofs)
+        data = np.bincount(order, square.ravel()[inside], minlength=len(indices))
+        return sp.csc_matrix((data, indices, indptr), shape=(len(keep), len(keep)))
+
+    @cached_property
+    def _position_dofs(self) -> np.ndarray:
+        """Global position dofs of each point's element (P, 3 npe)."""
+        return (6 * self.nodes[:, :, None] + np.arange(3)).reshape(len(self.nodes), -1)
+
+    def _pattern(self, keep: np.ndarray, blocks: np.ndarray) -> tuple[np.ndarray, ...]:
+        """The tangent's compressed-column structure on the dofs ``keep`` from the points'
+        blocks on the dofs ``blocks`` (:attr:`_dofs` or :attr:`_position_dofs`), built once
+        per ``keep``: which entries of the blocks fall inside, the slot of each in the
+        matrix's data (duplicates summed there), the rows of the slots and the columns'
+        starts.  The few last are kept (a solver alternates the free dofs and the free
+        positions)."""
+        key = keep.tobytes() + bytes([blocks.shape[1]])
+        if key in self._patterns:
+            return self._patterns[key]
+        if len(self._patterns) >= PATTERNS:
+            self._patterns.clear()
+        number = np.full(self.n_dofs, -1)
+        number[keep] = np.arange(len(keep))
+        dofs = number[blocks]
+        shape = dofs.shape + dofs.shape[1:]
+        rows = np.broadcast_to(dofs[:, :, None], shape).ravel()
+        cols = np.broadcast_to(dofs[:, None, :], shape).ravel()
+        inside = np.flatnonzero((rows >= 0) & (cols >= 0))
+        slots, order = np.unique(cols[inside] * len(keep) + rows[inside], return_inverse=True)
+        index = np.int32 if len(slots) < np.iinfo(np.int32).max else np.int64
+        indices = (slots % len(keep)).astype(index)
+        indptr = np.searchsorted(slots // len(keep), np.arange(len(keep) + 1)).astype(index)
+        self._patterns[key] = (inside, order, indices, indptr)
+        return self._patterns[key]
 
     def _fv_blocks(self, state: ExactState, pts: PointState, var: Variations) -> np.ndarray:
         """Each point's tangent block of the region balances (P, 6 npe, 6 npe)."""

@@ -19,8 +19,12 @@ def test_quick_run_writes_time_beside_error_and_keeps_other_keys(tmp_path, capsy
         errors = [row["error"] for row in rows]
         assert errors == sorted(errors, reverse=True)  # refined until the target or the cap
         assert all(row["seconds"]["min"] > 0 and row["newton_iterations"] > 0 for row in rows)
-    for row in section.get("peer", {}).get("exudyn-ancf", []):  # with the peer extra
-        assert row["seconds"]["min"] > 0 and row["error"] > 0
+    for rows in section.get("peer", {}).values():  # with the peer extra, per setting
+        assert all(row["seconds"]["min"] > 0 and row["error"] > 0 for row in rows)
+    for name, pair in section.get("side_by_side", {}).items():  # where both reach the target
+        assert pair["error"] <= section["target"]
+        if name != "peer":
+            assert pair["ratio_to_peer"] > 0
     for name in ("fv2", "fv3"):
-        assert section["bend"][name]["distance_to_published"] > 0
+        assert all(d > 0 for d in section["bend"][name]["distance_to_published"].values())
     assert "45-degree bend" in capsys.readouterr().out

@@ -152,6 +152,14 @@ def compile_kernels() -> None:
     """Compile the numba kernels of a static solve (joint equations, line state, condensed
     step, test functions at a point), or load them from their cache: two positions of
     each slider kind on one fv3 element (``fvslider compile``; about half a minute the
-    first time on a machine, well under a second once cached)."""
+    first time on a machine, well under a second once cached); and the geometrically exact
+    beam's (:mod:`fvbeam.exact_kernel`), by a static solve of one fv3 element."""
+    from fvbeam.exact_beam import ExactBeam  # only here: the figures' runs do not need it
+    from fvbeam.exact_statics import solve_static
+
     for kind in KINDS:
         SlidingBeams("fv3", 1, kind).solve(np.array([0.0, 0.01]))
+    section = Section.diagonal(EA=1.0, GAy=1.0, GAz=1.0, GJ=1.0, EJy=1.0, EJz=1.0)
+    exact = ExactBeam(Beam(straight((0, 0, 0), (1, 0, 0), 1, 3), section, "fv3"))
+    load = exact.beam.nodal_load("end", force=(0.0, 0.1, 0.0))
+    solve_static(exact, load, exact.beam.node_dofs("start"))
