@@ -170,6 +170,11 @@ class ExactBeam:
         self.dx0 = np.einsum("pa,pak->pk", self.dN, mesh.points[self.nodes])
         self.n_dofs = beam.n_dofs
 
+    @property
+    def name(self) -> str:
+        """The beam's name (its mesh's), in messages."""
+        return self.beam.mesh.name
+
     def reference(self) -> ExactState:
         """The reference configuration: the mesh's nodes, identity rotations."""
         n = self.beam.mesh.n_nodes

@@ -29,11 +29,13 @@ the load).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any, Protocol
 
 import numpy as np
+import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from fvbeam.exact_beam import ExactBeam, ExactState
+from fvbeam.exact_beam import ExactState
 from fvbeam.geometry import sized
 
 #: The residual's round-off floor: a dof's residual is a sum of a few terms (at most two per
@@ -65,6 +67,27 @@ class ExactStaticResult:
     floor_ratio: float = 0.0
 
 
+class StaticOperator(Protocol):
+    """What :func:`solve_static` needs of a structure: an
+    :class:`~fvbeam.exact_beam.ExactBeam`, or the beams of a structure on its global dofs
+    (:class:`~fvbeam.exact_structure.ExactStructure`)."""
+
+    n_dofs: int
+
+    @property
+    def name(self) -> str: ...
+
+    def reference(self) -> ExactState: ...
+
+    def points(self, state: ExactState) -> Any: ...
+
+    def residual(self, state: ExactState, pts: Any = None) -> np.ndarray: ...
+
+    def residual_floor(self, state: ExactState, pts: Any = None) -> np.ndarray: ...
+
+    def tangent(self, state: ExactState, pts: Any = None, keep: Any = None) -> sp.spmatrix: ...
+
+
 class NotConverged(RuntimeError):
     """The load step fell below ``min_step`` without converging."""
 
@@ -81,7 +104,7 @@ def _free(n_dofs: int, fixed: np.ndarray) -> np.ndarray:
 
 
 def solve_static(
-    beam: ExactBeam,
+    beam: StaticOperator,
     load: np.ndarray,
     fixed: np.ndarray,
     state: ExactState | None = None,
@@ -99,7 +122,7 @@ def solve_static(
     NotConverged
         When a load step below ``min_step`` fails, naming the load factor reached.
     """
-    name = beam.beam.mesh.name
+    name = beam.name
     f = sized(load, beam.n_dofs, "load", f"6 per node of beam {name!r}")
     if not np.all(np.isfinite(f)):
         raise ValueError(f"load on beam {name!r} has a non-finite entry")
@@ -124,7 +147,7 @@ def solve_static(
         step /= 2.0
         if step < min_step:
             raise NotConverged(
-                f"{beam.beam.mesh.name}: Newton did not converge beyond load factor "
+                f"{name}: Newton did not converge beyond load factor "
                 f"{done:.6g} (a step of {step:.3g} failed; residual {ratio:.3g} times its "
                 "round-off floor)"
             )
@@ -132,7 +155,7 @@ def solve_static(
 
 
 def _newton(
-    beam: ExactBeam,
+    beam: StaticOperator,
     f: np.ndarray,
     factor: float,
     free: np.ndarray,
