@@ -187,6 +187,8 @@ def _run_into(args: argparse.Namespace, model: Model, out: Path) -> int:
     write_results(results, out)
     done = len(results.samples)
     print(f"{done} of {results.planned} samples in {results.seconds:.2f} s, written to {out}")
+    if results.kinematics:
+        print(results.kinematics, file=sys.stderr if results.kinematics_warning else sys.stdout)
     for sample in results.failures[:5]:
         value = "" if sample.value is None else f" (value {sample.value:g})"
         print(f"  sample {sample.index}{value} failed: {sample.error}", file=sys.stderr)
