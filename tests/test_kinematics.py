@@ -282,3 +282,20 @@ def test_renders_do_not_shrink_a_large_deflection():
     q[-5] = 0.8
     assert magnification_for(structure, q, None) == 1.0
     assert magnification_for(structure, q * 1.25e-3, None) == pytest.approx(100.0)
+
+
+def test_the_benchmark_writes_its_rows(tmp_path, capsys):
+    """The shape of studies.bench_kinematics --quick, never its speed: both kinematics timed,
+    the path auto took (linear, on scenes chosen to stay linear) and its bound."""
+    import json
+
+    from studies.bench_kinematics import main as bench
+
+    out = tmp_path / "bench.json"
+    bench(["--out", str(out), "--quick"])
+    rows = json.loads(out.read_text())["kinematics"]
+    assert [r["scene"] for r in rows] == ["sliders", "cantilever"]
+    for r in rows:
+        assert r["path"] == "linear" and r["linear_s"] > 0 and r["auto_s"] > 0
+    assert rows[1]["eta"] < 1e-8 and rows[1]["tip_rel_error"] >= 0
+    assert "the bound alone" in capsys.readouterr().out
