@@ -299,3 +299,33 @@ def test_the_benchmark_writes_its_rows(tmp_path, capsys):
         assert r["path"] == "linear" and r["linear_s"] > 0 and r["auto_s"] > 0
     assert rows[1]["eta"] < 1e-8 and rows[1]["tip_rel_error"] >= 0
     assert "the bound alone" in capsys.readouterr().out
+
+
+def test_a_dynamic_study_says_it_stays_linear(tmp_path, capsys):
+    """The exact path carries no dynamics: auto integrates linearly and says so, with the
+    last state's bound."""
+    text = (
+        cantilever(force=1e-3)
+        .replace("EJz = 1.0\n", "EJz = 1.0\nmass_per_length = 1.0\ninertia = [1e-3, 1e-3, 1e-3]\n")
+        .replace('kind = "static"', 'kind = "dynamic"\nt_end = 0.002\nstep = 0.001')
+    )
+    code, out, _ = run_scene(tmp_path, text, capsys)
+    assert code == 0, out
+    assert "kinematics: linear (auto: the exact path does not carry study.kind, a dynamic" in out
+
+
+def test_a_point_load_at_a_node_is_that_nodes_load(tmp_path, capsys):
+    """On the exact path a point load at the tip is the tip's nodal load (the same tables);
+    one between nodes is refused under exact, naming it."""
+    nodal = cantilever(force=5.0, kinematics="exact")
+    at_tip = 'kind = "point"\nbeam = "rod"\nat = 1.0'
+    point = nodal.replace('kind = "nodal"\nnode = "rod.end"', at_tip)
+    assert run_scene(tmp_path, nodal, capsys, "nodal")[0] == 0
+    assert run_scene(tmp_path, point, capsys, "point")[0] == 0
+    for table in ("nodes", "internal_forces", "reactions"):
+        nodes = (tmp_path / "nodal" / f"{table}.csv").read_text()
+        assert nodes == (tmp_path / "point" / f"{table}.csv").read_text()
+    path = tmp_path / "between.toml"
+    path.write_text(point.replace("at = 1.0", "at = 0.53"))
+    assert main(["check", str(path)]) == 2
+    assert "load[0].at: a point load between nodes" in capsys.readouterr().err

@@ -220,6 +220,12 @@ def _run_dynamic(model: Model, out: Path, resume: bool) -> int:
     steps = outcome.recorder.count("history") - 1
     reached = "" if outcome.state is None else f" to t = {outcome.state.t:.6g} s"
     print(f"{max(steps, 0)} steps{reached} in {outcome.seconds:.2f} s, written to {out}")
+    if outcome.state is not None:
+        from sliders.app.run_exact import dynamic_choice
+
+        choice = dynamic_choice(model, outcome.state.q)
+        if choice.statement:
+            print(choice.statement, file=sys.stderr if choice.warning else sys.stdout)
     if outcome.error:
         print(f"  failed: {outcome.error}", file=sys.stderr)
         return 1

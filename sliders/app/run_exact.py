@@ -81,6 +81,13 @@ def choose(
     return Choice(True, f"kinematics: exact (auto: {reason})")
 
 
+def dynamic_choice(model: Model, q: np.ndarray) -> Choice:
+    """What a dynamic study's kinematics says (the exact path carries no dynamics): the
+    line of :func:`choose` for the scene's ``kinematics``, the bound from the last state
+    ``q``."""
+    return choose(model, model.scene.kinematics, [(model.structure, q)], "scene")
+
+
 @dataclass
 class ExactRun:
     """The samples solved on the exact path, each ``(index, value, statics, load, solution,
