@@ -204,10 +204,12 @@ def _auto(path):
 
 
 def test_shipped_scenes_take_the_linear_path():
-    """Every scene of studies/scenes has an item the exact path does not carry (sliders,
-    bodies, gravity, distributed loads, a moving point load, dynamics): auto keeps today's
-    linear answers."""
+    """Every scene of studies/scenes but the elastica (the exact path's example) has an item
+    the exact path does not carry (sliders, bodies, gravity, distributed loads, a moving
+    point load, dynamics): auto keeps their linear answers."""
     for path in sorted(SCENES.glob("*.toml")):
+        if path.stem == "elastica":
+            continue
         scene = load_scene(path)
         assert scene.kinematics == "auto"
         assert unsupported(scene) is not None, path.name

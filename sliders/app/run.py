@@ -115,6 +115,9 @@ def _kinematic_samples(model: Model, progress: bool, kind: str) -> Results:
     from sliders.app.run_exact import choose, exact_samples
 
     linear = None if kind == "exact" else _samples(model, progress)
+    if linear is not None and linear.interrupted:  # Ctrl-C: no second path
+        linear.kinematics = "kinematics: linear (interrupted before the choice)"
+        return linear
     answers = [
         (s.statics.structure, s.solution.q)
         for s in (linear.samples if linear is not None else [])
