@@ -136,22 +136,18 @@ def exact_problems(scene: Scene, structure: Structure) -> list[Problem]:
 
 def neglected(structure: Structure, q: np.ndarray) -> Bound:
     """The bound of a linear answer ``q`` on its neglected terms (module docstring): the
-    strain of each element from its end nodes, ``|(u_b - u_a) / l - theta_m x t|``."""
+    largest nodal rotation and displacement, and the largest strain ``|nu|`` at the beams'
+    recovery points (their section forces, :attr:`fvbeam.beam.Beam.recovery`, through the
+    section's compliance)."""
     d = q.reshape(-1, 6)
     rotation = float(np.linalg.norm(d[:, 3:], axis=1).max(initial=0.0))
     displacement = float(np.linalg.norm(d[:, :3], axis=1).max(initial=0.0))
     strain, length = 0.0, 0.0
     for beam, dofs in zip(structure.beams, structure.dof_maps, strict=True):
-        mesh = beam.mesh
-        nodes = dofs[::6] // 6
-        a, b = nodes[mesh.cells[:, 0]], nodes[mesh.cells[:, 1]]
-        chord = mesh.points[mesh.cells[:, 1]] - mesh.points[mesh.cells[:, 0]]
-        ell = np.linalg.norm(chord, axis=1)
-        t = chord / ell[:, None]
-        theta = (d[a, 3:] + d[b, 3:]) / 2
-        nu = (d[b, :3] - d[a, :3]) / ell[:, None] - np.cross(theta, t)
-        strain = max(strain, float(np.linalg.norm(nu, axis=1).max(initial=0.0)))
-        length += float(ell.sum())
+        forces = (beam.recovery @ q[dofs]).reshape(-1, 6)
+        nu = np.linalg.solve(beam.section.stiffness, forces.T)[:3]
+        strain = max(strain, float(np.linalg.norm(nu, axis=0).max(initial=0.0)))
+        length += beam.mesh.length
     eta = length * rotation * (rotation / 2 + strain) / displacement if displacement > 0 else 0.0
     return Bound(rotation, strain, displacement, length, eta)
 
