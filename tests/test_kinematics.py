@@ -331,3 +331,13 @@ def test_a_point_load_at_a_node_is_that_nodes_load(tmp_path, capsys):
     path.write_text(point.replace("at = 1.0", "at = 0.53"))
     assert main(["check", str(path)]) == 2
     assert "load[0].at: a point load between nodes" in capsys.readouterr().err
+
+
+def test_without_a_converged_linear_answer_auto_says_so(tmp_path):
+    from sliders.app.run_exact import choose
+
+    path = tmp_path / "scene.toml"
+    path.write_text(cantilever())
+    choice = choose(Model(load_scene(path)), "auto", [], "scene")
+    assert not choice.exact
+    assert choice.statement == "kinematics: linear (auto: no converged linear answer to bound)"

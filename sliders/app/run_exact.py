@@ -23,7 +23,6 @@ import numpy as np
 from fvbeam.structure import Structure
 from sliders.app.errors import SceneError
 from sliders.app.kinematics import (
-    Bound,
     ExactPath,
     ExactSolution,
     exact_problems,
@@ -57,11 +56,9 @@ def choose(
         if problems:
             raise SceneError(source, problems)
         return Choice(True, "kinematics: exact (asked)")
-    bound = max(
-        (neglected(structure, q) for structure, q in linear),
-        key=lambda b: b.eta,
-        default=Bound(0.0, 0.0, 0.0, 0.0, 0.0),
-    )
+    if not linear:
+        return Choice(False, f"kinematics: linear ({kind}: no converged linear answer to bound)")
+    bound = max((neglected(structure, q) for structure, q in linear), key=lambda b: b.eta)
     tol = scene.study.tol
     within = f"{'within' if bound.eta <= tol else 'above'} the study's tol {tol:g}"
     if kind == "linear":
