@@ -384,6 +384,12 @@ class Beam:
         return self._recovery[1]
 
     @property
+    def recovery_frames(self) -> np.ndarray:
+        """The section frames ``[t, e2, e3]`` (columns) at the recovery points, ``(n, 3,
+        3)``: a section force ``f`` there is ``frames @ f`` in global axes."""
+        return self._stiffness_geometry[1].reshape(-1, 3, 3)
+
+    @property
     def recovery(self) -> sp.csr_matrix:
         """The internal forces at the recovery points as a linear map of the beam's dofs:
         ``(recovery @ q).reshape(-1, 6)`` is ``[N, V2, V3, T, M2, M3]`` at each point, in

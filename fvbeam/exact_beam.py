@@ -193,6 +193,8 @@ class ExactBeam:
         self.weight = np.tile(Wp, n_el) * ds
         self.dx0 = np.einsum("pa,pak->pk", self.dN, mesh.points[self.nodes])
         self.n_dofs = beam.n_dofs
+        #: No multipliers (:class:`~fvbeam.exact_statics.StaticOperator`).
+        self.position_multipliers = np.zeros(0, dtype=np.int64)
         #: What the compiled kernels read of the beam (:mod:`fvbeam.exact_kernel`): the
         #: points' nodes, the reference node, ``N``, ``N'``, ``x0'``, ``C`` and the jumps
         #: (fv; an empty (0, npe) for Galerkin).
@@ -207,6 +209,11 @@ class ExactBeam:
         )
         #: The tangent's compressed-column patterns by the dofs kept (:meth:`_pattern`).
         self._patterns: dict[bytes, tuple[np.ndarray, ...]] = {}
+
+    @property
+    def name(self) -> str:
+        """The beam's name (its mesh's), in messages."""
+        return self.beam.mesh.name
 
     def reference(self) -> ExactState:
         """The reference configuration: the mesh's nodes, identity rotations."""

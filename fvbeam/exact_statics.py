@@ -65,13 +65,14 @@ the load).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any, Protocol
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from fvbeam import rotations
-from fvbeam.exact_beam import ExactBeam, ExactState, PointState
+from fvbeam.exact_beam import ExactState
 from fvbeam.geometry import sized
 
 #: The residual's round-off floor: a dof's residual is a sum of a few terms (at most two per
@@ -116,6 +117,31 @@ class ExactStaticResult:
     path: list[ExactState] = field(default_factory=list)
 
 
+class StaticOperator(Protocol):
+    """What :func:`solve_static` needs of a structure: an
+    :class:`~fvbeam.exact_beam.ExactBeam`, or the beams of a structure on its global dofs
+    (:class:`~fvbeam.exact_structure.ExactStructure`)."""
+
+    n_dofs: int
+    #: The multipliers (dofs after the nodes' ``6 n``) of rows that hold positions: with
+    #: the positions, the unknowns the force balances are affine in at fixed rotations
+    #: (:func:`_balance_forces`); none for beams alone.
+    position_multipliers: np.ndarray
+
+    @property
+    def name(self) -> str: ...
+
+    def reference(self) -> ExactState: ...
+
+    def points(self, state: ExactState) -> Any: ...
+
+    def residual(self, state: ExactState, pts: Any = None) -> np.ndarray: ...
+
+    def residual_floor(self, state: ExactState, pts: Any = None) -> np.ndarray: ...
+
+    def tangent(self, state: ExactState, pts: Any = None, keep: Any = None) -> sp.spmatrix: ...
+
+
 class NotConverged(RuntimeError):
     """The load step (or arc length) fell below ``min_step`` without converging, or the
     arc length did not reach the full load in ``max_steps``."""
@@ -133,7 +159,7 @@ def _free(n_dofs: int, fixed: np.ndarray) -> np.ndarray:
 
 
 def solve_static(
-    beam: ExactBeam,
+    beam: StaticOperator,
     load: np.ndarray,
     fixed: np.ndarray,
     state: ExactState | None = None,
@@ -157,7 +183,7 @@ def solve_static(
         When a load step (arc length) below ``min_step`` fails, naming the load factor
         reached, or the arc length does not reach the full load in ``max_steps``.
     """
-    name = beam.beam.mesh.name
+    name = beam.name
     f = sized(load, beam.n_dofs, "load", f"6 per node of beam {name!r}")
     if not np.all(np.isfinite(f)):
         raise ValueError(f"load on beam {name!r} has a non-finite entry")
@@ -190,7 +216,7 @@ def solve_static(
         step /= 2.0
         if step < min_step:
             raise NotConverged(
-                f"{beam.beam.mesh.name}: Newton did not converge beyond load factor "
+                f"{name}: Newton did not converge beyond load factor "
                 f"{done:.6g} (a step of {step:.3g} failed; residual {ratio:.3g} times its "
                 "round-off floor)"
             )
@@ -198,7 +224,7 @@ def solve_static(
 
 
 def _newton(
-    beam: ExactBeam,
+    beam: StaticOperator,
     f: np.ndarray,
     factor: float,
     free: np.ndarray,
@@ -225,7 +251,7 @@ def _newton(
             break
         dq = np.zeros(beam.n_dofs)
         dq[free] = dq_free
-        turn = float(np.abs(dq.reshape(-1, 6)[:, 3:]).max(initial=0.0))
+        turn = float(np.abs(dq[: 6 * len(state.x)].reshape(-1, 6)[:, 3:]).max(initial=0.0))
         if turn > MAX_TURN:
             dq *= MAX_TURN / turn
         state = _balance_forces(beam, f, factor, free, state.updated(dq))
@@ -242,8 +268,8 @@ def _solve(K: sp.csc_matrix, rhs: np.ndarray) -> np.ndarray:
 
 
 def _unbalance(
-    beam: ExactBeam, state: ExactState, load: np.ndarray, free: np.ndarray, tolerance: float
-) -> tuple[PointState, np.ndarray, float, float, bool]:
+    beam: StaticOperator, state: ExactState, load: np.ndarray, free: np.ndarray, tolerance: float
+) -> tuple[Any, np.ndarray, float, float, bool]:
     """The state's points, its free residual ``g = load - r`` and its largest ratio to its
     round-off floor, its largest entry, and whether it is converged: on the floor or below
     ``tolerance`` times the load (module docstring)."""
@@ -259,7 +285,7 @@ def _unbalance(
 
 
 def _arc_length(
-    beam: ExactBeam,
+    beam: StaticOperator,
     f: np.ndarray,
     free: np.ndarray,
     state: ExactState,
@@ -271,7 +297,7 @@ def _arc_length(
 ) -> ExactStaticResult:
     """The equilibrium path from ``state`` (at load factor 0) by Crisfield's cylindrical arc
     length, to the load factor 1 (module docstring)."""
-    moved = free[free % 6 < 3]  # the free positions, whose increments the arc length measures
+    moved = _node_positions(free, state)  # whose increments the arc length measures
     if moved.size == 0:
         raise ValueError("method 'arc-length' needs free positions: every position is fixed")
     linear = np.zeros(beam.n_dofs)
@@ -305,7 +331,7 @@ def _arc_length(
             arc /= 2.0
             if arc < min_step * first:
                 raise NotConverged(
-                    f"{beam.beam.mesh.name}: the arc length did not converge beyond load "
+                    f"{beam.name}: the arc length did not converge beyond load "
                     f"factor {factor:.6g} (an arc of {arc:.3g} failed; residual {ratio:.3g} "
                     "times its round-off floor)"
                 )
@@ -319,7 +345,7 @@ def _arc_length(
         if its <= FAST:
             arc = min(2.0 * arc, longest)
     raise NotConverged(
-        f"{beam.beam.mesh.name}: the arc length did not reach the full load in {max_steps} "
+        f"{beam.name}: the arc length did not reach the full load in {max_steps} "
         f"steps (load factors {min(factors, default=0.0):.6g} to "
         f"{max(factors, default=0.0):.6g})"
     )
@@ -331,13 +357,19 @@ def _largest_turn(start: ExactState, end: ExactState) -> float:
     return float(np.abs(turns).max(initial=0.0))
 
 
+def _node_positions(dofs: np.ndarray, state: ExactState) -> np.ndarray:
+    """The ``dofs`` that are the nodes' positions (not rotations, nor multipliers after the
+    nodes' ``6 n``)."""
+    return dofs[(dofs < 6 * len(state.x)) & (dofs % 6 < 3)]
+
+
 def _positions(dofs: np.ndarray) -> np.ndarray:
     """The entries of the flattened node positions (n, 3) that position dofs stand for."""
     return (dofs // 6) * 3 + dofs % 6
 
 
 def _arc_step(
-    beam: ExactBeam,
+    beam: StaticOperator,
     f: np.ndarray,
     free: np.ndarray,
     moved: np.ndarray,
@@ -402,14 +434,18 @@ def _arc_step(
 
 
 def _balance_forces(
-    beam: ExactBeam, f: np.ndarray, factor: float, free: np.ndarray, state: ExactState
+    beam: StaticOperator, f: np.ndarray, factor: float, free: np.ndarray, state: ExactState
 ) -> ExactState:
     """The state with its free positions corrected so that the force balances hold
     exactly, its rotations kept (the position correction of the module docstring): at fixed
-    rotations the force balances are affine in the positions, so one solve with their
-    block of the tangent, ``K_uu du = lambda f_u - r_u``, satisfies them.  A singular block
-    (positions held by rotations only) leaves the state as it is."""
-    positions = free[free % 6 < 3]
+    rotations the force balances are affine in the positions and in the multipliers of
+    the rows that hold positions (``position_multipliers``; those rows are linear in the
+    positions), so one solve with their block of the tangent, ``K_uu du = lambda f_u -
+    r_u``, satisfies them.  A singular block (positions held by rotations only) leaves the
+    state as it is."""
+    positions = np.union1d(
+        _node_positions(free, state), np.intersect1d(free, beam.position_multipliers)
+    )
     if positions.size == 0:
         return state
     pts = beam.points(state)

@@ -14,7 +14,6 @@ Tolerances:
 """
 
 from pathlib import Path
-from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -41,13 +40,8 @@ CHOICES = [*KINDS, "uy+rz", "ux+rx+ry"]
 
 
 def solve(model: ExactModel, load: np.ndarray, state: JointedState | None = None, fixed=()):
-    """``solve_static`` on an exact model: its interface, with the name its messages read
-    (``beam.beam.mesh.name`` of an exact beam) given as the model's ``name``."""
-    named = SimpleNamespace(**{k: getattr(model, k) for k in ("n_dofs", "name")})
-    for method in ("reference", "points", "residual", "residual_floor", "tangent"):
-        setattr(named, method, getattr(model, method))
-    named.beam = SimpleNamespace(mesh=SimpleNamespace(name=model.name))
-    return solve_static(named, load, fixed, state=state)
+    """``solve_static`` on an exact model (a :class:`fvbeam.exact_statics.StaticOperator`)."""
+    return solve_static(model, load, fixed, state=state)
 
 
 def random_ends(scale: float = 1.0):

@@ -20,6 +20,7 @@ SCENES = sorted((Path(__file__).parent.parent / "studies" / "scenes").glob("*.to
 PLANAR = {
     "arch": "xy",
     "arch_mesh": "xy",
+    "elastica": "xy",
     "end_stops": "xy",
     "fig1_cantilever": "xy",
     "fig4_sliding_beams": "xy",

@@ -197,7 +197,14 @@ def test_static_and_dynamic_runs_write_the_same_columns_and_fields(both_runs):
         meshio.read(out / kind / "states" / "step_000000.vtu") for kind in ("static", "dynamic")
     ]
     assert [set(m.point_data) for m in meshes] == [
-        {"displacement", "rigid_displacement", "elastic_displacement", "rotation", "radius"}
+        {
+            "displacement",
+            "rigid_displacement",
+            "elastic_displacement",
+            "rotation",
+            "rotation_matrix",
+            "radius",
+        }
     ] * 2
     assert set(meshes[0].cell_data) == set(meshes[1].cell_data)
 

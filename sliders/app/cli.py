@@ -187,6 +187,8 @@ def _run_into(args: argparse.Namespace, model: Model, out: Path) -> int:
     write_results(results, out)
     done = len(results.samples)
     print(f"{done} of {results.planned} samples in {results.seconds:.2f} s, written to {out}")
+    if results.kinematics:
+        print(results.kinematics, file=sys.stderr if results.kinematics_warning else sys.stdout)
     for sample in results.failures[:5]:
         value = "" if sample.value is None else f" (value {sample.value:g})"
         print(f"  sample {sample.index}{value} failed: {sample.error}", file=sys.stderr)
@@ -218,6 +220,12 @@ def _run_dynamic(model: Model, out: Path, resume: bool) -> int:
     steps = outcome.recorder.count("history") - 1
     reached = "" if outcome.state is None else f" to t = {outcome.state.t:.6g} s"
     print(f"{max(steps, 0)} steps{reached} in {outcome.seconds:.2f} s, written to {out}")
+    if outcome.state is not None:
+        from sliders.app.run_exact import dynamic_choice
+
+        choice = dynamic_choice(model, outcome.state.q)
+        if choice.statement:
+            print(choice.statement, file=sys.stderr if choice.warning else sys.stdout)
     if outcome.error:
         print(f"  failed: {outcome.error}", file=sys.stderr)
         return 1

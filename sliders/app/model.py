@@ -348,7 +348,13 @@ class Model:
         self._check_output(problems)
         #: The weight of a static study's gravity on the structure, or None (:meth:`_weight`).
         self.weight = problems.attempt("study.mass", self._weight)
+        if scene.kinematics == "exact":
+            from sliders.app.kinematics import exact_problems
+
+            problems += exact_problems(scene, self.structure)
         problems.raise_if_any(source)
+        #: The scene's name in messages.
+        self.source = source
         self._previous: SliderStatics | None = None
 
     def _weight(self) -> np.ndarray | None:

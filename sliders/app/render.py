@@ -53,6 +53,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from fvbeam.beam import InternalForces
 from fvbeam.io import write_atomic
 from fvbeam.names import NodeRef
 from fvbeam.structure import Structure
@@ -134,11 +135,13 @@ def magnification_for(
     structure: Structure, elastic: np.ndarray, magnification: float | None
 ) -> float:
     """``magnification``, checked, or by default the factor drawing the largest nodal
-    elastic displacement as ``AUTO_FRACTION`` of the structure's size (1 when nothing
-    deforms)."""
+    elastic displacement as ``AUTO_FRACTION`` of the structure's size, and 1 when it is
+    visible as it is (at least that fraction, a large deflection) or nothing deforms."""
     if magnification is None:
         largest = float(np.abs(elastic.reshape(-1, 6)[:, :3]).max()) if elastic.size else 0.0
-        return AUTO_FRACTION * structure_size(structure) / largest if largest > 0 else 1.0
+        if largest <= 0:
+            return 1.0
+        return max(1.0, AUTO_FRACTION * structure_size(structure) / largest)
     if not (
         isinstance(magnification, (int, float)) and np.isfinite(magnification) and magnification > 0
     ):
@@ -147,20 +150,24 @@ def magnification_for(
 
 
 def beam_samples(
-    structure: Structure, q: np.ndarray, rigid: np.ndarray
+    structure: Structure,
+    q: np.ndarray,
+    rigid: np.ndarray,
+    section_forces: Sequence[InternalForces] | None = None,
 ) -> list[tuple[np.ndarray, ...]]:
     """Per beam, at the ends of ``SAMPLES_PER_ELEMENT`` chords per element (each point
     once, element vertices among them): reference points (n, 3), the displacement (n, 3)
     and its rigid part (n, 3) (``q`` and its rigid part ``rigid`` interpolated as the beam
-    interpolates them), and the bending-moment magnitude (n,)."""
+    interpolates them), and the bending-moment magnitude (n,) (of ``section_forces`` when
+    given)."""
     out: list[tuple[np.ndarray, ...]] = []
     X = np.arange(SAMPLES_PER_ELEMENT) / SAMPLES_PER_ELEMENT
-    for beam, dofs in zip(structure.beams, structure.dof_maps, strict=True):
+    for b, (beam, dofs) in enumerate(zip(structure.beams, structure.dof_maps, strict=True)):
         mesh, q_beam = beam.mesh, q[dofs]
         e = np.append(np.repeat(np.arange(mesh.n_elements), len(X)), mesh.n_elements - 1)
         Xe = np.append(np.tile(X, mesh.n_elements), 1.0)
         xi = mesh.abscissae(e, Xe)
-        forces = beam.internal_forces(q_beam)
+        forces = beam.internal_forces(q_beam) if section_forces is None else section_forces[b]
         bending = np.linalg.norm(forces.moment[:, 1:], axis=1)
         out.append(
             (
@@ -220,15 +227,17 @@ def drawing(
     scale: float,
     forces: Sequence[ForceElement] = (),
     follow: NodeRef | None = None,
+    section_forces: Sequence[InternalForces] | None = None,
 ) -> Drawing:
     """The :class:`Drawing` of the state ``q`` with rigid part ``rigid``, the elastic part
     magnified ``scale`` times; the tyres among ``forces`` as wheels; relative to the node
-    ``follow`` when given."""
+    ``follow`` when given; the beams coloured by ``section_forces`` when given (else the
+    linear map of ``q``)."""
     shift = np.zeros(3)
     if follow is not None:
         dofs = structure.node_dofs(follow)[:3]
         shift = place(np.zeros(3), q[dofs], rigid[dofs], scale)
-    samples = beam_samples(structure, q, rigid)
+    samples = beam_samples(structure, q, rigid, section_forces)
     contact = []
     for slider, y in zip(sliders, unknowns, strict=True):
         x, u = contact_point(slider, q, y)
@@ -361,7 +370,7 @@ def prepare(
     if options.follow is not None:
         first.structure.node_dofs(options.follow)  # ValueError naming an unknown node
     drawings = [
-        drawing(f.structure, q, f.sliders, ys, r, scale, forces, options.follow)
+        drawing(f.structure, q, f.sliders, ys, r, scale, forces, options.follow, f.section_forces)
         for f, (q, ys), r in zip(frames, checked, rigids, strict=True)
     ]
     view = options.view
@@ -579,6 +588,7 @@ def render(
     held: ArrayLike | None = None,
     forces: Sequence[ForceElement] = (),
     follow: NodeRef | None = None,
+    section_forces: Sequence[InternalForces] | None = None,
 ) -> float:
     """Render the deformed configuration to the PNG file ``path`` (atomically).
 
@@ -598,6 +608,9 @@ def render(
         displacement magnified.
     forces
         The force elements: their tyres are drawn as wheels on their ground.
+    section_forces
+        Each beam's section forces, for the colours, when they are not the linear map of
+        ``q`` (exact kinematics; :class:`sliders.app.vtu.Frame`).
 
     Returns
     -------
@@ -608,7 +621,7 @@ def render(
     if path.suffix != ".png":
         raise ValueError(f"path {str(path)!r} must end in .png")
     options = Options(view, magnification, radius, follow, window_size, scalar_bar)
-    frame = Frame(0.0, structure, q, sliders, unknowns, held)
+    frame = Frame(0.0, structure, q, sliders, unknowns, held, section_forces)
     style, (drawn,) = prepare([frame], forces, options)
     canvas = Canvas(style)
     try:

@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from sliders.app.errors import SceneError
 from sliders.app.model import Model
 from sliders.app.run_dynamic import DynamicRun, integrate
 from sliders.app.schema import DynamicStudy, ModesStudy, Scene, SweepStudy
@@ -49,6 +50,10 @@ class Results:
     seconds: float = 0.0
     #: A modes study's modes about every converged sample (:mod:`sliders.app.run_modes`).
     modes: list | None = None
+    #: The line saying which kinematics was taken and why (:mod:`sliders.app.run_exact`),
+    #: and whether it is a warning (linear kinematics beyond its bound).
+    kinematics: str = ""
+    kinematics_warning: bool = False
 
     @property
     def scene(self) -> Scene:
@@ -60,7 +65,7 @@ class Results:
         return [s for s in self.samples if s.solution is None]
 
 
-def run(model: Model, progress: bool = True) -> Results | DynamicRun:
+def run(model: Model, progress: bool = True, kinematics: str | None = None) -> Results | DynamicRun:
     """Solve the scene's study, of any kind.
 
     Parameters
@@ -69,6 +74,10 @@ def run(model: Model, progress: bool = True) -> Results | DynamicRun:
         The built scene.
     progress
         A progress bar on sweeps and time integrations (shown only on a terminal).
+    kinematics
+        ``exact``, ``linear`` or ``auto`` (:mod:`sliders.app.run_exact`); default the
+        scene's ``kinematics``.  ``exact`` raises :class:`~sliders.app.errors.SceneError`
+        naming the first scene item exact kinematics does not carry.
 
     Returns
     -------
@@ -79,16 +88,54 @@ def run(model: Model, progress: bool = True) -> Results | DynamicRun:
         For a dynamic study: every step (its recorder), the last state, and the failure or
         interruption that ended it early, if any.
     """
+    from sliders.app.kinematics import KINDS, exact_problems
+
     study = model.scene.study
+    kind = model.scene.kinematics if kinematics is None else kinematics
+    if kind not in KINDS:
+        raise ValueError(f"kinematics must be one of {', '.join(KINDS)}, got {kind!r}")
     if isinstance(study, DynamicStudy):
+        if kind == "exact":
+            raise SceneError(model.source, exact_problems(model.scene, model.structure))
         return integrate(model, progress)
-    results = _samples(model, progress)
+    results = _kinematic_samples(model, progress, kind)
     if isinstance(study, ModesStudy):
         from sliders.app.run_modes import modes_of
 
         start = time.perf_counter()
         results.modes = modes_of(results.samples, study, progress)
         results.seconds += time.perf_counter() - start
+    return results
+
+
+def _kinematic_samples(model: Model, progress: bool, kind: str) -> Results:
+    """The samples of a static study or a sweep with the kinematics ``kind``
+    (:mod:`sliders.app.run_exact`): the linear samples unless ``kind`` is ``exact``, then
+    the exact ones if the choice is so."""
+    from sliders.app.run_exact import choose, exact_samples
+
+    linear = None if kind == "exact" else _samples(model, progress)
+    if linear is not None and linear.interrupted:  # Ctrl-C: no second path
+        linear.kinematics = "kinematics: linear (interrupted before the choice)"
+        return linear
+    answers = [
+        (s.statics.structure, s.solution.q)
+        for s in (linear.samples if linear is not None else [])
+        if s.statics is not None and s.solution is not None
+    ]
+    choice = choose(model, kind, answers, model.source)
+    if linear is None or choice.exact:
+        exact = exact_samples(model, progress)
+        results = Results(
+            model,
+            [Sample(*sample) for sample in exact.samples],
+            exact.planned,
+            exact.interrupted,
+            exact.seconds + (linear.seconds if linear is not None else 0.0),
+        )
+    else:
+        results = linear
+    results.kinematics, results.kinematics_warning = choice.statement, choice.warning
     return results
 
 

@@ -786,6 +786,7 @@ class Scene(Table):
     """A whole scene: the model's parts, the study and the outputs."""
 
     title: Text = ""
+    kinematics: Literal["exact", "linear", "auto"] = "auto"
     formulation: Formulation = "fv3"
     integration: Literal["reduced", "full"] = "reduced"
     section: tuple[SectionSpec, ...] = ()

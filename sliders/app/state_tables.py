@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from fvbeam.beam import InternalForces
 from fvbeam.names import suggest
 from fvbeam.structure import Structure
 from fvbeam.support import DOF_NAMES, Support
@@ -33,13 +34,15 @@ from sliders.lines.chain import BeamChain
 #: Internal forces in the section frame ``(t, e2, e3)``: axial force, shears along e2 and
 #: e3, twisting moment, bending moments about e2 and e3 (static and dynamic tables alike).
 FORCE_NAMES = ("N", "V2", "V3", "T", "M2", "M3")
+#: The same internal forces in global axes: force and moment.
+GLOBAL_FORCE_NAMES = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
 #: Components of a reaction, global axes.
 REACTION_NAMES = ("fx", "fy", "fz", "mx", "my", "mz")
 #: The columns of the tables of one solved state, after the head.
 STATE_COLUMNS = {
     "nodes": ("part", "xi", "x", "y", "z", *DOF_NAMES),
     "sliders": ("slider", UNKNOWNS[0], "x", "y", "z", *UNKNOWNS[1:]),
-    "internal_forces": ("beam", "xi", *FORCE_NAMES),
+    "internal_forces": ("beam", "xi", *FORCE_NAMES, *GLOBAL_FORCE_NAMES),
     "reactions": ("node", *REACTION_NAMES),
 }
 #: The columns that tell a table's rows apart, always written: the rest can be chosen.
@@ -76,7 +79,8 @@ class Snapshot:
     ``residual`` is the structure's own equations without the supports and joints: ``K q -
     f`` in statics, ``M qdd + C v + K q - f`` in dynamics.  On a held dof, that less the
     force the joints exert there is the support's reaction (None: not computed, no
-    ``reactions`` table).
+    ``reactions`` table).  ``section_forces``: each beam's section forces at its recovery points
+    when they are not the linear map of ``q`` (a state of exact kinematics).
     """
 
     structure: Structure
@@ -85,6 +89,7 @@ class Snapshot:
     unknowns: Sequence[np.ndarray]
     supports: Sequence[Support]
     residual: np.ndarray | None = None
+    section_forces: Sequence[InternalForces] | None = None
 
 
 @dataclass(frozen=True)
@@ -256,31 +261,54 @@ def _sliders(structure, sliders, supports, wanted, chosen) -> Built:
 
 
 def _internal_forces(structure, sliders, supports, wanted, chosen) -> Built:
-    """The section forces at every recovery point of the asked beams: the rows of their
-    recovery maps that the chosen columns need, on the global dofs, stacked, one product."""
-    labels, xis, blocks = [], [], []
+    """The section forces at every recovery point of the asked beams, in the section frame
+    and in global axes: the rows of their recovery maps (the global ones turned by the
+    points' section frames) that the chosen columns need, on the global dofs, stacked, one
+    product; or, for a state that carries its forces (exact kinematics), those."""
+    labels, xis, blocks, asked = [], [], [], []
     for i, beam in enumerate(structure.beams):
         if wanted is None or beam.mesh.name in wanted:
             R, xi = beam.recovery, beam.recovery_abscissae
-            rows = (6 * np.arange(len(xi))[:, None] + chosen).ravel()
-            block = R[rows].tocoo()
+            both = sp.vstack([R, _turned(R, beam.recovery_frames)], format="csr")
+            points = np.arange(len(xi))[:, None]
+            rows = np.where(chosen < 6, 6 * points + chosen, 6 * (len(xi) + points) + chosen - 6)
+            block = both[rows.ravel()].tocoo()
             blocks.append(
                 sp.csr_matrix(
                     (block.data, (block.row, structure.dof_maps[i][block.col])),
-                    shape=(len(rows), structure.n_dofs),
+                    shape=(rows.size, structure.n_dofs),
                 )
             )
             labels += [beam.mesh.name] * len(xi)
             xis.append(xi)
+            asked.append(i)
     n = len(labels)
     R = sp.vstack(blocks, format="csr") if blocks else sp.csr_matrix((0, structure.n_dofs))
     xi = np.concatenate(xis)[:, None] if xis else np.zeros((0, 1))
     blank = np.zeros((n, 1 + len(chosen)), dtype=bool)
 
     def values(state: Snapshot) -> np.ndarray:
-        return np.concatenate([xi, (R @ state.q).reshape(n, len(chosen))], axis=1)
+        if state.section_forces is None:
+            return np.concatenate([xi, (R @ state.q).reshape(n, len(chosen))], axis=1)
+        exact = [state.section_forces[i] for i in asked]
+        table = np.vstack(
+            [np.hstack([f.force, f.moment, f.force_global, f.moment_global]) for f in exact]
+            or [np.zeros((0, 12))]
+        )
+        return np.concatenate([xi, table[:, chosen]], axis=1)
 
     return labels, blank, values
+
+
+def _turned(R: sp.csr_matrix, frames: np.ndarray) -> sp.csr_matrix:
+    """The recovery map ``R`` (6 rows per point, section frame) in global axes: each point's
+    force and moment rows turned by its section frame ``[t, e2, e3]`` (P, 3, 3)."""
+    blocks = np.repeat(frames, 2, axis=0)  # force and moment of each point
+    b = 3 * np.arange(len(blocks))[:, None, None]
+    rows = np.broadcast_to(b + np.arange(3)[:, None], blocks.shape).ravel()
+    cols = np.broadcast_to(b + np.arange(3), blocks.shape).ravel()
+    n = 3 * len(blocks)
+    return sp.csr_matrix((blocks.ravel(), (rows, cols)), shape=(n, n)) @ R
 
 
 def _reactions(structure, sliders, supports, wanted, chosen) -> Built:

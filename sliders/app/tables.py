@@ -12,12 +12,14 @@ dynamic study, one set of rows per time step (``step, t``: :data:`STEP_COLUMNS`,
   ``converged, iterations, error``
 * ``nodes``: ``part, xi, x, y, z, ux, uy, uz, rx, ry, rz`` -- every beam node (in order
   along the beam, ``xi`` its abscissa) and every body (``xi`` blank); ``x, y, z`` its
-  reference position, then its displacement and small rotation
+  reference position, then its displacement and small rotation (with exact kinematics the
+  rotation vector, :mod:`sliders.app.kinematics`)
 * ``sliders``: ``slider, xi, x, y, z, lambda_x, lambda_y, lambda_z, mu_2, mu_3, mu_1`` --
   the abscissa of the contact, its deformed position, the reaction force on the body and the
   multipliers of the orientation constraints
-* ``internal_forces``: ``beam, xi,`` :data:`FORCE_NAMES` -- at the beam's recovery points,
-  in the section frame ``(t, e2, e3)``: axial force, shears, twisting and bending moments
+* ``internal_forces``: ``beam, xi,`` :data:`FORCE_NAMES`, :data:`GLOBAL_FORCE_NAMES` -- at
+  the beam's recovery points, in the section frame ``(t, e2, e3)``: axial force, shears,
+  twisting and bending moments; then force and moment in global axes
 * ``reactions``: ``node, fx, fy, fz, mx, my, mz`` -- what each support (and, in a dynamic
   study, each dof drive) exerts on its node, global axes, on the dofs it holds
 
@@ -77,14 +79,18 @@ def _samples_rows(results: Results) -> Iterator[list]:
 
 
 def _snapshot(results: Results, sample: Sample) -> Snapshot:
+    """A converged sample as the tables read it; with exact kinematics its residual and
+    section forces are the exact state's (:class:`sliders.app.kinematics.ExactSolution`)."""
     statics, solution = _solved(sample)
+    internal = getattr(solution, "internal", None)
     return Snapshot(
         statics.structure,
         solution.q,
         statics.sliders,
         solution.unknowns,
         results.model.supports,
-        statics.K @ solution.q - sample.load,
+        (statics.K @ solution.q if internal is None else internal) - sample.load,
+        getattr(solution, "forces", None),
     )
 
 
@@ -205,6 +211,7 @@ def _frame(sample: Sample, converged: list[Sample]) -> Frame:
         statics.sliders,
         solution.unknowns,
         _held(sample),
+        getattr(solution, "forces", None),
     )
 
 
@@ -227,4 +234,5 @@ def _render(sample: Sample, path: Path, scene: Scene) -> None:
         held=_held(sample),
         forces=statics.forces,
         follow=options.follow,
+        section_forces=getattr(solution, "forces", None),
     )

@@ -13,7 +13,9 @@ sliders            each slider's contact point on its line        ``vertex``
 rigid bodies       each body's node                               ``vertex``
 =================  ============================================  ======================
 
-Point data: ``displacement`` and ``rotation`` (N, 3) from ``q`` through the structure's dof
+Point data: ``displacement`` and ``rotation`` (N, 3) (a rotation vector; its matrix
+``exp(skew(rotation))`` as ``rotation_matrix``, (N, 9) row by row: with exact kinematics the
+node's finite rotation, :mod:`sliders.app.kinematics`) from ``q`` through the structure's dof
 maps (beam nodes: their dofs; evaluation points: the beam's trial interpolation; sliders:
 the line's displacement at ``xi`` and the body's rotation; bodies: their dofs), so that the
 reference points warped by ``displacement`` (ParaView's *Warp By Vector*, scale 1) are the
@@ -60,6 +62,7 @@ from typing import TYPE_CHECKING, Protocol, cast
 import numpy as np
 from numpy.typing import ArrayLike
 
+from fvbeam.beam import InternalForces
 from fvbeam.io import replace_directory, write_atomic
 from fvbeam.names import suggest
 from fvbeam.structure import Structure
@@ -92,6 +95,7 @@ FIELDS = (
     "rigid_displacement",
     "elastic_displacement",
     "rotation",
+    "rotation_matrix",
     "force",
     "moment",
     "force_global",
@@ -278,6 +282,10 @@ class _Blocks:
             "rotation": np.vstack(self.rotation),
             "radius": np.concatenate(self.radius),
         }
+        if "rotation_matrix" in fields:
+            from fvbeam.rotations import exp_map
+
+            point_data["rotation_matrix"] = exp_map(point_data["rotation"]).reshape(-1, 9)
         import meshio
 
         keep = fields | set(ALWAYS)
@@ -297,6 +305,7 @@ def to_meshio(
     radius: float | Sequence[float] | None = None,
     held: ArrayLike | None = None,
     fields: Sequence[str] | None = None,
+    section_forces: Sequence[InternalForces] | None = None,
 ) -> meshio.Mesh:
     """The solved structure as a meshio mesh (layout and fields: module docstring).
 
@@ -323,6 +332,9 @@ def to_meshio(
         The fields to write (:data:`FIELDS`; None: all), besides ``radius``, ``part``,
         ``id``, ``element`` and ``xi``: what none of them needs is not computed (the rigid
         part of the motion, the internal forces, the sliders' couples).
+    section_forces
+        Each beam's section forces at its recovery points when they are not the linear
+        map of ``q`` (a state of exact kinematics, :mod:`sliders.app.kinematics`).
     """
     structure, q, sliders, unknowns, held = _solved(structure, q, sliders, unknowns, held)
     q, ys = check_solution(structure, q, sliders, unknowns)
@@ -350,7 +362,9 @@ def to_meshio(
         )
         xi = beam.recovery_abscissae
         e, X = mesh.locate(xi)
-        forces = beam.internal_forces(q_beam) if forces_asked else None
+        forces = None
+        if forces_asked:
+            forces = beam.internal_forces(q_beam) if section_forces is None else section_forces[b]
         blocks.add(
             "vertex",
             np.arange(len(e))[:, None],
@@ -421,6 +435,7 @@ def write_vtu(
     radius: float | Sequence[float] | None = None,
     held: ArrayLike | None = None,
     fields: Sequence[str] | None = None,
+    section_forces: Sequence[InternalForces] | None = None,
 ) -> None:
     """Write the solved structure to the VTU file ``path`` atomically
     (:func:`fvbeam.io.write_atomic`); arguments as :func:`to_meshio`, e.g.
@@ -430,7 +445,7 @@ def write_vtu(
         raise ValueError(f"path {str(path)!r} must end in .vtu")
     import meshio
 
-    mesh = to_meshio(structure, q, sliders, unknowns, radius, held, fields)
+    mesh = to_meshio(structure, q, sliders, unknowns, radius, held, fields, section_forces)
     write_atomic(path, lambda tmp: meshio.write(tmp, mesh, file_format="vtu"))
 
 
@@ -501,6 +516,9 @@ class Frame:
     sliders: Sequence[Slider] = ()
     unknowns: Sequence[np.ndarray] = ()
     held: ArrayLike | None = None
+    #: Each beam's section forces when they are not the linear map of ``q`` (exact
+    #: kinematics: the solution's ``forces``).
+    section_forces: Sequence[InternalForces] | None = None
 
     @classmethod
     def of(
@@ -530,7 +548,13 @@ class Frame:
         if held is None and free is not None:
             held = complement(system.structure.n_dofs, free)
         return cls(
-            float(time), system.structure, solution.q, system.sliders, solution.unknowns, held
+            float(time),
+            system.structure,
+            solution.q,
+            system.sliders,
+            solution.unknowns,
+            held,
+            getattr(solution, "forces", None),
         )
 
 
@@ -592,6 +616,7 @@ def write_series(
                 radius,
                 frame.held,
                 fields,
+                frame.section_forces,
             )
             steps.append((frame.time, file))
         write_pvd(tmp / index.name, steps)

@@ -96,6 +96,16 @@ class JointedState:
     nodes: ExactState
     multipliers: np.ndarray
 
+    @property
+    def x(self) -> np.ndarray:
+        """The nodes' positions (n, 3)."""
+        return self.nodes.x
+
+    @property
+    def R(self) -> np.ndarray:
+        """The nodes' rotations (n, 3, 3)."""
+        return self.nodes.R
+
     def updated(self, dq: np.ndarray) -> JointedState:
         """The state moved by ``dq``: the nodes' ``[du, dphi]`` on the manifold, then the
         multipliers' increments added."""
@@ -174,6 +184,17 @@ class ExactModel:
             self.slices.append(slice(start, start + len(law.rows)))
             start += len(law.rows)
         self.n_dofs = start
+        #: The multipliers of the rows that hold positions (:class:`~fvbeam.exact_statics.
+        #: StaticOperator`).
+        self.position_multipliers = np.array(
+            [
+                where.start + k
+                for law, where in zip(self.laws, self.slices, strict=True)
+                for k, row in enumerate(law.rows)
+                if row.startswith("u")
+            ],
+            dtype=np.int64,
+        )
 
     def _node(self, ref: NodeRef, label: str) -> int:
         """The node a reference names, -1 for the ground; ``ValueError`` naming ``label``."""
