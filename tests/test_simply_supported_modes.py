@@ -31,6 +31,8 @@ from fvbeam import Beam, Section, Support, closed_forms, formulation, straight
 from fvbeam.modes import natural_frequencies
 
 REGIMES = {"timoshenko": (100.0, 1e-3), "euler-bernoulli": (1e6, 0.0)}
+#: Axial and torsional stiffness (their modes far above the bending ones) and bending.
+STIFFNESS = {"EA": 1e5, "GJ": 1e2, "EJy": 1.0, "EJz": 1.0}
 CASES = [
     ("fv2", "lumped", {"timoshenko": 2, "euler-bernoulli": 2}),
     ("fv3", "lumped", {"timoshenko": 2, "euler-bernoulli": 2}),
@@ -44,16 +46,8 @@ CASES = [
 
 
 def frequencies(name: str, kind: str, n: int, GA: float, rhoJ: float) -> np.ndarray:
-    section = Section.diagonal(
-        EA=1e5,
-        GAy=GA,
-        GAz=GA,
-        GJ=1e2,
-        EJy=1.0,
-        EJz=1.0,
-        mass_per_length=1.0,
-        inertia=np.diag([2e-3, rhoJ, rhoJ]),
-    )
+    inertia = np.diag([2e-3, rhoJ, rhoJ])
+    section = Section.diagonal(GAy=GA, GAz=GA, mass_per_length=1.0, inertia=inertia, **STIFFNESS)
     mesh = straight((0, 0, 0), (1, 0, 0), n, formulation(name).nodes_per_element)
     beam = Beam(mesh, section, name)
     supports = [Support(0, k, "ux+uz+rx+ry") for k in range(mesh.n_nodes)]

@@ -196,26 +196,14 @@ def _painter(results: Results, rendered: list[Sample]) -> tuple[set[int], Painte
     force elements and render options), or None without any."""
     if not rendered:
         return None
-    from sliders.app.render import Options, render
+    from sliders.app.render import Options, render_frame
 
     scene = results.scene
     options = Options.of(scene.output.render)
 
     def paint(path: Path, frame: Frame, title: str) -> object:
-        return render(
-            path,
-            frame.structure,
-            frame.q,
-            frame.sliders,
-            frame.unknowns,
-            options.magnification,
-            f"{scene.title or 'scene'}: {title}",
-            view=options.view,
-            window_size=options.window_size,
-            held=frame.held,
-            forces=results.model.forces,
-            follow=options.follow,
-        )
+        heading = f"{scene.title or 'scene'}: {title}"
+        return render_frame(path, frame, heading, results.model.forces, options)
 
     return {sample.index for sample in rendered}, paint
 
@@ -243,22 +231,12 @@ def _frame(sample: Sample, converged: list[Sample]) -> Frame:
 
 
 def _render(sample: Sample, path: Path, scene: Scene) -> None:
-    from sliders.app.render import Options, render
+    from sliders.app.render import Options, render_frame
 
     value = "" if sample.value is None else f", value {sample.value:g}"
     statics, solution = _solved(sample)
-    options = Options.of(scene.output.render)
-    render(
-        path,
-        statics.structure,
-        solution.q,
-        statics.sliders,
-        solution.unknowns,
-        options.magnification,
-        f"{scene.title or 'scene'}: sample {sample.index}{value}",
-        view=options.view,
-        window_size=options.window_size,
-        held=_held(sample),
-        forces=statics.forces,
-        follow=options.follow,
+    frame = Frame(
+        0.0, statics.structure, solution.q, statics.sliders, solution.unknowns, _held(sample)
     )
+    title = f"{scene.title or 'scene'}: sample {sample.index}{value}"
+    render_frame(path, frame, title, statics.forces, Options.of(scene.output.render))
