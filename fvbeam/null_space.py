@@ -26,25 +26,28 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 
-def null_basis(G: sp.spmatrix) -> sp.csc_matrix:
+def null_basis(G: sp.spmatrix) -> tuple[sp.csc_matrix, np.ndarray]:
     """A basis ``Z`` (n, n - rank) of the null space of the sparse rows ``G`` (r, n):
-    ``G Z = 0``, the identity on the unknowns kept (module docstring).
+    ``G Z = 0``, the identity on the unknowns kept, and those unknowns, the masters
+    (n - rank,), ascending: column ``j`` of ``Z`` is master ``j`` (module docstring).
 
     Examples
     --------
     >>> import scipy.sparse as sp
-    >>> Z = null_basis(sp.csr_matrix([[1.0, -1.0, 0.0]]))
+    >>> Z, masters = null_basis(sp.csr_matrix([[1.0, -1.0, 0.0]]))
     >>> Z.toarray()
     array([[1., 0.],
            [1., 0.],
            [0., 1.]])
+    >>> masters
+    array([1, 2])
     """
     G = sp.csc_matrix(G)
     G.eliminate_zeros()
     n = G.shape[1]
     touched = np.flatnonzero(np.diff(G.indptr))
     if touched.size == 0:
-        return sp.identity(n, format="csc")
+        return sp.identity(n, format="csc"), np.arange(n)
     R, pivots = sla.qr(G[:, touched].toarray(), mode="r", pivoting=True)
     diagonal = np.abs(np.diag(R))
     tol = max(G.shape[0], touched.size) * np.finfo(float).eps * diagonal[0]
@@ -57,4 +60,4 @@ def null_basis(G: sp.spmatrix) -> sp.csc_matrix:
     rows = np.concatenate([masters, np.repeat(slaves, kept.size)])
     cols = np.concatenate([np.arange(masters.size), np.tile(column[kept], rank)])
     values = np.concatenate([np.ones(masters.size), S.ravel()])
-    return sp.csc_matrix((values, (rows, cols)), shape=(n, masters.size))
+    return sp.csc_matrix((values, (rows, cols)), shape=(n, masters.size)), masters

@@ -135,14 +135,17 @@ def _force_blocks(statics: SliderStatics, q: np.ndarray) -> tuple[sp.coo_matrix,
 @dataclass(frozen=True)
 class Reduction:
     """The linearised problem on the motions the constraints leave free (module docstring):
-    ``K``, ``M``, ``C`` on the reduced unknowns ``w`` (``q_free = Z w``), and whether the
-    damping is proportional, ``C = damping K``."""
+    ``K``, ``M``, ``C`` on the reduced unknowns ``w`` (``q_free = Z w``), whether the
+    damping is proportional, ``C = damping K``, and the positions of the reduced rows and
+    columns in the structure's banded order (:attr:`fvbeam.structure.Structure.dof_rank`
+    of the free dofs they keep), for the sparse LU."""
 
     K: sp.csc_matrix
     M: sp.csc_matrix
     C: sp.csc_matrix
     Z: sp.csc_matrix
     proportional: bool
+    ranks: tuple[np.ndarray, np.ndarray]
 
 
 #: Singular values of a slider's equilibrated multiplier block below this part of the
@@ -233,8 +236,8 @@ def reduction(
     extra.eliminate_zeros()
     C_f = C_f.tocsr()
     C_f.eliminate_zeros()
-    Z = null_basis(G)
-    Y = null_basis(B.T)
+    Z, columns = null_basis(G)
+    Y, rows = null_basis(B.T)
     if Z.shape[1] != Y.shape[1]:
         raise ValueError(
             f"the sliders' constraints have rank {len(free) - Z.shape[1]} but their reactions "
@@ -247,7 +250,8 @@ def reduction(
     C = (Yt @ (damping * K_free + C_f) @ Z).tocsc()
     C.eliminate_zeros()
     proportional = C.nnz == 0 or (C_f.nnz == 0 and extra.nnz == 0)
-    return Reduction(K, M, C, Z, proportional)
+    rank = statics.structure.dof_rank[free]
+    return Reduction(K, M, C, Z, proportional, (rank[rows], rank[columns]))
 
 
 def modes_about(
@@ -299,9 +303,8 @@ def modes_about(
     shift = 0.0 if window is None else (2 * np.pi * window[0]) ** 2
     wanted = count if window is None else 2 * count
     try:
-        spectrum = lowest_modes(
-            problem.K, problem.M, wanted, None if problem.proportional else problem.C, shift
-        )
+        damping_matrix = None if problem.proportional else problem.C
+        spectrum = lowest_modes(problem.K, problem.M, wanted, damping_matrix, shift, problem.ranks)
     except RuntimeError as exc:  # splu: exactly singular
         raise ValueError(f"the linearised problem is singular at the state: {exc}") from exc
     if problem.proportional:
