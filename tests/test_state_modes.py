@@ -18,10 +18,11 @@ Tolerance sources:
   body at x = 0.61; fv3 and galerkin-p2, whose interpolation cannot kink inside an
   element, lose their order there: measured -0.9 to 4.3).
 * The reduction against the bordered pencil it replaces (``[K + E, A; C_y, D]`` with the
-  mass on the structure's dofs only, all its finite eigenvalues by ``scipy.linalg.eigvals``):
-  both backward stable, so each ``omega^2`` within ``u cond(J)`` relatively (``u`` the unit
-  roundoff, ``J`` the bordered matrix; 3e-9 to 1e-8 here, measured differences 2e-12 to
-  1e-10).
+  mass and damping on the structure's dofs only, all its finite eigenvalues by
+  ``scipy.linalg.eigvals``): both backward stable, so each ``omega^2`` (damped: ``|s|``)
+  within ``u cond(J)`` relatively (``u`` the unit roundoff, ``J`` the bordered matrix; 1e-9
+  to 1e-8 here, measured differences 5e-13 to 1e-10), a damping ratio within that divided
+  by the smallest ratio (measured 2e-11 to 1.4e-9).
 * Free decay (generalized-alpha, ``rho_inf = 1``: the trapezoidal rule, which maps a root
   ``s`` to ``s_h = (2 / h) artanh(s h / 2) = s (1 + (s h)^2 / 12 + ...)``; with
   ``s = omega (-zeta + i sqrt(1 - zeta^2))`` that is ``|s_h| = omega (1 - (omega h)^2 / 12)``
@@ -143,25 +144,39 @@ def test_a_spherical_slider_is_a_pinned_intermediate_support(name, a):
 
 
 @pytest.mark.filterwarnings("ignore:modes about a loaded state")
+@pytest.mark.parametrize("damping", [0.0, 4e-3])
 @pytest.mark.parametrize("a", [A, BETWEEN])
 @pytest.mark.parametrize("kind", ["classical", "spherical"])
 @pytest.mark.parametrize("name", ["fv3", "galerkin-p1", "cubic"])
-def test_the_reduction_has_the_bordered_pencils_frequencies_about_a_loaded_state(name, kind, a):
+def test_the_reduction_has_the_bordered_pencils_roots_about_a_loaded_state(name, kind, a, damping):
     """About a state loaded at the free end (the sliders' terms in their multipliers, a
     cubic line's compliance between nodes, the kink correction of a classical slider), the
-    six lowest ``omega^2`` are the bordered pencil's lowest finite ones (module
-    docstring)."""
+    six lowest roots are the bordered pencil's lowest finite ones (module docstring):
+    undamped ``omega^2``; with the beams' damping (not proportional once the sliders add
+    stiffness: complex modes) the roots ``s`` of the first-order form, ``|s|`` and the
+    damping ratio ``-Re s / |s|``, which carries the error of ``Re s`` divided by itself."""
     statics, _ = slider_beam(name, 6, a, kind)
     solution = statics.solve(statics.structure.nodal_load("beam.end", (0.0, 1.0, 0.3)))
     J = statics.jacobian(solution.q, solution.unknowns).toarray()
-    free = statics.free
-    M = np.zeros_like(J)
+    free, N = statics.free, J.shape[0]
+    M, C = np.zeros_like(J), np.zeros_like(J)
     M[: len(free), : len(free)] = statics.structure.mass("lumped")[free][:, free].toarray()
-    s = sla.eigvals(J, M)
-    s = np.sort(s[np.isfinite(s)].real)
-    modes = modes_about(statics, solution, 6)
+    C[: len(free), : len(free)] = damping * statics.K_free.toarray()
+    modes = modes_about(statics, solution, 6, damping=damping)
     tol = np.finfo(float).eps / 2 * np.linalg.cond(J)
-    np.testing.assert_allclose(modes.omega**2, s[s > 0][:6], rtol=tol)
+    if damping == 0:
+        s = sla.eigvals(J, M)
+        s = np.sort(s[np.isfinite(s)].real)
+        np.testing.assert_allclose(modes.omega**2, s[s > 0][:6], rtol=tol)
+        return
+    Z, eye = np.zeros((N, N)), np.eye(N)
+    s = sla.eigvals(np.block([[Z, eye], [-J, -C]]), np.block([[eye, Z], [Z, M]]))
+    s = s[np.isfinite(s) & (s.imag > 0)]
+    s = s[np.argsort(np.abs(s))][:6]
+    zeta = -s.real / np.abs(s)
+    assert modes.complex
+    np.testing.assert_allclose(modes.omega, np.abs(s), rtol=tol)
+    np.testing.assert_allclose(modes.damping_ratio, zeta, rtol=tol / zeta.min())
 
 
 def body_on_tyre(damping: float) -> tuple[SliderStatics, np.ndarray]:
