@@ -231,12 +231,22 @@ def _frame(sample: Sample, converged: list[Sample]) -> Frame:
 
 
 def _render(sample: Sample, path: Path, scene: Scene) -> None:
-    from sliders.app.render import Options, render_frame
+    from sliders.app.render import Options, render
 
     value = "" if sample.value is None else f", value {sample.value:g}"
     statics, solution = _solved(sample)
-    frame = Frame(
-        0.0, statics.structure, solution.q, statics.sliders, solution.unknowns, _held(sample)
+    options = Options.of(scene.output.render)
+    render(
+        path,
+        statics.structure,
+        solution.q,
+        statics.sliders,
+        solution.unknowns,
+        options.magnification,
+        f"{scene.title or 'scene'}: sample {sample.index}{value}",
+        view=options.view,
+        window_size=options.window_size,
+        held=_held(sample),
+        forces=statics.forces,
+        follow=options.follow,
     )
-    title = f"{scene.title or 'scene'}: sample {sample.index}{value}"
-    render_frame(path, frame, title, statics.forces, Options.of(scene.output.render))
