@@ -247,6 +247,34 @@ def timoshenko_cantilever_frequencies(
     return frequency_roots(timoshenko_cantilever_determinant, n, step, (L, EJ, GA, m, rhoJ))
 
 
+def timoshenko_simply_supported_frequencies(
+    n: int, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, m: float = 1.0, rhoJ: float = 0.0
+) -> np.ndarray:
+    """The ``n`` lowest bending frequencies (rad/s) of a simply supported Timoshenko beam:
+    mode ``j`` is ``sin(k x)``, ``k = j pi / L``, whose frequency is the lower root of
+    Timoshenko's equation (Han, Benaroya and Wei, "Dynamics of transversely vibrating
+    beams using four engineering theories", J. Sound Vib. 225 (1999) 935, simply
+    supported)::
+
+        (rhoJ m / GA) omega^4 - (m + (rhoJ + m EJ / GA) k^2) omega^2 + EJ k^4 = 0
+
+    (without rotary inertia ``omega^2 = EJ k^4 / (m (1 + EJ k^2 / GA))``; Euler-Bernoulli
+    ``omega = k^2 sqrt(EJ / m)`` as ``GA`` grows).
+
+    Examples
+    --------
+    >>> w = timoshenko_simply_supported_frequencies(2, GA=1e12)
+    >>> bool(np.allclose(w, [np.pi**2, 4 * np.pi**2]))
+    True
+    """
+    k = np.arange(1, n + 1) * np.pi / L
+    a = rhoJ * m / GA
+    b = m + (rhoJ + m * EJ / GA) * k**2
+    c = EJ * k**4
+    # the lower root of a w^4 - b w^2 + c, written without cancellation (a may be 0)
+    return np.sqrt(2 * c / (b + np.sqrt(b * b - 4 * a * c)))
+
+
 def simply_supported_point_load(
     x: ArrayLike, a: ArrayLike, L: float = 1.0, EJ: float = 1.0, GA: float = np.inf, F: float = 1.0
 ) -> np.ndarray:

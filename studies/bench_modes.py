@@ -6,9 +6,9 @@ paper's Figures 3-5 with a 10 kg tip mass; two spherical sliders):
 ``large``
     20 modes about the static state of the scene with :data:`LARGE_ELEMENTS` fv3 elements
     per beam (1e4 in all) of steel tubes (:data:`LARGE_TUBES`), the piston at ``s = 0.3 L``
-    (target: 2 s).  ``seconds`` is
-    :func:`sliders.solve.modes.modes_about` (the bordered matrix, its one sparse LU and the
-    shift-invert iterations); ``setup_seconds`` the model, the statics and its static solve.
+    (target: 2 s).  ``seconds`` is :func:`sliders.solve.modes.modes_about` (the problem
+    reduced to the motions the sliders leave free, its one sparse LU and the shift-invert
+    iterations); ``setup_seconds`` the model, the statics and its static solve.
 ``stroke``
     The scene's modes study (4 modes) along a stroke of :data:`STROKE_POINTS` piston
     positions ``s = 0 ... 0.95 L``, as ``fvslider run`` runs it (:func:`sliders.app.run.run`:
@@ -43,8 +43,7 @@ from .bench import environment, least_time, write_merged
 KEY = "modes"
 SCENE = Path(__file__).parent / "scenes" / "sliding_beams_modes.toml"
 #: fv3 elements per beam of the large row, its modes, and its tubes' mass (kg/m): steel
-#: tubes, whose 20 lowest modes span a range that double precision resolves beside the
-#: sliders' constraints (:func:`sliders.solve.modes.modes_about`).
+#: tubes.
 LARGE_ELEMENTS, LARGE_MODES, LARGE_TUBES = 5000, 20, 5.0
 #: Piston positions of the stroke row.
 STROKE_POINTS = 100

@@ -176,3 +176,25 @@ def test_a_modes_study_animates_each_mode_of_its_first_sample(tmp_path):
     assert written == ["mode_01.gif", "mode_02.gif"]
     for name in written:
         assert len(imageio.mimread(tmp_path / "out" / name)) == MODE_FRAMES
+
+
+def test_a_modes_study_renders_each_mode_of_the_last_sample(tmp_path):
+    """``png = "last"`` on a modes study renders, beside the last sample's state, each of its
+    modes at its peak as ``render_NNNNNN_mode_NN.png``; the two bending planes' modes are
+    different pictures (beside their titles)."""
+    imageio = pytest.importorskip("imageio")
+    pytest.importorskip("pyvista")
+
+    path = tmp_path / "modes.toml"
+    text = SCENE.read_text().replace("num = 20", "num = 2").replace("count = 4", "count = 2")
+    path.write_text(text.replace('csv = ["samples", "modes"]', 'csv = ["modes"]\npng = "last"'))
+    assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 0
+    written = sorted(p.name for p in (tmp_path / "out").glob("render_*.png"))
+    assert written == [
+        "render_000001.png",
+        "render_000001_mode_01.png",
+        "render_000001_mode_02.png",
+    ]
+    first, second = (imageio.v3.imread(tmp_path / "out" / name) for name in written[1:])
+    band = slice(first.shape[0] // 10, 9 * first.shape[0] // 10)  # without the texts
+    assert first.shape == second.shape and np.any(first[band] != second[band])

@@ -7,10 +7,22 @@ Tolerance sources:
   backward error, ``O(u kappa)`` with a condition number below 1e6 here, ``u = 2.2e-16``.
 * Mesh convergence against the exact Timoshenko frequency equations
   (:mod:`fvbeam.closed_forms`): the observed order ``log2(e_n / e_2n)`` on n, 2n, 4n
-  elements within 0.5 of the expected one (fv3 and galerkin-p2 with the lumped mass: 2, as
-  the bare cantilever in ``tests/test_modes.py``; the slider's body sits on a node, where
-  its constraint is the clamp or pin of the reference), and the finest error below
-  ``e_2n / 2^(p - 0.5)``.
+  elements within 0.5 of the expected one (with the lumped mass: fv2, fv3, galerkin-p1 2,
+  galerkin-p2 4, as the bare cantilever in ``tests/test_modes.py``; cubic 2, as the simply
+  supported beam with rotary inertia in ``tests/test_simply_supported_modes.py``; the
+  slider's body sits on a node, where its constraint is the clamp or pin of the
+  reference), and the finest error below ``e_2n / 2^(p - 0.5)``.  A chain of cubic
+  elements holds a body between its nodes too, through the line's compliance there (the
+  exact response of the element to a point load, condensed by
+  :func:`sliders.solve.modes.modes_about`): the same order 2 (measured 1.96 to 2.05 with the
+  body at x = 0.61; fv3 and galerkin-p2, whose interpolation cannot kink inside an
+  element, lose their order there: measured -0.9 to 4.3).
+* The reduction against the bordered pencil it replaces (``[K + E, A; C_y, D]`` with the
+  mass and damping on the structure's dofs only, all its finite eigenvalues by
+  ``scipy.linalg.eigvals``): both backward stable, so each ``omega^2`` (damped: ``|s|``)
+  within ``u cond(J)`` relatively (``u`` the unit roundoff, ``J`` the bordered matrix; 1e-9
+  to 1e-8 here, measured differences 5e-13 to 1e-10), a damping ratio within that divided
+  by the smallest ratio (measured 2e-11 to 1.4e-9).
 * Free decay (generalized-alpha, ``rho_inf = 1``: the trapezoidal rule, which maps a root
   ``s`` to ``s_h = (2 / h) artanh(s h / 2) = s (1 + (s h)^2 / 12 + ...)``; with
   ``s = omega (-zeta + i sqrt(1 - zeta^2))`` that is ``|s_h| = omega (1 - (omega h)^2 / 12)``
@@ -20,6 +32,7 @@ Tolerance sources:
 
 import numpy as np
 import pytest
+import scipy.linalg as sla
 from scipy.optimize import curve_fit
 
 from fvbeam import Beam, RigidBody, Section, Structure, Support, closed_forms, formulation, straight
@@ -81,9 +94,10 @@ def pairs(omega: np.ndarray) -> np.ndarray:
 
 #: The slider's body: at x = 0.6, a node of every mesh of 10, 20, 40 elements.
 A = 0.6
-#: Expected orders with the lumped mass, those of the bare cantilever (``tests/test_modes.py``):
-#: fv3 2, galerkin-p2 2p = 4.
-ORDERS = {"fv3": 2, "galerkin-p2": 4}
+#: Expected orders with the lumped mass (module docstring).
+ORDERS = {"fv2": 2, "fv3": 2, "galerkin-p1": 2, "galerkin-p2": 4, "cubic": 2}
+#: A body between the nodes of every mesh of 10, 20, 40 elements.
+BETWEEN = 0.61
 
 
 def assert_order(name: str, errors: list[np.ndarray]) -> None:
@@ -94,36 +108,75 @@ def assert_order(name: str, errors: list[np.ndarray]) -> None:
     assert np.all(errors[2] < errors[1] / 2 ** (order - 0.5))
 
 
-@pytest.mark.parametrize("name", ORDERS)
-def test_a_classical_slider_held_inside_a_beam_makes_two_cantilevers(name):
+ON_NODES = [(name, A) for name in ORDERS] + [("cubic", BETWEEN)]
+
+
+@pytest.mark.parametrize("name,a", ON_NODES)
+def test_a_classical_slider_held_inside_a_beam_makes_two_cantilevers(name, a):
     exact = np.sort(
         np.concatenate(
             [
                 closed_forms.timoshenko_cantilever_frequencies(
                     2, L=length, EJ=EJ, GA=GA, rhoJ=RHO_J
                 )
-                for length in (A, 1 - A)
+                for length in (a, 1 - a)
             ]
         )
     )
     errors = []
     for n in (10, 20, 40):
-        statics, _ = slider_beam(name, n, A, "classical")
+        statics, _ = slider_beam(name, n, a, "classical")
         errors.append(np.abs(pairs(solve_modes(statics, 8).omega) / exact - 1))
     assert_order(name, errors)
 
 
-@pytest.mark.parametrize("name", ORDERS)
-def test_a_spherical_slider_is_a_pinned_intermediate_support(name):
+@pytest.mark.parametrize("name,a", ON_NODES)
+def test_a_spherical_slider_is_a_pinned_intermediate_support(name, a):
     step = 3.5160 * np.sqrt(EJ) / 200  # the grid of the cantilever's frequency equation
     exact = closed_forms.frequency_roots(
-        closed_forms.timoshenko_pinned_cantilever_determinant, 3, step, (A, 1.0, EJ, GA, 1.0, RHO_J)
+        closed_forms.timoshenko_pinned_cantilever_determinant, 3, step, (a, 1.0, EJ, GA, 1.0, RHO_J)
     )
     errors = []
     for n in (10, 20, 40):
-        statics, _ = slider_beam(name, n, A, "spherical")
+        statics, _ = slider_beam(name, n, a, "spherical")
         errors.append(np.abs(pairs(solve_modes(statics, 6).omega) / exact - 1))
     assert_order(name, errors)
+
+
+@pytest.mark.filterwarnings("ignore:modes about a loaded state")
+@pytest.mark.parametrize("damping", [0.0, 4e-3])
+@pytest.mark.parametrize("a", [A, BETWEEN])
+@pytest.mark.parametrize("kind", ["classical", "spherical"])
+@pytest.mark.parametrize("name", ["fv3", "galerkin-p1", "cubic"])
+def test_the_reduction_has_the_bordered_pencils_roots_about_a_loaded_state(name, kind, a, damping):
+    """About a state loaded at the free end (the sliders' terms in their multipliers, a
+    cubic line's compliance between nodes, the kink correction of a classical slider), the
+    six lowest roots are the bordered pencil's lowest finite ones (module docstring):
+    undamped ``omega^2``; with the beams' damping (not proportional once the sliders add
+    stiffness: complex modes) the roots ``s`` of the first-order form, ``|s|`` and the
+    damping ratio ``-Re s / |s|``, which carries the error of ``Re s`` divided by itself."""
+    statics, _ = slider_beam(name, 6, a, kind)
+    solution = statics.solve(statics.structure.nodal_load("beam.end", (0.0, 1.0, 0.3)))
+    J = statics.jacobian(solution.q, solution.unknowns).toarray()
+    free, N = statics.free, J.shape[0]
+    M, C = np.zeros_like(J), np.zeros_like(J)
+    M[: len(free), : len(free)] = statics.structure.mass("lumped")[free][:, free].toarray()
+    C[: len(free), : len(free)] = damping * statics.K_free.toarray()
+    modes = modes_about(statics, solution, 6, damping=damping)
+    tol = np.finfo(float).eps / 2 * np.linalg.cond(J)
+    if damping == 0:
+        s = sla.eigvals(J, M)
+        s = np.sort(s[np.isfinite(s)].real)
+        np.testing.assert_allclose(modes.omega**2, s[s > 0][:6], rtol=tol)
+        return
+    Z, eye = np.zeros((N, N)), np.eye(N)
+    s = sla.eigvals(np.block([[Z, eye], [-J, -C]]), np.block([[eye, Z], [Z, M]]))
+    s = s[np.isfinite(s) & (s.imag > 0)]
+    s = s[np.argsort(np.abs(s))][:6]
+    zeta = -s.real / np.abs(s)
+    assert modes.complex
+    np.testing.assert_allclose(modes.omega, np.abs(s), rtol=tol)
+    np.testing.assert_allclose(modes.damping_ratio, zeta, rtol=tol / zeta.min())
 
 
 def body_on_tyre(damping: float) -> tuple[SliderStatics, np.ndarray]:
@@ -150,19 +203,20 @@ def test_a_body_on_a_tyre_spring_has_the_oscillator_frequency_and_damping_ratio(
 
 
 def test_free_decay_of_the_time_integration_gives_the_first_frequency_and_damping_ratio():
-    """The two-cantilever beam with stiffness-proportional damping (complex modes: a
-    slider), started on its first mode ``q = Re(eps phi e^{s t})`` at ``t = 0`` and
-    integrated (``rho_inf = 1``, 64 steps a period, 6 periods): the modal coordinate's fit
+    """The two-cantilever beam with stiffness-proportional damping (proportional on the
+    motions the slider leaves free too: real modes, ``zeta = damping omega / 2``), started
+    on its first mode ``q = Re(eps phi e^{s t})`` at ``t = 0`` and integrated
+    (``rho_inf = 1``, 64 steps a period, 6 periods): the modal coordinate's fit
     ``e^{-zeta omega t} (a cos + b sin)(omega sqrt(1 - zeta^2) t)`` gives ``omega`` and
     ``zeta`` (module docstring)."""
     structure, supports, sliders = parts("fv3", 10, A, "classical")
     statics = SliderStatics(structure, supports, sliders)
     damping = 4e-3  # zeta = 0.02 on the first mode, 0.12 on the next distinct one
     modes = solve_modes(statics, 1, damping=damping)
-    assert modes.complex
+    assert not modes.complex
     omega, zeta = modes.omega[0], modes.damping_ratio[0]
     s = omega * (-zeta + 1j * np.sqrt(1 - zeta**2))
-    phi = 1e-6 * modes.shapes[:, 0]
+    phi = 1e-6 * modes.shapes[:, 0] / np.abs(modes.shapes[:, 0]).max()
     dynamics = Dynamics(structure, supports, sliders, damping=damping, rho_inf=1.0)
     state = dynamics.state(phi.real, (s * phi).real, qdd=(s * s * phi).real)
     period = 2 * np.pi / s.imag

@@ -632,6 +632,31 @@ def render(
     return style.scale
 
 
+def render_frame(
+    path: str | Path,
+    frame: Frame,
+    title: str,
+    forces: Sequence[ForceElement] = (),
+    options: Options = Options(),
+) -> float:
+    """:func:`render` of ``frame`` (its state and held dofs) with the view, magnification,
+    window and followed node of ``options``; returns the magnification used."""
+    return render(
+        path,
+        frame.structure,
+        frame.q,
+        frame.sliders,
+        frame.unknowns,
+        options.magnification,
+        title,
+        view=options.view,
+        window_size=options.window_size,
+        held=frame.held,
+        forces=forces,
+        follow=options.follow,
+    )
+
+
 @dataclass
 class Animation:
     """What :func:`animate` drew: the ``style`` and, per frame as the plotter had them when

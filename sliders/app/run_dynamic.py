@@ -38,7 +38,7 @@ from sliders.app import events
 from sliders.app.checkpoint import Checkpoints
 from sliders.app.history import Recorder
 from sliders.app.model import Model
-from sliders.app.render import Options, animate, render
+from sliders.app.render import Options, animate, render_frame
 from sliders.app.scene import dump_scene
 from sliders.app.schema import CheckpointSpec, DynamicStudy, Output, Scene
 from sliders.app.vtu import Frame, write_series
@@ -199,17 +199,5 @@ def keeps_states(output: Output) -> bool:
 
 
 def _render(model: Model, frame: Frame, path: Path, options: Options) -> None:
-    render(
-        path,
-        frame.structure,
-        frame.q,
-        frame.sliders,
-        frame.unknowns,
-        options.magnification,
-        f"{model.scene.title or 'scene'}: t = {frame.time:.4g} s",
-        view=options.view,
-        window_size=options.window_size,
-        held=frame.held,
-        forces=model.forces,
-        follow=options.follow,
-    )
+    title = f"{model.scene.title or 'scene'}: t = {frame.time:.4g} s"
+    render_frame(path, frame, title, model.forces, options)

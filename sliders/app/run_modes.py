@@ -14,7 +14,9 @@ time: ParaView steps through the modes, and Warp By Vector shows each), and alon
 ``campbell.png``, the frequencies against the parameter, one curve per mode number (with
 matplotlib, the ``plot`` extra); with ``output.animation``, each mode of the first converged
 sample as ``mode_NN.mp4`` or ``mode_NN.gif`` (:func:`mode_frames`: one period, one camera,
-magnification and colour range; pyvista, the ``render`` extra).
+magnification and colour range; pyvista, the ``render`` extra); with ``output.png``, each
+mode of the rendered samples (the last converged, or all) at its peak as
+``render_NNNNNN_mode_NN.png``.
 """
 
 from __future__ import annotations
@@ -43,6 +45,9 @@ MODE_FRAMES = 24
 #: What writes an animation: ``(path, frames, title)`` (:func:`sliders.app.render.animate`
 #: with the scene's force elements and render options).
 Animator = Callable[[Path, Sequence[Frame], str], object]
+#: What writes a picture: ``(path, frame, title)`` (:func:`sliders.app.render.render` with
+#: the scene's force elements and render options).
+Painter = Callable[[Path, Frame, str], object]
 
 
 class Solved(Protocol):
@@ -146,11 +151,13 @@ def write_modes(
     table: bool,
     sweep: bool,
     animation: tuple[str, Animator] | None = None,
+    pictures: tuple[set[int], Painter] | None = None,
 ) -> None:
     """Write ``modes.csv`` (when ``table``), the shapes' VTU series, for a ``sweep``
-    ``campbell.png``, and with ``animation`` (its format, ``mp4`` or ``gif``, and what
-    writes it) each mode of the first converged sample animated, into ``directory`` (module
-    docstring)."""
+    ``campbell.png``, with ``animation`` (its format, ``mp4`` or ``gif``, and what
+    writes it) each mode of the first converged sample animated, and with ``pictures``
+    (the indices of the samples to render and what renders) each of their modes at its
+    peak, into ``directory`` (module docstring)."""
     if table:
         with open(directory / "modes.csv", "w", newline="") as handle:
             writer = csv.writer(handle)
@@ -171,6 +178,18 @@ def write_modes(
             number, hertz = int(entry.number[j]), float(entry.modes.hertz[j])
             title = f"mode {number} ({hertz:.4g} Hz)"
             animate(directory / f"mode_{number:02d}.{kind}", mode_frames(entry, j), title)
+    if pictures is not None:
+        indices, paint = pictures
+        for entry in solved:
+            if entry.sample.index not in indices:
+                continue
+            assert entry.modes is not None
+            for j in np.argsort(entry.number):
+                number, hertz = int(entry.number[j]), float(entry.modes.hertz[j])
+                name = f"render_{entry.sample.index:06d}_mode_{number:02d}.png"
+                paint(
+                    directory / name, mode_frames(entry, j, 1)[0], f"mode {number} ({hertz:.4g} Hz)"
+                )
 
 
 def mode_frames(entry: SampleModes, j: int, count: int = MODE_FRAMES) -> list[Frame]:

@@ -44,7 +44,7 @@ from fvbeam.io import OUTPUT_MARKER as MARKER
 from fvbeam.io import replace_directory
 from fvbeam.support import complement
 from sliders.app.run import Results, Sample
-from sliders.app.run_modes import Animator, write_modes
+from sliders.app.run_modes import Animator, Painter, write_modes
 from sliders.app.scene import dump_scene
 from sliders.app.schema import ModesStudy, Scene
 from sliders.app.state_tables import (
@@ -161,7 +161,12 @@ def write_results(results: Results, out: str | Path, tables: Sequence[str] | Non
             default = "csv" not in output.model_fields_set
             sweep = study.parameter is not None
             write_modes(
-                results.modes, directory, default or "modes" in tables, sweep, _animator(results)
+                results.modes,
+                directory,
+                default or "modes" in tables,
+                sweep,
+                _animator(results),
+                _painter(results, rendered),
             )
         if output.vtu:
             write_series(
@@ -190,6 +195,23 @@ def _animator(results: Results) -> tuple[str, Animator] | None:
         return animate(path, frames, heading, results.model.forces, options, output.render.fps)
 
     return output.animation, write
+
+
+def _painter(results: Results, rendered: list[Sample]) -> tuple[set[int], Painter] | None:
+    """The indices of the ``rendered`` samples and what renders a mode of one (the scene's
+    force elements and render options), or None without any."""
+    if not rendered:
+        return None
+    from sliders.app.render import Options, render_frame
+
+    scene = results.scene
+    options = Options.of(scene.output.render)
+
+    def paint(path: Path, frame: Frame, title: str) -> object:
+        heading = f"{scene.title or 'scene'}: {title}"
+        return render_frame(path, frame, heading, results.model.forces, options)
+
+    return {sample.index for sample in rendered}, paint
 
 
 def _held(sample: Sample) -> np.ndarray:

@@ -7,18 +7,43 @@ state ``(q, y)`` of :class:`~sliders.solve.statics.SliderStatics`, vibrates as::
 
 with ``[K + E, A; C_y, D]`` the Newton matrix of the statics at the state
 (:meth:`~sliders.solve.statics.SliderStatics.jacobian`: the beams' stiffness on the free dofs
-bordered by each slider's Jacobian in its abscissa and multipliers) plus the force elements'
-stiffness ``dr/dq`` at rest, ``M`` the structure's mass (zero on the sliders' unknowns: the
-abscissa and the multipliers carry no inertia, the constraint rows stay constraints), ``C``
-the stiffness-proportional damping ``damping K`` of the beams (as in
-:class:`~sliders.solve.dynamics.Dynamics`) plus the force elements' ``dr/dv``.  The pencil is
-solved by :func:`fvbeam.modes.lowest_modes` (one sparse LU of the bordered matrix per state,
-shift-invert).
+bordered by each slider's Jacobian in its unknowns ``y``, the abscissa and the multipliers)
+plus the force elements' stiffness ``dr/dq`` at rest, ``M`` the structure's mass (the
+sliders' unknowns carry none), ``C`` the stiffness-proportional damping ``damping K`` of the
+beams (as in :class:`~sliders.solve.dynamics.Dynamics`) plus the force elements' ``dr/dv``.
 
-Real modes when the damping is absent or proportional (``C = damping J``: neither sliders
-nor force elements; each mode's ratio is then ``damping omega / 2``), complex modes
-otherwise, whose eigenvalue ``s`` gives the natural frequency ``|s|`` and the damping ratio
-``-Re s / |s|``; overdamped (non-oscillating) roots are not returned.
+The massless unknowns ``y`` are eliminated, so that the pencil left is regular on the
+motions the sliders allow and has no root of the constraints (the bordered pencil's
+infinite eigenvalues are defective, index 2, and rounding moves them by ``u^(1/2)`` of the
+largest inverse eigenvalue, where they were told from the modes only by a threshold).
+Slider by slider (its rows touch its own unknowns only), the block ``D``, its rows and
+columns equilibrated (each row of ``[C_y D]`` and column of ``[A; D]`` to a largest entry of
+1), is split by its singular value decomposition ``D = U S V^T``:
+
+* the part of ``S`` above :data:`RIGID` (``sqrt(u)`` of the largest) is regular: its
+  unknowns (the abscissa, a multiplier along the frictionless tangent, a multiplier of a
+  compliant line: a chain of cubic elements, the kink correction of a section orientation)
+  follow the structure, ``y_1 = -S_1^-1 U_1^T C_y q``, and add ``-A V_1 S_1^-1 U_1^T C_y``
+  to the stiffness (static condensation).  Below ``sqrt(u)`` a compliance is taken as
+  rigid: that changes the problem by less than its own size, whereas condensing it would
+  lift rounding errors by its inverse, so ``sqrt(u)`` is where the two errors meet;
+* the rest are constraints ``G q = 0`` (``G = U_2^T C_y``) with reactions ``B y_2``
+  (``B = A V_2``): the sliders' rigid connections.
+
+Then ``q = Z w`` on a basis ``Z`` of the null space of ``G`` and the rows are taken with a
+basis ``Y`` of the null space of ``B^T`` (which takes out the reactions), both by
+:func:`fvbeam.null_space.null_basis` (one dof per constraint eliminated, the master-slave
+way: the rows touch a few dofs each, so ``Z`` and ``Y`` are the identity but on those):
+``Y^T (K + E) Z``, ``Y^T M Z`` and ``Y^T C Z``, the same sparsity as the structure's.  The
+finite-volume stiffness is unsymmetric and a slider's load transfer is not its
+interpolation, so ``Y`` is not ``Z``.  The pencil is solved by
+:func:`fvbeam.modes.lowest_modes` (one sparse LU per state, shift-invert).
+
+Real modes when the damping is absent or proportional (``C = damping (K + E)`` on the
+reduced unknowns: no force element, and no stiffness of the sliders' own, which about an
+unloaded state they have none; each mode's ratio is then ``damping omega / 2``), complex
+modes otherwise, whose eigenvalue ``s`` gives the natural frequency ``|s|`` and the damping
+ratio ``-Re s / |s|``; overdamped (non-oscillating) roots are not returned.
 
 The beams are linear: about a loaded state the modes take the beams' unloaded stiffness
 (no geometric stiffness of the preload; the sliders' terms in their multipliers are kept),
@@ -35,7 +60,9 @@ import scipy.sparse as sp
 from scipy.optimize import linear_sum_assignment
 
 from fvbeam.modes import lowest_modes
+from fvbeam.null_space import null_basis
 from sliders.forces.kernel import evaluate_element
+from sliders.solve.mechanism import joint_parts
 from sliders.solve.statics import SliderSolution, SliderStatics
 
 #: The warning of a state under load (module docstring).
@@ -58,14 +85,11 @@ class StateModes:
     shapes
         (n_dofs, k) mode shapes on the structure's dofs, zero at the supports: real modes
         scaled to unit modal mass ``phi^T M phi = 1``, complex ones to a largest entry of 1.
-    unknowns
-        (m, k) the sliders' unknowns' part of each mode, the sliders' in order.
     """
 
     omega: np.ndarray
     damping_ratio: np.ndarray
     shapes: np.ndarray
-    unknowns: np.ndarray
 
     @property
     def hertz(self) -> np.ndarray:
@@ -108,6 +132,128 @@ def _force_blocks(statics: SliderStatics, q: np.ndarray) -> tuple[sp.coo_matrix,
     )
 
 
+@dataclass(frozen=True)
+class Reduction:
+    """The linearised problem on the motions the constraints leave free (module docstring):
+    ``K``, ``M``, ``C`` on the reduced unknowns ``w`` (``q_free = Z w``), whether the
+    damping is proportional, ``C = damping K``, and the positions of the reduced rows and
+    columns in the structure's banded order (:attr:`fvbeam.structure.Structure.dof_rank`
+    of the free dofs they keep), for the sparse LU."""
+
+    K: sp.csc_matrix
+    M: sp.csc_matrix
+    C: sp.csc_matrix
+    Z: sp.csc_matrix
+    proportional: bool
+    ranks: tuple[np.ndarray, np.ndarray]
+
+
+#: Singular values of a slider's equilibrated multiplier block below this part of the
+#: largest are constraints, not compliances (module docstring): ``sqrt(u)``.
+RIGID = float(np.sqrt(np.finfo(float).eps / 2))
+
+
+def _joint_blocks(
+    statics: SliderStatics, q: np.ndarray, unknowns: list[np.ndarray]
+) -> tuple[sp.coo_matrix, sp.coo_matrix, sp.coo_matrix]:
+    """The sliders' stiffness on the free dofs (their ``dr/dq`` and the compliant part of
+    their unknowns condensed), their constraint rows ``G`` and their multipliers' columns
+    ``B`` (module docstring), all on the free dofs."""
+    nf = len(statics.free)
+    position = np.full(statics.structure.n_dofs, -1)
+    position[statics.free] = np.arange(nf)
+    stiffness: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
+    rows: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
+    columns: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
+    count = 0
+    for dofs, _, _, J in joint_parts(statics.structure, statics.sliders, q, unknowns):
+        t = len(dofs)
+        index = position[dofs]
+        keep = index >= 0
+        index = index[keep]
+        A, C = J[:t, t:][keep], J[t:, :t][:, keep]
+        D = J[t:, t:]
+        K = J[:t, :t][np.ix_(keep, keep)]
+        # equilibrate: each row of [C D] and each column of [A; D] to a largest entry of 1
+        rho = _largest(np.hstack([C, D]), axis=1)
+        gamma = _largest(np.vstack([A, D]), axis=0)
+        U, s, Vt = np.linalg.svd(D / rho[:, None] / gamma[None, :])
+        rank = int(np.sum(s > RIGID * s[0])) if s.size and s[0] > 0 else 0
+        C_u = U.T @ (C / rho[:, None])
+        A_v = (A / gamma[None, :]) @ Vt.T
+        K = K - A_v[:, :rank] @ (C_u[:rank] / s[:rank, None])
+        stiffness.append(_block(index, index, K))
+        constraints = np.arange(count, count + len(s) - rank)
+        rows.append(_block(constraints, index, C_u[rank:]))
+        columns.append(_block(index, constraints, A_v[:, rank:]))
+        count += len(s) - rank
+    return (
+        _assembled(stiffness, (nf, nf)),
+        _assembled(rows, (count, nf)),
+        _assembled(columns, (nf, count)),
+    )
+
+
+def _largest(a: np.ndarray, axis: int) -> np.ndarray:
+    """The largest magnitude along ``axis``, 1 where all are zero."""
+    m = np.abs(a).max(axis=axis) if a.size else np.zeros(a.shape[1 - axis])
+    return np.where(m > 0, m, 1.0)
+
+
+def _block(
+    rows: np.ndarray, cols: np.ndarray, values: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A dense block's entries as ``(rows, cols, values)``."""
+    rr, cc = np.meshgrid(rows, cols, indexing="ij")
+    return rr.ravel(), cc.ravel(), values.ravel()
+
+
+def _assembled(blocks: list, shape: tuple[int, int]) -> sp.coo_matrix:
+    """A sparse matrix of the ``(rows, cols, values)`` blocks (repeated entries summed)."""
+    if not blocks:
+        return sp.coo_matrix(shape)
+    rows, cols, values = (np.concatenate(parts) for parts in zip(*blocks, strict=True))
+    return sp.coo_matrix((values, (rows, cols)), shape=shape)
+
+
+def reduction(
+    statics: SliderStatics, solution: SliderSolution, mass: str = "lumped", damping: float = 0.0
+) -> Reduction:
+    """The linearised problem about ``solution`` on the motions its sliders leave free
+    (module docstring; ``mass`` and ``damping`` as in :func:`modes_about`).
+
+    Raises
+    ------
+    ValueError
+        Constraint rows and multiplier columns of different ranks (redundant constraints
+        whose reactions the state does not determine).
+    """
+    q = solution.q
+    free = statics.free
+    K_j, G, B = _joint_blocks(statics, q, list(solution.unknowns))
+    K_f, C_f = _force_blocks(statics, q)
+    extra = (K_j + K_f).tocsr()
+    extra.eliminate_zeros()
+    C_f = C_f.tocsr()
+    C_f.eliminate_zeros()
+    Z, columns = null_basis(G)
+    Y, rows = null_basis(B.T)
+    if Z.shape[1] != Y.shape[1]:
+        raise ValueError(
+            f"the sliders' constraints have rank {len(free) - Z.shape[1]} but their reactions "
+            f"rank {len(free) - Y.shape[1]}: redundant constraints the state cannot resolve"
+        )
+    K_free = statics.K_free.tocsr()
+    Yt = Y.T.tocsr()
+    K = (Yt @ (K_free + extra) @ Z).tocsc()
+    M = (Yt @ statics.structure.mass(mass)[free][:, free] @ Z).tocsc()
+    C = (Yt @ (damping * K_free + C_f) @ Z).tocsc()
+    C.eliminate_zeros()
+    proportional = C.nnz == 0 or (C_f.nnz == 0 and extra.nnz == 0)
+    rank = statics.structure.dof_rank[free]
+    return Reduction(K, M, C, Z, proportional, (rank[rows], rank[columns]))
+
+
 def modes_about(
     statics: SliderStatics,
     solution: SliderSolution,
@@ -123,8 +269,8 @@ def modes_about(
     Parameters
     ----------
     statics
-        The problem (3-D: a planar one's joints are pinned out of its plane, which the
-        bordered matrix does not express).
+        The problem (3-D: a planar one's joints are pinned out of its plane, which its
+        sliders' rows do not express).
     solution
         A converged state of it.
     count
@@ -140,7 +286,8 @@ def modes_about(
     Raises
     ------
     ValueError
-        A bad argument, a planar problem, or a state whose linearised stiffness is singular.
+        A bad argument, a planar problem, redundant constraints, or a state whose
+        linearised stiffness is singular.
     """
     if not (isinstance(count, (int, np.integer)) and count >= 1):
         raise ValueError(f"count must be an integer >= 1, got {count!r}")
@@ -150,27 +297,17 @@ def modes_about(
         raise ValueError(f"window must be (f_min, f_max) with 0 <= f_min < f_max, got {window}")
     if statics.plane is not None:
         raise ValueError("modes are solved on the 3-D problem: build its statics without plane")
-    q = solution.q
-    if np.any(q != 0):
+    if np.any(solution.q != 0):
         warnings.warn(PRELOAD_WARNING, UserWarning, stacklevel=2)
-    structure, free = statics.structure, statics.free
-    nf = len(free)
-    J = statics.jacobian(q, solution.unknowns)
-    N = J.shape[0]
-    K_f, C_f = _force_blocks(statics, q)
-    pad = ((0, N - nf), (0, N - nf))
-    J = (J + _padded(K_f, pad)).tocsc()
-    M = _padded(structure.mass(mass)[free][:, free], pad).tocsc()
-    C = _padded(damping * statics.K_free + C_f, pad).tocsr()
-    C.eliminate_zeros()
-    proportional = C.nnz == 0 or not (statics.sliders or statics.forces)
+    problem = reduction(statics, solution, mass, damping)
     shift = 0.0 if window is None else (2 * np.pi * window[0]) ** 2
     wanted = count if window is None else 2 * count
     try:
-        spectrum = lowest_modes(J, M, wanted, None if proportional else C, shift)
+        damping_matrix = None if problem.proportional else problem.C
+        spectrum = lowest_modes(problem.K, problem.M, wanted, damping_matrix, shift, problem.ranks)
     except RuntimeError as exc:  # splu: exactly singular
         raise ValueError(f"the linearised problem is singular at the state: {exc}") from exc
-    if proportional:
+    if problem.proportional:
         if spectrum.s.size and spectrum.s.min() <= 0:
             raise ValueError(
                 "the linearised stiffness is not positive at the state (omega^2 = "
@@ -179,55 +316,19 @@ def modes_about(
             )
         omega = np.sqrt(spectrum.s)
         zeta = damping * omega / 2
-        vectors = spectrum.vectors
     else:
         s = spectrum.s
-        omega, zeta, vectors = np.abs(s), -s.real / np.abs(s), spectrum.vectors
+        omega, zeta = np.abs(s), -s.real / np.abs(s)
     order = np.argsort(omega)
-    if statics.sliders:
-        order = order[_resolved(spectrum.s[order], spectrum.s.dtype.kind == "c", shift)]
     if window is not None:
         low, high = 2 * np.pi * np.asarray(window)
         order = order[(omega[order] >= low * (1 - 1e-12)) & (omega[order] <= high)]
     order = order[:count]
-    omega, zeta, vectors = omega[order], zeta[order], vectors[:, order]
-    vectors = _normalised(vectors, M)
-    shapes = np.zeros((structure.n_dofs, len(order)), dtype=vectors.dtype)
-    shapes[free] = vectors[:nf]
-    return StateModes(omega, zeta, shapes, vectors[nf:])
-
-
-#: The unit roundoff.
-UNIT_ROUNDOFF = float(np.finfo(float).eps) / 2
-
-
-def _resolved(s: np.ndarray, damped: bool, shift: float) -> np.ndarray:
-    """Which eigenvalues ``s`` (by ascending frequency) stand clear of the spurious roots of
-    the constraints: the sliders' rows make the zero eigenvalue of the inverse pencil
-    ``nu = 1 / (s - sigma)`` defective (Jordan blocks of the index-2 and, in first-order
-    form, index-3 constraints), whose rounding-error perturbation ``u`` moves it by ``u^(1/2)``
-    (``u^(1/3)``) times the largest ``|nu|`` (Lidskii's perturbation of a Jordan block;
-    Moro, Burke and Overton, SIAM J. Matrix Anal. Appl. 18 (1997) 793).  Kept: ``|nu|``
-    above ten times that; with a warning when any is dropped."""
-    sigma = 1j * np.sqrt(shift) if damped else shift
-    nu = 1 / np.abs(s - sigma) if s.size else s.real
-    level = 10 * UNIT_ROUNDOFF ** (1 / 3 if damped else 1 / 2) * (nu.max() if nu.size else 0)
-    keep = nu > level
-    if not keep.all():
-        warnings.warn(
-            f"{int((~keep).sum())} of the modes asked for lie too far above the lowest to be "
-            "told from the constraints' spurious roots in double precision, and are left out",
-            UserWarning,
-            stacklevel=3,
-        )
-    return keep
-
-
-def _padded(A: sp.spmatrix, pad: tuple[tuple[int, int], tuple[int, int]]) -> sp.coo_matrix:
-    """``A`` bordered by zero rows and columns (the sliders' unknowns)."""
-    A = sp.coo_matrix(A)
-    shape = (A.shape[0] + pad[0][1], A.shape[1] + pad[1][1])
-    return sp.coo_matrix((A.data, (A.row, A.col)), shape=shape)
+    M_free = statics.structure.mass(mass)[statics.free][:, statics.free]
+    vectors = _normalised(problem.Z @ spectrum.vectors[:, order], M_free)
+    shapes = np.zeros((statics.structure.n_dofs, len(order)), dtype=vectors.dtype)
+    shapes[statics.free] = vectors
+    return StateModes(omega[order], zeta[order], shapes)
 
 
 def _normalised(vectors: np.ndarray, M: sp.spmatrix) -> np.ndarray:
