@@ -654,6 +654,7 @@ def render_frame(
         held=frame.held,
         forces=forces,
         follow=options.follow,
+        section_forces=frame.section_forces,
     )
 
 
