@@ -1,5 +1,5 @@
-"""Geometrically exact structures: the exact beams of a :class:`~fvbeam.structure.Structure`
-on its global node numbering.
+"""Geometrically exact structures: the exact beams and rigid bodies of a
+:class:`~fvbeam.structure.Structure` on its global node numbering.
 
 Each beam of the structure becomes an :class:`~fvbeam.exact_beam.ExactBeam`; tied nodes
 are one global node, with one position ``x`` and one rotation ``R`` (a rigid joint of the
@@ -10,10 +10,12 @@ gathered on the global dofs (:attr:`fvbeam.structure.Structure.dof_maps`), so an
 :class:`ExactStructure` is an operator :func:`fvbeam.exact_statics.solve_static` solves,
 as one beam is.
 
-Rigid bodies are not carried (their finite rotations and joints are built elsewhere): a
-structure with one is refused, naming the body.  A tie of two beam nodes apart is refused
-too: the linear structure merges their dofs, which at finite rotation would not be a rigid
-joint.
+Rigid bodies are nodes with finite rotations (:class:`~fvbeam.exact_bodies.ExactBodies`):
+their rows are zero (a body has no internal forces; its loads and the joints holding it,
+:mod:`sliders.joints.exact_model`, balance it), a body tied to a beam node is that node
+(the linear structure has checked that they coincide).  A tie of two beam nodes apart is
+refused: the linear structure merges their dofs, which at finite rotation would not be a
+rigid joint.
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ import scipy.sparse as sp
 from fvbeam import rotations
 from fvbeam.beam import InternalForces
 from fvbeam.exact_beam import ExactBeam, ExactState, PointState
+from fvbeam.exact_bodies import ExactBodies
 from fvbeam.structure import Structure, on_dofs
 
 #: Largest distance between tied beam nodes, relative to the structure's size (the linear
@@ -39,7 +42,7 @@ class ExactStructure:
     Parameters
     ----------
     structure
-        Beams and ties (no rigid bodies: ``ValueError`` naming the first).
+        Beams, ties and rigid bodies.
 
     Attributes
     ----------
@@ -47,14 +50,12 @@ class ExactStructure:
         The :class:`~fvbeam.exact_beam.ExactBeam` of each beam, in the structure's order.
     node_maps
         Each beam's global node numbers, one per mesh node.
+    bodies
+        The rigid bodies as nodes with finite rotations, at the global nodes
+        :attr:`body_nodes`.
     """
 
     def __init__(self, structure: Structure) -> None:
-        if structure.bodies:
-            raise ValueError(
-                f"rigid body {structure.bodies[0].name!r}: exact kinematics carries beams and "
-                "ties, not rigid bodies"
-            )
         self.structure = structure
         self.beams = [ExactBeam(beam) for beam in structure.beams]
         self.node_maps = [dofs[::6] // 6 for dofs in structure.dof_maps]
@@ -64,6 +65,11 @@ class ExactStructure:
         self._X = np.zeros((structure.n_nodes, 3))
         for beam, nodes in zip(structure.beams, self.node_maps, strict=True):
             self._X[nodes] = beam.mesh.points
+        self.bodies = ExactBodies(structure.bodies)
+        self.body_nodes = np.array(
+            [structure.node_dofs(body.name)[0] // 6 for body in structure.bodies], dtype=np.int64
+        )
+        self._X[self.body_nodes] = self.bodies.reference().x
         self._check_ties()
 
     @property

@@ -293,15 +293,17 @@ def truss(formulation: str = "fv2", n: int = 2, Q: np.ndarray | None = None) -> 
     return ExactModel(beams=bars, joints=hinges, name="truss")
 
 
-def truss_load(model: ExactModel, height: float) -> tuple[np.ndarray, float, float]:
-    """The apex load that brings the apex to ``height`` (closed form: each bar of length
+def truss_load(
+    model: ExactModel, height: float, apex: str = "left.end"
+) -> tuple[np.ndarray, float, float]:
+    """The load on node ``apex`` that brings the apex to ``height`` (closed form: each bar of length
     ``l = sqrt(1 + h^2)`` carries ``N = EA (l / L_0 - 1)``, and ``P = -2 N h / l``), with
     ``N`` and ``l``."""
     EA, L0 = 100.0, np.sqrt(2.0)
     length = np.hypot(1.0, height)
     force = EA * (length / L0 - 1.0)
     load = np.zeros(model.n_dofs)
-    load[int(model.structure.node_dofs("left.end")[1])] = 2 * force * height / length
+    load[int(model.structure.node_dofs(apex)[1])] = 2 * force * height / length
     return load, force, length
 
 
@@ -322,6 +324,42 @@ def test_a_hinged_two_bar_truss_meets_its_closed_form(formulation):
         along = (np.array([0.0, 0.6, 0.0]) - root) / length
         pushed = -model.reactions(result.state)[i][1, :3]  # the hinge's force on the bar
         np.testing.assert_allclose(pushed, -force * along, rtol=0, atol=tol * 100.0)
+
+
+def test_a_truss_of_tied_halves_and_a_tied_apex_body_is_the_same_truss():
+    """The toggle of :func:`truss` with its left bar as two beams tied at the middle and a
+    rigid body ``apex`` tied to the left bar's end (one node each, the structure's
+    numbering), hinged to the right bar: the same closed form (:func:`truss_load`), the
+    load on the body; straight bars in uniform strain, so to round-off as there."""
+    section = Section.diagonal(EA=100.0, GAy=100.0, GAz=100.0, GJ=100.0, EJy=100.0, EJz=100.0)
+    ends = {"lower": ([-1, 0, 0], [-0.5, 0.5, 0]), "upper": ([-0.5, 0.5, 0], [0, 1, 0])}
+    ends["right"] = ([1, 0, 0], [0, 1, 0])
+    bars = [
+        ExactBeam(Beam(straight(a, b, 1, 2, name=name), section, "fv2"))
+        for name, (a, b) in ends.items()
+    ]
+    hinges = [
+        Joint("revolute", "ground", "lower.start", frame=Z_AXIS),
+        Joint("revolute", "ground", "right.start", frame=Z_AXIS),
+        Joint("revolute", "apex", "right.end", frame=Z_AXIS),
+    ]
+    model = ExactModel(
+        beams=bars,
+        bodies=[RigidBody("apex", [0.0, 1.0, 0.0])],
+        joints=hinges,
+        name="tied truss",
+        ties=[("lower.end", "upper.start"), ("upper.end", "apex")],
+    )
+    assert model.n_nodes == 5  # 6 beam nodes and a body, two ties
+    apex = int(model.structure.node_dofs("apex")[0]) // 6
+    assert apex == int(model.structure.node_dofs("upper.end")[0]) // 6
+    load, force, length = truss_load(model, 0.6, "apex")
+    result = solve(model, load)
+    tol = FLOOR_FACTOR * EPS * 100.0 * 8  # as the untied truss
+    np.testing.assert_allclose(result.state.nodes.x[apex], [0.0, 0.6, 0.0], rtol=0, atol=tol)
+    pushed = -model.reactions(result.state)[0][1, :3]
+    along = np.array([1.0, 0.6, 0.0]) / length
+    np.testing.assert_allclose(pushed, -force * along, rtol=0, atol=tol * 100.0)
 
 
 def chain(Q: np.ndarray | None = None) -> ExactModel:
@@ -585,8 +623,8 @@ def test_the_elastic_toggle_is_a_stationary_point_of_its_potential():
 
     def potential(state: JointedState) -> float:
         energy = 0.0
-        for beam, part in zip(model.parts, model._part_states(state.nodes), strict=True):
-            strain = beam.points(part).strain
+        for i, beam in enumerate(model.exact.beams):
+            strain = beam.points(model.exact.local(state.nodes, i)).strain
             energy += 0.5 * float(np.einsum("p,pi,pij,pj->", beam.weight, strain, beam.C, strain))
         return energy - float(load[:n].reshape(-1, 6)[:, :3].ravel() @ state.nodes.x.ravel())
 

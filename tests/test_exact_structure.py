@@ -102,11 +102,27 @@ def test_tied_halves_solve_to_the_whole_beams_large_deflection():
     np.testing.assert_allclose(s_split.R[order], s_whole.R, rtol=0, atol=bound)
 
 
-def test_rigid_bodies_are_refused_naming_the_body():
+def test_a_tied_body_is_its_beam_node_and_a_free_one_a_node_of_its_own():
+    """Bodies are nodes on the structure's numbering: one tied to a beam's end is that node
+    (its rows the beam's alone), one tied to nothing a node at its position with zero rows
+    (a body has no internal forces)."""
     beam = Beam(straight((0, 0, 0), (1, 0, 0), 2, 2, name="A"), SECTION, "fv2")
     hub = RigidBody("hub", position=np.array([1.0, 0.0, 0.0]), mass=1.0)
-    with pytest.raises(ValueError, match="rigid body 'hub'"):
-        ExactStructure(Structure([beam], [("A.end", "hub")], [hub]))
+    free = RigidBody("free", position=np.array([3.0, 2.0, 1.0]), mass=1.0)
+    structure = Structure([beam], [("A.end", "hub")], [hub, free])
+    exact = ExactStructure(structure)
+    whole = ExactStructure(Structure([beam]))
+    assert exact.n_dofs == whole.n_dofs + 6
+    np.testing.assert_array_equal(exact.body_nodes, [2, 3])
+    state = exact.reference()
+    np.testing.assert_array_equal(state.x[3], [3.0, 2.0, 1.0])
+    turned = state.updated(np.linspace(-0.2, 0.3, exact.n_dofs))
+    r, K = exact.residual(turned), exact.tangent(turned).toarray()
+    part = ExactState(turned.x[:3], turned.R[:3])
+    np.testing.assert_array_equal(r[:18], whole.residual(part))
+    np.testing.assert_array_equal(r[18:], 0.0)
+    np.testing.assert_array_equal(K[:18, :18], whole.tangent(part).toarray())
+    np.testing.assert_array_equal(K[18:], 0.0)
 
 
 def test_a_tie_of_nodes_apart_is_refused_naming_the_node():

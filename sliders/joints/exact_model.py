@@ -1,9 +1,10 @@
 """Exact models: geometrically exact beams and rigid bodies held by joints with finite rotations.
 
-The nodes are the beams' (:class:`~fvbeam.exact_beam.ExactBeam`) in beam order, then the
-bodies' (:class:`~fvbeam.exact_bodies.ExactBodies`), numbered as a
-:class:`~fvbeam.structure.Structure` of the same beams and bodies numbers them (no ties), and
-named as there (``"C.end"``, ``(0, 3)``, ``"hub"``); ``"ground"`` is the fixed frame.  Each
+The nodes are a :class:`~fvbeam.structure.Structure`'s, on its numbering: its beams'
+(:class:`~fvbeam.exact_beam.ExactBeam`) in beam order, then its bodies'
+(:class:`~fvbeam.exact_bodies.ExactBodies`), tied nodes one node
+(:class:`~fvbeam.exact_structure.ExactStructure`), and named as there (``"C.end"``,
+``(0, 3)``, ``"hub"``); ``"ground"`` is the fixed frame.  Each
 :class:`Joint` adds its rows ``c`` (:mod:`sliders.joints.exact_laws`) and as many multipliers
 ``lambda``, after the nodes' dofs.  The problem is
 
@@ -26,15 +27,14 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike
 
 from fvbeam.body import RigidBody
-from fvbeam.exact_beam import ExactBeam, ExactState
-from fvbeam.exact_bodies import ExactBodies
+from fvbeam.exact_beam import ExactBeam, ExactState, PointState
+from fvbeam.exact_structure import ExactStructure
 from fvbeam.geometry import direction, section_frames
 from fvbeam.names import NodeRef
 from fvbeam.structure import Structure
@@ -115,10 +115,10 @@ class JointedState:
 
 @dataclass(frozen=True)
 class ModelPoints:
-    """What a state evaluates to: each part's points, each joint's rows and derivatives
+    """What a state evaluates to: each beam's points, each joint's rows and derivatives
     (:func:`sliders.joints.exact_laws.derive_many`)."""
 
-    parts: list[Any]
+    parts: list[PointState]
     joints: list[Derived]
 
 
@@ -135,6 +135,9 @@ class ExactModel:
         The joints, each named in errors as ``joints[i]``.
     name
         The model's name in messages.
+    ties
+        Nodes joined rigidly, as :class:`~fvbeam.structure.Structure` takes them: tied
+        nodes are one node (:class:`~fvbeam.exact_structure.ExactStructure`).
     """
 
     def __init__(
@@ -143,20 +146,33 @@ class ExactModel:
         bodies: Sequence[RigidBody] = (),
         joints: Sequence[Joint] = (),
         name: str = "model",
+        ties: Sequence[tuple] = (),
     ) -> None:
-        self.name = name
         for i, beam in enumerate(beams):
             if not isinstance(beam, ExactBeam):
                 raise ValueError(
                     f"{name}: beams[{i}] must be an ExactBeam (ExactBeam(beam)), "
                     f"got {type(beam).__name__}"
                 )
-        if any(getattr(body, "name", None) == GROUND for body in bodies):
+        self._build(Structure([b.beam for b in beams], ties, bodies), joints, name)
+
+    @classmethod
+    def on(
+        cls, structure: Structure, joints: Sequence[Joint] = (), name: str = "model"
+    ) -> ExactModel:
+        """The exact model of ``structure``'s beams, ties and bodies, on its node numbering
+        (:class:`~fvbeam.exact_structure.ExactStructure`), held by ``joints``."""
+        model = cls.__new__(cls)
+        model._build(structure, joints, name)
+        return model
+
+    def _build(self, structure: Structure, joints: Sequence[Joint], name: str) -> None:
+        self.name = name
+        if any(body.name == GROUND for body in structure.bodies):
             raise ValueError(f"{name}: a rigid body may not be named {GROUND!r} (the fixed frame)")
-        self.structure = Structure([b.beam for b in beams], bodies=bodies)
-        self.parts: list[Any] = list(beams) + ([ExactBodies(bodies)] if bodies else [])
-        self._starts = np.cumsum([0] + [part.n_dofs // 6 for part in self.parts])
-        self.n_nodes = int(self._starts[-1])
+        self.structure = structure
+        self.exact = ExactStructure(structure)
+        self.n_nodes = structure.n_nodes
         self.joints = list(joints)
         self.laws: list[JointLaw] = []
         #: Each joint's nodes (-1 for the ground), its reference point (where the ground
@@ -164,7 +180,7 @@ class ExactModel:
         self.ends: list[tuple[int, int]] = []
         self.anchors: list[np.ndarray] = []
         self.slices: list[slice] = []
-        reference = self._reference_nodes()
+        reference = self.exact.reference()
         start = 6 * self.n_nodes
         for i, joint in enumerate(self.joints):
             label = f"{name}: joints[{i}]"
@@ -174,6 +190,8 @@ class ExactModel:
             )
             if ends == (-1, -1):
                 raise ValueError(f"{label}: both ends are the ground")
+            if ends[0] == ends[1]:
+                raise ValueError(f"{label}: both ends are the same node")
             default = reference.x[ends[1]] if ends[1] >= 0 else reference.x[ends[0]]
             point = default if joint.position is None else joint.position
             at = [point if k < 0 else reference.x[k] for k in ends]
@@ -205,20 +223,9 @@ class ExactModel:
         except ValueError as error:
             raise ValueError(f"{label}: {error}") from None
 
-    def _reference_nodes(self) -> ExactState:
-        states = [part.reference() for part in self.parts]
-        return ExactState(
-            np.concatenate([s.x for s in states]).reshape(-1, 3),
-            np.concatenate([s.R for s in states]).reshape(-1, 3, 3),
-        )
-
     def reference(self) -> JointedState:
-        """The parts' reference configurations, zero multipliers."""
-        return JointedState(self._reference_nodes(), np.zeros(self.n_dofs - 6 * self.n_nodes))
-
-    def _part_states(self, nodes: ExactState) -> list[ExactState]:
-        edges = zip(self._starts[:-1], self._starts[1:], strict=True)
-        return [ExactState(nodes.x[i:j], nodes.R[i:j]) for i, j in edges]
+        """The structure's reference configuration, zero multipliers."""
+        return JointedState(self.exact.reference(), np.zeros(self.n_dofs - 6 * self.n_nodes))
 
     def _ends(
         self, i: int, nodes: ExactState
@@ -232,10 +239,8 @@ class ExactModel:
         return a[0], a[1], b[0], b[1]
 
     def points(self, state: JointedState) -> ModelPoints:
-        """Each part's points and each joint's rows, Jacobian and geometric stiffness."""
-        parts = [
-            p.points(s) for p, s in zip(self.parts, self._part_states(state.nodes), strict=True)
-        ]
+        """Each beam's points and each joint's rows, Jacobian and geometric stiffness."""
+        parts = self.exact.points(state.nodes)
         ends = [self._ends(i, state.nodes) for i in range(len(self.laws))]
         x_a, R_a, x_b, R_b = (
             np.array([e[k] for e in ends]).reshape((-1,) + shape)
@@ -265,9 +270,8 @@ class ExactModel:
     def residual(self, state: JointedState, pts: ModelPoints | None = None) -> np.ndarray:
         """The nodes' balances ``r + sum B^T lambda`` and the joints' rows ``c``."""
         pts = self.points(state) if pts is None else pts
-        parts = zip(self.parts, self._part_states(state.nodes), pts.parts, strict=True)
         out = np.concatenate(
-            [p.residual(s, q) for p, s, q in parts] + [np.zeros(self.n_dofs - 6 * self.n_nodes)]
+            [self.exact.residual(state.nodes, pts.parts), np.zeros(self.n_dofs - 6 * self.n_nodes)]
         )
         for derived, ends, where in zip(pts.joints, self.ends, self.slices, strict=True):
             dofs, cols = self._columns(ends)
@@ -281,10 +285,11 @@ class ExactModel:
         coordinates' sizes (``|x|`` on the translation columns, 1 on the rotation ones): the
         terms of ``d_ai . g`` are the gap's ends, those of ``d_ai . d_bj`` unit vectors'."""
         pts = self.points(state) if pts is None else pts
-        parts = zip(self.parts, self._part_states(state.nodes), pts.parts, strict=True)
         out = np.concatenate(
-            [p.residual_floor(s, q) for p, s, q in parts]
-            + [np.zeros(self.n_dofs - 6 * self.n_nodes)]
+            [
+                self.exact.residual_floor(state.nodes, pts.parts),
+                np.zeros(self.n_dofs - 6 * self.n_nodes),
+            ]
         )
         size = np.repeat(
             np.column_stack([np.linalg.norm(state.nodes.x, axis=1), np.ones(self.n_nodes)]),
@@ -304,10 +309,12 @@ class ExactModel:
         """The bordered tangent (module docstring); with ``keep`` (sorted dofs), its rows and
         columns on those only."""
         pts = self.points(state) if pts is None else pts
-        parts = zip(self.parts, self._part_states(state.nodes), pts.parts, strict=True)
-        blocks = [p.tangent(s, q) for p, s, q in parts]
         K = sp.block_diag(
-            blocks + [sp.csc_matrix((self.n_dofs - 6 * self.n_nodes,) * 2)], format="coo"
+            [
+                self.exact.tangent(state.nodes, pts.parts),
+                sp.csc_matrix((self.n_dofs - 6 * self.n_nodes,) * 2),
+            ],
+            format="coo",
         )
         rows, cols, vals = [K.row], [K.col], [K.data]
         for derived, ends, where in zip(pts.joints, self.ends, self.slices, strict=True):
