@@ -15,6 +15,7 @@ from functools import partial
 from fvbeam.names import suggest
 from fvbeam.support import DOF_NAMES, held_dofs
 from sliders.app.errors import Problem, Problems
+from sliders.app.scene_joints import joint_problems
 from sliders.app.schema import (
     Abscissa,
     DynamicStudy,
@@ -136,6 +137,7 @@ def reference_problems(scene: Scene) -> list[Problem]:
     for i, support in enumerate(scene.support):
         names.node(f"support[{i}].node", support.node, problems)
         problems.attempt(f"support[{i}].kind", partial(held_dofs, support.kind), support.kind)
+    joint_problems(scene, lambda path, ref: names.node(path, ref, problems), problems)
     ties = {frozenset(t.nodes) for t in scene.tie}
     for i in range(len(scene.slider)):
         _check_slider(scene, i, names, problems, ties if ties_ok else None)

@@ -1,10 +1,13 @@
 """A scene's kinematics: linear, geometrically exact, or chosen by the linear answer's own
 bound on what it neglects (``kinematics = "auto"``, ``docs/scenes.md``).
 
-**The exact path** solves a static study or a load-factor sweep of beams, ties, supports
-and nodal loads (and point loads at a node, unsmeared) with geometrically exact beams
-(:class:`fvbeam.exact_structure.ExactStructure`, :func:`fvbeam.exact_statics.solve_static`;
-the loads dead, fixed in global axes).  :func:`unsupported` names the first scene item it
+**The exact path** solves a static study or a load-factor sweep of beams, rigid bodies,
+ties, supports, joints and nodal loads (and point loads at a node, unsmeared) with
+geometrically exact beams (:class:`fvbeam.exact_structure.ExactStructure`,
+:func:`fvbeam.exact_statics.solve_static`; the loads dead, fixed in global axes), and with
+bodies or joints their exact model (:class:`sliders.joints.exact_model.ExactModel`, the
+joints of the scene's ``[[joint]]`` tables, :mod:`sliders.app.scene_joints`).  The bodies'
+masses play no part (no gravity on this path).  :func:`unsupported` names the first scene item it
 does not carry.
 
 **The bound** (:func:`neglected`).  Linear kinematics writes the strains as
@@ -32,7 +35,7 @@ buckling amplifies a small rotation, which it does not see.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -45,6 +48,7 @@ from sliders.solve.statics import SliderSolution
 if TYPE_CHECKING:  # the exact beams are imported where the exact path is taken
     from fvbeam.exact_beam import ExactState
     from fvbeam.exact_structure import ExactStructure
+    from sliders.joints.exact_model import ExactModel, Joint, JointedState
 
 #: The scene key's values.
 KINDS = ("exact", "linear", "auto")
@@ -54,12 +58,15 @@ KINDS = ("exact", "linear", "auto")
 class ExactSolution(SliderSolution):
     """A static solution with exact kinematics: ``q`` each node's displacement and rotation
     vector (:meth:`fvbeam.exact_structure.ExactStructure.displacements`), the ``state``
-    itself, the internal force vector ``internal`` (``r(q)``, its reactions) and each beam's
-    section ``forces`` at its recovery points."""
+    itself, the internal force vector ``internal`` (``r(q)`` and the joints' ``B^T
+    lambda``: its reactions), each beam's section ``forces`` at its recovery points and each
+    joint's share ``B^T lambda`` of its nodes' balances
+    (:meth:`sliders.joints.exact_model.ExactModel.reactions`)."""
 
-    state: ExactState = field(kw_only=True)
+    state: ExactState | JointedState = field(kw_only=True)
     internal: np.ndarray = field(kw_only=True)
     forces: list[InternalForces] = field(kw_only=True)
+    joints: list[np.ndarray] = field(kw_only=True, default_factory=list)
 
 
 @dataclass(frozen=True)
@@ -84,8 +91,8 @@ class Bound:
 def unsupported(scene: Scene) -> tuple[str, str] | None:
     """The first item of ``scene`` the exact path does not carry, as ``(key path,
     reason)``, or None."""
-    parts = {"slider": "a slider", "body": "a rigid body", "force": "a force element"}
-    for what, items in zip(parts, (scene.slider, scene.body, scene.force), strict=True):
+    parts = {"slider": "a slider", "force": "a force element"}
+    for what, items in zip(parts, (scene.slider, scene.force), strict=True):
         if items:
             return f"{what}[0]", parts[what]
     if scene.drive:
@@ -154,42 +161,62 @@ def neglected(structure: Structure, q: np.ndarray) -> Bound:
 
 @dataclass
 class ExactPath:
-    """The exact statics of a model's structure and supports, built once for a study."""
+    """The exact statics of a model's structure, supports and joints, built once for a
+    study: the structure's :class:`~fvbeam.exact_structure.ExactStructure`, or with bodies or
+    joints its :class:`~sliders.joints.exact_model.ExactModel`."""
 
     structure: Structure
     fixed: np.ndarray
     max_iterations: int = 25
     load_steps: int = 1
+    joints: list[Joint] = field(default_factory=list)
     exact: ExactStructure = field(init=False)
+    model: ExactModel | None = field(init=False, default=None)
 
     def __post_init__(self) -> None:
         from fvbeam.exact_structure import ExactStructure
+        from sliders.joints.exact_model import ExactModel
 
-        self.exact = ExactStructure(self.structure)
+        if self.joints or self.structure.bodies:
+            self.model = ExactModel.on(self.structure, self.joints, "scene")
+            self.exact = self.model.exact
+        else:
+            self.exact = ExactStructure(self.structure)
 
-    def solve(self, f: np.ndarray, start: ExactState | None = None) -> ExactSolution:
-        """Equilibrium under the dead load ``f`` from ``start`` (default the reference);
-        ``ValueError`` with the solver's message when it does not converge."""
+    def solve(self, f: np.ndarray, start: ExactState | JointedState | None = None) -> ExactSolution:
+        """Equilibrium under the dead load ``f`` from ``start`` (default the reference, with
+        joints the multipliers that balance ``f`` best there:
+        :meth:`~sliders.joints.exact_model.ExactModel.balanced`); ``ValueError`` with the
+        solver's message when it does not converge."""
         from fvbeam.exact_statics import NotConverged, solve_static
 
+        # an ExactModel is a StaticOperator over its JointedState (nodes and multipliers)
+        operator: Any = self.exact if self.model is None else self.model
+        load = np.zeros(operator.n_dofs)
+        load[: len(f)] = f
+        if self.model is not None and start is None:
+            start = self.model.balanced(self.model.reference(), load, self.fixed)
         try:
             result = solve_static(
-                self.exact,
-                f,
+                operator,
+                load,
                 self.fixed,
-                state=start,
+                state=cast(Any, start),
                 max_iterations=self.max_iterations,
                 first_step=1.0 / self.load_steps,
             )
         except NotConverged as exc:
             raise ValueError(f"exact kinematics: {exc}") from None
-        state = result.state
+        state: Any = result.state
+        nodes = state if self.model is None else state.nodes
+        internal = operator.residual(state)[: self.exact.n_dofs]
         return ExactSolution(
-            self.exact.displacements(state),
+            self.exact.displacements(nodes),
             [],
             [result.floor_ratio],
             result.iterations,
             state=state,
-            internal=self.exact.residual(state),
-            forces=self.exact.internal_forces(state),
+            internal=internal,
+            forces=self.exact.internal_forces(nodes),
+            joints=[] if self.model is None else self.model.reactions(state),
         )

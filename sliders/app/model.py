@@ -348,7 +348,7 @@ class Model:
         self._check_output(problems)
         #: The weight of a static study's gravity on the structure, or None (:meth:`_weight`).
         self.weight = problems.attempt("study.mass", self._weight)
-        if scene.kinematics == "exact":
+        if scene.kinematics == "exact" or scene.joint:  # joints are exact only
             from sliders.app.kinematics import exact_problems
 
             problems += exact_problems(scene, self.structure)
@@ -501,8 +501,8 @@ class Model:
         static equilibrium, unless it restarts from a saved state: then the masses hold a
         part's motions and only the massless parts' must be held."""
         study = self.scene.study
-        if self.forces:
-            return  # force elements may hold what supports and sliders leave free (a strut)
+        if self.forces or self.scene.joint:
+            return  # force elements and joints may hold what supports and sliders leave free
         supports = list(self.supports)
         remedy = REMEDY
         if isinstance(study, DynamicStudy):

@@ -114,7 +114,7 @@ def _kinematic_samples(model: Model, progress: bool, kind: str) -> Results:
     the exact ones if the choice is so."""
     from sliders.app.run_exact import choose, exact_samples
 
-    linear = None if kind == "exact" else _samples(model, progress)
+    linear = None if kind == "exact" or model.scene.joint else _samples(model, progress)
     if linear is not None and linear.interrupted:  # Ctrl-C: no second path
         linear.kinematics = "kinematics: linear (interrupted before the choice)"
         return linear

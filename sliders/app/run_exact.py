@@ -5,7 +5,8 @@ exact path and the linear answer's bound).
 :func:`choose` says which path to take and the one line that says which and why
 (:attr:`sliders.app.run.Results.kinematics`): ``auto`` solves linearly, keeps that answer
 when its bound is within the study's ``tol`` (or when the exact path does not carry the
-scene, naming the item), and solves exactly otherwise; ``exact`` refuses a scene it does not
+scene, naming the item), and solves exactly otherwise, and at once for a scene with joints
+(exact only, :mod:`sliders.app.scene_joints`); ``exact`` refuses a scene it does not
 carry (:class:`~sliders.app.errors.SceneError` naming the item); ``linear`` warns when its
 bound is above the study's ``tol``.  :func:`exact_samples` solves on the exact path: a sweep
 is a continuation (each value from the last converged state), with a progress bar on a
@@ -21,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from fvbeam.structure import Structure
-from sliders.app.errors import SceneError
+from sliders.app.errors import Problem, SceneError
 from sliders.app.kinematics import (
     ExactPath,
     ExactSolution,
@@ -31,6 +32,7 @@ from sliders.app.kinematics import (
     unsupported,
 )
 from sliders.app.model import Model
+from sliders.app.scene_joints import NEEDS_EXACT, joints
 from sliders.app.schema import StaticStudy, SweepStudy
 from sliders.solve.statics import SliderStatics
 
@@ -51,11 +53,15 @@ def choose(
     """The path for kinematics ``kind`` (module docstring), from the ``linear`` answers
     (each converged sample's structure and dofs; none for ``exact``)."""
     scene = model.scene
-    if kind == "exact":
+    if kind == "exact" or scene.joint:
         problems = exact_problems(scene, model.structure)
+        if scene.joint and kind == "linear":
+            problems.append(Problem("kinematics", NEEDS_EXACT))
         if problems:
             raise SceneError(source, problems)
-        return Choice(True, "kinematics: exact (asked)")
+        if kind == "exact":
+            return Choice(True, "kinematics: exact (asked)")
+        return Choice(True, f"kinematics: exact ({kind}: the scene has joints, exact only)")
     if not linear:
         return Choice(False, f"kinematics: linear ({kind}: no converged linear answer to bound)")
     bound = max((neglected(structure, q) for structure, q in linear), key=lambda b: b.eta)
@@ -110,6 +116,7 @@ def exact_samples(model: Model, progress: bool) -> ExactRun:
         statics.structure.support_dofs(model.supports),
         study.max_iterations,
         study.load_steps,
+        joints(model.scene),
     )
     values: list[float | None] = [None]
     continuation = stop = False

@@ -261,6 +261,21 @@ class SupportSpec(Table):
     kind: Text = "clamp"
 
 
+class JointSpec(Table):
+    """``[[joint]]``: a joint with finite rotations (exact kinematics) between nodes ``a`` and
+    ``b`` (a body, a beam's end, or ``"ground"``): ``spherical``, ``revolute``,
+    ``universal``, ``prismatic``, ``fixed`` or rows joined by ``+``; at ``position``
+    (default ``b``'s), with axes ``frame`` or ``axis`` (``e1``: a hinge's or a prismatic
+    joint's axis) (:mod:`sliders.app.scene_joints`)."""
+
+    kind: Text
+    a: NodeRef
+    b: NodeRef
+    position: Vec3 | None = None
+    axis: Vec3 | None = None
+    frame: Frame | None = None
+
+
 class StraightLineSpec(Table):
     kind: Literal["straight"]
     name: Name
@@ -795,6 +810,7 @@ class Scene(Table):
     line: tuple[LineSpec, ...] = ()
     tie: tuple[TieSpec, ...] = ()
     support: tuple[SupportSpec, ...] = ()
+    joint: tuple[JointSpec, ...] = ()
     slider: tuple[SliderSpec, ...] = ()
     load: tuple[LoadSpec, ...] = ()
     force: tuple[ForceSpec, ...] = ()

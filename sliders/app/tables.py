@@ -22,6 +22,9 @@ dynamic study, one set of rows per time step (``step, t``: :data:`STEP_COLUMNS`,
   twisting and bending moments; then force and moment in global axes
 * ``reactions``: ``node, fx, fy, fz, mx, my, mz`` -- what each support (and, in a dynamic
   study, each dof drive) exerts on its node, global axes, on the dofs it holds
+* ``joints`` (a scene with ``[[joint]]`` tables, always written):
+  ``joint, node, fx, fy, fz, mx, my, mz`` -- what each joint exerts on each of its nodes
+  (not the ground), couples about the node, global axes (:mod:`sliders.app.scene_joints`)
 
 A static run writes its tables, ``scene.toml`` (the scene as it was validated) and the
 states and renders the scene asks for (``states/states.pvd`` with
@@ -46,6 +49,7 @@ from fvbeam.support import complement
 from sliders.app.run import Results, Sample
 from sliders.app.run_modes import Animator, Painter, write_modes
 from sliders.app.scene import dump_scene
+from sliders.app.scene_joints import write_joints
 from sliders.app.schema import ModesStudy, Scene
 from sliders.app.state_tables import (
     STATE_COLUMNS,
@@ -168,6 +172,8 @@ def write_results(results: Results, out: str | Path, tables: Sequence[str] | Non
                 _animator(results),
                 _painter(results, rendered),
             )
+        if results.scene.joint:
+            write_joints(directory / "joints.csv", results.scene, converged)
         if output.vtu:
             write_series(
                 directory / "states",
