@@ -13,8 +13,10 @@ import csv
 import numpy as np
 import pytest
 
+from fvbeam.body import RigidBody
 from fvbeam.exact_statics import FLOOR_FACTOR
 from sliders.app.cli import main
+from sliders.joints.exact_model import ExactModel, Joint
 
 EPS = np.finfo(float).eps
 
@@ -186,3 +188,33 @@ def test_bad_joints_are_refused_naming_the_key(tmp_path, capsys, change, message
     assert code == 2
     assert message in err
     assert "Traceback" not in err
+
+
+def test_a_free_motion_is_named_not_left_to_newton(tmp_path, capsys):
+    """A body on a prismatic joint along x with no load along x: the joint's one free
+    motion, the body's ``ux``, is what nothing resists; the sample fails naming it and the
+    joint (its tangent is singular at the start, whatever the load across the axis)."""
+    text = (
+        pendulum(1.0, 1.0, 0.0)
+        .replace('"revolute"', '"prismatic"')
+        .replace("axis = [0.0, 0.0, 1.0]", "axis = [1.0, 0.0, 0.0]")
+    )
+    run_scene(tmp_path, text, capsys)
+    (sample,) = read(tmp_path / "out" / "samples.csv")
+    assert sample["converged"] == "false"
+    assert sample["error"] == (
+        "exact kinematics: at the start, a free motion nothing resists (a singular tangent): "
+        "mostly body 'bob' ux, left free by joint[0] (prismatic)"
+    )
+
+
+def test_redundant_rows_are_named():
+    """Two fixed joints holding one body to the ground: the body is held, but the second
+    joint's rows repeat the first's (their multipliers are the null vector)."""
+    bob = RigidBody("bob", [0.0, -1.0, 0.0])
+    model = ExactModel(bodies=[bob], joints=[Joint("fixed", "ground", "bob")] * 2)
+    free = np.arange(model.n_dofs)
+    motion = model.free_motion(model.reference(), free)
+    assert motion is not None and "(fixed) repeat what other joints or supports hold" in motion
+    single = ExactModel(bodies=[bob], joints=[Joint("fixed", "ground", "bob")])
+    assert single.free_motion(single.reference(), np.arange(single.n_dofs)) is None

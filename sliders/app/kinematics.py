@@ -178,7 +178,7 @@ class ExactPath:
         from sliders.joints.exact_model import ExactModel
 
         if self.joints or self.structure.bodies:
-            self.model = ExactModel.on(self.structure, self.joints, "scene")
+            self.model = ExactModel.on(self.structure, self.joints, "scene", "joint")
             self.exact = self.model.exact
         else:
             self.exact = ExactStructure(self.structure)
@@ -187,15 +187,22 @@ class ExactPath:
         """Equilibrium under the dead load ``f`` from ``start`` (default the reference, with
         joints the multipliers that balance ``f`` best there:
         :meth:`~sliders.joints.exact_model.ExactModel.balanced`); ``ValueError`` with the
-        solver's message when it does not converge."""
+        solver's message when it does not converge, or, with bodies or joints, naming the
+        free motion when the tangent at the start is singular
+        (:meth:`~sliders.joints.exact_model.ExactModel.free_motion`)."""
         from fvbeam.exact_statics import NotConverged, solve_static
 
         # an ExactModel is a StaticOperator over its JointedState (nodes and multipliers)
         operator: Any = self.exact if self.model is None else self.model
         load = np.zeros(operator.n_dofs)
         load[: len(f)] = f
-        if self.model is not None and start is None:
-            start = self.model.balanced(self.model.reference(), load, self.fixed)
+        if self.model is not None:
+            if start is None:
+                start = self.model.balanced(self.model.reference(), load, self.fixed)
+            free = np.setdiff1d(np.arange(self.model.n_dofs), self.fixed)
+            motion = self.model.free_motion(cast(Any, start), free)
+            if motion is not None:
+                raise ValueError(f"exact kinematics: at the start, {motion}")
         try:
             result = solve_static(
                 operator,

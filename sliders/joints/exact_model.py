@@ -42,6 +42,9 @@ from sliders.joints.exact_laws import Derived, JointLaw, derive_many
 
 #: The name of the fixed frame in a joint's ends.
 GROUND = "ground"
+#: The most free dofs :meth:`ExactModel.free_motion` diagnoses (a dense SVD).
+DIAGNOSED = 3000
+EPS = float(np.finfo(float).eps)
 
 
 @dataclass(frozen=True)
@@ -158,16 +161,24 @@ class ExactModel:
 
     @classmethod
     def on(
-        cls, structure: Structure, joints: Sequence[Joint] = (), name: str = "model"
+        cls,
+        structure: Structure,
+        joints: Sequence[Joint] = (),
+        name: str = "model",
+        key: str = "joints",
     ) -> ExactModel:
         """The exact model of ``structure``'s beams, ties and bodies, on its node numbering
-        (:class:`~fvbeam.exact_structure.ExactStructure`), held by ``joints``."""
+        (:class:`~fvbeam.exact_structure.ExactStructure`), held by ``joints``, each named
+        ``key[i]`` in messages."""
         model = cls.__new__(cls)
-        model._build(structure, joints, name)
+        model._build(structure, joints, name, key)
         return model
 
-    def _build(self, structure: Structure, joints: Sequence[Joint], name: str) -> None:
+    def _build(
+        self, structure: Structure, joints: Sequence[Joint], name: str, key: str = "joints"
+    ) -> None:
         self.name = name
+        self.key = key
         if any(body.name == GROUND for body in structure.bodies):
             raise ValueError(f"{name}: a rigid body may not be named {GROUND!r} (the fixed frame)")
         self.structure = structure
@@ -183,7 +194,7 @@ class ExactModel:
         reference = self.exact.reference()
         start = 6 * self.n_nodes
         for i, joint in enumerate(self.joints):
-            label = f"{name}: joints[{i}]"
+            label = f"{name}: {key}[{i}]"
             ends = tuple(
                 self._node(ref, f"{label}: {side}")
                 for side, ref in (("a", joint.a), ("b", joint.b))
@@ -360,3 +371,39 @@ class ExactModel:
         columns = self.tangent(zero)[:n, n:].toarray()[free]
         multipliers = np.linalg.lstsq(columns, gap, rcond=None)[0]
         return JointedState(state.nodes, multipliers)
+
+    def free_motion(self, state: JointedState, free: np.ndarray) -> str | None:
+        """What nothing resists at ``state`` when the bordered tangent on the dofs ``free``
+        is singular (its smallest singular value within ``n eps`` of its largest, numpy's
+        rank test), else None: the null vector's largest node dofs (at least a tenth of its
+        largest, :meth:`fvbeam.structure.Structure.dof_name`) and the joints at their nodes,
+        or, when the null vector is mostly multipliers, the joint whose rows repeat what
+        others hold.  None too above :data:`DIAGNOSED` free dofs (a dense SVD)."""
+        if len(free) > DIAGNOSED:
+            return None
+        _, s, Vt = np.linalg.svd(self.tangent(state, keep=free).toarray())
+        if s[-1] > len(free) * EPS * s[0]:
+            return None
+        v = np.zeros(self.n_dofs)
+        v[free] = Vt[-1]
+        n = 6 * self.n_nodes
+        if np.linalg.norm(v[:n]) < np.linalg.norm(v[n:]):
+            k = int(np.argmax(np.abs(v[n:]))) + n
+            i = next(j for j, where in enumerate(self.slices) if where.start <= k < where.stop)
+            return (
+                f"the rows of {self.key}[{i}] ({self.joints[i].kind}) repeat what other "
+                "joints or supports hold (a singular tangent)"
+            )
+        size = np.abs(v[:n])
+        dofs = [int(d) for d in np.argsort(-size)[:3] if size[d] >= 0.1 * size.max()]
+        nodes = {d // 6 for d in dofs}
+        at = [
+            f"{self.key}[{i}] ({joint.kind})"
+            for i, (joint, ends) in enumerate(zip(self.joints, self.ends, strict=True))
+            if nodes & set(ends)
+        ]
+        where = f"left free by {', '.join(at)}" if at else "held by no joint or support"
+        return (
+            f"a free motion nothing resists (a singular tangent): mostly "
+            f"{', '.join(self.structure.dof_name(d) for d in dofs)}, {where}"
+        )
