@@ -26,6 +26,7 @@ PLANAR = {
     "fig4_sliding_beams": "xy",
     "landing_gear": "zx",
     "long_run_probes": "xy",
+    "pendulum": "xy",
     "pushed_body": "xy",
     "telescope": "xy",
     "tube_cantilever": "zx",
