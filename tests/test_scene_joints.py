@@ -218,3 +218,12 @@ def test_redundant_rows_are_named():
     assert motion is not None and "(fixed) repeat what other joints or supports hold" in motion
     single = ExactModel(bodies=[bob], joints=[Joint("fixed", "ground", "bob")])
     assert single.free_motion(single.reference(), np.arange(single.n_dofs)) is None
+
+
+def test_a_joint_of_two_tied_nodes_is_refused(tmp_path, capsys):
+    """The toggle's apex hinge put between the apex and the node it is tied to."""
+    hinge = '[[joint]]\nkind = "revolute"\na = "apex"\nb = "upper.end"\n'
+    text = TOGGLE.replace("JOINTS\n", hinge).replace("LOAD", "-1.0")
+    code, _, err = run_scene(tmp_path, text, capsys, "check")
+    assert code == 2
+    assert "joint[0].b = 'upper.end': is tied to 'apex': one node, nothing to join" in err

@@ -48,6 +48,7 @@ from sliders.app.probes import (
     node_probe,
     velocity_probe,
 )
+from sliders.app.scene_joints import tied_ends
 from sliders.app.schema import (
     Abscissa,
     BeamSpec,
@@ -323,6 +324,7 @@ class Model:
             d.slider: _motion(d.motion) for d in scene.drive if d.kind == "abscissa"
         }
         self.structure = Structure(self.beams, self.ties, self.bodies)
+        tied_ends(scene, self.structure, problems)
         frictions = [  # at their own key: what the friction law checks of its coefficients
             problems.attempt(f"slider[{i}].friction", partial(Friction, **s.friction.model_dump()))
             if s.friction

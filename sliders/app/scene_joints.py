@@ -3,7 +3,8 @@ ground, on the exact path only (``docs/scenes.md``, "Joints").
 
 :func:`joint_problems` checks each table by its key path (``joint[1].kind``, ``joint[0].a``):
 its kind (:func:`sliders.joints.exact_laws.selected_rows`), its ends (a node, a body or
-``"ground"``, not both the ground, not one node twice) and its axes (``axis`` or ``frame``,
+``"ground"``, not both the ground, not one node twice, nor two tied nodes:
+:func:`tied_ends`) and its axes (``axis`` or ``frame``,
 not both), and that the scene's kinematics can carry joints: the rows of a joint are
 written for finite rotations (:mod:`sliders.joints.exact_laws`), so ``kinematics =
 "linear"`` is refused and ``"auto"`` takes the exact path.  :func:`joints` builds the
@@ -23,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from fvbeam.geometry import direction
+from fvbeam.structure import Structure
 from sliders.app.errors import Problems
 from sliders.app.schema import JointSpec, Scene
 from sliders.app.state_tables import cell
@@ -61,6 +63,17 @@ def joint_problems(
         problems.add("kinematics", NEEDS_EXACT, scene.kinematics)
     if any(body.name == GROUND for body in scene.body) and scene.joint:
         problems.add("body", f"a body named {GROUND!r} in a scene with joints (the fixed frame)")
+
+
+def tied_ends(scene: Scene, structure: Structure, problems: Problems) -> None:
+    """A joint whose ends are one node of ``structure`` (tied together), at its ``b``."""
+    for i, spec in enumerate(scene.joint):
+        if GROUND in (spec.a, spec.b) or spec.a == spec.b:
+            continue
+        if structure.node_dofs(spec.a)[0] == structure.node_dofs(spec.b)[0]:
+            problems.add(
+                f"joint[{i}].b", f"is tied to {spec.a!r}: one node, nothing to join", spec.b
+            )
 
 
 def joint(spec: JointSpec) -> Joint:
