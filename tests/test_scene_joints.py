@@ -174,6 +174,10 @@ def test_a_toggle_of_tied_beams_and_a_body_meets_its_closed_form(tmp_path, capsy
         ),
         (('b = "bob"', 'b = "bib"'), "joint[0].b = 'bib': no body named 'bib'"),
         (
+            ('kind = "static"', 'kind = "dynamic"\nt_end = 1.0\nstep = 0.1'),
+            "study.kind: a dynamic study: exact kinematics, which joints need, does not carry it",
+        ),
+        (
             ('b = "bob"', 'b = "ground"'),
             "joint[0] = ['ground', 'ground']: both ends are the ground",
         ),

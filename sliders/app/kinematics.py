@@ -133,11 +133,14 @@ def point_loads_off_nodes(scene: Scene, structure: Structure) -> tuple[str, str]
 
 def exact_problems(scene: Scene, structure: Structure) -> list[Problem]:
     """The first scene item the exact path does not carry (:func:`unsupported`,
-    :func:`point_loads_off_nodes`), as a scene problem; none when it carries the scene."""
+    :func:`point_loads_off_nodes`), as a scene problem (with joints, which need the exact
+    path, saying so); none when it carries the scene."""
     item = unsupported(scene) or point_loads_off_nodes(scene, structure)
     if item is None:
         return []
     path, reason = item
+    if scene.joint:  # no other path: joints are exact only
+        return [Problem(path, f"{reason}: exact kinematics, which joints need, does not carry it")]
     return [Problem(path, f"{reason}: exact kinematics does not carry it ('auto', 'linear' do)")]
 
 
