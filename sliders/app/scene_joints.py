@@ -4,13 +4,12 @@ ground, on the exact path only (``docs/scenes.md``, "Joints").
 :func:`joint_problems` checks each table by its key path (``joint[1].kind``, ``joint[0].a``):
 its kind (:func:`sliders.joints.exact_laws.selected_rows`), its ends (a node, a body or
 ``"ground"``, not both the ground, not one node twice, nor two tied nodes:
-:func:`tied_ends`) and its axes (``axis`` or ``frame``,
-not both), and that the scene's kinematics can carry joints: the rows of a joint are
-written for finite rotations (:mod:`sliders.joints.exact_laws`), so ``kinematics =
-"linear"`` is refused and ``"auto"`` takes the exact path.  :func:`joints` builds the
-:class:`~sliders.joints.exact_model.Joint` of each table; :func:`write_joints` writes
-``joints.csv``: what each joint exerts on each of its nodes, force and couple about the
-node, global axes.
+:func:`tied_ends`) and its axes (``axis`` or ``frame``, not both), and that the scene's
+kinematics can carry joints: the rows of a joint are written for finite rotations
+(:mod:`sliders.joints.exact_laws`), so ``kinematics = "linear"`` is refused and ``"auto"``
+takes the exact path.  :func:`joints` builds the :class:`~sliders.joints.exact_model.Joint`
+of each table; :func:`write_joints` writes ``joints.csv``: what each joint exerts on each
+of its nodes, force and couple about the node, global axes.
 """
 
 from __future__ import annotations
@@ -38,11 +37,9 @@ COLUMNS = ("sample", "value", "joint", "node", "fx", "fy", "fz", "mx", "my", "mz
 NEEDS_EXACT = "joints need kinematics = 'exact' (or 'auto', which then takes the exact path)"
 
 
-def joint_problems(
-    scene: Scene, node_ok: Callable[[str, str], object] | None, problems: Problems
-) -> None:
+def joint_problems(scene: Scene, node_ok: Callable[[str, str], object], problems: Problems) -> None:
     """Every problem of ``scene``'s joints, by key path (module docstring); ``node_ok(path,
-    ref)`` checks a node reference and reports it (None: the names are not checked)."""
+    ref)`` checks a node reference and reports it."""
     for i, spec in enumerate(scene.joint):
         path = f"joint[{i}]"
         problems.attempt(f"{path}.kind", partial(selected_rows, spec.kind, path), spec.kind)
@@ -50,11 +47,10 @@ def joint_problems(
             problems.add(path, "both ends are the ground", [spec.a, spec.b])
         elif spec.a == spec.b:
             problems.add(f"{path}.b", "is the same node as a", spec.b)
-        if node_ok is not None:
-            for side in ("a", "b"):
-                ref = getattr(spec, side)
-                if ref != GROUND:
-                    node_ok(f"{path}.{side}", ref)
+        for side in ("a", "b"):
+            ref = getattr(spec, side)
+            if ref != GROUND:
+                node_ok(f"{path}.{side}", ref)
         if spec.axis is not None and spec.frame is not None:
             problems.add(f"{path}.axis", "give an axis or a frame, not both")
         elif spec.axis is not None:
