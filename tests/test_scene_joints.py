@@ -185,6 +185,14 @@ def test_a_toggle_of_tied_beams_and_a_body_meets_its_closed_form(tmp_path, capsy
             ("axis = [0.0, 0.0, 1.0]", "axis = [0.0, 0.0, 0.0]"),
             "joint[0].axis = (0.0, 0.0, 0.0): the axis must be a non-zero",
         ),
+        (
+            ('kind = "static"', 'kind = "static"\n[output]\nvtu = true'),
+            "output.vtu = True: draws the beams, the lines and what rides on them",
+        ),
+        (
+            ('kind = "static"', 'kind = "static"\n[output]\npng = "last"'),
+            "output.png = 'last': draws the beams, the lines and what rides on them",
+        ),
     ],
 )
 def test_bad_joints_are_refused_naming_the_key(tmp_path, capsys, change, message):

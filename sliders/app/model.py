@@ -954,6 +954,17 @@ class Model:
                 f"modes.csv is a modes study's, not a {self.scene.study.kind} study's",
                 "modes",
             )
+        if not self.structure.beams and not self.sliders:  # bodies alone: nothing to draw
+            drawn = {"vtu": output.vtu, "png": output.png != "none"}
+            drawn["animation"] = output.animation != "none"
+            for key, asked in drawn.items():
+                if asked:
+                    problems.add(
+                        f"output.{key}",
+                        "draws the beams, the lines and what rides on them: this scene has "
+                        "none (its bodies' states are in the tables)",
+                        getattr(output, key),
+                    )
         if output.animation != "none" and not isinstance(
             self.scene.study, DynamicStudy | ModesStudy
         ):
