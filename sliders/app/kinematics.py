@@ -1,7 +1,8 @@
 """A scene's kinematics: linear, geometrically exact, or chosen by the linear answer's own
 bound on what it neglects (``kinematics = "auto"``, ``docs/scenes.md``).
 
-**The exact path** solves a static study or a load-factor sweep of beams, ties, supports
+**The exact path** solves a static study, a load-factor sweep or the states of a modes
+study (about the scene or along a load-factor sweep) of beams, ties, supports
 and nodal loads (and point loads at a node, unsmeared) with geometrically exact beams
 (:class:`fvbeam.exact_structure.ExactStructure`, :func:`fvbeam.exact_statics.solve_static`;
 the loads dead, fixed in global axes).  :func:`unsupported` names the first scene item it
@@ -102,10 +103,10 @@ def unsupported(scene: Scene) -> tuple[str, str] | None:
     study = scene.study
     if isinstance(study, DynamicStudy):
         return "study.kind", "a dynamic study"
-    if isinstance(study, ModesStudy):
-        return "study.kind", "a modes study"
     if study.gravity is not None:
         return "study.gravity", "gravity (a distributed load)"
+    if isinstance(study, ModesStudy) and study.parameter is None:
+        return None
     if isinstance(study, SweepStudy) and not isinstance(study.parameter, LoadFactor):
         return "study.parameter", f"a sweep over {study.parameter.kind}"
     return None

@@ -113,12 +113,12 @@ def exact_samples(model: Model, progress: bool) -> ExactRun:
     )
     values: list[float | None] = [None]
     continuation = stop = False
-    if isinstance(study, SweepStudy):
+    if isinstance(study, SweepStudy) and study.parameter is not None:  # not a modes study's
         values = [float(v) for v in study.sweep_values()]
         continuation, stop = study.continuation, study.stop_on_failure
     run = ExactRun(planned=len(values))
     state = None
-    sweep = isinstance(study, SweepStudy)
+    sweep = isinstance(study, SweepStudy) and study.parameter is not None
     desc = model.scene.title or "load_factor"
     with tqdm(values, disable=None if (progress and sweep) else True, desc=desc) as bar:
         try:
