@@ -219,6 +219,12 @@ def test_a_modes_study_with_exact_kinematics_takes_the_preload(tmp_path):
     omega = results.modes[0].modes.omega
     statics, solution, preload = column("fv2", 16, 5.0, "hinged")
     np.testing.assert_allclose(omega, modes_about(statics, solution, 2, preload=preload).omega)
+    # auto takes the loaded state exact (its bound sees no rotation: the column is straight)
+    data["kinematics"] = "auto"
+    auto = run(Model(parse_scene(data, tmp_path, "column.toml")), progress=False)
+    assert auto.kinematics.startswith("kinematics: exact (auto: modes about a loaded state")
+    assert auto.modes is not None
+    np.testing.assert_array_equal(auto.modes[0].modes.omega, omega)
     # linear kinematics keeps the unloaded stiffness, and says so
     data["kinematics"] = "linear"
     with pytest.warns(UserWarning, match="geometric stiffness"):
