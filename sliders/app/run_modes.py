@@ -99,9 +99,14 @@ def modes_of(
     exact: dict[int, ExactStructure] = {}  # the exact beams of each structure, built once
 
     def preload(statics: SliderStatics, solution: SliderSolution) -> Preload | None:
-        if not isinstance(solution, ExactSolution):
-            return None
+        """The exact beams' tangent and mass at an exact sample's state; None for a linear
+        sample, or a state of more than beams (its modes take the linear stiffness, with
+        the preload warning)."""
+        from fvbeam.exact_beam import ExactState
         from fvbeam.exact_structure import ExactStructure
+
+        if not isinstance(solution, ExactSolution) or not isinstance(solution.state, ExactState):
+            return None
 
         structure = statics.structure
         beams = exact.setdefault(id(structure), ExactStructure(structure))
