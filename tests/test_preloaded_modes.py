@@ -152,6 +152,20 @@ def test_without_load_the_modes_are_the_linear_ones():
     np.testing.assert_allclose(exact.omega, linear.omega, rtol=EIGEN)
 
 
+@pytest.mark.parametrize("name,n", [("fv2", 1000), ("fv3", 64)])
+def test_a_fine_columns_exact_state_converges_in_one_load_step(name, n):
+    """The straight state is one Newton iteration: at fixed rotations the force balances are
+    affine in the positions, and the position correction satisfies them
+    (:mod:`fvbeam.exact_statics`); its residual is then at the round-off of the positions,
+    ``eps |x_a|`` differenced over an element, which the floor states."""
+    mesh = straight((0, 0, 0), (1, 0, 0), n, formulation(name).nodes_per_element)
+    structure = Structure([Beam(mesh, section(), name)])
+    f = structure.nodal_load("beam.end", (-0.6 * P_H, 0.0, 0.0))
+    fixed = structure.support_dofs(SUPPORTS["hinged"])
+    result = solve_static(ExactStructure(structure), f, fixed)
+    assert result.attempts == 1 and result.floor_ratio < 1
+
+
 def test_a_column_beyond_its_buckling_load_is_named_buckled():
     statics, solution, preload = column("fv2", 8, 1.2 * P_H, "hinged")
     with pytest.raises(ValueError, match="buckled state"):
