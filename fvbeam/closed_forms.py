@@ -10,6 +10,7 @@ evaluation point it is shared half and half between the two regions, as
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg
@@ -141,10 +142,17 @@ def quarter_circle_tip(R: float, P: float, GJ: float, EJ_radial: float, GA_norma
 
 
 def timoshenko_transfer(
-    omega: float, s: float, EJ: float = 1.0, GA: float = 1.0, m: float = 1.0, rhoJ: float = 0.0
+    omega: float,
+    s: float,
+    EJ: float = 1.0,
+    GA: float = 1.0,
+    m: float = 1.0,
+    rhoJ: float = 0.0,
+    axial: AxialForce | None = None,
 ) -> np.ndarray:
     """The transfer matrix ``expm(A s)`` (4, 4) of a Timoshenko beam in free vibration at
-    ``omega`` over a length ``s``: ``y(s) = expm(A s) y(0)``, ``y = (w, phi, w', phi')``.
+    ``omega`` over a length ``s``: ``y(s) = expm(A s) y(0)``, ``y = (w, phi, w', phi')``;
+    with ``axial`` about the straight state under that axial force.
 
     Free vibration ``w(s) e^{i omega t}``, ``phi(s) e^{i omega t}`` (transverse displacement,
     section rotation) obeys (Timoshenko 1921; e.g. Han, Benaroya and Wei, J. Sound Vib. 225
@@ -154,21 +162,54 @@ def timoshenko_transfer(
         EJ phi'' + GA (w' - phi) + rhoJ omega^2 phi = 0
 
     a linear system ``y' = A y``.  The shear force is ``GA (w' - phi)``, the moment
-    ``EJ phi'``."""
+    ``EJ phi'``.
+
+    **Under an axial force**, the geometrically exact (Simo-Reissner) beam linearised about
+    its straight state of axial strain ``e = -P / EA``
+    (:func:`timoshenko_simply_supported_frequencies`), with ``a = 1 + e`` and ``g = a GA +
+    P``, the equations are ::
+
+        GA w'' - g phi' + m omega^2 w = 0
+        EJ phi'' + g (w' - a phi) + rhoJ omega^2 phi = 0
+
+    whose transverse force is ``GA w' - g phi`` (the spatial force's component normal to
+    the undeformed axis) and moment ``EJ phi'``; ``P = 0`` gives Timoshenko's."""
+    a, g = _preload(GA, axial)
     A = np.array(
         [
             [0.0, 0.0, 1.0, 0.0],
             [0.0, 0.0, 0.0, 1.0],
-            [-m * omega**2 / GA, 0.0, 0.0, 1.0],
-            [0.0, (GA - rhoJ * omega**2) / EJ, -GA / EJ, 0.0],
+            [-m * omega**2 / GA, 0.0, 0.0, g / GA],
+            [0.0, (a * g - rhoJ * omega**2) / EJ, -g / EJ, 0.0],
         ]
     )
     return scipy.linalg.expm(A * s)
 
 
-#: Rows of ``y = (w, phi, w', phi')`` that vanish at a free end: the shear ``w' - phi`` and the
-#: moment ``phi'`` (scaled by ``1 / GA`` and ``1 / EJ``).
-_FREE = np.array([[0.0, -1.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
+@dataclass(frozen=True)
+class AxialForce:
+    """An axial force ``P`` (compressive; negative in tension) on a beam of axial stiffness
+    ``EA`` (infinite: inextensible)."""
+
+    P: float
+    EA: float = np.inf
+
+
+def _preload(GA: float, axial: AxialForce | None) -> tuple[float, float]:
+    """``a = 1 - P / EA`` and ``g = a GA + P`` of a beam under ``axial``
+    (:func:`timoshenko_transfer`; ``1, GA`` without)."""
+    if axial is None:
+        return 1.0, GA
+    a = 1.0 - axial.P / axial.EA
+    return a, a * GA + axial.P
+
+
+def _free(GA: float, axial: AxialForce | None = None) -> np.ndarray:
+    """Rows of ``y = (w, phi, w', phi')`` that vanish at a free end (under a dead
+    ``axial`` force): the transverse force ``GA w' - g phi`` and the moment ``phi'`` (scaled
+    by ``1 / GA`` and ``1 / EJ``; :func:`timoshenko_transfer`)."""
+    _, g = _preload(GA, axial)
+    return np.array([[0.0, -g / GA, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
 
 
 def timoshenko_cantilever_determinant(
@@ -178,19 +219,22 @@ def timoshenko_cantilever_determinant(
     GA: float = 1.0,
     m: float = 1.0,
     rhoJ: float = 0.0,
+    axial: AxialForce | None = None,
 ) -> float:
     """Characteristic function of a clamped-free Timoshenko beam; its roots in ``omega`` are
-    the exact natural frequencies (rad/s) of planar bending.
+    the exact natural frequencies (rad/s) of planar bending; with ``axial``, under that dead
+    axial tip force (:func:`timoshenko_transfer`).
 
     Clamped at 0 (``w = phi = 0``) the solution is ``y(s) =`` :func:`timoshenko_transfer`
-    ``[0, 0, a, b]``; free at ``L`` the shear ``GA (w' - phi)`` and the moment ``EJ phi'``
-    vanish.  The determinant of that 2x2 system in ``(a, b)`` is the frequency equation
+    ``[0, 0, a, b]``; free at ``L`` the transverse force and the moment ``EJ phi'``
+    vanish (a dead force keeps its direction, so its transverse component stays zero).  The
+    determinant of that 2x2 system in ``(a, b)`` is the frequency equation
     (equivalent to Huang's closed form, J. Appl. Mech. 28 (1961) 579), scaled here by
     ``1 / (GA EJ)``.  Its Euler-Bernoulli limit (``GA -> inf``, ``rhoJ = 0``) has the roots
     ``omega = (beta L)^2 sqrt(EJ / (m L^4))``, ``beta L = 1.8751, 4.6941, 7.8548``.
     """
-    Y = timoshenko_transfer(omega, L, EJ, GA, m, rhoJ)
-    return float(np.linalg.det(_FREE @ Y[:, 2:]))
+    Y = timoshenko_transfer(omega, L, EJ, GA, m, rhoJ, axial)
+    return float(np.linalg.det(_free(GA, axial) @ Y[:, 2:]))
 
 
 def timoshenko_pinned_cantilever_determinant(
@@ -214,8 +258,9 @@ def timoshenko_pinned_cantilever_determinant(
     Yb = timoshenko_transfer(omega, L - a, EJ, GA, m, rhoJ)
     rows = np.zeros((3, 3))
     rows[0, :2] = Ya[0, 2:]
-    rows[1:, :2] = _FREE @ Yb @ Ya[:, 2:]
-    rows[1:, 2] = _FREE @ Yb[:, 2]
+    free = _free(GA)
+    rows[1:, :2] = free @ Yb @ Ya[:, 2:]
+    rows[1:, 2] = free @ Yb[:, 2]
     return float(np.linalg.det(rows))
 
 
@@ -248,7 +293,14 @@ def timoshenko_cantilever_frequencies(
 
 
 def timoshenko_simply_supported_frequencies(
-    n: int, L: float = 1.0, EJ: float = 1.0, GA: float = 1.0, m: float = 1.0, rhoJ: float = 0.0
+    n: int,
+    L: float = 1.0,
+    EJ: float = 1.0,
+    GA: float = 1.0,
+    m: float = 1.0,
+    rhoJ: float = 0.0,
+    *,
+    axial: AxialForce | None = None,
 ) -> np.ndarray:
     """The ``n`` lowest bending frequencies (rad/s) of a simply supported Timoshenko beam:
     mode ``j`` is ``sin(k x)``, ``k = j pi / L``, whose frequency is the lower root of
@@ -261,18 +313,53 @@ def timoshenko_simply_supported_frequencies(
     (without rotary inertia ``omega^2 = EJ k^4 / (m (1 + EJ k^2 / GA))``; Euler-Bernoulli
     ``omega = k^2 sqrt(EJ / m)`` as ``GA`` grows).
 
+    **Under an axial force** (``axial``: ``P`` compressive, negative in tension) the
+    geometrically exact beam about its straight state; ``NaN`` for a mode the force has
+    buckled (``omega^2 <= 0``).  The Simo-Reissner beam (strains ``nu = Lambda^T x' -
+    e_1``, ``kappa``; spatial forces ``n = Lambda C nu``, balances ``n' = m x''``, ``m' + x'
+    x n = rhoJ phi''``) straight under ``P`` has the axial strain ``e = -P / EA``.  Bending
+    in a plane, ``x' = (1 + e) e_1 + w' e_2`` and ``Lambda = exp(phi e_3)``, linearised: the
+    shear strain is ``w' - a phi`` (``a = 1 + e``), the transverse spatial force ``GA (w' - a
+    phi) - P phi`` and the moment balance's lever term ``(a GA + P) (w' - a phi)``: the
+    equations of :func:`timoshenko_transfer`.  With ``w = W sin(k x)``, ``phi = Phi cos(k
+    x)`` (hinged ends, no moment), ``(W, Phi)`` solve ::
+
+        [ k^2 GA    -k g         ] [W]           [m   0   ] [W]
+        [ -k g      EJ k^2 + a g ] [Phi] = omega^2 [0   rhoJ] [Phi],     g = a GA + P,
+
+    whose determinant, divided by ``GA``, is ::
+
+        (rhoJ m / GA) omega^4 - (k^2 rhoJ + m (EJ k^2 / GA + a (a + P / GA))) omega^2
+            + k^2 (EJ k^2 - P (a + P / GA)) = 0,
+
+    Timoshenko's equation at ``P = 0``.  With ``GA, EA -> inf`` and ``rhoJ = 0`` it is
+    ``omega^2 = omega_0^2 (1 - P / P_E)``, ``P_E = EJ k^2`` Euler's load, exact for the
+    Euler-Bernoulli column (Timoshenko and Gere, "Theory of Elastic Stability", 1961;
+    Bokaian, J. Sound Vib. 126 (1989) 49).  With finite ``GA`` the frequency vanishes at
+    ``EJ k^2 = P (a + P / GA)``, for ``EA -> inf`` Haringx's load ``P (1 + P / GA) = EJ
+    k^2``, the buckling load of the Simo-Reissner beam (Haringx, Philips Res. Rep. 3 (1948)
+    401; Atanackovic, "Stability Theory of Elastic Rods", 1997).
+
     Examples
     --------
     >>> w = timoshenko_simply_supported_frequencies(2, GA=1e12)
     >>> bool(np.allclose(w, [np.pi**2, 4 * np.pi**2]))
     True
+    >>> half = AxialForce(np.pi**2 / 2, EA=1e12)  # half Euler's load
+    >>> w = timoshenko_simply_supported_frequencies(1, GA=1e12, axial=half)
+    >>> bool(np.allclose(w**2, np.pi**4 / 2))
+    True
     """
     k = np.arange(1, n + 1) * np.pi / L
-    a = rhoJ * m / GA
-    b = m + (rhoJ + m * EJ / GA) * k**2
-    c = EJ * k**4
-    # the lower root of a w^4 - b w^2 + c, written without cancellation (a may be 0)
-    return np.sqrt(2 * c / (b + np.sqrt(b * b - 4 * a * c)))
+    P = 0.0 if axial is None else axial.P
+    a = _preload(GA, axial)[0]
+    g = a + P / GA  # g / GA
+    A = rhoJ * m / GA
+    B = k**2 * rhoJ + m * (EJ * k**2 / GA + a * g)
+    C = k**2 * (EJ * k**2 - P * g)
+    # the lower root of A w^4 - B w^2 + C, written without cancellation (A may be 0)
+    omega2 = 2 * C / (B + np.sqrt(B * B - 4 * A * C))
+    return np.sqrt(np.where(omega2 > 0, omega2, np.nan))
 
 
 def simply_supported_point_load(

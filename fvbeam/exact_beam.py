@@ -278,7 +278,8 @@ class ExactBeam:
         """A bound on each dof's residual (6 per node) in units of its rounding: the sum over
         its terms of ``|F| + |dF|`` and ``|M| + |dM| + |x_p - x_a| (|F| + |dF|)``, with
         ``[dF; dM] = |C| [e_nu; e_kappa]`` the stresses' share of the strains' rounding,
-        ``e_nu = |x'| + |x0'|`` (the terms of ``nu``, which cancel) and
+        ``e_nu = |x'| + |x0'| + sum |N_a'| |x_a|`` (the terms of ``nu``, which cancel, and
+        the positions' own rounding, ``eps |x_a|``, differenced over an element) and
         ``e_kappa = |kappa| + sum |N_a'| (1 + |psi_a|)`` (the relative rotation vectors carry
         rounding of ``eps (1 + |psi_a|)``).  ``eps`` times this is the residual's round-off
         floor (:mod:`fvbeam.exact_statics`)."""
@@ -286,6 +287,7 @@ class ExactBeam:
         if self.finite_volume and self.compiled:
             return exact_kernel.fv_floor(state.x, self.geometry, pts.arrays(), self.n_dofs)
         e_nu = np.linalg.norm(pts.dx, axis=-1) + np.linalg.norm(self.dx0, axis=-1)
+        e_nu += np.einsum("pa,pa->p", np.abs(self.dN), np.linalg.norm(state.x[self.nodes], axis=-1))
         e_kappa = np.linalg.norm(pts.strain[:, 3:], axis=-1) + np.einsum(
             "pa,pa->p", np.abs(self.dN), 1 + np.linalg.norm(pts.psi_nodes, axis=-1)
         )

@@ -217,6 +217,7 @@ def fv_floor(x: np.ndarray, geometry: tuple, state: tuple, n_dofs: int) -> np.nd
         e_nu = np.linalg.norm(dxp[p]) + np.linalg.norm(dx0[p])
         e_kappa = np.linalg.norm(strain[p, 3:])
         for a in range(npe):
+            e_nu += abs(dN[p, a]) * np.linalg.norm(x[nodes[p, a]])
             e_kappa += abs(dN[p, a]) * (1 + np.linalg.norm(psi_nodes[p, a]))
         d_stress = np.zeros(6)
         for i in range(6):

@@ -149,6 +149,28 @@ class ExactStructure:
             K = K[keep][:, keep]
         return sp.csc_matrix(K)
 
+    def mass(self, state: ExactState, kind: str = "lumped") -> sp.csr_matrix:
+        """The structure's mass about ``state`` on the global dofs, in the spatial increments
+        of the tangent (``[du, dphi]``): the linear structure's mass
+        (:meth:`fvbeam.structure.Structure.mass`) with each node's rotation blocks turned by
+        its rotation, ``M_ab -> T_a M_ab T_b^T``, ``T_a = diag(I, R_a)``.
+
+        About a state at rest the linearised inertia is ``m du'' `` on the translations (the
+        mass per reference length, which no motion changes) and ``R J_0 R^T dphi''`` on the
+        spatial rotation increments (the current section's inertia; no gyroscopic term at
+        zero angular velocity).  The lumped mass carries each node's region inertia at its
+        node (no translation-rotation coupling, :mod:`fvbeam.mass`), so turning its blocks
+        by the node's ``R`` is exact; the consistent mass's coupling of two nodes is turned
+        by their two rotations, exact to first order in their difference, ``O(h)``.
+        """
+        M = self.structure.mass(kind).tocsr()
+        n = self.structure.n_nodes
+        T = np.zeros((n, 6, 6))
+        T[:, :3, :3] = np.eye(3)
+        T[:, 3:, 3:] = state.R
+        T_sparse = sp.bsr_matrix((T, np.arange(n), np.arange(n + 1)), shape=(6 * n, 6 * n))
+        return sp.csr_matrix(T_sparse @ M @ T_sparse.T)
+
     def displacements(self, state: ExactState) -> np.ndarray:
         """The global dof vector of a state: each node's displacement and rotation vector
         ``log(R)`` (6 per node), the linear structure's ``[u, theta]`` to first order."""

@@ -1,8 +1,9 @@
 """A scene's kinematics: linear, geometrically exact, or chosen by the linear answer's own
 bound on what it neglects (``kinematics = "auto"``, ``docs/scenes.md``).
 
-**The exact path** solves a static study or a load-factor sweep of beams, rigid bodies,
-ties, supports, joints and nodal loads (and point loads at a node, unsmeared) with
+**The exact path** solves a static study, a load-factor sweep or the states of a modes
+study (about the scene or along a load-factor sweep) of beams, rigid bodies, ties,
+supports, joints and nodal loads (and point loads at a node, unsmeared) with
 geometrically exact beams (:class:`fvbeam.exact_structure.ExactStructure`,
 :func:`fvbeam.exact_statics.solve_static`; the loads dead, fixed in global axes), and with
 bodies or joints their exact model (:class:`sliders.joints.exact_model.ExactModel`, the
@@ -109,10 +110,10 @@ def unsupported(scene: Scene) -> tuple[str, str] | None:
     study = scene.study
     if isinstance(study, DynamicStudy):
         return "study.kind", "a dynamic study"
-    if isinstance(study, ModesStudy):
-        return "study.kind", "a modes study"
     if study.gravity is not None:
         return "study.gravity", "gravity (a distributed load)"
+    if isinstance(study, ModesStudy) and study.parameter is None:
+        return None
     if isinstance(study, SweepStudy) and not isinstance(study.parameter, LoadFactor):
         return "study.parameter", f"a sweep over {study.parameter.kind}"
     return None

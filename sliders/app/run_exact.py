@@ -8,9 +8,10 @@ when its bound is within the study's ``tol`` (or when the exact path does not ca
 scene, naming the item), and solves exactly otherwise, and at once for a scene with joints
 (exact only, :mod:`sliders.app.scene_joints`); ``exact`` refuses a scene it does not
 carry (:class:`~sliders.app.errors.SceneError` naming the item); ``linear`` warns when its
-bound is above the study's ``tol``.  :func:`exact_samples` solves on the exact path: a sweep
-is a continuation (each value from the last converged state), with a progress bar on a
-terminal, failed values recorded, Ctrl-C keeping the completed ones.
+bound is above the study's ``tol``; ``auto`` takes a modes study about a loaded state that
+the exact path carries exact (:data:`PRELOADED`).  :func:`exact_samples` solves on the
+exact path: a sweep is a continuation (each value from the last converged state), with a
+progress bar on a terminal, failed values recorded, Ctrl-C keeping the completed ones.
 """
 
 from __future__ import annotations
@@ -33,8 +34,13 @@ from sliders.app.kinematics import (
 )
 from sliders.app.model import Model
 from sliders.app.scene_joints import NEEDS_EXACT, joints
-from sliders.app.schema import StaticStudy, SweepStudy
+from sliders.app.schema import ModesStudy, StaticStudy, SweepStudy
 from sliders.solve.statics import SliderStatics
+
+#: Why ``auto`` takes a modes study about a loaded state exact: the geometric stiffness
+#: changes ``omega^2`` by the load over the buckling load, first order in the load, which
+#: the bound (second order) does not measure.
+PRELOADED = "modes about a loaded state take the geometric stiffness of the preload"
 
 
 @dataclass(frozen=True)
@@ -78,6 +84,8 @@ def choose(
             f"kinematics: linear (auto: the exact path does not carry {item[0]}, {item[1]}; "
             f"{bound.describe()})",
         )
+    if isinstance(scene.study, ModesStudy) and any(np.any(q != 0) for _, q in linear):
+        return Choice(True, f"kinematics: exact (auto: {PRELOADED})")
     if bound.eta <= tol:
         return Choice(False, f"kinematics: linear (auto: {bound.describe()}, {within})")
     reason = f"the linear answer's {bound.describe()}, {within}"
@@ -120,12 +128,12 @@ def exact_samples(model: Model, progress: bool) -> ExactRun:
     )
     values: list[float | None] = [None]
     continuation = stop = False
-    if isinstance(study, SweepStudy):
+    if isinstance(study, SweepStudy) and study.parameter is not None:  # not a modes study's
         values = [float(v) for v in study.sweep_values()]
         continuation, stop = study.continuation, study.stop_on_failure
     run = ExactRun(planned=len(values))
     state = None
-    sweep = isinstance(study, SweepStudy)
+    sweep = isinstance(study, SweepStudy) and study.parameter is not None
     desc = model.scene.title or "load_factor"
     with tqdm(values, disable=None if (progress and sweep) else True, desc=desc) as bar:
         try:

@@ -5,7 +5,11 @@ written, or every point of the sweep) and solves the modes about each converged 
 (:func:`sliders.solve.modes.modes_about`, one factorisation per sample).  Along a sweep each
 mode keeps its number from point to point by its shape: the modes of a point are numbered
 as those of the previous point they resemble most (:func:`sliders.solve.modes.follow`, the
-largest total MAC), so a number names one mode where frequencies cross.
+largest total MAC), so a number names one mode where frequencies cross.  A sample solved
+with exact kinematics (:class:`sliders.app.kinematics.ExactSolution`) has its modes about
+its exact state, with the geometric stiffness of the preload
+(:class:`sliders.solve.modes.Preload`); a linear one about a loaded state warns that it is
+left out.
 
 Outputs (:func:`write_modes`, into the run's new output directory, which replaces the old one
 whole): ``modes.csv`` (:data:`MODES_COLUMNS`), the shapes as a VTU
@@ -27,16 +31,20 @@ import warnings
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
 from fvbeam.support import complement
+from sliders.app.kinematics import ExactSolution
 from sliders.app.schema import ModesStudy
 from sliders.app.state_tables import cell
 from sliders.app.vtu import Frame, write_series
-from sliders.solve.modes import PRELOAD_WARNING, StateModes, follow, modes_about
+from sliders.solve.modes import PRELOAD_WARNING, Preload, StateModes, follow, modes_about
 from sliders.solve.statics import SliderSolution, SliderStatics
+
+if TYPE_CHECKING:
+    from fvbeam.exact_structure import ExactStructure
 
 #: The columns of ``modes.csv``: a row per converged sample and mode.
 MODES_COLUMNS = ("sample", "value", "mode", "frequency_hz", "damping_ratio", "mac")
@@ -88,6 +96,22 @@ def modes_of(
     (:data:`~sliders.solve.modes.PRELOAD_WARNING`) once for the run."""
     from tqdm import tqdm
 
+    exact: dict[int, ExactStructure] = {}  # the exact beams of each structure, built once
+
+    def preload(statics: SliderStatics, solution: SliderSolution) -> Preload | None:
+        """The exact beams' tangent and mass at an exact sample's state; None for a linear
+        sample, or a state of more than beams (its modes take the linear stiffness, with
+        the preload warning)."""
+        from fvbeam.exact_beam import ExactState
+        from fvbeam.exact_structure import ExactStructure
+
+        if not isinstance(solution, ExactSolution) or not isinstance(solution.state, ExactState):
+            return None
+
+        structure = statics.structure
+        beams = exact.setdefault(id(structure), ExactStructure(structure))
+        return Preload.at(beams, solution.state, study.mass)
+
     out: list[SampleModes] = []
     previous: np.ndarray | None = None  # the last shapes, one column per mode number
     loaded = False
@@ -104,6 +128,7 @@ def modes_of(
                     mass=study.mass,
                     damping=study.damping,
                     window=study.window,
+                    preload=preload(sample.statics, sample.solution),
                 )
             loaded = loaded or any(PRELOAD_WARNING in str(w.message) for w in caught)
         except ValueError as exc:

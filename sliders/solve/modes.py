@@ -45,15 +45,23 @@ unloaded state they have none; each mode's ratio is then ``damping omega / 2``),
 modes otherwise, whose eigenvalue ``s`` gives the natural frequency ``|s|`` and the damping
 ratio ``-Re s / |s|``; overdamped (non-oscillating) roots are not returned.
 
-The beams are linear: about a loaded state the modes take the beams' unloaded stiffness
-(no geometric stiffness of the preload; the sliders' terms in their multipliers are kept),
-which :func:`modes_about` says in a warning.
+**Preloaded modes.**  With linear beams, about a loaded state the modes take the beams'
+unloaded stiffness (no geometric stiffness of the preload; the sliders' terms in their
+multipliers are kept), which :func:`modes_about` says in a warning.  Given a
+:class:`Preload`, a state of the geometrically exact beams
+(:class:`fvbeam.exact_structure.ExactStructure`), ``K`` is their tangent there, material and
+geometric stiffness of the preload (:meth:`~fvbeam.exact_structure.ExactStructure.tangent`;
+the loads are dead, so they add none), and ``M`` their mass with the rotary inertia turned
+to the current sections (:meth:`~fvbeam.exact_structure.ExactStructure.mass`), both in the
+tangent's spatial increments ``[du, dphi]``; the beams' damping is ``damping`` times that
+tangent.  No warning then.
 """
 
 from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
@@ -65,11 +73,30 @@ from sliders.forces.kernel import evaluate_element
 from sliders.solve.mechanism import joint_parts
 from sliders.solve.statics import SliderSolution, SliderStatics
 
+if TYPE_CHECKING:  # the exact beams are imported by whoever built the state
+    from fvbeam.exact_beam import ExactState
+    from fvbeam.exact_structure import ExactStructure
+
 #: The warning of a state under load (module docstring).
 PRELOAD_WARNING = (
     "modes about a loaded state take the beams' linear, unloaded stiffness: the geometric "
     "stiffness of the preload is not included"
 )
+
+
+@dataclass(frozen=True)
+class Preload:
+    """A state of geometrically exact beams to take the modes about (module docstring):
+    ``stiffness`` the tangent and ``mass`` the mass there, both on the structure's dofs."""
+
+    stiffness: sp.csr_matrix
+    mass: sp.csr_matrix
+
+    @classmethod
+    def at(cls, exact: ExactStructure, state: ExactState, mass: str = "lumped") -> Preload:
+        """The tangent and the mass of ``exact`` at ``state`` (``mass`` ``lumped`` or
+        ``consistent``)."""
+        return cls(sp.csr_matrix(exact.tangent(state)), exact.mass(state, mass))
 
 
 @dataclass(frozen=True)
@@ -217,10 +244,14 @@ def _assembled(blocks: list, shape: tuple[int, int]) -> sp.coo_matrix:
 
 
 def reduction(
-    statics: SliderStatics, solution: SliderSolution, mass: str = "lumped", damping: float = 0.0
+    statics: SliderStatics,
+    solution: SliderSolution,
+    mass: str = "lumped",
+    damping: float = 0.0,
+    preload: Preload | None = None,
 ) -> Reduction:
     """The linearised problem about ``solution`` on the motions its sliders leave free
-    (module docstring; ``mass`` and ``damping`` as in :func:`modes_about`).
+    (module docstring; ``mass``, ``damping`` and ``preload`` as in :func:`modes_about`).
 
     Raises
     ------
@@ -243,10 +274,13 @@ def reduction(
             f"the sliders' constraints have rank {len(free) - Z.shape[1]} but their reactions "
             f"rank {len(free) - Y.shape[1]}: redundant constraints the state cannot resolve"
         )
-    K_free = statics.K_free.tocsr()
+    if preload is None:
+        K_free, M_all = statics.K_free.tocsr(), statics.structure.mass(mass)
+    else:
+        K_free, M_all = preload.stiffness[free][:, free].tocsr(), preload.mass
     Yt = Y.T.tocsr()
     K = (Yt @ (K_free + extra) @ Z).tocsc()
-    M = (Yt @ statics.structure.mass(mass)[free][:, free] @ Z).tocsc()
+    M = (Yt @ M_all.tocsr()[free][:, free] @ Z).tocsc()
     C = (Yt @ (damping * K_free + C_f) @ Z).tocsc()
     C.eliminate_zeros()
     proportional = C.nnz == 0 or (C_f.nnz == 0 and extra.nnz == 0)
@@ -262,6 +296,7 @@ def modes_about(
     mass: str = "lumped",
     damping: float = 0.0,
     window: tuple[float, float] | None = None,
+    preload: Preload | None = None,
 ) -> StateModes:
     """The ``count`` lowest modes about the state ``solution`` of ``statics`` (module
     docstring).
@@ -282,6 +317,10 @@ def modes_about(
     window
         ``(f_min, f_max)`` in Hz: the modes of frequency in the window (at most ``count``,
         the lowest from ``f_min`` on); None: the ``count`` lowest.
+    preload
+        The exact beams' tangent and mass at the state (:meth:`Preload.at`): the modes
+        with the geometric stiffness of the preload; None: the linear beams' (with a warning
+        about a loaded state).
 
     Raises
     ------
@@ -297,9 +336,9 @@ def modes_about(
         raise ValueError(f"window must be (f_min, f_max) with 0 <= f_min < f_max, got {window}")
     if statics.plane is not None:
         raise ValueError("modes are solved on the 3-D problem: build its statics without plane")
-    if np.any(solution.q != 0):
+    if preload is None and np.any(solution.q != 0):
         warnings.warn(PRELOAD_WARNING, UserWarning, stacklevel=2)
-    problem = reduction(statics, solution, mass, damping)
+    problem = reduction(statics, solution, mass, damping, preload)
     shift = 0.0 if window is None else (2 * np.pi * window[0]) ** 2
     wanted = count if window is None else 2 * count
     try:
@@ -324,7 +363,8 @@ def modes_about(
         low, high = 2 * np.pi * np.asarray(window)
         order = order[(omega[order] >= low * (1 - 1e-12)) & (omega[order] <= high)]
     order = order[:count]
-    M_free = statics.structure.mass(mass)[statics.free][:, statics.free]
+    M_all = statics.structure.mass(mass) if preload is None else preload.mass
+    M_free = M_all.tocsr()[statics.free][:, statics.free]
     vectors = _normalised(problem.Z @ spectrum.vectors[:, order], M_free)
     shapes = np.zeros((statics.structure.n_dofs, len(order)), dtype=vectors.dtype)
     shapes[statics.free] = vectors
