@@ -82,7 +82,7 @@ def test_drive_problems_are_named():
     )
     found = {p.path: p.message for p in problems(scene)}
     assert "did you mean 'push'" in found["drive[0].slider"]
-    assert "held by a support" in found["drive[1].dof"]
+    assert "which drive[1] drives" in found["support[0].kind"]
     assert "must be after t0" in found["drive[1].motion.t1"]
     assert "2 values for 3 times" in found["drive[2].motion.values"]
     assert "increase strictly" in found["drive[2].motion.times"]

@@ -436,8 +436,8 @@ def _check_dynamic(scene: Scene, study: DynamicStudy, names: _Names, problems: P
     the mass of every beam's section."""
     _check_masses(scene, "a dynamic study", problems)
     supports = defaultdict(list)
-    for support in scene.support:
-        supports[support.node].append(support.kind)
+    for j, support in enumerate(scene.support):
+        supports[support.node].append((j, support.kind))
     driven: dict[str, int] = {}
     for i, drive in enumerate(scene.drive):
         path = f"drive[{i}]"
@@ -452,10 +452,13 @@ def _check_dynamic(scene: Scene, study: DynamicStudy, names: _Names, problems: P
         else:
             key = f"{drive.node}.{drive.dof}"
             names.node(f"{path}.node", drive.node, problems)
-            if any(_holds(kind, drive.dof) for kind in supports.get(drive.node, ())):
-                problems.add(
-                    f"{path}.dof", f"{drive.node} {drive.dof} is held by a support", drive.dof
-                )
+            for j, kind in supports.get(drive.node, ()):
+                if _holds(kind, drive.dof):  # named where the support holds it
+                    problems.add(
+                        f"support[{j}].kind",
+                        f"holds {drive.node} {drive.dof}, which {path} drives",
+                        kind,
+                    )
         if key in driven:
             problems.add(path, f"drives what drive[{driven[key]}] already drives ({key})")
         driven.setdefault(key, i)
