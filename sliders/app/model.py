@@ -955,8 +955,11 @@ class Model:
                 "modes",
             )
         if not self.structure.beams and not self.sliders:  # bodies alone: nothing to draw
-            drawn = {"vtu": output.vtu, "png": output.png != "none"}
-            drawn["animation"] = output.animation != "none"
+            drawn = {
+                "vtu": output.vtu,
+                "png": output.png != "none",
+                "animation": output.animation != "none",
+            }
             for key, asked in drawn.items():
                 if asked:
                     problems.add(

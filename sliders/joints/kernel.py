@@ -123,17 +123,6 @@ for _name, _size in ROWS:
     _at = AT_ROW[_name]
     _ROW_GROUP[_at : _at + _size] = _ROW_GROUPS[_name]
     _ROW_COMPONENT[_at : _at + _size] = np.arange(_size)
-#: Each law's derivatives in the order :func:`_chain` takes them (by :data:`_WAY`: the own
-#: dofs first, then through the line's maps, then those that move with ``xi`` alone), and
-#: where the own dofs' and the maps' end in that order.
-_ORDER = np.zeros_like(DERIVATIVE_OF)
-_OWN_END = np.zeros(len(DERIVATIVES), dtype=np.int64)
-_MAPS_END = np.zeros(len(DERIVATIVES), dtype=np.int64)
-for _code, _n in enumerate(DERIVATIVES):
-    _ways = _WAY[DERIVATIVE_OF[_code, :_n]]
-    _ORDER[_code, :_n] = np.argsort(_ways, kind="stable")
-    _OWN_END[_code] = np.count_nonzero(_ways == _OWN)
-    _MAPS_END[_code] = _n - np.count_nonzero(_ways == _XI_ONLY)
 
 
 @numba.njit(cache=True)
@@ -265,9 +254,8 @@ def _chain(point, b, code, d, rate, rows, index, values):
     for i in range(9):
         for j in range(first[9]):
             through[i, j] = 0.0
-    order, row_of, of = _ORDER[code], DERIVATIVE_ROW[code], DERIVATIVE_OF[code]
-    for s in range(DERIVATIVES[code]):
-        k = order[s]
+    row_of, of = DERIVATIVE_ROW[code], DERIVATIVE_OF[code]
+    for k in range(DERIVATIVES[code]):
         i, a, v = row_of[k], of[k], d[k]
         way, e = _WAY[a], _COMPONENT[a]
         group, r = _ROW_GROUP[i], _ROW_COMPONENT[i]
