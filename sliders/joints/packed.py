@@ -57,6 +57,8 @@ from sliders.joints.slider import Slider, SliderBatch, _equations, _Layout
 from sliders.joints.stops import end_stop
 from sliders.lines.batched import KERNEL_RULE, ChainStack
 from sliders.lines.batched_kernel import (
+    Chains,
+    Smearing,
     line_state,
     line_state_into,
     one_point_state,
@@ -574,6 +576,29 @@ def _own_section() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     )
 
 
+@numba.njit(cache=True, inline="always")
+def _chains(hd: np.ndarray, d: np.ndarray, floats: np.ndarray, ints: np.ndarray) -> Chains:
+    """A chain joint's line as the line kernels read it, viewed in the pack's pools."""
+    return Chains(
+        _f1(ints, d[MEMBER_MAP]),
+        _f4(ints, d[MAPS]),
+        _f2(ints, d[CELLS]),
+        _f3(floats, d[POINTS]),
+        _f2(floats, d[BREAKS]),
+        _f2(floats, d[VERTEX_S]),
+        _f1(ints, d[FIRST_ELEMENT]),
+        _f2(floats, d[H]),
+        _f1(floats, d[LAG]),
+        _f1(ints, d[KINDS_OF]),
+        _f2(floats, d[REGIONS]),
+        _f2(floats, d[ENDS]),
+        _f2(floats, d[STIFFNESS]),
+        hd[NODE_DOFS],
+        _f4(floats, d[R0_OF]),
+        _f4(floats, d[COMPLIANCE_OF]),
+    )
+
+
 @numba.njit(cache=True, inline="never")
 def _unit_row(start: np.ndarray, size: np.ndarray, where: np.ndarray, values: np.ndarray) -> None:
     """The ``xi`` row of the Jacobian replaced by the unit derivative in ``xi`` (an equation
@@ -640,69 +665,12 @@ def evaluate_joint(
     # where it has the joint's shape (a point transfer, a straight element's section), else
     # to one made for the joint
     if hd[CHAIN]:
-        member_map, maps, cells = _f1(ints, d[MEMBER_MAP]), _f4(ints, d[MAPS]), _f2(ints, d[CELLS])
-        points, breaks = _f3(floats, d[POINTS]), _f2(floats, d[BREAKS])
-        vertex_s, first_element, h = (
-            _f2(floats, d[VERTEX_S]),
-            _f1(ints, d[FIRST_ELEMENT]),
-            _f2(floats, d[H]),
-        )
-        kinds, stiffness = _f1(ints, d[KINDS_OF]), _f2(floats, d[STIFFNESS])
-        regions, ends, R0_of = _f2(floats, d[REGIONS]), _f2(floats, d[ENDS]), _f4(floats, d[R0_OF])
+        chains = _chains(hd, d, floats, ints)
         state = one_point_state(npe, width, True, not hd[SMEARED], hd[SECTION] != 0)
-        line_state_into(
-            xs,
-            qb,
-            member_map,
-            maps,
-            cells,
-            points,
-            breaks,
-            vertex_s,
-            first_element,
-            h,
-            _f1(floats, d[LAG]),
-            kinds,
-            regions,
-            ends,
-            stiffness,
-            width,
-            R0_of,
-            _f4(floats, d[COMPLIANCE_OF]),
-            True,
-            not hd[SMEARED],
-            hd[SECTION] != 0,
-            state,
-        )
-        (
-            beam,
-            element,
-            X,
-            _,
-            _,
-            N,
-            dN,
-            d2N,
-            tangent_flat,
-            _,
-            T,
-            _,
-            geometry,
-            contact_,
-            contact_xi_,
-            point_dofs,
-            point_G,
-            point_dG,
-            rot_dofs,
-            W_,
-            W_xi_,
-            W_xixi_,
-            kink_,
-            kink_xi_,
-            flex_,
-            flex_xi_,
-            R0_,
-        ) = state
+        line_state_into(xs, qb, chains, True, not hd[SMEARED], hd[SECTION] != 0, state)
+        beam, element, X, geometry = state.beam, state.element, state.X, state.geometry
+        N, dN, d2N, T = state.N, state.dN, state.d2N, state.T
+        tangent_flat = state.tangent_dofs
         x[0], l[0], l_xi[0], l_xixi[0] = (
             geometry[0, 0],
             geometry[0, 1],
@@ -710,29 +678,17 @@ def evaluate_joint(
             geometry[0, 3],
         )
         tangent[0], tangent_xi[0] = geometry[0, 4], geometry[0, 5]
-        contact, contact_xi = contact_, contact_xi_
+        contact, contact_xi = state.contact, state.contact_xi
         if hd[SMEARED]:
-            sd, sG, sdG = smeared_transfer(
-                xs,
+            kernel = Smearing(
                 smearing,
                 hd[BOX] != 0,
                 _f1(floats, d[STEP_R]),
                 _f1(floats, d[STEP_JUMP]),
                 _f1(floats, d[RULE_X]),
                 _f1(floats, d[RULE_W]),
-                member_map,
-                maps,
-                cells,
-                points,
-                breaks,
-                vertex_s,
-                first_element,
-                h,
-                kinds,
-                regions,
-                stiffness,
-                R0_of,
             )
+            sd, sG, sdG = smeared_transfer(xs, kernel, chains)
             k = sd.shape[1]
             if k > n_load:
                 return 2
@@ -741,23 +697,23 @@ def evaluate_joint(
             load_dofs[0, k:] = sd[0, k - 1]
             G[0, :k], dG[0, :k] = sG[0], sdG[0]
         else:
-            load_dofs, G, dG = point_dofs, point_G, point_dG
+            load_dofs, G, dG = state.load_dofs, state.G, state.dG
         if hd[SECTION]:
-            rotation_dofs, W, W_xi, W_xixi = rot_dofs, W_, W_xi_, W_xixi_
+            rotation_dofs, W, W_xi, W_xixi = state.rotation_dofs, state.W, state.W_xi, state.W_xixi
             e = element[0]
             if _f1(ints, d[STRAIGHT])[e]:
-                R0, flex, flex_xi = R0_, flex_, flex_xi_
+                R0, flex, flex_xi = state.R0, state.flex, state.flex_xi
             else:  # curved: Lagrange 3-node elements only (a cubic element is straight)
                 R0, flex, flex_xi = _own_section()
                 nodes = np.empty((1, npe, 3))
                 for a in range(npe):
-                    nodes[0, a] = points[0, cells[e, a]]
-                l0, l0_xi = reference_line(nodes, h[0, e : e + 1], X)
+                    nodes[0, a] = chains.points[0, chains.cells[e, a]]
+                l0, l0_xi = reference_line(nodes, chains.h[0, e : e + 1], X)
                 up = _f2(floats, d[UP])[e]
                 frame_at(l0[0], l0_xi[0], up, R0[0], k0[0])
                 curvature_rate_at(l0[0], l0_xi[0], stack_zeros(3, (3,), np.float64), up, k0_xi[0])
                 C = R0[0] @ _f3(floats, d[BEAM_COMPLIANCE])[beam[0]] @ R0[0].T
-                flex[0], flex_xi[0] = kink_[0] * C, kink_xi_[0] * C
+                flex[0], flex_xi[0] = state.kink[0] * C, state.kink_xi[0] * C
         else:
             rotation_dofs, W, W_xi, W_xixi = _own_rotation(n_rot)
             R0, flex, flex_xi = _own_section()
@@ -1073,28 +1029,8 @@ def _curve(
     hd, d = head[j], fields[j]
     if hd[CHAIN]:
         geometry = line_state(
-            np.full(1, xi),
-            q.reshape((1, len(q))),
-            _f1(ints, d[MEMBER_MAP]),
-            _f4(ints, d[MAPS]),
-            _f2(ints, d[CELLS]),
-            _f3(floats, d[POINTS]),
-            _f2(floats, d[BREAKS]),
-            _f2(floats, d[VERTEX_S]),
-            _f1(ints, d[FIRST_ELEMENT]),
-            _f2(floats, d[H]),
-            _f1(floats, d[LAG]),
-            _f1(ints, d[KINDS_OF]),
-            _f2(floats, d[REGIONS]),
-            _f2(floats, d[ENDS]),
-            _f2(floats, d[STIFFNESS]),
-            hd[NODE_DOFS],
-            _f4(floats, d[R0_OF]),
-            _f4(floats, d[COMPLIANCE_OF]),
-            True,
-            False,
-            False,
-        )[12]
+            np.full(1, xi), q.reshape((1, len(q))), _chains(hd, d, floats, ints), True, False, False
+        ).geometry
         for r in range(3):
             out[r] = geometry[0, r]
     else:

@@ -206,38 +206,6 @@ class LineState(NamedTuple):
     rotation: LineRotation | None
 
 
-class _Answer(NamedTuple):
-    """What :func:`sliders.lines.batched_kernel.line_state` returns, by name."""
-
-    beam: np.ndarray
-    element: np.ndarray
-    X: np.ndarray
-    dofs: np.ndarray
-    reference: np.ndarray
-    N: np.ndarray
-    dN: np.ndarray
-    d2N: np.ndarray
-    tangent_dofs: np.ndarray
-    tangent_reference: np.ndarray
-    T: np.ndarray
-    T_xi: np.ndarray
-    geometry: np.ndarray
-    contact: np.ndarray
-    contact_xi: np.ndarray
-    load_dofs: np.ndarray
-    G: np.ndarray
-    dG: np.ndarray
-    rotation_dofs: np.ndarray
-    W: np.ndarray
-    W_xi: np.ndarray
-    W_xixi: np.ndarray
-    kink: np.ndarray
-    kink_xi: np.ndarray
-    flex: np.ndarray
-    flex_xi: np.ndarray
-    R0: np.ndarray
-
-
 class ChainStack:
     """``B`` chains of one topology (module docstring), queried together; each
     member keeps its own element lengths and abscissae (equal to :data:`LENGTH_TIE`).
@@ -410,11 +378,11 @@ class ChainStack:
         return stack_kernel.locate(xi, self.breaks, self.vertex_s, self.first_element, self.h)
 
     @property
-    def _chain_arrays(self) -> tuple[np.ndarray, ...]:
-        """The chains' layout as the compiled kernels take it, in their argument order: each
-        member's map, the dof maps, cells, node positions, beam breaks, vertex abscissae,
-        each beam's first element and the element lengths."""
-        return (
+    def kernel_chains(self) -> stack_kernel.Chains:
+        """The chains' layout as the compiled kernels read it
+        (:class:`sliders.lines.batched_kernel.Chains`)."""
+        frames = self.element_frames()
+        return stack_kernel.Chains(
             self.map,
             self.maps,
             self.cells,
@@ -423,6 +391,14 @@ class ChainStack:
             self.vertex_s,
             self.first_element,
             self.h,
+            self.lag,
+            self.kinds,
+            self.regions,
+            self._ends,
+            self.stiffness,
+            self.width,
+            frames.R0,
+            frames.compliance,
         )
 
     def _checked(self, xi: np.ndarray) -> np.ndarray:
@@ -435,28 +411,17 @@ class ChainStack:
 
     def _query(
         self, xi: np.ndarray, q: np.ndarray | None, transfer: bool, rotation: bool
-    ) -> _Answer:
+    ) -> stack_kernel.LineArrays:
         """:func:`sliders.lines.batched_kernel.line_state` at ``xi`` (B,): the deformed line on the
         states ``q`` (B, n) unless None, the load transfer and the rotation if asked."""
         xi = self._checked(xi)
-        frames = self.element_frames()
-        return _Answer(
-            *stack_kernel.line_state(
-                xi,
-                np.zeros((len(xi), 0)) if q is None else np.ascontiguousarray(q, dtype=float),
-                *self._chain_arrays,
-                self.lag,
-                self.kinds,
-                self.regions,
-                self._ends,
-                self.stiffness,
-                self.width,
-                frames.R0,
-                frames.compliance,
-                q is not None,
-                transfer,
-                rotation,
-            )
+        return stack_kernel.line_state(
+            xi,
+            np.zeros((len(xi), 0)) if q is None else np.ascontiguousarray(q, dtype=float),
+            self.kernel_chains,
+            q is not None,
+            transfer,
+            rotation,
         )
 
     def line_state(
@@ -488,7 +453,7 @@ class ChainStack:
         )
 
     @staticmethod
-    def _interpolation(a: _Answer) -> Interpolation:
+    def _interpolation(a: stack_kernel.LineArrays) -> Interpolation:
         """The interpolation of a kernel answer."""
         return Interpolation(
             a.dofs,
@@ -533,7 +498,7 @@ class ChainStack:
         """
         return self._rotation(self._query(xi, None, False, True))
 
-    def _rotation(self, a: _Answer) -> LineRotation:
+    def _rotation(self, a: stack_kernel.LineArrays) -> LineRotation:
         """The rotation of a kernel answer; off straight elements, the frame, curvature and
         compliance computed at ``xi`` (:meth:`rotation`)."""
         beam, element, X = a.beam, a.element, a.X
@@ -603,15 +568,10 @@ class ChainStack:
         if smearing > 0:
             return stack_kernel.smeared_transfer(
                 self._checked(xi),
-                smearing,
-                kernel == "box",
-                *steps(smearing, kernel),
-                *KERNEL_RULE,
-                *self._chain_arrays,
-                self.kinds,
-                self.regions,
-                self.stiffness,
-                self.element_frames().R0,
+                stack_kernel.Smearing(
+                    smearing, kernel == "box", *steps(smearing, kernel), *KERNEL_RULE
+                ),
+                self.kernel_chains,
             )
         a = self._query(xi, None, True, False)
         return a.load_dofs, a.G, a.dG

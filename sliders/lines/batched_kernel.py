@@ -23,6 +23,8 @@ compiled.  The stack's arrays are described in
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numba
 import numpy as np
 
@@ -42,6 +44,101 @@ guard(__file__)  # numba's cache of these kernels, consistent with their sources
 
 #: The most nodes of an element the kernels' scratch arrays hold (three-node elements).
 MAX_NPE = 3
+
+
+class Chains(NamedTuple):
+    """A stack of ``B`` chains as the kernels read them (:class:`sliders.lines.batched.ChainStack`).
+
+    ``M`` distinct dof maps, ``E`` elements of ``npe`` nodes over ``n_beams`` beams.
+    """
+
+    #: Each member's dof map (B,), into ``maps`` (M, E, npe, 6); the element ``cells`` (E, npe).
+    member_map: np.ndarray
+    maps: np.ndarray
+    cells: np.ndarray
+    #: Node positions (B, n_nodes, 3), beam ``breaks`` (B, n_beams + 1), vertex abscissae
+    #: ``vertex_s`` (B, E + n_beams), each beam's ``first_element`` (n_beams + 1,), element
+    #: lengths ``h`` (B, E).
+    points: np.ndarray
+    breaks: np.ndarray
+    vertex_s: np.ndarray
+    first_element: np.ndarray
+    h: np.ndarray
+    #: Each element's rotation lag (E,), each beam's kind of element (n_beams,)
+    #: (:data:`fvbeam.pointwise.LAGRANGE`, ...), the fv influence ``regions`` (npe, 2),
+    #: ``ends`` (2, npe) ``dN/dX`` at the element ends, ``stiffness`` (E, 6) the diagonal of
+    #: each element's section stiffness.
+    lag: np.ndarray
+    kinds: np.ndarray
+    regions: np.ndarray
+    ends: np.ndarray
+    stiffness: np.ndarray
+    #: The dofs of a node the displacement reads (3, or 6 on a chain with cubic elements;
+    #: module docstring).
+    width: int
+    #: The element frames (B, E, 3, 3) and compliances ``R0 C R0^T`` (B, E, 3, 3).
+    R0_of: np.ndarray
+    compliance_of: np.ndarray
+
+
+class LineArrays(NamedTuple):
+    """What :func:`line_state` gives of each member (leading axis B; ``m = width npe``).
+
+    The arrays of what is not asked have a zero size.
+    """
+
+    #: Where ``xi`` lies: beam (position in the chain), element and reference coordinate.
+    beam: np.ndarray
+    element: np.ndarray
+    X: np.ndarray
+    #: The interpolated dofs (B, m), the reference line ``x0, l0, l0_xi`` (B, 3, 3), the
+    #: interpolation matrix and its ``xi``-derivatives (B, 3, m).
+    dofs: np.ndarray
+    reference: np.ndarray
+    N: np.ndarray
+    dN: np.ndarray
+    d2N: np.ndarray
+    #: The recovered tangent: its dofs (B, 3 m), reference ``l~0, l~0_xi`` (B, 2, 3) and
+    #: matrices ``T``, ``T_xi`` (B, 3, 3 m).
+    tangent_dofs: np.ndarray
+    tangent_reference: np.ndarray
+    T: np.ndarray
+    T_xi: np.ndarray
+    #: The deformed line ``x, l, l_xi, l_xixi, l~, l~_xi`` (B, 6, 3); the position's
+    #: compliance rows ``[G_uu, G_u theta]`` (B, c, 6) and their derivative (eq. T13).
+    geometry: np.ndarray
+    contact: np.ndarray
+    contact_xi: np.ndarray
+    #: The load transfer: dofs (B, 6 npe), ``G`` and ``dG`` (B, 6 npe, 6) (eq. T6).
+    load_dofs: np.ndarray
+    G: np.ndarray
+    dG: np.ndarray
+    #: The section rotation: its dofs (B, r), ``W`` and its ``xi``-derivatives (B, 3, r), the
+    #: kink and its derivative (B,), the compliance at a couple and its derivative
+    #: (B, 3, 3), the stored frame (B, 3, 3).
+    rotation_dofs: np.ndarray
+    W: np.ndarray
+    W_xi: np.ndarray
+    W_xixi: np.ndarray
+    kink: np.ndarray
+    kink_xi: np.ndarray
+    flex: np.ndarray
+    flex_xi: np.ndarray
+    R0: np.ndarray
+
+
+class Smearing(NamedTuple):
+    """A smeared load's kernel as :func:`smeared_transfer` integrates it."""
+
+    #: The kernel's half-width (> 0) and shape (box if ``box``, else hat).
+    half_width: float
+    box: bool
+    #: The jumps ``step_jump`` of its derivative at the offsets ``step_r``
+    #: (:func:`fvbeam.smearing.steps`), and the composite rule ``rule_x``, ``rule_w``.
+    step_r: np.ndarray
+    step_jump: np.ndarray
+    rule_x: np.ndarray
+    rule_w: np.ndarray
 
 
 @numba.njit(cache=True, inline="never")
@@ -166,27 +263,21 @@ def interpolation_one(
 def displacement_one(
     elements: np.ndarray,
     X: float,
-    kinds: np.ndarray,
-    first_element: np.ndarray,
-    frames: np.ndarray,
-    stiffness: np.ndarray,
-    h: np.ndarray,
-    N: np.ndarray,
-    dN: np.ndarray,
-    d2N: np.ndarray,
-    T: np.ndarray,
-    T_xi: np.ndarray,
-    end: np.ndarray,
-    shape: np.ndarray,
-    block: np.ndarray,
+    chains: Chains,
+    b: int,
+    out: LineArrays,
+    scratch: tuple[np.ndarray, np.ndarray, np.ndarray],
 ) -> None:
-    """The displacement's interpolation at ``X`` of ``elements[0]`` (its neighbours before
-    and after in ``elements[1:]``, itself where there is none) as matrices on the nodes'
-    dofs (:func:`element_line`): ``N``, ``dN``, ``d2N`` (3, m) and the recovered tangent's
-    ``T``, ``T_xi`` (3, 3 m) on the three elements' dofs in turn, the same combination of
-    one-sided tangents as :func:`interpolation_one`'s.  ``kinds`` (n_beams,) and
-    ``first_element`` find each element's kind; ``frames`` (E, 3, 3), ``stiffness`` (E, 6)
-    and ``h`` (E,) are the member's; ``end`` (3, m), ``shape`` and ``block`` scratch."""
+    """Member ``b``'s displacement interpolation at ``X`` of ``elements[0]`` (its neighbours
+    before and after in ``elements[1:]``, itself where there is none) as matrices on the
+    nodes' dofs (:func:`element_line`), into ``out``'s row ``b``: ``N``, ``dN``, ``d2N``
+    (3, m) and the recovered tangent's ``T``, ``T_xi`` (3, 3 m) on the three elements' dofs
+    in turn, the same combination of one-sided tangents as :func:`interpolation_one`'s.
+    ``scratch``: ``end`` (3, m), ``shape`` and ``block``."""
+    kinds, first_element, stiffness = chains.kinds, chains.first_element, chains.stiffness
+    frames, h = chains.R0_of[b], chains.h[b]
+    N, dN, d2N, T, T_xi = out.N[b], out.dN[b], out.d2N[b], out.T[b], out.T_xi[b]
+    end, shape, block = scratch
     element = elements[0]
     m = N.shape[1]
     he = h[element]
@@ -325,36 +416,13 @@ def locate(
 def line_state(
     xi: np.ndarray,
     q: np.ndarray,
-    member_map: np.ndarray,
-    maps: np.ndarray,
-    cells: np.ndarray,
-    points: np.ndarray,
-    breaks: np.ndarray,
-    vertex_s: np.ndarray,
-    first_element: np.ndarray,
-    h: np.ndarray,
-    lag: np.ndarray,
-    kinds: np.ndarray,
-    regions: np.ndarray,
-    ends: np.ndarray,
-    stiffness: np.ndarray,
-    width: int,
-    R0_of: np.ndarray,
-    compliance_of: np.ndarray,
+    chains: Chains,
     state: bool,
     transfer: bool,
     rotation: bool,
-) -> tuple:
+) -> LineArrays:
     """The line state of each member at ``xi`` (B,) on its states ``q`` (B, n), on the
-    stack's arrays (:class:`sliders.lines.batched.ChainStack`): ``member_map`` (B,) into ``maps``
-    (M, E, npe, 6), ``cells`` (E, npe), ``points`` (B, n_nodes, 3), ``breaks``
-    (B, n_beams + 1), ``vertex_s`` (B, E + n_beams), ``first_element`` (n_beams + 1,), ``h``
-    (B, E), ``lag`` (E,), ``kinds`` (n_beams,) each beam's kind of element
-    (:data:`fvbeam.pointwise.LAGRANGE`, ...), ``regions`` (npe, 2) the fv influence regions,
-    ``ends`` (2, npe) ``dN/dX`` at the element ends, ``stiffness`` (E, 6) the diagonal of
-    each element's section stiffness, ``width`` the dofs of a node the displacement reads
-    (3, or 6 on a chain with cubic elements; module docstring), the element frames
-    ``R0_of`` (B, E, 3, 3) and compliances ``compliance_of`` (B, E, 3, 3) (R0 C R0^T).
+    stack's arrays ``chains``.
 
     ``state``: the deformed line ``x``, ``l``, ``l_/xi`` and the recovered tangent with its
     derivative (with ``width`` 6, the position's compliance at the contact too);
@@ -365,19 +433,14 @@ def line_state(
     a cubic element's: its own rotation, eq. T11, and the rotational block of eq. T13), the
     kink and the stored frame.  The arrays of what is not asked have a zero size.
 
-    Returns the tuple ``beam, element, X, dofs (B, m), reference (B, 3, 3): x0, l0, l0_xi,
-    N, dN, d2N (B, 3, m), tangent_dofs (B, 3 m), tangent_reference (B, 2, 3): l~0, l~0_xi,
-    T, T_xi (B, 3, 3 m), geometry (B, 6, 3): x, l, l_xi, l_xixi, l~, l~_xi, contact,
-    contact_xi (B, 3, 6): the position's compliance rows ``[G_uu, G_u theta]`` and their
-    derivative, load_dofs, G, dG, rotation_dofs, W, W_xi, W_xixi, kink, kink_xi, flex,
-    flex_xi, R0`` (``m = width npe``).
+    Returns the arrays (:class:`LineArrays`).
     """
-    B, npe = len(xi), cells.shape[1]
+    B, npe, width = len(xi), chains.cells.shape[1], chains.width
     m = width * npe
     nb, nt, nr = (B if state else 0), (B if transfer else 0), (B if rotation else 0)
     nc = 3 if width == 6 else 0  # contact rows
     r = 2 * width
-    out = (
+    out = LineArrays(
         np.empty(B, np.int64),
         np.empty(B, np.int64),
         np.empty(B),
@@ -409,22 +472,7 @@ def line_state(
     line_state_into(
         xi,
         q,
-        member_map,
-        maps,
-        cells,
-        points,
-        breaks,
-        vertex_s,
-        first_element,
-        h,
-        lag,
-        kinds,
-        regions,
-        ends,
-        stiffness,
-        width,
-        R0_of,
-        compliance_of,
+        chains,
         state,
         transfer,
         rotation,
@@ -443,7 +491,7 @@ def one_point_state(npe: int, width: int, state: bool, transfer: bool, rotation:
     nc = 3 if width == 6 else 0
     r = 2 * width
     f8, i8 = np.float64, np.int64
-    return (
+    return LineArrays(
         stack_empty(1, (1,), i8),
         stack_empty(1, (1,), i8),
         stack_empty(1, (1,), f8),
@@ -478,29 +526,16 @@ def one_point_state(npe: int, width: int, state: bool, transfer: bool, rotation:
 def line_state_into(
     xi: np.ndarray,
     q: np.ndarray,
-    member_map: np.ndarray,
-    maps: np.ndarray,
-    cells: np.ndarray,
-    points: np.ndarray,
-    breaks: np.ndarray,
-    vertex_s: np.ndarray,
-    first_element: np.ndarray,
-    h: np.ndarray,
-    lag: np.ndarray,
-    kinds: np.ndarray,
-    regions: np.ndarray,
-    ends: np.ndarray,
-    stiffness: np.ndarray,
-    width: int,
-    R0_of: np.ndarray,
-    compliance_of: np.ndarray,
+    chains: Chains,
     state: bool,
     transfer: bool,
     rotation: bool,
-    out: tuple,
+    out: LineArrays,
 ) -> None:
-    """:func:`line_state` into the arrays ``out`` of its tuple, overwritten (the tuple
-    :func:`line_state` returns, or :func:`one_point_state` for one member)."""
+    """:func:`line_state` into the arrays ``out``, overwritten (those :func:`line_state`
+    returns, or :func:`one_point_state`'s for one member)."""
+    member_map, maps, cells, points, breaks, vertex_s, first_element, h = chains[:8]
+    lag, kinds, regions, ends, stiffness, width, R0_of, compliance_of = chains[8:]
     B, npe = len(xi), cells.shape[1]
     m = width * npe
     nc = 3 if width == 6 else 0  # contact rows
@@ -578,23 +613,7 @@ def line_state_into(
         if width == 3:  # Lagrange elements only: N_a I on the translations
             lagrange_matrices(Ns, Ts, Ts_xi, N[b], dN[b], d2N[b], T[b], T_xi[b])
         else:
-            displacement_one(
-                three,
-                Xb,
-                kinds,
-                first_element,
-                R0_of[b],
-                stiffness,
-                h[b],
-                N[b],
-                dN[b],
-                d2N[b],
-                T[b],
-                T_xi[b],
-                end,
-                shape,
-                block,
-            )
+            displacement_one(three, Xb, chains, b, out, (end, shape, block))
         if state and width == 3:  # x = sum N_a (X_a + u_a): the scalar coefficients
             for j in range(3 * npe):
                 for c in range(3):
@@ -748,33 +767,14 @@ def add_block(block: np.ndarray, scale: float, element: int, out: np.ndarray) ->
 
 @numba.njit(cache=True)
 def smeared_transfer(
-    xi: np.ndarray,
-    smearing: float,
-    box: bool,
-    step_r: np.ndarray,
-    step_jump: np.ndarray,
-    rule_x: np.ndarray,
-    rule_w: np.ndarray,
-    member_map: np.ndarray,
-    maps: np.ndarray,
-    cells: np.ndarray,
-    points: np.ndarray,
-    breaks: np.ndarray,
-    vertex_s: np.ndarray,
-    first_element: np.ndarray,
-    h: np.ndarray,
-    kinds: np.ndarray,
-    regions: np.ndarray,
-    stiffness: np.ndarray,
-    R0_of: np.ndarray,
+    xi: np.ndarray, kernel: Smearing, chains: Chains
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The smeared load transfer of each member at ``xi`` (B,) on the stack's arrays (as
-    :func:`line_state`: ``kinds``, ``stiffness`` and the element frames ``R0_of``), as
-    :meth:`sliders.lines.chain.BeamChain.transfer` gives it from the kernel form:
+    """The smeared load transfer of each member at ``xi`` (B,) on the stack's arrays
+    ``chains``, as :meth:`sliders.lines.chain.BeamChain.transfer` gives it from the kernel form:
     ``G = A / m`` and ``G' = (A' - G m') / m`` with ``A = int K(s - xi) H(s) ds`` and
     ``m = int K(s - xi) ds`` over the chain ``[0, L]``, ``A' = -int K' H ds`` (eq. T6).
 
-    The kernel (box if ``box``, else hat; half-width ``smearing > 0``) is integrated on each
+    The ``kernel`` (box if ``box``, else hat; half-width ``smearing > 0``) is integrated on each
     element of each beam it touches, over its part inside the beam and the kernel
     (:func:`fvbeam.pointwise.smeared_element`, composite rule ``rule_x``, ``rule_w``); the
     Dirac parts of ``K'`` (the jumps ``step_jump`` at the offsets ``step_r``,
@@ -787,6 +787,9 @@ def smeared_transfer(
     ``min(xi + smearing, L)`` (:func:`node_slot`), padded to the common ``k`` with the
     member's last dof and zero rows.
     """
+    smearing, box, step_r, step_jump, rule_x, rule_w = kernel
+    member_map, maps, cells, points, breaks, vertex_s, first_element, h = chains[:8]
+    kinds, regions, stiffness, R0_of = chains.kinds, chains.regions, chains.stiffness, chains.R0_of
     B, npe = len(xi), cells.shape[1]
     span = np.empty((B, 2), np.int64)
     slots = 1
