@@ -232,28 +232,26 @@ def test_chord_step_is_the_step_on_the_kept_system(dense, monkeypatch):
     if not dense:
         operator._columns(layout.force_dofs)
     n, k, m = operator.n_free, operator.n_rigid, 3 * M
-    arrays = (layout.slots, layout.values, layout.tables, layout.c_of, layout.batches)
+    columns = kernel.Columns(operator._store, operator._slot, operator.phi)
     first, second = [(rng.standard_normal((1, n)), rng.standard_normal((1, m))) for _ in range(2)]
-    floats, ints = kernel.step_scratch(n, layout.batches, layout.nc, m, k)
+    scratch = kernel.step_scratch(n, layout.batches, layout.nc, m, k)
     force, z = np.empty((1, n)), np.empty((1, layout.nc + m + k))
     regular = np.empty(1, dtype=bool)
     r_free, r_y = first
     kernel.condensed_step_into(
-        operator._store, operator._slot, operator.phi, operator.solve(r_free), r_free, r_y,
-        *arrays, layout.nc, SINGULAR_RCOND, floats, ints, force, z, regular,
+        columns, operator.solve(r_free), r_free, r_y, layout.jacobians, SINGULAR_RCOND, scratch,
+        (force, z, regular),
     )  # fmt: skip
     assert regular[0]
     stepped = force.copy(), z.copy()
     r_free, r_y = second
     chord = np.empty((1, n)), np.empty((1, layout.nc + m + k))
     kernel.chord_step_into(
-        operator.phi, operator.solve(r_free), r_free, r_y, layout.batches, layout.nc, floats,
-        ints, *chord,
-    )  # fmt: skip
+        operator.phi, operator.solve(r_free), r_free, r_y, layout.jacobians, scratch, chord
+    )
     fresh = kernel.condensed_step(
-        operator._store, operator._slot, operator.phi, operator.solve(r_free), r_free, r_y,
-        *arrays, layout.nc, SINGULAR_RCOND,
-    )  # fmt: skip
+        columns, operator.solve(r_free), r_free, r_y, layout.jacobians, SINGULAR_RCOND
+    )
     assert fresh[2][0]
     np.testing.assert_array_equal(chord[0], fresh[0])
     np.testing.assert_array_equal(chord[1], fresh[1])

@@ -41,7 +41,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from sliders.joints.blocks import SlotJacobian
-from sliders.solve.condensed_kernel import condensed_step
+from sliders.solve.condensed_kernel import Columns, Jacobians, condensed_step
 from sliders.solve.factor import Factor
 
 #: A small system whose row- and column-equilibrated reciprocal condition number (1-norm)
@@ -169,18 +169,11 @@ class CondensedOperator:
             self._columns(layout.force_dofs)
         r_free = np.ascontiguousarray(r_free, dtype=float)
         force, z, regular = condensed_step(
-            self._store,
-            self._slot,
-            self.phi,
+            Columns(self._store, self._slot, self.phi),
             self.solve(r_free),
             r_free,
             np.ascontiguousarray(r_y, dtype=float),
-            layout.slots,
-            layout.values,
-            layout.tables,
-            layout.c_of,
-            layout.batches,
-            layout.nc,
+            layout.jacobians,
             SINGULAR_RCOND,
         )
         dq = -self.solve(force)[:, :n] + z[:, layout.nc + m :] @ self.phi.T
@@ -227,6 +220,12 @@ class _Layout:
         self.values = _flat([J.values for J in blocks])
         self.tables = np.ascontiguousarray(np.concatenate([J.table for J in blocks]))
         self.c_of = np.concatenate(c_of)
+
+    @property
+    def jacobians(self) -> Jacobians:
+        """The layout as the compiled step reads it
+        (:class:`sliders.solve.condensed_kernel.Jacobians`)."""
+        return Jacobians(self.slots, self.values, self.tables, self.c_of, self.batches, self.nc)
 
     @property
     def force_dofs(self) -> np.ndarray:

@@ -20,7 +20,7 @@ that carry a nonzero entry.  A supported slot in ``c`` has ``w_c = 0`` (its row 
 
 from __future__ import annotations
 
-from collections import namedtuple
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -29,6 +29,68 @@ from fvbeam.kernel_cache import guard
 from fvbeam.scratch import borrowed
 
 guard(__file__)  # numba's cache of these kernels, consistent with their sources
+
+
+class Columns(NamedTuple):
+    """What the condensed step reads of the bordered operator ``B`` (``n`` free dofs, ``k``
+    rigid modes)."""
+
+    #: Stored columns of ``B^{-1}`` (as rows, (s, n + k)) and the row of each free dof
+    #: (n,) (those of every force dof are stored).
+    store: np.ndarray
+    column: np.ndarray
+    #: The rigid modes (n, k).
+    phi: np.ndarray
+
+
+class Jacobians(NamedTuple):
+    """The joints' Jacobians of ``B`` members as they are stored, laid out batch after batch
+    (:class:`sliders.solve.condensed._Layout`)."""
+
+    #: Every batch's slot free-dof positions (-1 supported; (k B, t) raveled), Jacobian
+    #: ``values`` ((k B, width) raveled) and block ``tables`` ((., 5): first row slot, rows,
+    #: first column slot, columns, offset), one batch after the other.
+    slots: np.ndarray
+    values: np.ndarray
+    tables: np.ndarray
+    #: Per batch and structure slot, its index among the batch joint's ``c`` slots, or -1.
+    c_of: np.ndarray
+    #: Per batch (n_batches, 10): joints ``k``, structure slots ``t``, unknowns ``m``, values
+    #: ``width``, its offsets into ``slots``, ``values``, ``tables`` (first and last row) and
+    #: ``c_of``, and its joints' ``c`` slots.
+    batches: np.ndarray
+    #: The ``c`` slots of a member, all joints.
+    nc: int
+
+
+class StepScratch(NamedTuple):
+    """The views of a condensed step's scratch (:func:`_views`).  A chord step reads what the
+    last full step left there."""
+
+    #: The positions of the free dofs among the force and read dofs, those dofs, the ``c``
+    #: slots' dofs, the pivots, the counts of force and read dofs.
+    where_f: np.ndarray
+    where_r: np.ndarray
+    fd: np.ndarray
+    rd: np.ndarray
+    c_dof: np.ndarray
+    swaps: np.ndarray
+    counts: np.ndarray
+    #: ``G = P F``, ``Y``, ``Y^T``, a read row, ``C^T``, ``D``, ``Y_z``.
+    G: np.ndarray
+    Y: np.ndarray
+    Yt: np.ndarray
+    read: np.ndarray
+    Ct: np.ndarray
+    D: np.ndarray
+    Y_z: np.ndarray
+    #: The small system ``A``, its inverse, right-hand side and row and (reciprocal) column
+    #: scales.
+    A: np.ndarray
+    inverse: np.ndarray
+    rhs: np.ndarray
+    rows: np.ndarray
+    cols: np.ndarray
 
 
 @numba.njit(inline="never")
@@ -45,34 +107,22 @@ def _register(
 
 @numba.njit(inline="never")
 def _joint(
-    t: int,
-    slots: np.ndarray,
-    s0: int,
-    values: np.ndarray,
-    v0: int,
-    table: np.ndarray,
-    c_of: np.ndarray,
-    c0: int,
-    y_at: int,
-    c_at: int,
-    nc: int,
-    where_f: np.ndarray,
-    where_r: np.ndarray,
-    fd: np.ndarray,
-    rd: np.ndarray,
-    counts: np.ndarray,
-    G: np.ndarray,
-    Ct: np.ndarray,
-    D: np.ndarray,
+    t: int, at: tuple[int, int, int, int, int], table: np.ndarray, jac: Jacobians, v: StepScratch
 ) -> None:
-    """One joint's nonzero Jacobian entries (``values[v0:]``, laid out by its blocks
-    ``table``: first row slot, rows, first column slot, columns, offset) added into
-    ``G = P F``, ``Ct = (C P^T)^T`` and ``D`` (its unknowns from ``y_at``, its ``c`` slots
-    from ``c_at``; ``c_of[c0:]`` the index of each structure slot among them), block by
-    block: a block of unknown rows and columns goes to ``D``, one of unknown rows and slot
-    columns to ``Ct`` (a column per free dof), one of slot rows to ``G`` (a row per free
-    dof).  A free dof is registered as a force dof ``fd`` or a read dof ``rd`` at its first
-    nonzero entry (``counts``: how many of each so far, updated); supported slots drop."""
+    """One joint's nonzero Jacobian entries (``jac.values`` from ``v0``, laid out by its
+    blocks ``table``: first row slot, rows, first column slot, columns, offset; its ``t``
+    slots from ``s0`` in ``jac.slots``) added into the scratch ``v``'s ``G = P F``,
+    ``Ct = (C P^T)^T`` and ``D`` (its unknowns from ``y_at``, its ``c`` slots from ``c_at``;
+    ``jac.c_of[c0:]`` the index of each structure slot among them), block by block: a block
+    of unknown rows and columns goes to ``D``, one of unknown rows and slot columns to ``Ct``
+    (a column per free dof), one of slot rows to ``G`` (a row per free dof).  A free dof is
+    registered as a force dof ``fd`` or a read dof ``rd`` at its first nonzero entry
+    (``counts``: how many of each so far, updated); supported slots drop.  ``at``:
+    ``(s0, v0, c0, y_at, c_at)``."""
+    s0, v0, c0, y_at, c_at = at
+    slots, values, c_of, nc = jac.slots, jac.values, jac.c_of, jac.nc
+    where_f, where_r, fd, rd, counts = v.where_f, v.where_r, v.fd, v.rd, v.counts
+    G, Ct, D = v.G, v.Ct, v.D
     for block in range(len(table)):
         r0, nr, q0, nq, off = (
             table[block, 0],
@@ -114,29 +164,14 @@ def _joint(
 
 
 @numba.njit(inline="never")
-def _gather(
-    b: int,
-    members: int,
-    slots: np.ndarray,
-    values: np.ndarray,
-    tables: np.ndarray,
-    c_of: np.ndarray,
-    batches: np.ndarray,
-    nc: int,
-    where_f: np.ndarray,
-    where_r: np.ndarray,
-    fd: np.ndarray,
-    rd: np.ndarray,
-    counts: np.ndarray,
-    G: np.ndarray,
-    Ct: np.ndarray,
-    D: np.ndarray,
-    c_dof: np.ndarray,
-) -> None:
-    """Member ``b``'s Jacobian entries merged by free dof (:func:`_joint`), joints in the
-    order of :meth:`sliders.solve.condensed.CondensedOperator.step` (batch after batch, joint
-    ``i`` of a batch in its row ``i B + b``), and the free dof of each ``c`` slot (-1 if
-    supported; registered as a read dof).  ``counts``: the numbers of force and read dofs."""
+def _gather(b: int, members: int, jac: Jacobians, v: StepScratch) -> None:
+    """Member ``b``'s Jacobian entries merged by free dof into the scratch ``v``
+    (:func:`_joint`), joints in the order of
+    :meth:`sliders.solve.condensed.CondensedOperator.step` (batch after batch, joint ``i`` of
+    a batch in its row ``i B + b``), and the free dof of each ``c`` slot (-1 if supported;
+    registered as a read dof).  ``counts``: the numbers of force and read dofs."""
+    slots, tables, c_of, batches = jac.slots, jac.tables, jac.c_of, jac.batches
+    where_r, rd, counts, Ct, D, c_dof = v.where_r, v.rd, v.counts, v.Ct, v.D, v.c_dof
     counts[0] = counts[1] = 0
     D[:, :] = 0.0
     y_at = c_at = 0
@@ -154,51 +189,22 @@ def _gather(
                         where_r[dof], rd[counts[1]] = counts[1], dof
                         Ct[counts[1]] = 0.0
                         counts[1] += 1
-            _joint(
-                t,
-                slots,
-                s0,
-                values,
-                batches[j, 5] + (i * members + b) * width,
-                tables[batches[j, 6] : batches[j, 7]],
-                c_of,
-                c0,
-                y_at,
-                c_at,
-                nc,
-                where_f,
-                where_r,
-                fd,
-                rd,
-                counts,
-                G,
-                Ct,
-                D,
-            )
+            v0 = batches[j, 5] + (i * members + b) * width
+            _joint(t, (s0, v0, c0, y_at, c_at), tables[batches[j, 6] : batches[j, 7]], jac, v)
             y_at += m
             c_at += n_c
 
 
 @numba.njit(inline="never")
-def _columns(
-    store: np.ndarray,
-    column: np.ndarray,
-    n: int,
-    fd: np.ndarray,
-    n_f: int,
-    rd: np.ndarray,
-    n_r: int,
-    G: np.ndarray,
-    Y: np.ndarray,
-    Y_z: np.ndarray,
-    Yt: np.ndarray,
-    read: np.ndarray,
-) -> None:
-    """``Y = B^{-1}[rd, fd] G`` and ``Y_z = B^{-1}[n:, fd] G`` from the stored columns of
-    ``B^{-1}`` (rows of ``store``; ``column``: the row of each free dof), over the nonzeros
-    of ``G``.  Each stored column is read once at the read dofs (``read``) and added into
-    ``Yt = Y^T`` (contiguous rows), then transposed: every entry sums its terms in the
+def _columns(columns: Columns, n: int, v: StepScratch, n_f: int, n_r: int) -> None:
+    """The scratch ``v``'s ``Y = B^{-1}[rd, fd] G`` and ``Y_z = B^{-1}[n:, fd] G`` (``n_f``
+    force dofs ``fd``, ``n_r`` read dofs ``rd``) from the stored columns of ``B^{-1}``
+    (rows of ``columns.store``; ``columns.column``: the row of each free dof), over the
+    nonzeros of ``G``.  Each stored column is read once at the read dofs (``read``) and added
+    into ``Yt = Y^T`` (contiguous rows), then transposed: every entry sums its terms in the
     order of the force dofs."""
+    store, column = columns.store, columns.column
+    fd, rd, G, Y, Y_z, Yt, read = v.fd, v.rd, v.G, v.Y, v.Y_z, v.Yt, v.read
     ncm = G.shape[1]
     Yt[:, :n_r] = 0.0
     Y_z[:, :] = 0.0
@@ -220,24 +226,12 @@ def _columns(
 
 
 @numba.njit(inline="never")
-def _small(
-    base: np.ndarray,
-    r_y: np.ndarray,
-    phi: np.ndarray,
-    c_dof: np.ndarray,
-    where_r: np.ndarray,
-    rd: np.ndarray,
-    n_r: int,
-    Y: np.ndarray,
-    Y_z: np.ndarray,
-    Ct: np.ndarray,
-    D: np.ndarray,
-    A: np.ndarray,
-    rhs: np.ndarray,
-) -> None:
+def _small(base: np.ndarray, r_y: np.ndarray, phi: np.ndarray, v: StepScratch, n_r: int) -> None:
     """One member's small system ``A`` (rows ``c``, rigid, equations; columns ``u_c``,
-    ``dy``, rigid amplitudes) and right-hand side (module docstring; :func:`_small_rhs`),
-    its base solution ``base = B^{-1}[r_q; 0]`` and joint residuals ``r_y``."""
+    ``dy``, rigid amplitudes) and right-hand side ``rhs`` into the scratch ``v`` (module
+    docstring; :func:`_small_rhs`), from its base solution ``base = B^{-1}[r_q; 0]``, joint
+    residuals ``r_y`` and the ``n_r`` read dofs ``v.rd``."""
+    c_dof, where_r, rd, Y, Y_z, Ct, D, A = v.c_dof, v.where_r, v.rd, v.Y, v.Y_z, v.Ct, v.D, v.A
     nc, k, m = len(c_dof), phi.shape[1], len(r_y)
     ncm = nc + m
     A[:, :] = 0.0
@@ -264,24 +258,17 @@ def _small(
     for y in range(m):
         for j in range(m):
             A[nc + k + y, nc + j] += D[y, j]
-    _small_rhs(base, r_y, k, c_dof, rd, n_r, Ct, rhs)
+    _small_rhs(base, r_y, k, v, n_r)
 
 
 @numba.njit(inline="never")
-def _small_rhs(
-    base: np.ndarray,
-    r_y: np.ndarray,
-    k: int,
-    c_dof: np.ndarray,
-    rd: np.ndarray,
-    n_r: int,
-    Ct: np.ndarray,
-    rhs: np.ndarray,
-) -> None:
-    """The right-hand side of the small system (module docstring) with ``k`` rigid modes:
-    ``-x_r,c``, ``-z_r`` and ``-r_y + C x_r`` from the base solution ``base = B^{-1}[r_q;
-    0]`` and the joint residuals ``r_y``; the equations' ``C`` (``Ct``, its read dofs
-    ``rd``) and the ``c`` slots' dofs ``c_dof`` as :func:`_gather` left them."""
+def _small_rhs(base: np.ndarray, r_y: np.ndarray, k: int, v: StepScratch, n_r: int) -> None:
+    """The right-hand side ``v.rhs`` of the small system (module docstring) with ``k`` rigid
+    modes: ``-x_r,c``, ``-z_r`` and ``-r_y + C x_r`` from the base solution ``base =
+    B^{-1}[r_q; 0]`` and the joint residuals ``r_y``; the equations' ``C`` (``Ct``, its
+    ``n_r`` read dofs ``rd``) and the ``c`` slots' dofs ``c_dof`` as :func:`_gather` left them
+    in the scratch ``v``."""
+    c_dof, rd, Ct, rhs = v.c_dof, v.rd, v.Ct, v.rhs
     nc, m = len(c_dof), len(r_y)
     n = len(base) - k
     for i in range(nc):
@@ -429,44 +416,13 @@ def step_scratch(
     return floats, ints
 
 
-#: The views of a condensed step's scratch (:func:`_views`): the positions of the free dofs
-#: among the force and read dofs (``where_f``, ``where_r``), those dofs (``fd``, ``rd``), the
-#: ``c`` slots' dofs, the pivots, the counts of force and read dofs; ``G``, ``Y``, ``Y^T``, a
-#: read row, ``C^T``, ``D``, ``Y_z``, the small system ``A``, its inverse, right-hand side and
-#: row and (reciprocal) column scales.  A chord step reads what the last full step left there.
-StepScratch = namedtuple(
-    "StepScratch",
-    [
-        "where_f",
-        "where_r",
-        "fd",
-        "rd",
-        "c_dof",
-        "swaps",
-        "counts",
-        "G",
-        "Y",
-        "Yt",
-        "read",
-        "Ct",
-        "D",
-        "Y_z",
-        "A",
-        "inverse",
-        "rhs",
-        "rows",
-        "cols",
-    ],
-)
-
-
 @numba.njit(inline="always")
 def _views(
     n: int, size: int, nc: int, m: int, k: int, floats: np.ndarray, ints: np.ndarray
 ) -> StepScratch:
     """The arrays of :func:`step_scratch`'s ``floats`` and ``ints`` for ``n`` free dofs,
     ``size`` slots, ``nc`` ``c`` slots, ``m`` unknowns and ``k`` rigid modes, by name
-    (:data:`StepScratch`)."""
+    (:class:`StepScratch`)."""
     ncm = nc + m
     N = ncm + k
     where_f, where_r = borrowed(ints, 0, (n,)), borrowed(ints, n, (n,))
@@ -511,44 +467,25 @@ def _views(
 
 @numba.njit(cache=True)
 def condensed_step(
-    store: np.ndarray,
-    column: np.ndarray,
-    phi: np.ndarray,
+    columns: Columns,
     base: np.ndarray,
     r_free: np.ndarray,
     r_y: np.ndarray,
-    slots: np.ndarray,
-    values: np.ndarray,
-    tables: np.ndarray,
-    c_of: np.ndarray,
-    batches: np.ndarray,
-    nc: int,
+    jac: Jacobians,
     threshold: float,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The small systems of ``B`` members solved (:mod:`sliders.solve.condensed`, module docstring).
 
     Parameters
     ----------
-    store, column : (s, n + k), (n,)
-        Stored columns of ``B^{-1}`` (as rows) and the row of each free dof (those of every
-        force dof are stored).
-    phi : (n, k)
-        The rigid modes.
+    columns
+        What the step reads of the bordered operator (:class:`Columns`).
     base : (B, n + k)
         ``B^{-1}[r_q; 0]`` per member.
     r_free, r_y : (B, n), (B, m)
         The structure residuals and the joint residuals.
-    slots, values, tables : int64, float64, int64 (., 5)
-        Every batch's slot free-dof positions (-1 supported; (k B, t) raveled), Jacobian
-        ``values`` ((k B, width) raveled) and ``table``, one batch after the other.
-    c_of : int64
-        Per batch and structure slot, its index among the batch joint's ``c`` slots, or -1.
-    batches : (n_batches, 10) int64
-        Per batch: joints ``k``, structure slots ``t``, unknowns ``m``, values ``width``,
-        its offsets into ``slots``, ``values``, ``tables`` (first and last row) and
-        ``c_of``, and its joints' ``c`` slots.
-    nc : int
-        The ``c`` slots of a member, all joints.
+    jac
+        The joints' Jacobians and their layout (:class:`Jacobians`).
     threshold : float
         The reciprocal condition number below which a small system is singular.
 
@@ -559,91 +496,43 @@ def condensed_step(
     of :func:`condensed_step_into`, which does the work, are allocated here.
     """
     members, n = r_free.shape
-    m, k = r_y.shape[1], phi.shape[1]
-    floats, ints = step_scratch(n, batches, nc, m, k)
+    m, k = r_y.shape[1], columns.phi.shape[1]
+    scratch = step_scratch(n, jac.batches, jac.nc, m, k)
     force = np.empty((members, n))
-    z = np.empty((members, nc + m + k))
+    z = np.empty((members, jac.nc + m + k))
     regular = np.empty(members, dtype=np.bool_)
-    condensed_step_into(
-        store,
-        column,
-        phi,
-        base,
-        r_free,
-        r_y,
-        slots,
-        values,
-        tables,
-        c_of,
-        batches,
-        nc,
-        threshold,
-        floats,
-        ints,
-        force,
-        z,
-        regular,
-    )
+    condensed_step_into(columns, base, r_free, r_y, jac, threshold, scratch, (force, z, regular))
     return force, z, regular
 
 
 @numba.njit(cache=True)
 def condensed_step_into(
-    store: np.ndarray,
-    column: np.ndarray,
-    phi: np.ndarray,
+    columns: Columns,
     base: np.ndarray,
     r_free: np.ndarray,
     r_y: np.ndarray,
-    slots: np.ndarray,
-    values: np.ndarray,
-    tables: np.ndarray,
-    c_of: np.ndarray,
-    batches: np.ndarray,
-    nc: int,
+    jac: Jacobians,
     threshold: float,
-    floats: np.ndarray,
-    ints: np.ndarray,
-    force: np.ndarray,
-    z: np.ndarray,
-    regular: np.ndarray,
+    scratch: tuple[np.ndarray, np.ndarray],
+    out: tuple[np.ndarray, np.ndarray, np.ndarray],
 ) -> None:
     """:func:`condensed_step` into the caller's arrays, without allocating: its outputs
-    ``force`` (B, n), ``z`` (B, nc + m + k) and ``regular`` (B,), and its scratch
-    (:func:`step_scratch`: the first ``2 n`` integers, the positions of the free dofs among
-    the force and read dofs, are -1 on entry and left so on return), so that a Newton loop
-    allocates them once for all its steps."""
+    ``out = (force (B, n), z (B, nc + m + k), regular (B,))`` and its ``scratch``
+    (:func:`step_scratch`'s floats and integers: the first ``2 n`` integers, the positions of
+    the free dofs among the force and read dofs, are -1 on entry and left so on return), so
+    that a Newton loop allocates them once for all its steps."""
+    force, z, regular = out
     members, n = r_free.shape
-    m, k = r_y.shape[1], phi.shape[1]
-    ncm = nc + m
-    v = _views(n, _slot_count(batches), nc, m, k, floats, ints)
+    m, k = r_y.shape[1], columns.phi.shape[1]
+    ncm = jac.nc + m
+    v = _views(n, _slot_count(jac.batches), jac.nc, m, k, scratch[0], scratch[1])
     force[:, :] = r_free
     z[:, :] = 0.0
     for b in range(members):
-        _gather(
-            b,
-            members,
-            slots,
-            values,
-            tables,
-            c_of,
-            batches,
-            nc,
-            v.where_f,
-            v.where_r,
-            v.fd,
-            v.rd,
-            v.counts,
-            v.G,
-            v.Ct,
-            v.D,
-            v.c_dof,
-        )
+        _gather(b, members, jac, v)
         n_f, n_r = v.counts[0], v.counts[1]
-        _columns(store, column, n, v.fd, n_f, v.rd, n_r, v.G, v.Y, v.Y_z, v.Yt, v.read)
-        _small(
-            base[b], r_y[b], phi, v.c_dof, v.where_r, v.rd, n_r, v.Y, v.Y_z, v.Ct, v.D, v.A, v.rhs
-        )
+        _columns(columns, n, v, n_f, n_r)
+        _small(base[b], r_y[b], columns.phi, v, n_r)
         regular[b] = _equilibrated_solve(
             v.A, v.rhs, threshold, z[b], v.inverse, v.swaps, v.rows, v.cols
         )
@@ -660,25 +549,24 @@ def chord_step_into(
     base: np.ndarray,
     r_free: np.ndarray,
     r_y: np.ndarray,
-    batches: np.ndarray,
-    nc: int,
-    floats: np.ndarray,
-    ints: np.ndarray,
-    force: np.ndarray,
-    z: np.ndarray,
+    jac: Jacobians,
+    scratch: tuple[np.ndarray, np.ndarray],
+    out: tuple[np.ndarray, np.ndarray],
 ) -> None:
     """The step of one member (``B = 1``) on the small system that :func:`condensed_step_into`
-    last formed, inverted and left in its scratch ``floats``, ``ints`` (a chord step: that
-    system's Jacobian, new residuals): ``force`` = ``r_q + P F u`` and ``z`` = ``[u_c, dy,
-    a]`` from the base solution ``base = B^{-1}[r_q; 0]`` and the residuals ``r_free``,
-    ``r_y``, as :func:`condensed_step_into` gives them for that system."""
+    last formed, inverted and left in its ``scratch`` (a chord step: that system's Jacobian,
+    new residuals): ``out = (force, z)``, ``r_q + P F u`` and ``[u_c, dy, a]``, from the
+    rigid modes ``phi``, the base solution ``base = B^{-1}[r_q; 0]`` and the residuals
+    ``r_free``, ``r_y``, as :func:`condensed_step_into` gives them for that system (``jac``:
+    its layout)."""
+    force, z = out
     n = r_free.shape[1]
     m, k = r_y.shape[1], phi.shape[1]
-    v = _views(n, _slot_count(batches), nc, m, k, floats, ints)
-    _small_rhs(base[0], r_y[0], k, v.c_dof, v.rd, v.counts[1], v.Ct, v.rhs)
+    v = _views(n, _slot_count(jac.batches), jac.nc, m, k, scratch[0], scratch[1])
+    _small_rhs(base[0], r_y[0], k, v, v.counts[1])
     _apply_inverse(v.inverse, v.rows, v.cols, v.rhs, z[0])
     force[0, :] = r_free[0]
-    _add_forces(v.G, v.fd, v.counts[0], nc + m, z[0], force[0])
+    _add_forces(v.G, v.fd, v.counts[0], jac.nc + m, z[0], force[0])
 
 
 @numba.njit(inline="never")

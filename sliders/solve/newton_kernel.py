@@ -43,7 +43,13 @@ from fvbeam.kernel_cache import guard
 from fvbeam.scratch import borrowed, stack_empty
 from sliders.forces.kernel import evaluate_element
 from sliders.joints.packed import evaluate_joint
-from sliders.solve.condensed_kernel import chord_step_into, condensed_step_into, step_scratch
+from sliders.solve.condensed_kernel import (
+    Columns,
+    Jacobians,
+    chord_step_into,
+    condensed_step_into,
+    step_scratch,
+)
 from sliders.solve.factor import factor_solve
 
 guard(__file__)  # numba's cache of these kernels, consistent with their sources
@@ -342,7 +348,8 @@ def newton(
         at += batches[j, 2]
     lengths = joint_values[:, 1]
     # the condensed step's outputs and scratch, for every step of this solve
-    floats, ints = step_scratch(nf, batches, nc, m, k)
+    step = step_scratch(nf, batches, nc, m, k)
+    columns, jac = Columns(store, column, phi), Jacobians(slots, values, tables, c_of, batches, nc)
     force, z = np.empty((1, nf)), np.empty((1, nc + m + k))
     regular = np.empty(1, np.bool_)
     load_scale = 1e-300
@@ -383,28 +390,11 @@ def newton(
             L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c, rhs, solution[0], scratch
         )
         if chord:
-            chord_step_into(phi, solution, r_free, r_y, batches, nc, floats, ints, force, z)
+            chord_step_into(phi, solution, r_free, r_y, jac, step, (force, z))
             kept = False  # a chord step follows a Newton step only
         else:
             condensed_step_into(
-                store,
-                column,
-                phi,
-                solution,
-                r_free,
-                r_y,
-                slots,
-                values,
-                tables,
-                c_of,
-                batches,
-                nc,
-                threshold,
-                floats,
-                ints,
-                force,
-                z,
-                regular,
+                columns, solution, r_free, r_y, jac, threshold, step, (force, z, regular)
             )
             kept = True  # regular, else the check below returns
         if not regular[0]:
