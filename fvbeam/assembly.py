@@ -32,6 +32,7 @@ region's balance, ``docs/theory.md`` eq. T7).
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -66,6 +67,28 @@ def node_blocks(cells: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndarray
     unique, block = np.unique(keys, return_inverse=True)
     indptr = np.searchsorted(unique // n_nodes, np.arange(n_nodes + 1))
     return indptr, unique % n_nodes, block.reshape(keys.shape)
+
+
+class Target(NamedTuple):
+    """Where element matrices go: the CSR values ``data`` of the pattern
+    :func:`dof_pattern`, read through the elements' nodes ``cells`` (nel, npe) and the node
+    pairs ``block`` (nel, npe, npe), ``indptr`` (n_nodes + 1,) (:func:`node_blocks`)."""
+
+    cells: np.ndarray
+    block: np.ndarray
+    indptr: np.ndarray
+    data: np.ndarray
+
+
+class Centreline(NamedTuple):
+    """The elements as :func:`element_blocks` reads them: node positions (nel, npe, 3),
+    lengths ``h`` (nel,) (``d xi / dX``), and at the quadrature points the section frames
+    ``[t, e2, e3]`` (nel, nq, 3, 3) and ``metric`` ``ds / d xi`` (nel, nq)."""
+
+    nodes: np.ndarray
+    h: np.ndarray
+    frames: np.ndarray
+    metric: np.ndarray
 
 
 @numba.njit(cache=True)
@@ -127,46 +150,30 @@ def add_work(
 @numba.njit(cache=True)
 def element_blocks(
     fv: bool,
-    X: np.ndarray,
-    W: np.ndarray,
-    jump: np.ndarray,
-    nodes: np.ndarray,
-    h: np.ndarray,
-    frames: np.ndarray,
-    metric: np.ndarray,
+    rule: tuple[np.ndarray, np.ndarray, np.ndarray],
+    line: Centreline,
     S: np.ndarray,
-    cells: np.ndarray,
-    block: np.ndarray,
-    indptr: np.ndarray,
-    data: np.ndarray,
+    target: Target,
 ) -> None:
-    """Add every element's stiffness (module docstring) into the CSR values ``data`` of the
-    pattern :func:`dof_pattern`.
+    """Add every element's stiffness (module docstring) into the CSR values of ``target``.
 
     Parameters
     ----------
     fv
         Finite-volume test functions (else Galerkin).
-    X, W
-        The stiffness quadrature on the reference element [0, 1] (nq,): Gauss points, or the
-        evaluation points (fv; ``W`` unused).
-    jump
-        (npe, nq): the step of each node's region indicator at each evaluation point (fv).
-    nodes
-        (nel, npe, 3): the node positions of each element.
-    h
-        (nel,): the element lengths (``d xi / dX``).
-    frames, metric
-        (nel, nq, 3, 3), (nel, nq): the section frames ``[t, e2, e3]`` and ``ds / d xi`` at
-        the quadrature points.
+    rule
+        ``X, W, jump``: the stiffness quadrature on the reference element [0, 1] (nq,):
+        Gauss points, or the evaluation points (fv; ``W`` unused), and (npe, nq) the step of
+        each node's region indicator at each evaluation point (fv).
+    line
+        The elements' nodes, lengths, frames and metric (:class:`Centreline`).
     S
         (6, 6): the section stiffness in its frame.
-    cells, block, indptr
-        (nel, npe) the elements' nodes; (nel, npe, npe) and (n_nodes + 1,) the node pairs
-        (:func:`node_blocks`).
-    data
-        The CSR values, added to.
+    target
+        Where the blocks go (:class:`Target`).
     """
+    X, W, jump = rule
+    nodes, h, frames, metric = line
     nel, npe = nodes.shape[0], nodes.shape[1]
     nf = 6 * npe
     N, dN, d2N = np.empty(npe), np.empty(npe), np.empty(npe)
@@ -212,20 +219,14 @@ def element_blocks(
                     # eps . sigma of N_a e_k: dN_a/ds F_k; of a rotation, dN_a/ds M_k minus
                     # N_a (e_k x t) . F = N_a e_k . (t x F)
                     add_work(Ke, 6 * a, sigma, slope, (-value * t0, -value * t1, -value * t2))
-        add_element(Ke, e, cells, block, indptr, data)
+        add_element(Ke, e, target)
 
 
 @numba.njit(cache=True, inline="never")
-def add_element(
-    Ke: np.ndarray,
-    e: int,
-    cells: np.ndarray,
-    block: np.ndarray,
-    indptr: np.ndarray,
-    data: np.ndarray,
-) -> None:
-    """Add element ``e``'s matrix ``Ke`` (6 npe, 6 npe) into the CSR values ``data`` of the
-    pattern :func:`dof_pattern`, node block by node block (:func:`node_blocks`)."""
+def add_element(Ke: np.ndarray, e: int, target: Target) -> None:
+    """Add element ``e``'s matrix ``Ke`` (6 npe, 6 npe) into the CSR values of ``target``,
+    node block by node block (:func:`node_blocks`)."""
+    cells, block, indptr, data = target
     npe = cells.shape[1]
     for a in range(npe):
         A = cells[e, a]
@@ -271,31 +272,27 @@ def add_products(Ke: np.ndarray, weight: float, A: np.ndarray, B: np.ndarray) ->
 @numba.njit(cache=True)
 def cubic_blocks(
     mass: bool,
-    X: np.ndarray,
-    W: np.ndarray,
-    h: np.ndarray,
-    frames: np.ndarray,
-    diagonal: np.ndarray,
-    S: np.ndarray,
-    m: float,
-    J: np.ndarray,
-    cells: np.ndarray,
-    block: np.ndarray,
-    indptr: np.ndarray,
-    data: np.ndarray,
+    rule: tuple[np.ndarray, np.ndarray],
+    elements: tuple[np.ndarray, np.ndarray],
+    section: tuple[np.ndarray, np.ndarray, float, np.ndarray],
+    target: Target,
 ) -> None:
     """Add every cubic element's stiffness, or with ``mass`` its consistent mass, into the
-    CSR values ``data`` of the pattern :func:`dof_pattern`.
+    CSR values of ``target``.
 
     The element's twelve functions ``(u, theta)`` in its section axes
     (:func:`fvbeam.pointwise.cubic_local_at`, eq. T11: they read the ``diagonal`` (6,) of the
-    section stiffness) give, at each point ``X`` (nq,) of the rule ``W`` on [0, 1], the
+    section stiffness) give, at each point ``X`` (nq,) of the ``rule = (X, W)`` on [0, 1], the
     strains ``[u' + e1 x theta; theta']`` (eq. T1 with ``t = e1``) whose work through the
     section stiffness ``S`` (6, 6, section frame) sums to the stiffness (eq. T3), or the
     fields whose kinetic energy through ``m`` and the section inertia ``J`` (3, 3) sums to
     the mass (eq. T12); each element's matrix is then turned to global axes by its section
     frame (``frames`` (nel, 3, 3), the element's own, as the functions take it) and added.
-    ``h`` (nel,): the element lengths."""
+    ``elements = (h, frames)``, ``h`` (nel,) the element lengths; ``section = (diagonal, S,
+    m, J)``."""
+    X, W = rule
+    h, frames = elements
+    diagonal, S, m, J = section
     L0, L1 = np.empty((12, 6)), np.empty((12, 6))
     strain, force = np.empty((12, 6)), np.empty((12, 6))
     Ke, block3 = np.empty((12, 12)), np.empty((3, 3))
@@ -328,20 +325,18 @@ def cubic_blocks(
                     force[i, c] = total
             add_products(Ke, weight, strain, force)
         rotated_blocks(frames[e], Ke, block3)
-        add_element(Ke, e, cells, block, indptr, data)
+        add_element(Ke, e, target)
 
 
-def matrix(
-    mesh: BeamMesh, fill: Callable[[np.ndarray, np.ndarray, np.ndarray], None]
-) -> sp.csr_matrix:
+def matrix(mesh: BeamMesh, fill: Callable[[Target], None]) -> sp.csr_matrix:
     """A beam matrix on the node blocks of ``mesh`` (six dofs per node, node ``k`` owning
-    ``6k .. 6k + 5``): ``fill(block, indptr, data)`` adds the elements into the CSR values
-    ``data`` (:func:`add_element`); a CSR matrix without explicit zeros (as ``skfem.asm``
-    gives it)."""
+    ``6k .. 6k + 5``): ``fill(target)`` adds the elements into the CSR values of ``target``
+    (:func:`add_element`); a CSR matrix without explicit zeros (as ``skfem.asm`` gives
+    it)."""
     indptr, indices, block = node_blocks(mesh.cells, mesh.n_nodes)
     dof_indptr, dof_indices = dof_pattern(indptr, indices)
     data = np.zeros(len(dof_indices))
-    fill(block, indptr, data)
+    fill(Target(mesh.cells, block, indptr, data))
     n = 6 * mesh.n_nodes
     K = sp.csr_matrix((data, dof_indices, dof_indptr), shape=(n, n))
     K.eliminate_zeros()
@@ -358,22 +353,16 @@ def cubic(mesh: BeamMesh, section: Section, kind: str) -> sp.csr_matrix:
     X, W = gauss(2 if kind == "stiffness" else 4)
     frames = mesh.frames(np.arange(mesh.n_elements), np.full(mesh.n_elements, 0.5))
 
-    def fill(block: np.ndarray, indptr: np.ndarray, data: np.ndarray) -> None:
-        cubic_blocks(
-            kind != "stiffness",
-            X,
-            W,
-            np.ascontiguousarray(mesh.element_length),
-            np.ascontiguousarray(frames),
-            np.ascontiguousarray(np.diag(section.stiffness)),
-            np.ascontiguousarray(section.stiffness, dtype=float),
-            float(section.mass_per_length),
-            np.ascontiguousarray(section.inertia, dtype=float),
-            mesh.cells,
-            block,
-            indptr,
-            data,
-        )
+    elements = (np.ascontiguousarray(mesh.element_length), np.ascontiguousarray(frames))
+    properties = (
+        np.ascontiguousarray(np.diag(section.stiffness)),
+        np.ascontiguousarray(section.stiffness, dtype=float),
+        float(section.mass_per_length),
+        np.ascontiguousarray(section.inertia, dtype=float),
+    )
+
+    def fill(target: Target) -> None:
+        cubic_blocks(kind != "stiffness", (X, W), elements, properties, target)
 
     return matrix(mesh, fill)
 
@@ -401,21 +390,15 @@ def stiffness(
     fv = isinstance(formulation, FiniteVolume)
     step = jumps(npe) if fv else np.zeros((npe, len(X)))
 
-    def fill(block: np.ndarray, indptr: np.ndarray, data: np.ndarray) -> None:
-        element_blocks(
-            fv,
-            X,
-            W,
-            np.ascontiguousarray(step, dtype=float),
-            np.ascontiguousarray(mesh.points[mesh.cells]),
-            np.ascontiguousarray(mesh.element_length),
-            np.ascontiguousarray(frames),
-            np.ascontiguousarray(metric),
-            np.ascontiguousarray(section, dtype=float),
-            mesh.cells,
-            block,
-            indptr,
-            data,
-        )
+    rule = (X, W, np.ascontiguousarray(step, dtype=float))
+    line = Centreline(
+        np.ascontiguousarray(mesh.points[mesh.cells]),
+        np.ascontiguousarray(mesh.element_length),
+        np.ascontiguousarray(frames),
+        np.ascontiguousarray(metric),
+    )
+
+    def fill(target: Target) -> None:
+        element_blocks(fv, rule, line, np.ascontiguousarray(section, dtype=float), target)
 
     return matrix(mesh, fill)

@@ -33,6 +33,8 @@ integral against one element's test functions on the form's pieces by the form's
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numba
 import numpy as np
 from numpy.polynomial import Polynomial
@@ -48,6 +50,47 @@ TIE = 1e-12
 #: (Galerkin), rigid motions of the influence regions (finite volume, eq. T4), and the cubic
 #: element's own functions (eq. T11).
 LAGRANGE, FINITE_VOLUME, CUBIC = 0, 1, 2
+
+
+class Element(NamedTuple):
+    """One element as :func:`transfer_at` reads it."""
+
+    #: :data:`LAGRANGE`, :data:`FINITE_VOLUME` (with the region bounds ``regions`` (npe, 2))
+    #: or :data:`CUBIC` (with its section ``frame`` (3, 3) and the diagonal of its section
+    #: stiffness ``stiffness`` (6,), which the others ignore).
+    kind: int
+    regions: np.ndarray
+    #: The node positions (npe, 3) and the length.
+    nodes: np.ndarray
+    frame: np.ndarray
+    stiffness: np.ndarray
+    h: float
+
+
+class Shapes(NamedTuple):
+    """Scratch for the shape functions ``N``, ``dN``, ``d2N`` and the region indicators
+    ``chi``, ``dchi`` at a point (npe,)."""
+
+    N: np.ndarray
+    dN: np.ndarray
+    d2N: np.ndarray
+    chi: np.ndarray
+    dchi: np.ndarray
+
+
+class Smearing(NamedTuple):
+    """A smeared load's kernel as :func:`smeared_element` integrates it."""
+
+    #: The kernel's half-width (> 0) and shape (box if ``box``, else hat).
+    half_width: float
+    box: bool
+    #: The jumps ``step_jump`` of its derivative at the offsets ``step_r``
+    #: (:func:`fvbeam.smearing.steps`), and the composite rule ``rule_x``, ``rule_w`` on
+    #: [0, 1].
+    step_r: np.ndarray
+    step_jump: np.ndarray
+    rule_x: np.ndarray
+    rule_w: np.ndarray
 
 
 @numba.njit(cache=True, inline="never")
@@ -359,27 +402,11 @@ def cubic_flex_at(
 
 
 @numba.njit(cache=True, inline="never")
-def transfer_at(
-    kind: int,
-    regions: np.ndarray,
-    nodes: np.ndarray,
-    frame: np.ndarray,
-    stiffness: np.ndarray,
-    h: float,
-    X: float,
-    N: np.ndarray,
-    dN: np.ndarray,
-    d2N: np.ndarray,
-    chi: np.ndarray,
-    dchi: np.ndarray,
-    G: np.ndarray,
-    dG: np.ndarray,
-) -> None:
-    """The test functions at ``X`` as load-transfer matrices ``G`` and ``dG/dxi``
-    (6 npe, 6), eq. T6, of an element of ``kind`` (:data:`LAGRANGE`, :data:`FINITE_VOLUME`
-    with the region bounds ``regions``, :data:`CUBIC` with its section ``frame`` (3, 3) and
-    the diagonal of its section stiffness ``stiffness`` (6,), which the others ignore);
-    ``N``, ``dN``, ``d2N``, ``chi``, ``dchi`` (npe,) are scratch."""
+def transfer_at(element: Element, X: float, shapes: Shapes, G: np.ndarray, dG: np.ndarray) -> None:
+    """The test functions of ``element`` at ``X`` as load-transfer matrices ``G`` and
+    ``dG/dxi`` (6 npe, 6), eq. T6; ``shapes`` is scratch."""
+    kind, regions, nodes, frame, stiffness, h = element
+    N, dN, d2N, chi, dchi = shapes
     if kind == CUBIC:
         cubic_blocks_at(frame, stiffness, h, X, G, dG)
         return
@@ -408,46 +435,34 @@ def kernel_at(r: float, smearing: float, box: bool) -> tuple[float, float]:
 
 @numba.njit(cache=True, inline="never")
 def smeared_element(
-    kind: int,
-    regions: np.ndarray,
-    nodes: np.ndarray,
-    frame: np.ndarray,
-    stiffness: np.ndarray,
+    element: Element,
     start: float,
-    h: float,
     lo: float,
     hi: float,
     xi: float,
-    smearing: float,
-    box: bool,
-    rule_x: np.ndarray,
-    rule_w: np.ndarray,
-    breaks: np.ndarray,
-    N: np.ndarray,
-    dN: np.ndarray,
-    d2N: np.ndarray,
-    chi: np.ndarray,
-    dchi: np.ndarray,
-    H: np.ndarray,
-    dH: np.ndarray,
-    A: np.ndarray,
-    dA: np.ndarray,
+    kernel: Smearing,
+    shapes: Shapes,
+    scratch: tuple[np.ndarray, np.ndarray, np.ndarray],
+    out: tuple[np.ndarray, np.ndarray],
 ) -> tuple[float, float]:
     """A smearing kernel integrated against the test functions (eq. T6) over the part
     ``[lo, hi]`` of one element, as :meth:`fvbeam.beam.Beam.kernel_transfer` integrates it.
 
-    The element of ``kind`` has node positions ``nodes`` (npe, 3), section ``frame`` and
-    ``stiffness`` (:func:`transfer_at`), starts at the abscissa ``start`` and has length
-    ``h``; the kernel :func:`kernel_at` sits at ``xi`` with half-width ``smearing``.
+    The ``element`` (:func:`transfer_at`) starts at the abscissa ``start``; the ``kernel``
+    (:func:`kernel_at`) sits at ``xi`` with half-width ``smearing``.
     ``[lo, hi]`` is split at the fv evaluation points (bounds of ``regions``, for
     :data:`FINITE_VOLUME`) and the kernel's break points ``xi``, ``xi -+ smearing``; on each
     piece the kernel times the test functions is a polynomial of degree at most 3 (4 for
     the cubic element under the hat) in the abscissa, integrated exactly by the rule
     ``rule_x``, ``rule_w`` on [0, 1] (3-point Gauss, exact to degree 5).  Adds
-    ``int K(s - xi) H(s) ds`` to ``A`` and ``-int K'(s - xi) H(s) ds`` to ``dA``
-    (6 npe, 6), ``H`` the compiled transfer :func:`transfer_at`; returns ``int K ds`` and
-    ``-int K' ds``.  ``breaks`` (at least ``2 npe + 5``), ``N``, ``dN``, ``d2N``, ``chi``,
-    ``dchi`` (npe,), ``H`` and ``dH`` (6 npe, 6) are scratch."""
+    ``int K(s - xi) H(s) ds`` to ``A`` and ``-int K'(s - xi) H(s) ds`` to ``dA`` of
+    ``out = (A, dA)`` (6 npe, 6), ``H`` the compiled transfer :func:`transfer_at`; returns
+    ``int K ds`` and ``-int K' ds``.  ``shapes`` and ``scratch = (breaks, H, dH)``
+    (at least ``2 npe + 5``; (6 npe, 6) each) are scratch."""
+    kind, regions, h = element.kind, element.regions, element.h
+    smearing, box, rule_x, rule_w = kernel.half_width, kernel.box, kernel.rule_x, kernel.rule_w
+    breaks, H, dH = scratch
+    A, dA = out
     n = 0
     for value in (lo, hi, xi - smearing, xi, xi + smearing):
         breaks[n] = value
@@ -473,7 +488,7 @@ def smeared_element(
             s, w = a + length * rule_x[g], length * rule_w[g]
             K, dK = kernel_at(s - xi, smearing, box)
             X = min(max((s - start) / h, 0.0), 1.0)
-            transfer_at(kind, regions, nodes, frame, stiffness, h, X, N, dN, d2N, chi, dchi, H, dH)
+            transfer_at(element, X, shapes, H, dH)
             for r in range(H.shape[0]):
                 for c in range(6):
                     A[r, c] += (w * K) * H[r, c]
@@ -533,25 +548,10 @@ def transfer_many(
     section ``frames`` (P, 3, 3) and lengths ``h`` (P,): (P, 6 npe, 6) each."""
     P, npe = nodes.shape[0], nodes.shape[1]
     G, dG = np.empty((P, 6 * npe, 6)), np.empty((P, 6 * npe, 6))
-    N, dN, d2N = np.empty(npe), np.empty(npe), np.empty(npe)
-    chi, dchi = np.empty(npe), np.empty(npe)
+    shapes = Shapes(np.empty(npe), np.empty(npe), np.empty(npe), np.empty(npe), np.empty(npe))
     for p in range(P):
-        transfer_at(
-            kind,
-            regions,
-            nodes[p],
-            frames[p],
-            stiffness,
-            h[p],
-            X[p],
-            N,
-            dN,
-            d2N,
-            chi,
-            dchi,
-            G[p],
-            dG[p],
-        )
+        element = Element(kind, regions, nodes[p], frames[p], stiffness, h[p])
+        transfer_at(element, X[p], shapes, G[p], dG[p])
     return G, dG
 
 

@@ -44,6 +44,8 @@ from fvbeam.pointwise import (
     FINITE_VOLUME,
     LAGRANGE,
     TIE,
+    Element,
+    Shapes,
     cantilever_flexibility_reference,
     cubic_flex_many,
     cubic_flex_reference,
@@ -87,6 +89,7 @@ def test_kernels_equal_their_numpy_reference(npe):
     regions = influence_regions(npe)
     buffers = [np.empty(npe) for _ in range(5)]
     N, dN, d2N, chi, dchi = buffers
+    shapes = Shapes(*buffers)
     G, dG = np.empty((6 * npe, 6)), np.empty((6 * npe, 6))
     for X in reference_points(npe, rng):
         shape_at(X, npe, N, dN, d2N)
@@ -109,7 +112,7 @@ def test_kernels_equal_their_numpy_reference(npe):
 
         frame, stiffness = np.eye(3), np.ones(6)  # read by the cubic element only
         for kind in (FINITE_VOLUME, LAGRANGE):
-            transfer_at(kind, regions, nodes, frame, stiffness, h, X, N, dN, d2N, chi, dchi, G, dG)
+            transfer_at(Element(kind, regions, nodes, frame, stiffness, h), X, shapes, G, dG)
             G_ref, dG_ref = transfer_reference(kind, regions, nodes, frame, stiffness, h, X)
             np.testing.assert_allclose(G, G_ref, rtol=0, atol=tol)
             np.testing.assert_allclose(dG, dG_ref, rtol=0, atol=tol / h)
@@ -129,7 +132,7 @@ def test_cubic_kernels_equal_their_numpy_reference():
     bounds of the module docstring."""
     rng = np.random.default_rng(3)
     regions, nodes = influence_regions(2), np.zeros((2, 3))
-    N, dN, d2N, chi, dchi = (np.empty(2) for _ in range(5))
+    shapes = Shapes(*(np.empty(2) for _ in range(5)))
     G, dG = np.empty((12, 6)), np.empty((12, 6))
     for _ in range(20):
         frame, stiffness, h = random_cubic_element(rng)
@@ -145,7 +148,7 @@ def test_cubic_kernels_equal_their_numpy_reference():
                 tol = (128 * kappa + 64) * EPS * 4 * np.abs(theirs).max()
                 np.testing.assert_allclose(mine, theirs, rtol=0, atol=tol)
                 values.append(mine)
-            transfer_at(CUBIC, regions, nodes, frame, stiffness, h, X, N, dN, d2N, chi, dchi, G, dG)
+            transfer_at(Element(CUBIC, regions, nodes, frame, stiffness, h), X, shapes, G, dG)
             np.testing.assert_array_equal(G, values[0])
             np.testing.assert_array_equal(dG, values[1])
             flex, flex_xi = cubic_flex_many(frame[None], stiffness, np.array([h]), np.array([X]))

@@ -35,6 +35,7 @@ import numpy as np
 
 from fvbeam.copies import shallow_copy
 from fvbeam.kernel_cache import guard
+from fvbeam.pointwise import Smearing
 from fvbeam.scratch import borrowed, stack_empty, stack_zeros
 from fvbeam.smearing import steps
 from fvbeam.structure import Structure
@@ -58,7 +59,6 @@ from sliders.joints.stops import end_stop
 from sliders.lines.batched import KERNEL_RULE, ChainStack
 from sliders.lines.batched_kernel import (
     Chains,
-    Smearing,
     line_state,
     line_state_into,
     one_point_state,
@@ -166,6 +166,42 @@ INTEGER_FIELDS = FIELDS.index("body")
 PROJECTION_GRID = 65
 
 
+class Pool(NamedTuple):
+    """A :class:`JointPack`'s arrays as the compiled kernels read them (its attributes)."""
+
+    head: np.ndarray
+    values: np.ndarray
+    fields: np.ndarray
+    floats: np.ndarray
+    ints: np.ndarray
+
+
+class FrictionLine(NamedTuple):
+    """The line at ``xi`` as the bearing friction reads it (:func:`_friction`)."""
+
+    #: The interpolation and its ``xi``-derivative (3, m), the recovered tangent's matrix
+    #: (3, p), the tangent ``l~`` and ``l~_/xi`` (3,).
+    N: np.ndarray
+    dN: np.ndarray
+    T: np.ndarray
+    tangent: np.ndarray
+    tangent_xi: np.ndarray
+
+
+class JointState(NamedTuple):
+    """Where :func:`evaluate_joint` evaluates a joint."""
+
+    #: The structure state (n,) and the joint's unknowns ``y`` (m,).
+    q: np.ndarray
+    y: np.ndarray
+    #: ``(v_hat, q_hat, c_v)``: the velocities ``v_hat + c_v (q - q_hat)`` the friction
+    #: reads (the integrator's prediction and ``gamma'``; zeros and 0 at rest).
+    velocity: tuple[np.ndarray, np.ndarray, float]
+    #: The driven abscissa; the multipliers in ``y`` are ``scale`` times the physical ones.
+    drive: float
+    scale: float
+
+
 class JointPack:
     """The constant data of ``sliders`` on ``structure``, packed (module docstring);
     ``pinned``: per joint, the unknowns a planar solve pins to zero
@@ -228,6 +264,11 @@ class JointPack:
         self.floats = np.concatenate(floats) if floats else np.zeros(0)
         self.ints = np.concatenate(ints) if ints else np.zeros(0, dtype=np.int64)
         self._placement = self._place(self.sliders, structure)
+
+    @property
+    def pool(self) -> Pool:
+        """The arrays as the compiled kernels read them."""
+        return Pool(self.head, self.values, self.fields, self.floats, self.ints)
 
     def moved(
         self, sliders: Sequence[Slider], structure: Structure, known_moved: bool = False
@@ -305,7 +346,7 @@ class JointPack:
         """Each joint's ``xi`` from projecting its sliding point on its line at the state
         ``q`` (:func:`project`, one compiled call for all joints), multipliers zero; a spline
         slider's frame checked against the line's there."""
-        xi = project(self.head, self.values, self.fields, self.floats, self.ints, q)
+        xi = project(self.pool, q)
         out = []
         for slider, x, m in zip(self.sliders, xi, self.unknowns, strict=True):
             if slider.kind == "spline":
@@ -317,7 +358,7 @@ class JointPack:
         """``x``, ``l``, ``l_/xi`` of joint ``j``'s line at ``xi`` on the state ``q``, compiled
         (:func:`_curve`; on a chain, :meth:`sliders.lines.chain.BeamChain.geometry`)."""
         out = np.empty((3, 3))
-        _curve(j, self.head, self.fields, self.floats, self.ints, q, float(xi), out)
+        _curve(j, self.pool, q, float(xi), out)
         return out[0], out[1], out[2]
 
     def violations(self, q: np.ndarray, unknowns: Sequence[np.ndarray], time: float) -> np.ndarray:
@@ -326,7 +367,7 @@ class JointPack:
         all joints."""
         drives = np.array([s.drive(time)[0] if s.drive is not None else 0.0 for s in self.sliders])
         y = np.concatenate([np.asarray(u, dtype=float) for u in unknowns] + [np.zeros(0)])
-        return violations(self.head, self.values, self.fields, self.floats, self.ints, q, y, drives)
+        return violations(self.pool, q, y, drives)
 
     def frictions(self, Q: np.ndarray, V: np.ndarray, unknowns: np.ndarray) -> np.ndarray:
         """Each joint's friction force on its body along its line at each state (``Q``,
@@ -336,16 +377,7 @@ class JointPack:
         def rows(a: np.ndarray) -> np.ndarray:
             return np.ascontiguousarray(np.atleast_2d(a), dtype=float)
 
-        return frictions(
-            self.head,
-            self.values,
-            self.fields,
-            self.floats,
-            self.ints,
-            rows(Q),
-            rows(V),
-            rows(unknowns),
-        )
+        return frictions(self.pool, rows(Q), rows(V), rows(unknowns))
 
     def evaluate(
         self,
@@ -365,24 +397,14 @@ class JointPack:
         t, m, width = self.slots[j], self.unknowns[j], self.widths[j]
         dofs = np.zeros(t, dtype=np.int64)
         r, values = np.zeros(t + m), np.zeros(width)
-        status = evaluate_joint(
-            j,
-            self.head,
-            self.values,
-            self.fields,
-            self.floats,
-            self.ints,
+        state = JointState(
             np.ascontiguousarray(q, dtype=float),
             np.ascontiguousarray(y, dtype=float),
             velocity if velocity is not None else (np.zeros(len(q)), np.zeros(len(q)), 0.0),
             float(drive),
             float(scale),
-            jacobian,
-            dofs,
-            r,
-            values,
-            np.zeros(1),
         )
+        status = evaluate_joint(j, self.pool, state, jacobian, (dofs, r, values, np.zeros(1)))
         if status == 2:
             raise RuntimeError(f"slider {self.sliders[j].name!r}: more load slots than laid out")
         if status:
@@ -614,32 +636,21 @@ def _unit_row(start: np.ndarray, size: np.ndarray, where: np.ndarray, values: np
 @numba.njit(cache=True)
 def evaluate_joint(
     j: int,
-    head: np.ndarray,
-    values_of: np.ndarray,
-    fields: np.ndarray,
-    floats: np.ndarray,
-    ints: np.ndarray,
-    q: np.ndarray,
-    y: np.ndarray,
-    velocity: tuple[np.ndarray, np.ndarray, float],
-    drive: float,
-    scale: float,
+    pool: Pool,
+    state: JointState,
     jacobian: bool,
-    dofs: np.ndarray,
-    r: np.ndarray,
-    values: np.ndarray,
-    friction: np.ndarray,
+    out: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
 ) -> int:
-    """Joint ``j`` of a :class:`JointPack` at the state ``q`` (n,) and its unknowns ``y``
-    (m,): the global dof of each slot into ``dofs`` (t,), the residual into ``r`` (t + m,)
-    and, with ``jacobian``, the Jacobian entries into ``values`` (width,), all overwritten
-    (module docstring); a joint with friction writes its force on the body along the line,
-    ``F`` of :mod:`sliders.joints.friction` (physical when ``scale`` is 1), into
-    ``friction`` (1,).  ``velocity``: ``(v_hat, q_hat, c_v)``, the velocities ``v_hat +
-    c_v (q - q_hat)`` the friction reads (the integrator's prediction and ``gamma'``; zeros
-    and 0 at rest); ``drive``: the driven abscissa; ``scale``: the multipliers in ``y`` are
-    ``scale`` times the physical ones.  Returns 0, or 1 when ``xi`` lies off the line
-    (without end stops), nothing written then."""
+    """Joint ``j`` of a :class:`JointPack` (its ``pool``) at ``state``: the global dof of each
+    slot into ``dofs`` (t,), the residual into ``r`` (t + m,) and, with ``jacobian``, the
+    Jacobian entries into ``values`` (width,) of ``out = (dofs, r, values, friction)``, all
+    overwritten (module docstring); a joint with friction writes its force on the body along
+    the line, ``F`` of :mod:`sliders.joints.friction` (physical when ``scale`` is 1), into
+    ``friction`` (1,).  Returns 0, or 1 when ``xi`` lies off the line (without end stops),
+    nothing written then."""
+    head, values_of, fields, floats, ints = pool
+    q, y, velocity, drive, scale = state
+    dofs, r, values, friction = out
     hd, d = head[j], fields[j]
     smearing, length = values_of[j, 0], values_of[j, 1]
     kind, m, t, npe = hd[KIND], hd[UNKNOWNS], hd[SLOTS], hd[NPE]
@@ -666,11 +677,11 @@ def evaluate_joint(
     # to one made for the joint
     if hd[CHAIN]:
         chains = _chains(hd, d, floats, ints)
-        state = one_point_state(npe, width, True, not hd[SMEARED], hd[SECTION] != 0)
-        line_state_into(xs, qb, chains, True, not hd[SMEARED], hd[SECTION] != 0, state)
-        beam, element, X, geometry = state.beam, state.element, state.X, state.geometry
-        N, dN, d2N, T = state.N, state.dN, state.d2N, state.T
-        tangent_flat = state.tangent_dofs
+        line = one_point_state(npe, width, True, not hd[SMEARED], hd[SECTION] != 0)
+        line_state_into(xs, qb, chains, True, not hd[SMEARED], hd[SECTION] != 0, line)
+        beam, element, X, geometry = line.beam, line.element, line.X, line.geometry
+        N, dN, d2N, T = line.N, line.dN, line.d2N, line.T
+        tangent_flat = line.tangent_dofs
         x[0], l[0], l_xi[0], l_xixi[0] = (
             geometry[0, 0],
             geometry[0, 1],
@@ -678,7 +689,7 @@ def evaluate_joint(
             geometry[0, 3],
         )
         tangent[0], tangent_xi[0] = geometry[0, 4], geometry[0, 5]
-        contact, contact_xi = state.contact, state.contact_xi
+        contact, contact_xi = line.contact, line.contact_xi
         if hd[SMEARED]:
             kernel = Smearing(
                 smearing,
@@ -697,12 +708,12 @@ def evaluate_joint(
             load_dofs[0, k:] = sd[0, k - 1]
             G[0, :k], dG[0, :k] = sG[0], sdG[0]
         else:
-            load_dofs, G, dG = state.load_dofs, state.G, state.dG
+            load_dofs, G, dG = line.load_dofs, line.G, line.dG
         if hd[SECTION]:
-            rotation_dofs, W, W_xi, W_xixi = state.rotation_dofs, state.W, state.W_xi, state.W_xixi
+            rotation_dofs, W, W_xi, W_xixi = line.rotation_dofs, line.W, line.W_xi, line.W_xixi
             e = element[0]
             if _f1(ints, d[STRAIGHT])[e]:
-                R0, flex, flex_xi = state.R0, state.flex, state.flex_xi
+                R0, flex, flex_xi = line.R0, line.flex, line.flex_xi
             else:  # curved: Lagrange 3-node elements only (a cubic element is straight)
                 R0, flex, flex_xi = _own_section()
                 nodes = np.empty((1, npe, 3))
@@ -713,7 +724,7 @@ def evaluate_joint(
                 frame_at(l0[0], l0_xi[0], up, R0[0], k0[0])
                 curvature_rate_at(l0[0], l0_xi[0], stack_zeros(3, (3,), np.float64), up, k0_xi[0])
                 C = R0[0] @ _f3(floats, d[BEAM_COMPLIANCE])[beam[0]] @ R0[0].T
-                flex[0], flex_xi[0] = state.kink[0] * C, state.kink_xi[0] * C
+                flex[0], flex_xi[0] = line.kink[0] * C, line.kink_xi[0] * C
         else:
             rotation_dofs, W, W_xi, W_xixi = _own_rotation(n_rot)
             R0, flex, flex_xi = _own_section()
@@ -791,23 +802,12 @@ def evaluate_joint(
     if hd[FRICTION]:
         friction[0] = _friction(
             values_of[j, FRICTION_LAW],
-            velocity,
-            q,
-            y,
-            dofs,
-            _f1(floats, d[OFFSET]),
-            6 + n_load + n_rot,
-            N[0],
-            dN[0],
-            T[0],
-            tangent[0],
-            tangent_xi[0],
+            state,
+            (dofs, _f1(floats, d[OFFSET]), 6 + n_load + n_rot),
+            FrictionLine(N[0], dN[0], T[0], tangent[0], tangent_xi[0]),
             jacobian,
-            start,
-            size,
-            where,
-            r,
-            vb,
+            (start, size, where),
+            (r, vb),
         )
     if hd[END_STOPS]:
         hit, held = end_stop(xi_raw, l[0, 0] * y[1] + l[0, 1] * y[2] + l[0, 2] * y[3], length)
@@ -829,29 +829,20 @@ def evaluate_joint(
 @numba.njit(cache=True, inline="never")
 def _friction(
     law: np.ndarray,
-    velocity: tuple[np.ndarray, np.ndarray, float],
-    q: np.ndarray,
-    y: np.ndarray,
-    dofs: np.ndarray,
-    offset: np.ndarray,
-    interp: int,
-    N: np.ndarray,
-    dN: np.ndarray,
-    T: np.ndarray,
-    tangent: np.ndarray,
-    tangent_xi: np.ndarray,
+    state: JointState,
+    slots: tuple[np.ndarray, np.ndarray, int],
+    line: FrictionLine,
     jacobian: bool,
-    start: np.ndarray,
-    size: np.ndarray,
-    where: np.ndarray,
-    r: np.ndarray,
-    values: np.ndarray,
+    index: tuple[np.ndarray, np.ndarray, np.ndarray],
+    out: tuple[np.ndarray, np.ndarray],
 ) -> float:
     """The bearing friction's term ``e`` of the ``xi`` equation (:func:`sliders.joints.
     compiled_laws.friction_at`) added to ``r``, and with ``jacobian`` its derivatives to
-    ``values`` (1, width); returns the friction force ``F``.  ``law``: ``mu, v_eps,
-    mu_static, v_stribeck`` (:attr:`sliders.joints.friction.Friction.law`).  Through what it
-    reads:
+    ``values`` (1, width), of ``out = (r, values)``; returns the friction force ``F``.
+    ``law``: ``mu, v_eps, mu_static, v_stribeck`` (:attr:`sliders.joints.friction.Friction.
+    law`); ``slots``: each slot's dof, the sliding point's offset ``f`` and the first
+    interpolation slot; ``index``: the layout's ``(start, size, where)``
+    (:func:`sliders.joints.kernel.joint_equations`).  Through what it reads:
 
     * the recovered tangent ``l~ = T q + l~_0`` (its ``xi`` derivative ``l~_/xi``; ``T`` on the
       ``interp`` and ``beside`` slots);
@@ -862,7 +853,11 @@ def _friction(
       line), with ``q' = v_hat + c_v (q - q_hat)``: ``dw/dq = c_v dw/dq'``, and
       ``dw/dxi = -N_/xi q'``.
     """
-    v_hat, q_hat, c_v = velocity
+    q, y, (v_hat, q_hat, c_v) = state.q, state.y, state.velocity
+    dofs, offset, interp = slots
+    N, dN, T, tangent, tangent_xi = line
+    start, _, where = index
+    r, values = out
     t = start[XI]
     w, line_xi = np.zeros(3), np.zeros(3)
     for c in range(3):
@@ -918,20 +913,12 @@ def _pin(k: int, size: np.ndarray, where: np.ndarray, values: np.ndarray) -> Non
 
 
 @numba.njit(cache=True)
-def violations(
-    head: np.ndarray,
-    values_of: np.ndarray,
-    fields: np.ndarray,
-    floats: np.ndarray,
-    ints: np.ndarray,
-    q: np.ndarray,
-    y: np.ndarray,
-    drives: np.ndarray,
-) -> np.ndarray:
+def violations(pool: Pool, q: np.ndarray, y: np.ndarray, drives: np.ndarray) -> np.ndarray:
     """The largest position and orientation constraint violation of each joint of a
     :class:`JointPack` at the state ``q`` and the joints' physical unknowns ``y`` side by side
     (``|x_b - x(xi)|`` and ``|g_j|``: the residual rows after the ``xi`` equation); NaN for a
     joint whose ``xi`` lies off its line."""
+    head = pool.head
     J = len(head)
     out = np.empty(J)
     at = 0
@@ -940,24 +927,8 @@ def violations(
     for j in range(J):
         t, m = head[j, SLOTS], head[j, UNKNOWNS]
         dofs, r, values = np.zeros(t, np.int64), np.zeros(t + m), np.zeros(0)
-        status = evaluate_joint(
-            j,
-            head,
-            values_of,
-            fields,
-            floats,
-            ints,
-            q,
-            y[at : at + m],
-            rest,
-            drives[j],
-            1.0,
-            False,
-            dofs,
-            r,
-            values,
-            scratch,
-        )
+        state = JointState(q, y[at : at + m], rest, drives[j], 1.0)
+        status = evaluate_joint(j, pool, state, False, (dofs, r, values, scratch))
         worst = np.nan if status else 0.0
         if not status:
             for c in range(t + 1, t + m):
@@ -968,20 +939,12 @@ def violations(
 
 
 @numba.njit(cache=True)
-def frictions(
-    head: np.ndarray,
-    values_of: np.ndarray,
-    fields: np.ndarray,
-    floats: np.ndarray,
-    ints: np.ndarray,
-    Q: np.ndarray,
-    V: np.ndarray,
-    Y: np.ndarray,
-) -> np.ndarray:
+def frictions(pool: Pool, Q: np.ndarray, V: np.ndarray, Y: np.ndarray) -> np.ndarray:
     """Each joint's friction force ``F`` on its body along its line (:mod:`sliders.joints.
     friction`; zero without friction) at each of ``k`` states: displacements ``Q`` and
     velocities ``V`` (k, n), the joints' physical unknowns side by side ``Y`` (k, m); (k, J),
     NaN for a joint whose ``xi`` lies off its line."""
+    head = pool.head
     J = len(head)
     out = np.zeros((len(Q), J))
     force = np.zeros(1)
@@ -991,42 +954,17 @@ def frictions(
             t, m = head[j, SLOTS], head[j, UNKNOWNS]
             if head[j, FRICTION]:
                 dofs, r = np.zeros(t, np.int64), np.zeros(t + m)
-                status = evaluate_joint(
-                    j,
-                    head,
-                    values_of,
-                    fields,
-                    floats,
-                    ints,
-                    Q[k],
-                    Y[k, at : at + m],
-                    (V[k], Q[k], 0.0),
-                    0.0,
-                    1.0,
-                    False,
-                    dofs,
-                    r,
-                    np.zeros(0),
-                    force,
-                )
+                state = JointState(Q[k], Y[k, at : at + m], (V[k], Q[k], 0.0), 0.0, 1.0)
+                status = evaluate_joint(j, pool, state, False, (dofs, r, np.zeros(0), force))
                 out[k, j] = np.nan if status else force[0]
             at += m
     return out
 
 
 @numba.njit(cache=True, inline="never")
-def _curve(
-    j: int,
-    head: np.ndarray,
-    fields: np.ndarray,
-    floats: np.ndarray,
-    ints: np.ndarray,
-    q: np.ndarray,
-    xi: float,
-    out: np.ndarray,
-) -> None:
+def _curve(j: int, pool: Pool, q: np.ndarray, xi: float, out: np.ndarray) -> None:
     """``x``, ``l``, ``l_/xi`` (3, 3) of joint ``j``'s line at ``xi`` on the state ``q``."""
-    hd, d = head[j], fields[j]
+    hd, d, floats, ints = pool.head[j], pool.fields[j], pool.floats, pool.ints
     if hd[CHAIN]:
         geometry = line_state(
             np.full(1, xi), q.reshape((1, len(q))), _chains(hd, d, floats, ints), True, False, False
@@ -1043,19 +981,13 @@ def _curve(
 
 
 @numba.njit(cache=True)
-def project(
-    head: np.ndarray,
-    values_of: np.ndarray,
-    fields: np.ndarray,
-    floats: np.ndarray,
-    ints: np.ndarray,
-    q: np.ndarray,
-) -> np.ndarray:
+def project(pool: Pool, q: np.ndarray) -> np.ndarray:
     """Each joint's ``xi`` that projects its sliding point on its line at the state ``q``:
     :func:`sliders.lines.rigid.project` (the reference, which the chains' and the rigid
     lines' ``project`` call), one joint at a time: Newton on ``l . (x - p) = 0`` from the
     sample closest to ``p`` (a chain's nodes, a rigid line's 65 points), each step clipped
     to the line, until a step is below ``1e-14`` of the length (at most 50)."""
+    head, values_of, fields, floats, ints = pool
     J = len(head)
     out = np.empty(J)
     geometry = np.empty((3, 3))
@@ -1081,7 +1013,7 @@ def project(
                 best, closest = g, distance
         xi = grid[best]
         for _ in range(50):
-            _curve(j, head, fields, floats, ints, q, xi, geometry)
+            _curve(j, pool, q, xi, geometry)
             slope, along = 0.0, 0.0
             for c in range(3):
                 gap = geometry[0, c] - point[c]

@@ -48,7 +48,7 @@ from fvbeam.elements import influence_regions
 from fvbeam.formulations import FiniteVolume, gauss
 from fvbeam.geometry import locate_abscissa
 from fvbeam.mesh import shape_functions
-from fvbeam.pointwise import CUBIC
+from fvbeam.pointwise import CUBIC, Smearing
 from fvbeam.smearing import KERNEL_GAUSS_POINTS, check_smearing, steps
 from fvbeam.structure import Structure
 from sliders.lines import batched_kernel as stack_kernel
@@ -568,9 +568,7 @@ class ChainStack:
         if smearing > 0:
             return stack_kernel.smeared_transfer(
                 self._checked(xi),
-                stack_kernel.Smearing(
-                    smearing, kernel == "box", *steps(smearing, kernel), *KERNEL_RULE
-                ),
+                Smearing(smearing, kernel == "box", *steps(smearing, kernel), *KERNEL_RULE),
                 self.kernel_chains,
             )
         a = self._query(xi, None, True, False)

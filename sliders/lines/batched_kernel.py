@@ -31,6 +31,9 @@ import numpy as np
 from fvbeam.kernel_cache import guard
 from fvbeam.pointwise import (
     CUBIC,
+    Element,
+    Shapes,
+    Smearing,
     cubic_flex_at,
     cubic_local_at,
     shape_at,
@@ -125,20 +128,6 @@ class LineArrays(NamedTuple):
     flex: np.ndarray
     flex_xi: np.ndarray
     R0: np.ndarray
-
-
-class Smearing(NamedTuple):
-    """A smeared load's kernel as :func:`smeared_transfer` integrates it."""
-
-    #: The kernel's half-width (> 0) and shape (box if ``box``, else hat).
-    half_width: float
-    box: bool
-    #: The jumps ``step_jump`` of its derivative at the offsets ``step_r``
-    #: (:func:`fvbeam.smearing.steps`), and the composite rule ``rule_x``, ``rule_w``.
-    step_r: np.ndarray
-    step_jump: np.ndarray
-    rule_x: np.ndarray
-    rule_w: np.ndarray
 
 
 @numba.njit(cache=True, inline="never")
@@ -644,22 +633,8 @@ def line_state_into(
             for a in range(npe):
                 for c in range(6):
                     load_dofs[b, 6 * a + c] = dof_map[e, a, c]
-            transfer_at(
-                kind,
-                regions,
-                nodes[:npe],
-                frame,
-                stiffness[e],
-                h[b, e],
-                Xb,
-                n,
-                dn,
-                d2n,
-                chi,
-                dchi,
-                G[b],
-                dG[b],
-            )
+            element_e = Element(kind, regions, nodes[:npe], frame, stiffness[e], h[b, e])
+            transfer_at(element_e, Xb, Shapes(n, dn, d2n, chi, dchi), G[b], dG[b])
         if rotation:
             R0[b] = frame
             if kind == CUBIC:  # the element's own rotation and its compliance (eq. T13)
@@ -787,7 +762,7 @@ def smeared_transfer(
     ``min(xi + smearing, L)`` (:func:`node_slot`), padded to the common ``k`` with the
     member's last dof and zero rows.
     """
-    smearing, box, step_r, step_jump, rule_x, rule_w = kernel
+    smearing, step_r, step_jump = kernel.half_width, kernel.step_r, kernel.step_jump
     member_map, maps, cells, points, breaks, vertex_s, first_element, h = chains[:8]
     kinds, regions, stiffness, R0_of = chains.kinds, chains.regions, chains.stiffness, chains.R0_of
     B, npe = len(xi), cells.shape[1]
@@ -804,13 +779,7 @@ def smeared_transfer(
         slots = max(slots, (span[b, 1] - span[b, 0] + 1) * (npe - 1) + 1)
     dofs = np.empty((B, 6 * slots), np.int64)
     G, dG = np.zeros((B, 6 * slots, 6)), np.zeros((B, 6 * slots, 6))
-    N, dN, d2N, chi, dchi = (
-        np.empty(npe),
-        np.empty(npe),
-        np.empty(npe),
-        np.empty(npe),
-        np.empty(npe),
-    )
+    shapes = Shapes(np.empty(npe), np.empty(npe), np.empty(npe), np.empty(npe), np.empty(npe))
     H, dH = np.empty((6 * npe, 6)), np.empty((6 * npe, 6))
     A, dA = np.empty((6 * npe, 6)), np.empty((6 * npe, 6))
     nodes, scratch = np.empty((npe, 3)), np.empty(2 * npe + 5)
@@ -835,31 +804,17 @@ def smeared_transfer(
             element_nodes(points[b], cells[e], nodes)
             A[:] = 0.0
             dA[:] = 0.0
+            element = Element(kinds[k], regions, nodes, R0_of[b, e], stiffness[e], h[b, e])
             m, dm = smeared_element(
-                kinds[k],
-                regions,
-                nodes,
-                R0_of[b, e],
-                stiffness[e],
+                element,
                 start,
-                h[b, e],
                 max(lo, start),
                 min(hi, end),
                 local,
-                smearing,
-                box,
-                rule_x,
-                rule_w,
-                scratch,
-                N,
-                dN,
-                d2N,
-                chi,
-                dchi,
-                H,
-                dH,
-                A,
-                dA,
+                kernel,
+                shapes,
+                (scratch, H, dH),
+                (A, dA),
             )
             mass += m
             dmass += dm
@@ -870,22 +825,8 @@ def smeared_transfer(
             if 0 < at < breaks[b, -1]:
                 k, e, X = locate_one(at, breaks[b], vertex_s[b], first_element, h[b])
                 element_nodes(points[b], cells[e], nodes)
-                transfer_at(
-                    kinds[k],
-                    regions,
-                    nodes,
-                    R0_of[b, e],
-                    stiffness[e],
-                    h[b, e],
-                    X,
-                    N,
-                    dN,
-                    d2N,
-                    chi,
-                    dchi,
-                    H,
-                    dH,
-                )
+                element = Element(kinds[k], regions, nodes, R0_of[b, e], stiffness[e], h[b, e])
+                transfer_at(element, X, shapes, H, dH)
                 add_block(H, -step_jump[i], e - first, dG[b])
                 dmass -= step_jump[i]
         used = 6 * ((span[b, 1] - first + 1) * (npe - 1) + 1)

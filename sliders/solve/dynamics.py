@@ -48,13 +48,13 @@ from sliders.forces.elements import ForceElement
 from sliders.joints.drives import DofDrive, Motion
 from sliders.joints.packed import JointPack
 from sliders.joints.slider import Slider
-from sliders.solve.dynamics_kernel import advance
+from sliders.solve.dynamics_kernel import Schedule, SchemeState, Stepper, Trajectory, advance
 from sliders.solve.factor import Factor
 from sliders.solve.integrator import GeneralizedAlpha, Prediction, State
 from sliders.solve.jumps import VelocityJump, VelocityJumpWarning, velocity_jumps
 from sliders.solve.mechanism import MASSLESS_REMEDY, free_motion
 from sliders.solve.newton import CompiledNewton
-from sliders.solve.newton_kernel import CONVERGED, NOT_CONVERGED_MESSAGE
+from sliders.solve.newton_kernel import CONVERGED, NOT_CONVERGED_MESSAGE, NewtonProblem
 from sliders.solve.planar import check, check_load, out_of_plane
 from sliders.solve.statics import SliderStatics
 
@@ -227,7 +227,8 @@ class Dynamics:
             )
         self.free = complement(n, np.concatenate([fixed, self.driven]))
         self._operators: dict = {}
-        self._linear: dict[float, tuple] = {}  # the compiled problems without sliders, per h
+        #: The compiled problems without sliders, per step size.
+        self._linear: dict[float, NewtonProblem] = {}
         self._pack: JointPack | None = None  # the joints, packed (joint_residuals)
         self._last_load: tuple[float, np.ndarray] | None = None
 
@@ -643,7 +644,17 @@ class Dynamics:
         n, m = self.structure.n_dofs, sum(sizes)
         bounds = list(itertools.pairwise(np.cumsum([0] + sizes).tolist()))
         chunk = int(np.clip(CHUNK_ENTRIES // (4 * n + m + 1), 1, MAX_CHUNK))
-        mass, damping = _rows(self.M), _rows(self.C)
+        stepper = Stepper(
+            scheme,
+            _rows(self.M),
+            _rows(self.C),
+            problem,
+            nonlinear,
+            self.driven.astype(np.int64),
+            first,
+            float(self.tol),
+            int(self.max_iterations),
+        )
         q, v, a, qdd = (np.array(x, dtype=float) for x in (state.q, state.v, state.a, state.qdd))
         y = _joined(state.unknowns)
         while steps > 0:
@@ -663,31 +674,15 @@ class Dynamics:
             Y, iterations = np.empty((size, m)), np.zeros(size, dtype=np.int64)
             violations = np.zeros((size, len(self.sliders)))
             status, done, _ = advance(
-                scheme,
-                mass,
-                damping,
-                problem,
-                nonlinear,
-                times,
-                loads,
-                self.driven.astype(np.int64),
-                driven.reshape(size, len(self.drives)),
-                drives.reshape(size, len(self.sliders)),
-                first,
-                q,
-                v,
-                a,
-                qdd,
-                y,
-                float(self.tol),
-                int(self.max_iterations),
-                Q,
-                V,
-                A,
-                QDD,
-                Y,
-                iterations,
-                violations,
+                stepper,
+                Schedule(
+                    times,
+                    loads,
+                    driven.reshape(size, len(self.drives)),
+                    drives.reshape(size, len(self.sliders)),
+                ),
+                SchemeState(q, v, a, qdd, y),
+                Trajectory(SchemeState(Q, V, A, QDD, Y), iterations, violations),
             )
             # each step's state reads rows of this chunk's own arrays (new ones per chunk); the
             # progress bar moves once per chunk

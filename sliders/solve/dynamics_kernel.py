@@ -21,6 +21,8 @@ the steps equal to :meth:`Dynamics.step`'s.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numba
 import numpy as np
 
@@ -29,6 +31,60 @@ from sliders.solve.factor import factor_solve
 from sliders.solve.newton_kernel import CONVERGED, NewtonProblem, newton
 
 guard(__file__)  # numba's cache of these kernels, consistent with their sources
+
+
+class Stepper(NamedTuple):
+    """What does not change from step to step of :func:`advance`."""
+
+    #: ``alpha_m, alpha_f, beta, gamma, h, beta_rate, gamma_rate``.
+    scheme: tuple
+    #: ``M`` and ``C`` in compressed rows (``ptr, col, val``).
+    mass: tuple
+    damping: tuple
+    #: The Newton problem on ``K'`` (:attr:`sliders.solve.newton.CompiledNewton.problem`);
+    #: without joints and force elements (not ``nonlinear``) its first six entries are read:
+    #: ``K'`` and the free dofs and the factors of ``K'`` on them.
+    problem: NewtonProblem
+    nonlinear: bool
+    #: The driven dofs; the first unknown (``xi``) of each joint in ``y`` (the others are
+    #: multipliers).
+    driven: np.ndarray
+    unknown_first: np.ndarray
+    #: Newton's rule.
+    tol: float
+    max_iterations: int
+
+
+class Schedule(NamedTuple):
+    """The steps' tabulated inputs, one row per step."""
+
+    #: The time at the end of each step, and the external load there (one row per step, or
+    #: one row for all).
+    times: np.ndarray
+    loads: np.ndarray
+    #: The driven dofs' values, and each joint's driven abscissa.
+    driven_values: np.ndarray
+    drives: np.ndarray
+
+
+class SchemeState(NamedTuple):
+    """A state of the scheme: ``q, v, a, qdd`` (n,) and the joints' physical unknowns ``y``
+    (m,); per step of a trajectory, rows of (steps, n) and (steps, m)."""
+
+    q: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    qdd: np.ndarray
+    y: np.ndarray
+
+
+class Trajectory(NamedTuple):
+    """Per step, the state reached, the Newton iterations and each joint's largest
+    constraint violation (:func:`sliders.solve.newton_kernel.newton`)."""
+
+    states: SchemeState
+    iterations: np.ndarray
+    violations: np.ndarray
 
 
 @numba.njit(cache=True, inline="never")
@@ -45,64 +101,21 @@ def _product(
 
 @numba.njit(cache=True)
 def advance(
-    scheme: tuple,
-    mass: tuple,
-    damping: tuple,
-    problem: NewtonProblem,
-    nonlinear: bool,
-    times: np.ndarray,
-    loads: np.ndarray,
-    driven: np.ndarray,
-    driven_values: np.ndarray,
-    drives: np.ndarray,
-    unknown_first: np.ndarray,
-    q: np.ndarray,
-    v: np.ndarray,
-    a: np.ndarray,
-    qdd: np.ndarray,
-    y: np.ndarray,
-    tol: float,
-    max_iterations: int,
-    Q: np.ndarray,
-    V: np.ndarray,
-    A: np.ndarray,
-    QDD: np.ndarray,
-    Y: np.ndarray,
-    iterations: np.ndarray,
-    violations: np.ndarray,
+    stepper: Stepper, schedule: Schedule, state: SchemeState, out: Trajectory
 ) -> tuple[int, int, int]:
-    """``len(times)`` steps from the state ``q, v, a, qdd`` and the joints' physical unknowns
-    ``y`` (module docstring).
-
-    Parameters
-    ----------
-    scheme
-        ``alpha_m, alpha_f, beta, gamma, h, beta_rate, gamma_rate``.
-    mass, damping
-        ``M`` and ``C`` in compressed rows (``ptr, col, val``).
-    problem
-        The Newton problem on ``K'`` (:attr:`sliders.solve.newton.CompiledNewton.problem`);
-        without joints and force elements (not ``nonlinear``) its first six entries are
-        read: ``K'`` and the free dofs and the factors of ``K'`` on them.
-    times, loads
-        The time at the end of each step, and the external load there (one row per step,
-        or one row for all).
-    driven, driven_values, drives
-        The driven dofs and their values per step; each joint's driven abscissa per step.
-    unknown_first
-        The first unknown (``xi``) of each joint in ``y``: the others are multipliers.
-    tol, max_iterations
-        Newton's rule.
-    Q, V, A, QDD, Y, iterations, violations
-        Per step, the state reached, the Newton iterations and each joint's largest
-        constraint violation (:func:`sliders.solve.newton_kernel.newton`).
+    """``len(schedule.times)`` steps from ``state`` (updated in place; module docstring),
+    each step's state and Newton record into ``out``.
 
     Returns
     -------
     The status of the last step taken (``CONVERGED`` when all were), the number of steps
     completed, and the failing joint (or -1).
     """
-    alpha_m, alpha_f, beta, gamma, h, beta_rate, gamma_rate = scheme
+    alpha_m, alpha_f, beta, gamma, h, beta_rate, gamma_rate = stepper.scheme
+    scheme, mass, damping, problem, nonlinear, driven, unknown_first, tol, max_iterations = stepper
+    times, loads, driven_values, drives = schedule
+    q, v, a, qdd, y = state
+    (Q, V, A, QDD, Y), iterations, violations = out
     M_ptr, M_col, M_val = mass
     C_ptr, C_col, C_val = damping
     n, m = len(q), len(y)
@@ -155,14 +168,13 @@ def advance(
         else:
             K_ptr, K_col, K_val = problem.K_ptr, problem.K_col, problem.K_val
             free, factor = problem.free, problem.factor
-            L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c = factor
             nf = len(free)
             work[:] = 0.0
             _product(K_ptr, K_col, K_val, start, work)
             rhs, x, scratch = np.empty(nf), np.empty(nf), np.empty(nf)
             for i in range(nf):
                 rhs[i] = f[free[i]] - work[free[i]]
-            factor_solve(L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c, rhs, x, scratch)
+            factor_solve(factor, rhs, x, scratch)
             for i in range(nf):
                 start[free[i]] += x[i]
             iterations[step] = 1

@@ -15,6 +15,8 @@ over the factors' nonzeros: linear in the size for a chain of beams.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numba
 import numpy as np
 import scipy.sparse as sp
@@ -23,6 +25,21 @@ import scipy.sparse.linalg as spla
 from fvbeam.kernel_cache import guard
 
 guard(__file__)  # numba's cache of these kernels, consistent with their sources
+
+
+class Factors(NamedTuple):
+    """The factors of ``Pr A Pc = L U`` as :func:`factor_solve` reads them: ``L`` and ``U``
+    in compressed columns (row indices sorted, so that a column's diagonal entry is the first
+    of ``L``'s and the last of ``U``'s) and the row and column permutations."""
+
+    L_ptr: np.ndarray
+    L_row: np.ndarray
+    L_val: np.ndarray
+    U_ptr: np.ndarray
+    U_row: np.ndarray
+    U_val: np.ndarray
+    perm_r: np.ndarray
+    perm_c: np.ndarray
 
 
 class Factor:
@@ -45,8 +62,8 @@ class Factor:
             and np.array_equal(U.indices[U.indptr[1:] - 1], columns)
         ):
             raise ValueError("the factors lack a stored diagonal entry (a singular matrix)")
-        #: The arrays :func:`factor_solve` takes, in its order.
-        self.arrays = (
+        #: The factors as :func:`factor_solve` reads them.
+        self.arrays = Factors(
             L.indptr.astype(np.int64),
             L.indices.astype(np.int64),
             L.data,
@@ -65,28 +82,16 @@ class Factor:
     def solve(self, b: np.ndarray) -> np.ndarray:
         """``A^{-1} b`` for one right-hand side (n,), compiled (:func:`factor_solve`)."""
         out = np.empty(self.n)
-        factor_solve(*self.arrays, np.ascontiguousarray(b, dtype=float), out, np.empty(self.n))
+        factor_solve(self.arrays, np.ascontiguousarray(b, dtype=float), out, np.empty(self.n))
         return out
 
 
 @numba.njit(cache=True, inline="never")
-def factor_solve(
-    L_ptr: np.ndarray,
-    L_row: np.ndarray,
-    L_val: np.ndarray,
-    U_ptr: np.ndarray,
-    U_row: np.ndarray,
-    U_val: np.ndarray,
-    perm_r: np.ndarray,
-    perm_c: np.ndarray,
-    b: np.ndarray,
-    x: np.ndarray,
-    z: np.ndarray,
-) -> None:
-    """``x = A^{-1} b`` from the factors of ``Pr A Pc = L U`` (compressed columns, row
-    indices sorted, so that a column's diagonal entry is the first of ``L``'s and the last
-    of ``U``'s; ``z`` a scratch vector): ``L U z = Pr b`` column by column, forward through
-    ``L`` then backward through ``U``, and ``x = Pc z``."""
+def factor_solve(factors: Factors, b: np.ndarray, x: np.ndarray, z: np.ndarray) -> None:
+    """``x = A^{-1} b`` from the ``factors`` of ``Pr A Pc = L U`` (``z`` a scratch vector):
+    ``L U z = Pr b`` column by column, forward through ``L`` then backward through ``U``,
+    and ``x = Pc z``."""
+    L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c = factors
     n = len(b)
     for i in range(n):
         z[perm_r[i]] = b[i]

@@ -186,11 +186,7 @@ class CompiledNewton:
             self.store,
             self.column,
             self.count,
-            self.pack.head,
-            self.pack.values,
-            self.pack.fields,
-            self.pack.floats,
-            self.pack.ints,
+            self.pack.pool,
             *self.elements,
             self.tables,
             self.c_of,
@@ -223,7 +219,7 @@ class CompiledNewton:
         if statics.forces:  # without force elements, their (empty) constants are kept
             packed = [e.packed(statics.structure) for e in statics.forces]
             out.elements = (*self.elements[:2], np.concatenate(packed), self.elements[3])
-        out.problem = self.problem._replace(floats=pack.floats, element_values=out.elements[2])
+        out.problem = self.problem._replace(joints=pack.pool, element_values=out.elements[2])
         return out
 
     def solve(

@@ -42,7 +42,7 @@ import numpy as np
 from fvbeam.kernel_cache import guard
 from fvbeam.scratch import borrowed, stack_empty
 from sliders.forces.kernel import evaluate_element
-from sliders.joints.packed import evaluate_joint
+from sliders.joints.packed import JointState, Pool, evaluate_joint
 from sliders.solve.condensed_kernel import (
     Columns,
     Jacobians,
@@ -50,7 +50,7 @@ from sliders.solve.condensed_kernel import (
     condensed_step_into,
     step_scratch,
 )
-from sliders.solve.factor import factor_solve
+from sliders.solve.factor import Factors, factor_solve
 
 guard(__file__)  # numba's cache of these kernels, consistent with their sources
 
@@ -71,7 +71,7 @@ class NewtonProblem(NamedTuple):
     #: The arrays of :class:`sliders.solve.factor.Factor` of the bordered operator
     #: ``B = [A_ff, s Phi; s Phi^T, 0]``, and the rigid modes ``Phi`` (nf, k) the operator
     #: does not resist.
-    factor: tuple
+    factor: Factors
     phi: np.ndarray
     #: The cache of columns of ``B^{-1}`` (:func:`_ensure_columns`), kept between calls:
     #: the columns (as rows), each free dof's row (-1: not stored), the rows in use (1,).
@@ -79,11 +79,7 @@ class NewtonProblem(NamedTuple):
     column: np.ndarray
     filled: np.ndarray
     #: The joints (:class:`sliders.joints.packed.JointPack`).
-    head: np.ndarray
-    joint_values: np.ndarray
-    fields: np.ndarray
-    floats: np.ndarray
-    ints: np.ndarray
+    joints: Pool
     #: The force elements (:mod:`sliders.forces.elements`): their kinds, slots (E, 6) and
     #: packed constants (element ``e``'s from ``element_offsets[e]`` to
     #: ``element_offsets[e + 1]``), evaluated by :func:`sliders.forces.kernel.evaluate_element`.
@@ -149,7 +145,7 @@ def _ensure_columns(
     store: np.ndarray,
     column: np.ndarray,
     count: np.ndarray,
-    factor: tuple,
+    factor: Factors,
     unit: np.ndarray,
     scratch: np.ndarray,
 ) -> None:
@@ -166,15 +162,12 @@ def _ensure_columns(
     if count[0] + missing > len(store):
         column[:] = -1
         count[0] = 0
-    L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c = factor
     for d in dofs:
         if d >= 0 and column[d] < 0:
             unit[:] = 0.0
             unit[d] = 1.0
             row = count[0]
-            factor_solve(
-                L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c, unit, store[row], scratch
-            )
+            factor_solve(factor, unit, store[row], scratch)
             column[d] = row
             count[0] = row + 1
 
@@ -199,7 +192,7 @@ def _evaluate(
     ``violation``.  Returns the status (0, :data:`OFF_LINE` or :data:`OVERFLOW`), the joint
     that failed (or -1) and the largest entry of the residual."""
     v_hat, q_hat, c_v = velocity
-    head, batches, element_kind = problem.head, problem.batches, problem.element_kind
+    head, batches, element_kind = problem.joints.head, problem.batches, problem.element_kind
     element_slots, element_values = problem.element_slots, problem.element_values
     element_offsets = problem.element_offsets
     dofs, r_joint, values, R = out.dofs, out.r_joint, out.values, out.R
@@ -214,21 +207,15 @@ def _evaluate(
         t, mj, wj = batches[j, 1], batches[j, 2], batches[j, 3]
         status = evaluate_joint(
             j,
-            head,
-            problem.joint_values,
-            problem.fields,
-            problem.floats,
-            problem.ints,
-            q,
-            borrowed(y, y0, (mj,)),
-            velocity,
-            drives[j],
-            scale,
+            problem.joints,
+            JointState(q, borrowed(y, y0, (mj,)), velocity, drives[j], scale),
             jacobian,
-            borrowed(dofs, s0, (t,)),
-            borrowed(r_joint, s0 + y0, (t + mj,)),
-            borrowed(values, v0, (wj,)),
-            friction,
+            (
+                borrowed(dofs, s0, (t,)),
+                borrowed(r_joint, s0 + y0, (t + mj,)),
+                borrowed(values, v0, (wj,)),
+                friction,
+            ),
         )
         if status:
             return (OFF_LINE if status == 1 else OVERFLOW), j, 0.0
@@ -321,7 +308,11 @@ def newton(
     store, column, count = problem.store, problem.column, problem.filled
     tables, c_of, batches, nc = problem.tables, problem.c_of, problem.batches, problem.nc
     force_slots, threshold, resolution = problem.force_slots, problem.threshold, problem.resolution
-    head, joint_values, element_kind = problem.head, problem.joint_values, problem.element_kind
+    head, joint_values, element_kind = (
+        problem.joints.head,
+        problem.joints.values,
+        problem.element_kind,
+    )
     n, nf, k = len(q), len(free), phi.shape[1]
     J, E = len(head), len(element_kind)
     m = len(y)
@@ -339,7 +330,6 @@ def newton(
     r_y = np.zeros((1, m))
     evaluated = Evaluated(dofs, r_joint, values, R, r_free, r_y, violation)
     rhs, solution, scratch = np.zeros(nf + k), np.zeros((1, nf + k)), np.zeros(nf + k)
-    L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c = factor
     added = np.zeros(nf, np.bool_)
     first = np.zeros(J, np.int64)
     at = 0
@@ -386,9 +376,7 @@ def newton(
             _ensure_columns(slots[force_slots], store, column, count, factor, rhs, scratch)
         rhs[:nf] = r_free[0]
         rhs[nf:] = 0.0
-        factor_solve(
-            L_ptr, L_row, L_val, U_ptr, U_row, U_val, perm_r, perm_c, rhs, solution[0], scratch
-        )
+        factor_solve(factor, rhs, solution[0], scratch)
         if chord:
             chord_step_into(phi, solution, r_free, r_y, jac, step, (force, z))
             kept = False  # a chord step follows a Newton step only
