@@ -7,7 +7,8 @@ mode keeps its number from point to point by its shape: the modes of a point are
 as those of the previous point they resemble most (:func:`sliders.solve.modes.follow`, the
 largest total MAC), so a number names one mode where frequencies cross.  A sample solved
 with exact kinematics (:class:`sliders.app.kinematics.ExactSolution`) has its modes about
-its exact state, with the geometric stiffness of the preload
+its exact state, with the geometric stiffness of the preload, and with bodies or joints
+those of its exact model, the joints' rows and geometric stiffness
 (:class:`sliders.solve.modes.Preload`); a linear one about a loaded state warns that it is
 left out.
 
@@ -45,6 +46,7 @@ from sliders.solve.statics import SliderSolution, SliderStatics
 
 if TYPE_CHECKING:
     from fvbeam.exact_structure import ExactStructure
+    from sliders.joints.exact_model import ExactModel, Joint
 
 #: The columns of ``modes.csv``: a row per converged sample and mode.
 MODES_COLUMNS = ("sample", "value", "mode", "frequency_hz", "damping_ratio", "mac")
@@ -89,28 +91,40 @@ class SampleModes:
 
 
 def modes_of(
-    samples: Sequence[Solved], study: ModesStudy, progress: bool = True
+    samples: Sequence[Solved],
+    study: ModesStudy,
+    progress: bool = True,
+    joints: Sequence[Joint] = (),
 ) -> list[SampleModes]:
     """The modes of ``study`` about every converged one of ``samples``, in order (module
-    docstring); a tqdm progress bar on a terminal; the preload warning
-    (:data:`~sliders.solve.modes.PRELOAD_WARNING`) once for the run."""
+    docstring), an exact sample's with the scene's ``joints``
+    (:func:`sliders.app.scene_joints.joints`); a tqdm progress bar on a terminal; the
+    preload warning (:data:`~sliders.solve.modes.PRELOAD_WARNING`) once for the run."""
     from tqdm import tqdm
 
-    exact: dict[int, ExactStructure] = {}  # the exact beams of each structure, built once
+    # the exact beams, or exact model, of each structure, built once
+    exact: dict[int, ExactStructure | ExactModel] = {}
 
     def preload(statics: SliderStatics, solution: SliderSolution) -> Preload | None:
-        """The exact beams' tangent and mass at an exact sample's state; None for a linear
-        sample, or a state of more than beams (its modes take the linear stiffness, with
-        the preload warning)."""
-        from fvbeam.exact_beam import ExactState
+        """The preload at an exact sample's state: the exact beams' tangent and mass, with
+        bodies or joints their exact model's (:meth:`Preload.of_model`); None for a linear
+        sample (its modes take the linear stiffness, with the preload warning)."""
         from fvbeam.exact_structure import ExactStructure
+        from sliders.joints.exact_model import ExactModel, JointedState
 
-        if not isinstance(solution, ExactSolution) or not isinstance(solution.state, ExactState):
+        if not isinstance(solution, ExactSolution):
             return None
-
         structure = statics.structure
-        beams = exact.setdefault(id(structure), ExactStructure(structure))
-        return Preload.at(beams, solution.state, study.mass)
+        state = solution.state
+        if isinstance(state, JointedState):
+            model = exact.get(id(structure))
+            if not isinstance(model, ExactModel):
+                model = exact[id(structure)] = ExactModel.on(structure, joints, "scene", "joint")
+            return Preload.of_model(model, state, study.mass)
+        beams = exact.get(id(structure))
+        if not isinstance(beams, ExactStructure):
+            beams = exact[id(structure)] = ExactStructure(structure)
+        return Preload.at(beams, state, study.mass)
 
     out: list[SampleModes] = []
     previous: np.ndarray | None = None  # the last shapes, one column per mode number
