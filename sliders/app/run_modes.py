@@ -15,12 +15,14 @@ left out.
 Outputs (:func:`write_modes`, into the run's new output directory, which replaces the old one
 whole): ``modes.csv`` (:data:`MODES_COLUMNS`), the shapes as a VTU
 series per sample (``modes_NNNNNN/modes_NNNNNN.pvd``, one state per mode, its number as the
-time: ParaView steps through the modes, and Warp By Vector shows each), and along a sweep
+time: ParaView steps through the modes, and Warp By Vector shows each), each mode drawn
+over the sample's state (:func:`over_state`: with exact kinematics its rotation increments
+composed with the state's rotations) at the scale :func:`mode_scale`, and along a sweep
 ``campbell.png``, the frequencies against the parameter, one curve per mode number (with
 matplotlib, the ``plot`` extra); with ``output.animation``, each mode of the first converged
 sample as ``mode_NN.mp4`` or ``mode_NN.gif`` (:func:`mode_frames`: one period, one camera,
 magnification and colour range; pyvista, the ``render`` extra); with ``output.png``, each
-mode of the rendered samples (the last converged, or all) at its peak as
+mode of the rendered samples (the last converged, or all) at its peak, over the state, as
 ``render_NNNNNN_mode_NN.png``.
 """
 
@@ -36,11 +38,13 @@ from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
+from fvbeam.rotations import exp_map, log_map
+from fvbeam.structure import Structure
 from fvbeam.support import complement
 from sliders.app.kinematics import ExactSolution
 from sliders.app.schema import ModesStudy
 from sliders.app.state_tables import cell
-from sliders.app.vtu import Frame, write_series
+from sliders.app.vtu import Frame, structure_size, write_series
 from sliders.solve.modes import PRELOAD_WARNING, Preload, StateModes, follow, modes_about
 from sliders.solve.statics import SliderSolution, SliderStatics
 
@@ -52,6 +56,11 @@ if TYPE_CHECKING:
 MODES_COLUMNS = ("sample", "value", "mode", "frequency_hz", "damping_ratio", "mac")
 #: The frames of one period of a mode's animation.
 MODE_FRAMES = 24
+#: A mode is drawn over its state with its largest translation this part of the
+#: structure's size, or its largest rotation this many radians (:func:`mode_scale`): the
+#: renders' automatic magnification (:data:`sliders.app.render.AUTO_FRACTION`), so they
+#: draw it as it is.
+MODE_FRACTION = 0.1
 #: What writes an animation: ``(path, frames, title)`` (:func:`sliders.app.render.animate`
 #: with the scene's force elements and render options).
 Animator = Callable[[Path, Sequence[Frame], str], object]
@@ -231,21 +240,51 @@ def write_modes(
                 )
 
 
+def mode_scale(structure: Structure, shape: np.ndarray) -> float:
+    """The factor drawing a mode ``shape`` (its dofs, real or complex) at
+    :data:`MODE_FRACTION`: its largest nodal translation that part of the structure's size
+    (:func:`sliders.app.vtu.structure_size`), or its largest rotation that many radians,
+    whichever is reached first; 1 for a zero shape."""
+    d = np.abs(shape).reshape(-1, 6)
+    size = structure_size(structure)
+    largest = max(
+        float(d[:, :3].max(initial=0.0)) / size if size > 0 else 0.0,
+        float(d[:, 3:].max(initial=0.0)),
+    )
+    return MODE_FRACTION / largest if largest > 0 else 1.0
+
+
+def over_state(solution: SliderSolution, increment: np.ndarray) -> np.ndarray:
+    """The displacement (the structure's dofs) of the sample's state moved by the mode's
+    ``increment`` (real, its dofs): with exact kinematics
+    (:class:`~sliders.app.kinematics.ExactSolution`) each node at ``x + du`` turned to
+    ``exp(dphi) R`` (the rotation increment a spatial rotation vector composed with the
+    state's rotation ``R``; written as the rotation vector ``log(exp(dphi) R)``), else
+    the linear state's ``q + increment``."""
+    q = solution.q + increment
+    if isinstance(solution, ExactSolution):
+        d = q.reshape(-1, 6)
+        d[:, 3:] = log_map(exp_map(increment.reshape(-1, 6)[:, 3:]) @ solution.state.R)
+    return q
+
+
 def mode_frames(entry: SampleModes, j: int, count: int = MODE_FRAMES) -> list[Frame]:
-    """One period of mode ``j`` (its column) about the sample's state in ``count`` frames:
-    the displacement ``Re(phi e^{i 2 pi k / count})`` at ``t = k / (count f)``, ``phi`` the
-    shape and ``f`` its frequency (a real mode swings as ``phi cos``; a damped, complex one
-    shows the phases of its parts), the sliders at their abscissae."""
+    """One period of mode ``j`` (its column) over the sample's state in ``count`` frames:
+    the state moved by ``a Re(phi e^{i 2 pi k / count})`` (:func:`over_state`) at ``t = k /
+    (count f)``, ``phi`` the shape, ``a`` its :func:`mode_scale` and ``f`` its frequency (a
+    real mode swings as ``phi cos``; a damped, complex one shows the phases of its parts),
+    the sliders at their abscissae."""
     statics, solution, modes = entry.sample.statics, entry.sample.solution, entry.modes
     assert statics is not None and solution is not None and modes is not None
     held = complement(statics.structure.n_dofs, statics.free)
     shape, hertz = modes.shapes[:, j], float(modes.hertz[j])
+    scale = mode_scale(statics.structure, shape)
     period = 1.0 / hertz if hertz > 0 else 1.0
     return [
         Frame(
             k * period / count,
             statics.structure,
-            (shape * np.exp(2j * np.pi * k / count)).real,
+            over_state(solution, scale * (shape * np.exp(2j * np.pi * k / count)).real),
             statics.sliders,
             solution.unknowns,
             held,
@@ -255,16 +294,17 @@ def mode_frames(entry: SampleModes, j: int, count: int = MODE_FRAMES) -> list[Fr
 
 
 def _frames(entry: SampleModes) -> Iterator[Frame]:
-    """One state per mode, by number: the shape's real part as the displacement about the
-    sample's state (sliders at their abscissae)."""
+    """One state per mode, by number: the sample's state moved by the shape's real part at
+    its :func:`mode_scale` (:func:`over_state`; sliders at their abscissae)."""
     statics, solution, modes = entry.sample.statics, entry.sample.solution, entry.modes
     assert statics is not None and solution is not None and modes is not None
     held = complement(statics.structure.n_dofs, statics.free)
     for j in np.argsort(entry.number):
+        shape = modes.shapes[:, j]
         yield Frame(
             float(entry.number[j]),
             statics.structure,
-            modes.shapes[:, j].real,
+            over_state(solution, mode_scale(statics.structure, shape) * shape.real),
             statics.sliders,
             solution.unknowns,
             held,
