@@ -220,10 +220,17 @@ def timoshenko_cantilever_determinant(
     m: float = 1.0,
     rhoJ: float = 0.0,
     axial: AxialForce | None = None,
+    tip_mass: float = 0.0,
+    tip_inertia: float = 0.0,
 ) -> float:
     """Characteristic function of a clamped-free Timoshenko beam; its roots in ``omega`` are
     the exact natural frequencies (rad/s) of planar bending; with ``axial``, under that dead
-    axial tip force (:func:`timoshenko_transfer`).
+    axial tip force (:func:`timoshenko_transfer`); with a ``tip_mass`` (its centre at the
+    tip) of rotary inertia ``tip_inertia`` about the tip, whose inertia the end's transverse
+    force and moment then carry: ``GA w' - g phi = tip_mass omega^2 w`` and ``EJ phi' =
+    tip_inertia omega^2 phi`` (Laura, Pombo and Susemihl, J. Sound Vib. 37 (1974) 161, in
+    its Euler-Bernoulli limit ``1 + cos b cosh b + (tip_mass / (m L)) b (cos b sinh b - sin b
+    cosh b) = 0`` without ``tip_inertia``, ``b = beta L``).
 
     Clamped at 0 (``w = phi = 0``) the solution is ``y(s) =`` :func:`timoshenko_transfer`
     ``[0, 0, a, b]``; free at ``L`` the transverse force and the moment ``EJ phi'``
@@ -234,7 +241,10 @@ def timoshenko_cantilever_determinant(
     ``omega = (beta L)^2 sqrt(EJ / (m L^4))``, ``beta L = 1.8751, 4.6941, 7.8548``.
     """
     Y = timoshenko_transfer(omega, L, EJ, GA, m, rhoJ, axial)
-    return float(np.linalg.det(_free(GA, axial) @ Y[:, 2:]))
+    end = _free(GA, axial)
+    end[0, 0] -= tip_mass * omega**2 / GA
+    end[1, 1] -= tip_inertia * omega**2 / EJ
+    return float(np.linalg.det(end @ Y[:, 2:]))
 
 
 def timoshenko_pinned_cantilever_determinant(

@@ -50,3 +50,22 @@ class ExactBodies:
         """Zero (on the dofs ``keep``, when given)."""
         size = self.n_dofs if keep is None else len(keep)
         return sp.csc_matrix((size, size))
+
+    def mass(self, state: ExactState) -> np.ndarray:
+        """Each body's 6x6 mass about ``state`` (k, 6, 6), in the spatial increments
+        ``[du, dphi]`` of its node, at rest.
+
+        The body turned by ``R`` carries its centre of mass at ``x + R c`` and its inertia
+        about it ``R J R^T`` (``c``, ``J`` the :class:`~fvbeam.body.RigidBody`'s, reference
+        axes).  An increment moves the centre by ``du + dphi x (R c)`` and turns the body
+        by ``dphi`` (spatial), so its kinetic energy at rest is ``T = m |du' + dphi' x
+        (R c)|^2 / 2 + dphi' . (R J R^T) dphi' / 2``: the reference mass
+        (:meth:`~fvbeam.body.RigidBody.mass_matrix`) with ``c`` and ``J`` turned,
+        ``[[m I, -m S], [m S, R J R^T - m S S]]``, ``S = skew(R c) = R skew(c) R^T``, which is
+        ``T M_0 T^T`` with ``T = diag(R, R)``: both blocks turn, the translations' too,
+        where a beam node's lumped mass, without coupling, turns only its rotation block.
+        """
+        T = np.zeros((len(self.bodies), 6, 6))
+        T[:, :3, :3] = T[:, 3:, 3:] = state.R
+        M0 = np.array([body.mass_matrix() for body in self.bodies]).reshape(-1, 6, 6)
+        return T @ M0 @ T.transpose(0, 2, 1)

@@ -161,7 +161,9 @@ class ExactStructure:
         zero angular velocity).  The lumped mass carries each node's region inertia at its
         node (no translation-rotation coupling, :mod:`fvbeam.mass`), so turning its blocks
         by the node's ``R`` is exact; the consistent mass's coupling of two nodes is turned
-        by their two rotations, exact to first order in their difference, ``O(h)``.
+        by their two rotations, exact to first order in their difference, ``O(h)``.  A rigid
+        body's mass turns whole, its translations with its rotation
+        (:meth:`~fvbeam.exact_bodies.ExactBodies.mass`: exact off its centre of mass).
         """
         M = self.structure.mass(kind).tocsr()
         n = self.structure.n_nodes
@@ -169,7 +171,22 @@ class ExactStructure:
         T[:, :3, :3] = np.eye(3)
         T[:, 3:, 3:] = state.R
         T_sparse = sp.bsr_matrix((T, np.arange(n), np.arange(n + 1)), shape=(6 * n, 6 * n))
-        return sp.csr_matrix(T_sparse @ M @ T_sparse.T)
+        turned = sp.csr_matrix(T_sparse @ M @ T_sparse.T)
+        if not self.structure.bodies:
+            return turned
+        # a body's centre off its node couples its translations: its whole mass turns
+        # (:meth:`~fvbeam.exact_bodies.ExactBodies.mass`), not its rotation block alone
+        nodes = self.body_nodes
+        M0 = np.array([body.mass_matrix() for body in self.structure.bodies])
+        change = self.bodies.mass(ExactState(state.x[nodes], state.R[nodes])) - (
+            T[nodes] @ M0 @ T[nodes].transpose(0, 2, 1)
+        )
+        dofs = 6 * nodes[:, None] + np.arange(6)
+        rows, cols = np.broadcast_arrays(dofs[:, :, None], dofs[:, None, :])
+        shape = (6 * n, 6 * n)
+        return sp.csr_matrix(
+            turned + sp.csr_matrix((change.ravel(), (rows.ravel(), cols.ravel())), shape=shape)
+        )
 
     def displacements(self, state: ExactState) -> np.ndarray:
         """The global dof vector of a state: each node's displacement and rotation vector

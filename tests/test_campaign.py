@@ -254,3 +254,57 @@ def test_dask_workers_load_the_kernels_from_the_shared_cache(tmp_path, monkeypat
         here.table.drop(columns="seconds"), there.table.drop(columns="seconds")
     )
     assert compiled_kernels(copy) == before
+
+
+def test_the_landing_gear_report_is_its_cases_own_history(tmp_path):
+    """The shipped campaign's results and report on two cases of a short drop (0.06 s: the
+    spin-up at 25 ms and the vertical peak at 44 ms, ``docs/landing_gear.md``), read against
+    each case's own ``history.csv``: every peak is the column's extreme row with that row's
+    time and concurrent loads, the load factor the vertical peak over the weight ``(m + 12
+    kg) g`` (the airframe's ``m - 6e-5``, the axle's ``12 - 6e-5`` and the tubes' ``1.2e-4``
+    kg of the scene, summed in another order: to a few ulps), the efficiency
+    its definition, the work of the strut force over the stroke up to the largest stroke
+    (``numpy.trapezoid``) over the peak force and stroke there."""
+    from test_scenes import ROOT
+
+    shipped = tomllib.loads((ROOT / "studies" / "campaigns" / "landing_gear.toml").read_text())
+    scene = data("landing_gear")
+    scene["study"]["t_end"] = 0.06
+    (tmp_path / "scene.toml").write_text(tomli_w.dumps(scene))
+    masses = [299.99994, 239.99994]
+    axes = [shipped["axis"][1] | {"values": [[masses[0], 3060.72], [masses[1], 1648.08]]}]
+    report = {"plot": ["vertical", "spin_up"], "against": "body[airframe].mass"}
+    spec = {"scene": "scene.toml", "axis": axes, "result": shipped["result"], "report": report}
+    (tmp_path / "campaign.toml").write_text(tomli_w.dumps(spec))
+    campaign = read_campaign(tmp_path / "campaign.toml")
+    outcome = run_campaign(campaign, tmp_path / "out", workers=0, keep=True, progress=False)
+    assert outcome.failed == 0 and outcome.run == 2
+    table = pd.read_csv(tmp_path / "out" / "cases.csv")
+    for k, row in table.iterrows():
+        h = pd.read_csv(tmp_path / "out" / "runs" / f"case_{k:06d}" / "history.csv")
+        for name, column, at in (
+            ("vertical", "F_z", h["F_z"].idxmax()),
+            ("spin_up", "F_x", h["F_x"].idxmin()),
+            ("spring_back", "F_x", h["F_x"].idxmax()),
+            ("stroke", "stroke", h["stroke"].idxmax()),
+        ):
+            assert row[name] == h[column][at] and row[f"{name}.t"] == h["t"][at]
+        for name, others in (("vertical", ["F_x", "strut_force", "stroke"]), ("spin_up", ["F_z"])):
+            at = row[f"{name}.t"] == h["t"]
+            assert all(row[f"{name}.{c}"] == h[c][at].item() for c in others)
+        assert row["spin_up"] < 0 <= row["spring_back"]
+        weight = (masses[k] + 0.00006 + 12.0) * 9.81
+        assert row["load_factor"] == pytest.approx(h["F_z"].max() / weight, rel=8 * 2.2e-16)
+        top = int(h["stroke"].idxmax())
+        force, stroke = h["strut_force"][: top + 1], h["stroke"][: top + 1]
+        work = np.trapezoid(force, stroke)
+        assert row["efficiency"] == pytest.approx(work / (force.max() * stroke[top]), rel=1e-12)
+        assert 0 < row["efficiency"] <= 1
+    assert (outcome.report is not None) == _has_matplotlib()
+    if outcome.report is not None:
+        assert outcome.report == tmp_path / "out" / "report.png"
+        assert outcome.report.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def _has_matplotlib() -> bool:
+    return importlib.util.find_spec("matplotlib") is not None

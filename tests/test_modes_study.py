@@ -139,20 +139,24 @@ def test_planar_is_reported_as_ignored_by_a_modes_study():
 
 
 def test_a_modes_frames_are_one_period_of_the_shape_about_the_state():
-    """A real mode swings as ``phi cos(2 pi k / N)`` at ``t = k / (N f)``: the first frame is
-    the shape, the middle one its negative (exactly: ``e^{i pi} = -1`` to round-off), and
-    the frames span one period."""
-    from sliders.app.run_modes import MODE_FRAMES, mode_frames
+    """A real mode swings as ``a phi cos(2 pi k / N)`` about the state ``q`` at ``t = k /
+    (N f)`` (``a`` its drawing scale): the first frame is ``q + a phi``, the middle one
+    ``q - a phi`` (exactly: ``e^{i pi} = -1`` to round-off), and the frames span one
+    period."""
+    from sliders.app.run_modes import MODE_FRAMES, mode_frames, mode_scale
 
     data = scene(range={"start": 0.0, "stop": 0.0, "num": 1})
     found = run(Model(parse_scene(data, SCENES, "modes.toml")), progress=False).modes
     assert found is not None and found[0].modes is not None
     frames = mode_frames(found[0], 0)
     phi, hertz = found[0].modes.shapes[:, 0].real, found[0].modes.hertz[0]
+    q = found[0].sample.solution.q
+    a = mode_scale(found[0].sample.statics.structure, phi)
     assert len(frames) == MODE_FRAMES
-    np.testing.assert_array_equal(frames[0].q, phi)
+    np.testing.assert_array_equal(frames[0].q, q + a * phi)
     half = frames[MODE_FRAMES // 2]
-    np.testing.assert_allclose(half.q, -phi, atol=4 * np.finfo(float).eps * np.abs(phi).max())
+    atol = 4 * np.finfo(float).eps * (np.abs(q).max() + a * np.abs(phi).max())
+    np.testing.assert_allclose(half.q, q - a * phi, atol=atol)
     np.testing.assert_allclose(
         [f.time for f in frames], np.arange(MODE_FRAMES) / (MODE_FRAMES * hertz), rtol=1e-15
     )

@@ -40,6 +40,8 @@ from sliders.app.campaign_spec import Campaign, Case, ResultSpec
 if TYPE_CHECKING:
     import pandas as pd
 
+    from sliders.app.model import Model
+
 #: The environment of a local cluster's workers: one BLAS thread each, so that ``workers``
 #: cases use ``workers`` cores.  Numba's threads are pinned at run time on every worker
 #: (:func:`pin_numba`): ``NUMBA_NUM_THREADS`` in the environment would change the kernels'
@@ -64,11 +66,14 @@ class Outcome:
     interrupted: bool = False
     seconds: float = 0.0
     lost: list[str] = field(default_factory=list)
+    #: The report's picture (``[report]``), None when not drawn.
+    report: Path | None = None
 
 
-def reduce(frame: pd.DataFrame, spec: ResultSpec) -> dict[str, Any]:
+def reduce(frame: pd.DataFrame, spec: ResultSpec, weight: float | None = None) -> dict[str, Any]:
     """The result ``spec`` of one run's table ``frame`` (:class:`ResultSpec`): the columns
-    ``NAME``, ``NAME.t`` and ``NAME.COLUMN`` for each concurrent column."""
+    ``NAME``, ``NAME.t`` and ``NAME.COLUMN`` for each concurrent column; with ``per =
+    "weight"`` the value divided by the case's ``weight`` (:func:`weight_of`)."""
     rows = frame
     for column, wanted in (spec.where or {}).items():
         rows = rows[rows[column] == wanted]
@@ -95,12 +100,29 @@ def reduce(frame: pd.DataFrame, spec: ResultSpec) -> dict[str, Any]:
             "last": lambda: len(y) - 1,
         }[spec.reduce]()
         value = float(y[at])
+    if spec.per == "weight":
+        if weight is None or not weight > 0:
+            raise ValueError(f"result {spec.name}: per = 'weight' needs a weight, got {weight}")
+        value /= weight
     found: dict[str, Any] = {spec.name: value}
     if time_column in rows:
         found[f"{spec.name}.t"] = rows[time_column].iloc[at]
     for column in spec.concurrent:
         found[f"{spec.name}.{column}"] = rows[column].iloc[at]
     return found
+
+
+def weight_of(model: Model) -> float:
+    """The weight of a scene: its bodies' and beams' mass (``mass_per_length`` times
+    length) times ``|study.gravity|``; ``ValueError`` without gravity."""
+    gravity = model.scene.study.gravity
+    if gravity is None:
+        raise ValueError("per = 'weight' needs study.gravity")
+    structure = model.structure
+    mass = sum(body.mass for body in structure.bodies) + sum(
+        beam.section.mass_per_length * beam.mesh.length for beam in structure.beams
+    )
+    return float(mass * np.linalg.norm(gravity))
 
 
 def run_case(case: Case, campaign: Campaign, keep: str | Path | None = None) -> dict[str, Any]:
@@ -132,13 +154,15 @@ def run_case(case: Case, campaign: Campaign, keep: str | Path | None = None) -> 
             if error is not None:
                 raise ValueError(error)
             frames: dict[str, pd.DataFrame] = {}
-            for spec in campaign.spec.result:
+            specs = campaign.spec.result
+            weight = weight_of(model) if any(r.per == "weight" for r in specs) else None
+            for spec in specs:
                 if spec.table not in frames:
                     path = out / f"{spec.table}.csv"
                     if not path.is_file():
                         raise ValueError(f"result {spec.name}: the run wrote no {spec.table}.csv")
                     frames[spec.table] = pd.read_csv(path)
-                row.update(reduce(frames[spec.table], spec))
+                row.update(reduce(frames[spec.table], spec, weight))
             row.update(status="ok", message=None)
         except Exception as exc:
             message = str(exc) if isinstance(exc, ValueError) else f"{type(exc).__name__}: {exc}"
@@ -301,6 +325,10 @@ def run_campaign(
         outcome.interrupted = True
     finally:
         bar.close()
+    if campaign.spec.report is not None and not outcome.table.empty:
+        from sliders.app.campaign_report import write_report
+
+        outcome.report = write_report(outcome.table, campaign, out)
     outcome.failed = sum(r["status"] != "ok" for r in rows)
     outcome.seconds = time.perf_counter() - clock
     return outcome
@@ -369,6 +397,8 @@ def command(
         table = outcome.table
         for _, row in table[table["status"] != "ok"].head(5).iterrows():
             print(f"  case {row['case']} failed: {row['message']}", file=sys.stderr)
+    if outcome.report is not None:
+        print(f"report: {outcome.report}")
     for lost in outcome.lost:
         print(f"  {lost} (lost with its worker: --resume runs it again)", file=sys.stderr)
     if outcome.interrupted:

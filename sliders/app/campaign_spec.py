@@ -83,6 +83,9 @@ class ResultSpec(Table):
         the work of ``column`` (a force) over ``over`` (its displacement) up to the row where
         ``over`` peaks, divided by the peak force times the peak displacement (a shock
         absorber's efficiency; 1 for a constant force), trapezoidal over the rows.
+
+    ``per = "weight"`` divides the value (not its concurrent columns) by the case's weight,
+    its total mass (bodies and beams) times ``|study.gravity|``: a load as a load factor.
     """
 
     name: Name
@@ -92,12 +95,24 @@ class ResultSpec(Table):
     over: Text | None = None
     concurrent: Names = ()
     where: dict[str, str | float] | None = None
+    per: Literal["weight"] | None = None
 
     @model_validator(mode="after")
     def _over(self) -> ResultSpec:
         if (self.reduce == "efficiency") != (self.over is not None):
             raise ValueError("over (the displacement column) goes with reduce = 'efficiency' only")
         return self
+
+
+class ReportSpec(Table):
+    """``[report]``: the campaign's picture, ``report.png``: each result named in ``plot``
+    (a panel each) against the values of the axis key ``against``, one line per combination
+    of the other axes' values, coloured by the values of the axis key ``colour`` (optional;
+    :mod:`sliders.app.campaign_report`)."""
+
+    plot: Annotated[tuple[Text, ...], Field(min_length=1)]
+    against: Text
+    colour: Text | None = None
 
 
 class SampleSpec(Table):
@@ -116,6 +131,22 @@ class CampaignSpec(Table):
     sample: SampleSpec | None = None
     axis: Annotated[tuple[AxisSpec, ...], Field(min_length=1)]
     result: tuple[ResultSpec, ...] = ()
+    report: ReportSpec | None = None
+
+    @model_validator(mode="after")
+    def _report(self) -> CampaignSpec:
+        if self.report is None:
+            return self
+        results = [r.name for r in self.result]
+        for name in self.report.plot:
+            if name not in results:
+                raise ValueError(f"report: plot names {name!r}, not a result ({results})")
+        keys = [k for a in self.axis for k in a.names]
+        for what in ("against", "colour"):
+            key = getattr(self.report, what)
+            if key is not None and key not in keys:
+                raise ValueError(f"report: {what} = {key!r} is not an axis key ({keys})")
+        return self
 
     @model_validator(mode="after")
     def _cases(self) -> CampaignSpec:

@@ -101,9 +101,10 @@ def run(model: Model, progress: bool = True, kinematics: str | None = None) -> R
     results = _kinematic_samples(model, progress, kind)
     if isinstance(study, ModesStudy):
         from sliders.app.run_modes import modes_of
+        from sliders.app.scene_joints import joints
 
         start = time.perf_counter()
-        results.modes = modes_of(results.samples, study, progress)
+        results.modes = modes_of(results.samples, study, progress, joints(model.scene))
         results.seconds += time.perf_counter() - start
     return results
 

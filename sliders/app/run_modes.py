@@ -7,19 +7,22 @@ mode keeps its number from point to point by its shape: the modes of a point are
 as those of the previous point they resemble most (:func:`sliders.solve.modes.follow`, the
 largest total MAC), so a number names one mode where frequencies cross.  A sample solved
 with exact kinematics (:class:`sliders.app.kinematics.ExactSolution`) has its modes about
-its exact state, with the geometric stiffness of the preload
+its exact state, with the geometric stiffness of the preload, and with bodies or joints
+those of its exact model, the joints' rows and geometric stiffness
 (:class:`sliders.solve.modes.Preload`); a linear one about a loaded state warns that it is
 left out.
 
 Outputs (:func:`write_modes`, into the run's new output directory, which replaces the old one
 whole): ``modes.csv`` (:data:`MODES_COLUMNS`), the shapes as a VTU
 series per sample (``modes_NNNNNN/modes_NNNNNN.pvd``, one state per mode, its number as the
-time: ParaView steps through the modes, and Warp By Vector shows each), and along a sweep
+time: ParaView steps through the modes, and Warp By Vector shows each), each mode drawn
+over the sample's state (:func:`over_state`: with exact kinematics its rotation increments
+composed with the state's rotations) at the scale :func:`mode_scale`, and along a sweep
 ``campbell.png``, the frequencies against the parameter, one curve per mode number (with
 matplotlib, the ``plot`` extra); with ``output.animation``, each mode of the first converged
 sample as ``mode_NN.mp4`` or ``mode_NN.gif`` (:func:`mode_frames`: one period, one camera,
 magnification and colour range; pyvista, the ``render`` extra); with ``output.png``, each
-mode of the rendered samples (the last converged, or all) at its peak as
+mode of the rendered samples (the last converged, or all) at its peak, over the state, as
 ``render_NNNNNN_mode_NN.png``.
 """
 
@@ -35,21 +38,29 @@ from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
+from fvbeam.rotations import exp_map, log_map
+from fvbeam.structure import Structure
 from fvbeam.support import complement
 from sliders.app.kinematics import ExactSolution
 from sliders.app.schema import ModesStudy
 from sliders.app.state_tables import cell
-from sliders.app.vtu import Frame, write_series
+from sliders.app.vtu import Frame, structure_size, write_series
 from sliders.solve.modes import PRELOAD_WARNING, Preload, StateModes, follow, modes_about
 from sliders.solve.statics import SliderSolution, SliderStatics
 
 if TYPE_CHECKING:
     from fvbeam.exact_structure import ExactStructure
+    from sliders.joints.exact_model import ExactModel, Joint
 
 #: The columns of ``modes.csv``: a row per converged sample and mode.
 MODES_COLUMNS = ("sample", "value", "mode", "frequency_hz", "damping_ratio", "mac")
 #: The frames of one period of a mode's animation.
 MODE_FRAMES = 24
+#: A mode is drawn over its state with its largest translation this part of the
+#: structure's size, or its largest rotation this many radians (:func:`mode_scale`): the
+#: renders' automatic magnification (:data:`sliders.app.render.AUTO_FRACTION`), so they
+#: draw it as it is.
+MODE_FRACTION = 0.1
 #: What writes an animation: ``(path, frames, title)`` (:func:`sliders.app.render.animate`
 #: with the scene's force elements and render options).
 Animator = Callable[[Path, Sequence[Frame], str], object]
@@ -89,28 +100,40 @@ class SampleModes:
 
 
 def modes_of(
-    samples: Sequence[Solved], study: ModesStudy, progress: bool = True
+    samples: Sequence[Solved],
+    study: ModesStudy,
+    progress: bool = True,
+    joints: Sequence[Joint] = (),
 ) -> list[SampleModes]:
     """The modes of ``study`` about every converged one of ``samples``, in order (module
-    docstring); a tqdm progress bar on a terminal; the preload warning
-    (:data:`~sliders.solve.modes.PRELOAD_WARNING`) once for the run."""
+    docstring), an exact sample's with the scene's ``joints``
+    (:func:`sliders.app.scene_joints.joints`); a tqdm progress bar on a terminal; the
+    preload warning (:data:`~sliders.solve.modes.PRELOAD_WARNING`) once for the run."""
     from tqdm import tqdm
 
-    exact: dict[int, ExactStructure] = {}  # the exact beams of each structure, built once
+    # the exact beams, or exact model, of each structure, built once
+    exact: dict[int, ExactStructure | ExactModel] = {}
 
     def preload(statics: SliderStatics, solution: SliderSolution) -> Preload | None:
-        """The exact beams' tangent and mass at an exact sample's state; None for a linear
-        sample, or a state of more than beams (its modes take the linear stiffness, with
-        the preload warning)."""
-        from fvbeam.exact_beam import ExactState
+        """The preload at an exact sample's state: the exact beams' tangent and mass, with
+        bodies or joints their exact model's (:meth:`Preload.of_model`); None for a linear
+        sample (its modes take the linear stiffness, with the preload warning)."""
         from fvbeam.exact_structure import ExactStructure
+        from sliders.joints.exact_model import ExactModel, JointedState
 
-        if not isinstance(solution, ExactSolution) or not isinstance(solution.state, ExactState):
+        if not isinstance(solution, ExactSolution):
             return None
-
         structure = statics.structure
-        beams = exact.setdefault(id(structure), ExactStructure(structure))
-        return Preload.at(beams, solution.state, study.mass)
+        state = solution.state
+        if isinstance(state, JointedState):
+            model = exact.get(id(structure))
+            if not isinstance(model, ExactModel):
+                model = exact[id(structure)] = ExactModel.on(structure, joints, "scene", "joint")
+            return Preload.of_model(model, state, study.mass)
+        beams = exact.get(id(structure))
+        if not isinstance(beams, ExactStructure):
+            beams = exact[id(structure)] = ExactStructure(structure)
+        return Preload.at(beams, state, study.mass)
 
     out: list[SampleModes] = []
     previous: np.ndarray | None = None  # the last shapes, one column per mode number
@@ -217,21 +240,51 @@ def write_modes(
                 )
 
 
+def mode_scale(structure: Structure, shape: np.ndarray) -> float:
+    """The factor drawing a mode ``shape`` (its dofs, real or complex) at
+    :data:`MODE_FRACTION`: its largest nodal translation that part of the structure's size
+    (:func:`sliders.app.vtu.structure_size`), or its largest rotation that many radians,
+    whichever is reached first; 1 for a zero shape."""
+    d = np.abs(shape).reshape(-1, 6)
+    size = structure_size(structure)
+    largest = max(
+        float(d[:, :3].max(initial=0.0)) / size if size > 0 else 0.0,
+        float(d[:, 3:].max(initial=0.0)),
+    )
+    return MODE_FRACTION / largest if largest > 0 else 1.0
+
+
+def over_state(solution: SliderSolution, increment: np.ndarray) -> np.ndarray:
+    """The displacement (the structure's dofs) of the sample's state moved by the mode's
+    ``increment`` (real, its dofs): with exact kinematics
+    (:class:`~sliders.app.kinematics.ExactSolution`) each node at ``x + du`` turned to
+    ``exp(dphi) R`` (the rotation increment a spatial rotation vector composed with the
+    state's rotation ``R``; written as the rotation vector ``log(exp(dphi) R)``), else
+    the linear state's ``q + increment``."""
+    q = solution.q + increment
+    if isinstance(solution, ExactSolution):
+        d = q.reshape(-1, 6)
+        d[:, 3:] = log_map(exp_map(increment.reshape(-1, 6)[:, 3:]) @ solution.state.R)
+    return q
+
+
 def mode_frames(entry: SampleModes, j: int, count: int = MODE_FRAMES) -> list[Frame]:
-    """One period of mode ``j`` (its column) about the sample's state in ``count`` frames:
-    the displacement ``Re(phi e^{i 2 pi k / count})`` at ``t = k / (count f)``, ``phi`` the
-    shape and ``f`` its frequency (a real mode swings as ``phi cos``; a damped, complex one
-    shows the phases of its parts), the sliders at their abscissae."""
+    """One period of mode ``j`` (its column) over the sample's state in ``count`` frames:
+    the state moved by ``a Re(phi e^{i 2 pi k / count})`` (:func:`over_state`) at ``t = k /
+    (count f)``, ``phi`` the shape, ``a`` its :func:`mode_scale` and ``f`` its frequency (a
+    real mode swings as ``phi cos``; a damped, complex one shows the phases of its parts),
+    the sliders at their abscissae."""
     statics, solution, modes = entry.sample.statics, entry.sample.solution, entry.modes
     assert statics is not None and solution is not None and modes is not None
     held = complement(statics.structure.n_dofs, statics.free)
     shape, hertz = modes.shapes[:, j], float(modes.hertz[j])
+    scale = mode_scale(statics.structure, shape)
     period = 1.0 / hertz if hertz > 0 else 1.0
     return [
         Frame(
             k * period / count,
             statics.structure,
-            (shape * np.exp(2j * np.pi * k / count)).real,
+            over_state(solution, scale * (shape * np.exp(2j * np.pi * k / count)).real),
             statics.sliders,
             solution.unknowns,
             held,
@@ -241,16 +294,17 @@ def mode_frames(entry: SampleModes, j: int, count: int = MODE_FRAMES) -> list[Fr
 
 
 def _frames(entry: SampleModes) -> Iterator[Frame]:
-    """One state per mode, by number: the shape's real part as the displacement about the
-    sample's state (sliders at their abscissae)."""
+    """One state per mode, by number: the sample's state moved by the shape's real part at
+    its :func:`mode_scale` (:func:`over_state`; sliders at their abscissae)."""
     statics, solution, modes = entry.sample.statics, entry.sample.solution, entry.modes
     assert statics is not None and solution is not None and modes is not None
     held = complement(statics.structure.n_dofs, statics.free)
     for j in np.argsort(entry.number):
+        shape = modes.shapes[:, j]
         yield Frame(
             float(entry.number[j]),
             statics.structure,
-            modes.shapes[:, j].real,
+            over_state(solution, mode_scale(statics.structure, shape) * shape.real),
             statics.sliders,
             solution.unknowns,
             held,

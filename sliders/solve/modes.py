@@ -54,7 +54,14 @@ geometric stiffness of the preload (:meth:`~fvbeam.exact_structure.ExactStructur
 the loads are dead, so they add none), and ``M`` their mass with the rotary inertia turned
 to the current sections (:meth:`~fvbeam.exact_structure.ExactStructure.mass`), both in the
 tangent's spatial increments ``[du, dphi]``; the beams' damping is ``damping`` times that
-tangent.  No warning then.
+tangent.  No warning then.  With rigid bodies and joints
+(:class:`sliders.joints.exact_model.ExactModel`, :meth:`Preload.of_model`) the joints' rows
+``B`` at the converged state join the sliders' constraints (``G`` gains the rows ``B``,
+the reactions the columns ``B^T``: one reduction by :func:`fvbeam.null_space.null_basis`),
+their geometric stiffness ``sum H_j`` (the rows' second derivatives times the converged
+multipliers) joins the stiffness, not the damping, and each body's mass is turned whole by
+its rotation (:meth:`fvbeam.exact_bodies.ExactBodies.mass`, exact off its centre of
+mass).
 """
 
 from __future__ import annotations
@@ -76,6 +83,7 @@ from sliders.solve.statics import SliderSolution, SliderStatics
 if TYPE_CHECKING:  # the exact beams are imported by whoever built the state
     from fvbeam.exact_beam import ExactState
     from fvbeam.exact_structure import ExactStructure
+    from sliders.joints.exact_model import ExactModel, JointedState
 
 #: The warning of a state under load (module docstring).
 PRELOAD_WARNING = (
@@ -86,17 +94,38 @@ PRELOAD_WARNING = (
 
 @dataclass(frozen=True)
 class Preload:
-    """A state of geometrically exact beams to take the modes about (module docstring):
-    ``stiffness`` the tangent and ``mass`` the mass there, both on the structure's dofs."""
+    """A state of geometrically exact beams, with bodies and joints, to take the modes
+    about (module docstring): ``stiffness`` the beams' tangent and ``mass`` the mass there,
+    ``joints`` the joints' geometric stiffness ``sum H_j`` and ``rows`` their constraint rows
+    ``B`` (one per row of the joints), all on the structure's dofs."""
 
     stiffness: sp.csr_matrix
     mass: sp.csr_matrix
+    joints: sp.csr_matrix | None = None
+    rows: sp.csr_matrix | None = None
 
     @classmethod
     def at(cls, exact: ExactStructure, state: ExactState, mass: str = "lumped") -> Preload:
         """The tangent and the mass of ``exact`` at ``state`` (``mass`` ``lumped`` or
         ``consistent``)."""
         return cls(sp.csr_matrix(exact.tangent(state)), exact.mass(state, mass))
+
+    @classmethod
+    def of_model(cls, model: ExactModel, state: JointedState, mass: str = "lumped") -> Preload:
+        """The beams' tangent, the mass (the bodies' turned whole,
+        :meth:`fvbeam.exact_bodies.ExactBodies.mass`), the joints' geometric stiffness and
+        their rows of the exact ``model`` at its converged ``state`` (its bordered tangent,
+        :meth:`~sliders.joints.exact_model.ExactModel.tangent`: ``[K + sum H, B^T; B, 0]``)."""
+        n = model.exact.n_dofs
+        points = model.points(state)
+        bordered = model.tangent(state, points).tocsr()
+        beams = sp.csr_matrix(model.exact.tangent(state.nodes, points.parts))
+        # sum H = (K + sum H) - K: exact zeros where no joint acts (K + 0 - K)
+        joints = (bordered[:n, :n] - beams).tocsr()
+        joints.eliminate_zeros()
+        rows = bordered[n:, :n].tocsr()
+        rows.eliminate_zeros()
+        return cls(beams, model.exact.mass(state.nodes, mass), joints, rows)
 
 
 @dataclass(frozen=True)
@@ -263,6 +292,10 @@ def reduction(
     free = statics.free
     K_j, G, B = _joint_blocks(statics, q, list(solution.unknowns))
     K_f, C_f = _force_blocks(statics, q)
+    if preload is not None and preload.rows is not None and preload.joints is not None:
+        rows_free = preload.rows[:, free]
+        G, B = sp.vstack([G, rows_free]), sp.hstack([B, rows_free.T])
+        K_j = K_j + preload.joints[free][:, free]
     extra = (K_j + K_f).tocsr()
     extra.eliminate_zeros()
     C_f = C_f.tocsr()
