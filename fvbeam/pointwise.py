@@ -405,18 +405,18 @@ def cubic_flex_at(
 def transfer_at(element: Element, X: float, shapes: Shapes, G: np.ndarray, dG: np.ndarray) -> None:
     """The test functions of ``element`` at ``X`` as load-transfer matrices ``G`` and
     ``dG/dxi`` (6 npe, 6), eq. T6; ``shapes`` is scratch."""
-    kind, regions, nodes, frame, stiffness, h = element
-    N, dN, d2N, chi, dchi = shapes
-    if kind == CUBIC:
-        cubic_blocks_at(frame, stiffness, h, X, G, dG)
+    if element.kind == CUBIC:
+        cubic_blocks_at(element.frame, element.stiffness, element.h, X, G, dG)
         return
-    shape_at(X, nodes.shape[0], N, dN, d2N)
-    if kind == FINITE_VOLUME:
-        indicator_at(X, regions, chi)
-        dchi[:] = 0.0
-        rigid_blocks_at(nodes, h, N, dN, chi, dchi, G, dG)
+    shape_at(X, element.nodes.shape[0], shapes.N, shapes.dN, shapes.d2N)
+    if element.kind == FINITE_VOLUME:
+        indicator_at(X, element.regions, shapes.chi)
+        shapes.dchi[:] = 0.0
+        rigid_blocks_at(
+            element.nodes, element.h, shapes.N, shapes.dN, shapes.chi, shapes.dchi, G, dG
+        )
     else:
-        shape_blocks_at(h, N, dN, G, dG)
+        shape_blocks_at(element.h, shapes.N, shapes.dN, G, dG)
 
 
 @numba.njit(cache=True, inline="never")
@@ -459,18 +459,17 @@ def smeared_element(
     ``out = (A, dA)`` (6 npe, 6), ``H`` the compiled transfer :func:`transfer_at`; returns
     ``int K ds`` and ``-int K' ds``.  ``shapes`` and ``scratch = (breaks, H, dH)``
     (at least ``2 npe + 5``; (6 npe, 6) each) are scratch."""
-    kind, regions, h = element.kind, element.regions, element.h
-    smearing, box, rule_x, rule_w = kernel.half_width, kernel.box, kernel.rule_x, kernel.rule_w
+    smearing = kernel.half_width
     breaks, H, dH = scratch
     A, dA = out
     n = 0
     for value in (lo, hi, xi - smearing, xi, xi + smearing):
         breaks[n] = value
         n += 1
-    if kind == FINITE_VOLUME:
-        for a in range(regions.shape[0]):
+    if element.kind == FINITE_VOLUME:
+        for a in range(element.regions.shape[0]):
             for side in range(2):
-                breaks[n] = start + h * regions[a, side]
+                breaks[n] = start + element.h * element.regions[a, side]
                 n += 1
     for i in range(n):  # clip to [lo, hi] and sort (insertion: a handful of points)
         value = min(max(breaks[i], lo), hi)
@@ -484,10 +483,10 @@ def smeared_element(
         a, length = breaks[i], breaks[i + 1] - breaks[i]
         if length <= 0:
             continue
-        for g in range(len(rule_x)):
-            s, w = a + length * rule_x[g], length * rule_w[g]
-            K, dK = kernel_at(s - xi, smearing, box)
-            X = min(max((s - start) / h, 0.0), 1.0)
+        for g in range(len(kernel.rule_x)):
+            s, w = a + length * kernel.rule_x[g], length * kernel.rule_w[g]
+            K, dK = kernel_at(s - xi, smearing, kernel.box)
+            X = min(max((s - start) / element.h, 0.0), 1.0)
             transfer_at(element, X, shapes, H, dH)
             for r in range(H.shape[0]):
                 for c in range(6):

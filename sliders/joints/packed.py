@@ -648,25 +648,23 @@ def evaluate_joint(
     the line, ``F`` of :mod:`sliders.joints.friction` (physical when ``scale`` is 1), into
     ``friction`` (1,).  Returns 0, or 1 when ``xi`` lies off the line (without end stops),
     nothing written then."""
-    head, values_of, fields, floats, ints = pool
-    q, y, velocity, drive, scale = state
     dofs, r, values, friction = out
-    hd, d = head[j], fields[j]
-    smearing, length = values_of[j, 0], values_of[j, 1]
+    hd, d = pool.head[j], pool.fields[j]
+    smearing, length = pool.values[j, 0], pool.values[j, 1]
     kind, m, t, npe = hd[KIND], hd[UNKNOWNS], hd[SLOTS], hd[NPE]
     n_load, n_rot, width = hd[LOAD], hd[ROTATION], hd[NODE_DOFS]
-    xi_raw = y[0]
+    xi_raw = state.y[0]
     xi = min(max(xi_raw, 0.0), length) if hd[END_STOPS] else xi_raw
     # within 1e-12 of the length beyond an end is at the end (fvbeam.geometry.locate_abscissa)
     tie = 1e-12 * length
     if not (-tie <= xi <= length + tie):
         return 1
-    start, size, where = _f1(ints, d[START]), _f1(ints, d[SIZE]), _f2(ints, d[WHERE])
-    body = _f2(ints, d[BODY])
+    start, size, where = _f1(pool.ints, d[START]), _f1(pool.ints, d[SIZE]), _f2(pool.ints, d[WHERE])
+    body = _f2(pool.ints, d[BODY])
     xs = stack_empty(1, (1,), np.float64)
     xs[0] = xi
-    qb = borrowed(q, 0, (1, len(q)))
-    yb = borrowed(y, 0, (1, m))
+    qb = borrowed(state.q, 0, (1, len(state.q)))
+    yb = borrowed(state.y, 0, (1, m))
     # the joint's line geometry, on the stack (fvbeam.scratch)
     x, l = stack_zeros(3, (1, 3), np.float64), stack_zeros(3, (1, 3), np.float64)
     l_xi, l_xixi = stack_zeros(3, (1, 3), np.float64), stack_zeros(3, (1, 3), np.float64)
@@ -676,7 +674,7 @@ def evaluate_joint(
     # where it has the joint's shape (a point transfer, a straight element's section), else
     # to one made for the joint
     if hd[CHAIN]:
-        chains = _chains(hd, d, floats, ints)
+        chains = _chains(hd, d, pool.floats, pool.ints)
         line = one_point_state(npe, width, True, not hd[SMEARED], hd[SECTION] != 0)
         line_state_into(xs, qb, chains, True, not hd[SMEARED], hd[SECTION] != 0, line)
         beam, element, X, geometry = line.beam, line.element, line.X, line.geometry
@@ -694,10 +692,10 @@ def evaluate_joint(
             kernel = Smearing(
                 smearing,
                 hd[BOX] != 0,
-                _f1(floats, d[STEP_R]),
-                _f1(floats, d[STEP_JUMP]),
-                _f1(floats, d[RULE_X]),
-                _f1(floats, d[RULE_W]),
+                _f1(pool.floats, d[STEP_R]),
+                _f1(pool.floats, d[STEP_JUMP]),
+                _f1(pool.floats, d[RULE_X]),
+                _f1(pool.floats, d[RULE_W]),
             )
             sd, sG, sdG = smeared_transfer(xs, kernel, chains)
             k = sd.shape[1]
@@ -712,7 +710,7 @@ def evaluate_joint(
         if hd[SECTION]:
             rotation_dofs, W, W_xi, W_xixi = line.rotation_dofs, line.W, line.W_xi, line.W_xixi
             e = element[0]
-            if _f1(ints, d[STRAIGHT])[e]:
+            if _f1(pool.ints, d[STRAIGHT])[e]:
                 R0, flex, flex_xi = line.R0, line.flex, line.flex_xi
             else:  # curved: Lagrange 3-node elements only (a cubic element is straight)
                 R0, flex, flex_xi = _own_section()
@@ -720,10 +718,10 @@ def evaluate_joint(
                 for a in range(npe):
                     nodes[0, a] = chains.points[0, chains.cells[e, a]]
                 l0, l0_xi = reference_line(nodes, chains.h[0, e : e + 1], X)
-                up = _f2(floats, d[UP])[e]
+                up = _f2(pool.floats, d[UP])[e]
                 frame_at(l0[0], l0_xi[0], up, R0[0], k0[0])
                 curvature_rate_at(l0[0], l0_xi[0], stack_zeros(3, (3,), np.float64), up, k0_xi[0])
-                C = R0[0] @ _f3(floats, d[BEAM_COMPLIANCE])[beam[0]] @ R0[0].T
+                C = R0[0] @ _f3(pool.floats, d[BEAM_COMPLIANCE])[beam[0]] @ R0[0].T
                 flex[0], flex_xi[0] = line.kink[0] * C, line.kink_xi[0] * C
         else:
             rotation_dofs, W, W_xi, W_xixi = _own_rotation(n_rot)
@@ -737,7 +735,11 @@ def evaluate_joint(
         derivatives = stack_empty(12, (4, 3), np.float64)
         at = min(max(xi, 0.0), length)  # a rigid line is read at the end (RigidLine.at)
         line_at(
-            hd[SHAPE], _f1(floats, d[LINE_PARAMS]), _f1(floats, d[LINE_BREAKS]), at, derivatives
+            hd[SHAPE],
+            _f1(pool.floats, d[LINE_PARAMS]),
+            _f1(pool.floats, d[LINE_BREAKS]),
+            at,
+            derivatives,
         )
         x[0], l[0], l_xi[0], l_xixi[0] = (
             derivatives[0],
@@ -746,7 +748,7 @@ def evaluate_joint(
             derivatives[3],
         )
         tangent[0], tangent_xi[0] = l[0], l_xi[0]
-        up = _f1(floats, d[UP])
+        up = _f1(pool.floats, d[UP])
         frame_at(l[0], l_xi[0], up, R0[0], k0[0])
         curvature_rate_at(l[0], l_xi[0], l_xixi[0], up, k0_xi[0])
         N = dN = d2N = T = stack_empty(1, (1, 3, 0), np.float64)
@@ -767,10 +769,10 @@ def evaluate_joint(
     rb[:] = 0.0
     vb[:] = 0.0
     inputs = JointInputs(
-        _f1(floats, d[OFFSET]),
-        _f2(floats, d[FRAME]),
+        _f1(pool.floats, d[OFFSET]),
+        _f2(pool.floats, d[FRAME]),
         body,
-        _f2(floats, d[REFERENCE]),
+        _f2(pool.floats, d[REFERENCE]),
         qb,
         yb,
         x,
@@ -796,31 +798,33 @@ def evaluate_joint(
         R0,
         k0,
         k0_xi,
-        scale,
+        state.scale,
     )
     joint_equations(kind, hd[SLOPE] != 0, jacobian, inputs, (start, size, where), rb, vb)
     if hd[FRICTION]:
         friction[0] = _friction(
-            values_of[j, FRICTION_LAW],
+            pool.values[j, FRICTION_LAW],
             state,
-            (dofs, _f1(floats, d[OFFSET]), 6 + n_load + n_rot),
+            (dofs, _f1(pool.floats, d[OFFSET]), 6 + n_load + n_rot),
             FrictionLine(N[0], dN[0], T[0], tangent[0], tangent_xi[0]),
             jacobian,
             (start, size, where),
             (r, vb),
         )
     if hd[END_STOPS]:
-        hit, held = end_stop(xi_raw, l[0, 0] * y[1] + l[0, 1] * y[2] + l[0, 2] * y[3], length)
+        hit, held = end_stop(
+            xi_raw, l[0, 0] * state.y[1] + l[0, 1] * state.y[2] + l[0, 2] * state.y[3], length
+        )
         if hit:
             r[t] = held
             if jacobian:
                 _unit_row(start, size, where, values)
     if hd[DRIVEN]:
-        r[t] = y[0] - drive
+        r[t] = state.y[0] - state.drive
         if jacobian:
             _unit_row(start, size, where, values)
-    for k in _f1(ints, d[PINNED]):
-        r[t + k] = y[k]
+    for k in _f1(pool.ints, d[PINNED]):
+        r[t + k] = state.y[k]
         if jacobian:
             _pin(k, size, where, values)
     return 0

@@ -263,16 +263,15 @@ def displacement_one(
     (3, m) and the recovered tangent's ``T``, ``T_xi`` (3, 3 m) on the three elements' dofs
     in turn, the same combination of one-sided tangents as :func:`interpolation_one`'s.
     ``scratch``: ``end`` (3, m), ``shape`` and ``block``."""
-    kinds, first_element, stiffness = chains.kinds, chains.first_element, chains.stiffness
     frames, h = chains.R0_of[b], chains.h[b]
     N, dN, d2N, T, T_xi = out.N[b], out.dN[b], out.d2N[b], out.T[b], out.T_xi[b]
     end, shape, block = scratch
     element = elements[0]
     m = N.shape[1]
     he = h[element]
-    kind, frame = kinds[beam_of(first_element, element)], frames[element]
+    kind, frame = chains.kinds[beam_of(chains.first_element, element)], frames[element]
     for order, out in ((0, N), (1, dN), (2, d2N)):
-        element_line(kind, frame, stiffness[element], he, X, order, out, shape, block)
+        element_line(kind, frame, chains.stiffness[element], he, X, order, out, shape, block)
     T[:] = 0.0
     T_xi[:] = 0.0
     for c in range(3):
@@ -285,13 +284,15 @@ def displacement_one(
         weight = 0.5 * (1 - X) if side == 0 else 0.5 * X
         weight_xi = 0.5 * (-1 / he) if side == 0 else 0.5 * (1 / he)
         at = 0.0 if side == 0 else 1.0
-        element_line(kind, frame, stiffness[element], he, at, 1, end, shape, block)
+        element_line(kind, frame, chains.stiffness[element], he, at, 1, end, shape, block)
         for c in range(3):
             for j in range(m):
                 T[c, j] -= weight * end[c, j]
                 T_xi[c, j] -= weight_xi * end[c, j]
-        k = kinds[beam_of(first_element, other)]
-        element_line(k, frames[other], stiffness[other], h[other], 1.0 - at, 1, end, shape, block)
+        k = chains.kinds[beam_of(chains.first_element, other)]
+        element_line(
+            k, frames[other], chains.stiffness[other], h[other], 1.0 - at, 1, end, shape, block
+        )
         for c in range(3):
             for j in range(m):
                 T[c, (side + 1) * m + j] = weight * end[c, j]
@@ -523,9 +524,8 @@ def line_state_into(
 ) -> None:
     """:func:`line_state` into the arrays ``out``, overwritten (those :func:`line_state`
     returns, or :func:`one_point_state`'s for one member)."""
-    member_map, maps, cells, points, breaks, vertex_s, first_element, h = chains[:8]
-    lag, kinds, regions, ends, stiffness, width, R0_of, compliance_of = chains[8:]
-    B, npe = len(xi), cells.shape[1]
+    width = chains.width
+    B, npe = len(xi), chains.cells.shape[1]
     m = width * npe
     nc = 3 if width == 6 else 0  # contact rows
     (
@@ -578,18 +578,22 @@ def line_state_into(
     compliance6, compliance6_xi = stack_empty(36, (6, 6), f8), stack_empty(36, (6, 6), f8)
     w, w_xi, zero = stack_empty(2, (2,), f8), stack_empty(2, (2,), f8), stack_zeros(3, (3,), f8)
     for b in range(B):
-        k, e, Xb = locate_one(xi[b], breaks[b], vertex_s[b], first_element, h[b])
+        k, e, Xb = locate_one(
+            xi[b], chains.breaks[b], chains.vertex_s[b], chains.first_element, chains.h[b]
+        )
         beam[b], element[b], X[b] = k, e, Xb
-        kind, frame = kinds[k], R0_of[b, e]
-        interpolation_one(e, Xb, h[b], Ns[0], Ns[1], Ns[2], ends, Ts, Ts_xi, three[1:])
+        kind, frame = chains.kinds[k], chains.R0_of[b, e]
+        interpolation_one(
+            e, Xb, chains.h[b], Ns[0], Ns[1], Ns[2], chains.ends, Ts, Ts_xi, three[1:]
+        )
         three[0] = e
-        dof_map = maps[member_map[b]]
+        dof_map = chains.maps[chains.member_map[b]]
         for slot in range(3):
             el = three[slot]
             for a in range(npe):
-                node = cells[el, a]
+                node = chains.cells[el, a]
                 for c in range(3):
-                    nodes[slot * npe + a, c] = points[b, node, c]
+                    nodes[slot * npe + a, c] = chains.points[b, node, c]
                 for c in range(width):
                     tangent_dofs[b, slot * m + width * a + c] = dof_map[el, a, c]
         for j in range(m):
@@ -619,12 +623,14 @@ def line_state_into(
             displaced(reference[b, 1], dN[b], q[b], dofs[b], geometry[b, 1])
             displaced(reference[b, 2], d2N[b], q[b], dofs[b], geometry[b, 2])
             # l_/xixi: zero on Lagrange elements (degree at most 2), the reference line's too
-            element_line(kind, frame, stiffness[e], h[b, e], Xb, 3, end, shape, block)
+            element_line(kind, frame, chains.stiffness[e], chains.h[b, e], Xb, 3, end, shape, block)
             displaced(zero, end, q[b], dofs[b], geometry[b, 3])
             displaced(tangent_reference[b, 0], T[b], q[b], tangent_dofs[b], geometry[b, 4])
             displaced(tangent_reference[b, 1], T_xi[b], q[b], tangent_dofs[b], geometry[b, 5])
             if nc and kind == CUBIC:
-                cubic_flex_at(frame, stiffness[e], h[b, e], Xb, compliance6, compliance6_xi)
+                cubic_flex_at(
+                    frame, chains.stiffness[e], chains.h[b, e], Xb, compliance6, compliance6_xi
+                )
                 for i in range(3):
                     for c in range(6):
                         contact[b, i, c] = compliance6[i, c]
@@ -633,33 +639,39 @@ def line_state_into(
             for a in range(npe):
                 for c in range(6):
                     load_dofs[b, 6 * a + c] = dof_map[e, a, c]
-            element_e = Element(kind, regions, nodes[:npe], frame, stiffness[e], h[b, e])
+            element_e = Element(
+                kind, chains.regions, nodes[:npe], frame, chains.stiffness[e], chains.h[b, e]
+            )
             transfer_at(element_e, Xb, Shapes(n, dn, d2n, chi, dchi), G[b], dG[b])
         if rotation:
             R0[b] = frame
             if kind == CUBIC:  # the element's own rotation and its compliance (eq. T13)
                 pair[0], pair[1] = 0, 1
                 for order, rows in ((0, W[b]), (1, W_xi[b]), (2, W_xixi[b])):
-                    cubic_local_at(stiffness[e], h[b, e], Xb, order, G_b)
+                    cubic_local_at(chains.stiffness[e], chains.h[b, e], Xb, order, G_b)
                     to_global(frame, G_b)
                     for j in range(12):
                         for c in range(3):
                             rows[c, j] = G_b[j, 3 + c]
-                cubic_flex_at(frame, stiffness[e], h[b, e], Xb, compliance6, compliance6_xi)
+                cubic_flex_at(
+                    frame, chains.stiffness[e], chains.h[b, e], Xb, compliance6, compliance6_xi
+                )
                 for i in range(3):
                     for c in range(3):
                         flex[b, i, c] = compliance6[3 + i, 3 + c]
                         flex_xi[b, i, c] = compliance6_xi[3 + i, 3 + c]
             else:
-                kink[b], kink_xi[b] = rotation_one(Xb, h[b, e], lag[e], npe, pair, w, w_xi)
+                kink[b], kink_xi[b] = rotation_one(
+                    Xb, chains.h[b, e], chains.lag[e], npe, pair, w, w_xi
+                )
                 for s in range(2):
                     for c in range(3):
                         W[b, c, width * s + width - 3 + c] = w[s]
                         W_xi[b, c, width * s + width - 3 + c] = w_xi[s]
                 for i in range(3):
                     for c in range(3):
-                        flex[b, i, c] = kink[b] * compliance_of[b, e, i, c]
-                        flex_xi[b, i, c] = kink_xi[b] * compliance_of[b, e, i, c]
+                        flex[b, i, c] = kink[b] * chains.compliance_of[b, e, i, c]
+                        flex_xi[b, i, c] = kink_xi[b] * chains.compliance_of[b, e, i, c]
             for s in range(2):
                 for c in range(width):
                     rotation_dofs[b, width * s + c] = dof_map[e, pair[s], 6 - width + c]
@@ -763,18 +775,24 @@ def smeared_transfer(
     member's last dof and zero rows.
     """
     smearing, step_r, step_jump = kernel.half_width, kernel.step_r, kernel.step_jump
-    member_map, maps, cells, points, breaks, vertex_s, first_element, h = chains[:8]
-    kinds, regions, stiffness, R0_of = chains.kinds, chains.regions, chains.stiffness, chains.R0_of
-    B, npe = len(xi), cells.shape[1]
+    B, npe = len(xi), chains.cells.shape[1]
     span = np.empty((B, 2), np.int64)
     slots = 1
     for b in range(B):
-        length = breaks[b, -1]
+        length = chains.breaks[b, -1]
         span[b, 0] = locate_one(
-            max(xi[b] - smearing, 0.0), breaks[b], vertex_s[b], first_element, h[b]
+            max(xi[b] - smearing, 0.0),
+            chains.breaks[b],
+            chains.vertex_s[b],
+            chains.first_element,
+            chains.h[b],
         )[1]
         span[b, 1] = locate_one(
-            min(xi[b] + smearing, length), breaks[b], vertex_s[b], first_element, h[b]
+            min(xi[b] + smearing, length),
+            chains.breaks[b],
+            chains.vertex_s[b],
+            chains.first_element,
+            chains.h[b],
         )[1]
         slots = max(slots, (span[b, 1] - span[b, 0] + 1) * (npe - 1) + 1)
     dofs = np.empty((B, 6 * slots), np.int64)
@@ -784,27 +802,35 @@ def smeared_transfer(
     A, dA = np.empty((6 * npe, 6)), np.empty((6 * npe, 6))
     nodes, scratch = np.empty((npe, 3)), np.empty(2 * npe + 5)
     for b in range(B):
-        x, dof_map, first = xi[b], maps[member_map[b]], span[b, 0]
+        x, dof_map, first = xi[b], chains.maps[chains.member_map[b]], span[b, 0]
         mass = dmass = 0.0
         for e in range(first, span[b, 1] + 1):
             for a in range(npe):
                 slot = 6 * node_slot(e - first, a, npe)
                 for c in range(6):
                     dofs[b, slot + c] = dof_map[e, a, c]
-            k = beam_of(first_element, e)
-            offset = breaks[b, k]
-            lo, hi = max(x - smearing, offset), min(x + smearing, breaks[b, k + 1])
+            k = beam_of(chains.first_element, e)
+            offset = chains.breaks[b, k]
+            lo, hi = max(x - smearing, offset), min(x + smearing, chains.breaks[b, k + 1])
             if hi <= lo:
                 continue
             local = x - offset  # the beam's own abscissae, as the beam's form reads them
             lo, hi = max(lo - offset, local - smearing), min(hi - offset, local + smearing)
-            start, end = vertex_s[b, e + k], vertex_s[b, e + k + 1]  # beam k's vertices
+            # beam k's vertices
+            start, end = chains.vertex_s[b, e + k], chains.vertex_s[b, e + k + 1]
             if not (start < hi and end > lo):
                 continue
-            element_nodes(points[b], cells[e], nodes)
+            element_nodes(chains.points[b], chains.cells[e], nodes)
             A[:] = 0.0
             dA[:] = 0.0
-            element = Element(kinds[k], regions, nodes, R0_of[b, e], stiffness[e], h[b, e])
+            element = Element(
+                chains.kinds[k],
+                chains.regions,
+                nodes,
+                chains.R0_of[b, e],
+                chains.stiffness[e],
+                chains.h[b, e],
+            )
             m, dm = smeared_element(
                 element,
                 start,
@@ -822,10 +848,19 @@ def smeared_transfer(
             add_block(dA, 1.0, e - first, dG[b])
         for i in range(len(step_r)):
             at = x + step_r[i]
-            if 0 < at < breaks[b, -1]:
-                k, e, X = locate_one(at, breaks[b], vertex_s[b], first_element, h[b])
-                element_nodes(points[b], cells[e], nodes)
-                element = Element(kinds[k], regions, nodes, R0_of[b, e], stiffness[e], h[b, e])
+            if 0 < at < chains.breaks[b, -1]:
+                k, e, X = locate_one(
+                    at, chains.breaks[b], chains.vertex_s[b], chains.first_element, chains.h[b]
+                )
+                element_nodes(chains.points[b], chains.cells[e], nodes)
+                element = Element(
+                    chains.kinds[k],
+                    chains.regions,
+                    nodes,
+                    chains.R0_of[b, e],
+                    chains.stiffness[e],
+                    chains.h[b, e],
+                )
                 transfer_at(element, X, shapes, H, dH)
                 add_block(H, -step_jump[i], e - first, dG[b])
                 dmass -= step_jump[i]

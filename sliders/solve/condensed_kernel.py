@@ -120,9 +120,6 @@ def _joint(
     (``counts``: how many of each so far, updated); supported slots drop.  ``at``:
     ``(s0, v0, c0, y_at, c_at)``."""
     s0, v0, c0, y_at, c_at = at
-    slots, values, c_of, nc = jac.slots, jac.values, jac.c_of, jac.nc
-    where_f, where_r, fd, rd, counts = v.where_f, v.where_r, v.fd, v.rd, v.counts
-    G, Ct, D = v.G, v.Ct, v.D
     for block in range(len(table)):
         r0, nr, q0, nq, off = (
             table[block, 0],
@@ -134,33 +131,35 @@ def _joint(
         if r0 >= t and q0 >= t:
             for p in range(nr):
                 for q in range(nq):
-                    D[y_at + r0 - t + p, y_at + q0 - t + q] += values[off + p * nq + q]
+                    v.D[y_at + r0 - t + p, y_at + q0 - t + q] += jac.values[off + p * nq + q]
         elif r0 >= t:
             for q in range(nq):
-                dof = slots[s0 + q0 + q]
+                dof = jac.slots[s0 + q0 + q]
                 if dof < 0:
                     continue
-                i = where_r[dof]
+                i = v.where_r[dof]
                 for p in range(nr):
-                    v = values[off + p * nq + q]
-                    if v == 0.0:
+                    value = jac.values[off + p * nq + q]
+                    if value == 0.0:
                         continue
                     if i < 0:
-                        i = _register(dof, where_r, rd, Ct, counts, 1)
-                    Ct[i, y_at + r0 - t + p] += v
+                        i = _register(dof, v.where_r, v.rd, v.Ct, v.counts, 1)
+                    v.Ct[i, y_at + r0 - t + p] += value
         else:
             for p in range(nr):
-                dof = slots[s0 + r0 + p]
+                dof = jac.slots[s0 + r0 + p]
                 if dof < 0:
                     continue
-                i = where_f[dof]
+                i = v.where_f[dof]
                 for q in range(nq):
-                    v = values[off + p * nq + q]
-                    if v == 0.0 or (q0 < t and slots[s0 + q0 + q] < 0):
+                    value = jac.values[off + p * nq + q]
+                    if value == 0.0 or (q0 < t and jac.slots[s0 + q0 + q] < 0):
                         continue
                     if i < 0:
-                        i = _register(dof, where_f, fd, G, counts, 0)
-                    G[i, c_at + c_of[c0 + q0 + q] if q0 < t else nc + y_at + q0 - t + q] += v
+                        i = _register(dof, v.where_f, v.fd, v.G, v.counts, 0)
+                    v.G[
+                        i, c_at + jac.c_of[c0 + q0 + q] if q0 < t else jac.nc + y_at + q0 - t + q
+                    ] += value
 
 
 @numba.njit(inline="never")
@@ -170,27 +169,31 @@ def _gather(b: int, members: int, jac: Jacobians, v: StepScratch) -> None:
     :meth:`sliders.solve.condensed.CondensedOperator.step` (batch after batch, joint ``i`` of
     a batch in its row ``i B + b``), and the free dof of each ``c`` slot (-1 if supported;
     registered as a read dof).  ``counts``: the numbers of force and read dofs."""
-    slots, tables, c_of, batches = jac.slots, jac.tables, jac.c_of, jac.batches
-    where_r, rd, counts, Ct, D, c_dof = v.where_r, v.rd, v.counts, v.Ct, v.D, v.c_dof
-    counts[0] = counts[1] = 0
-    D[:, :] = 0.0
+    v.counts[0] = v.counts[1] = 0
+    v.D[:, :] = 0.0
     y_at = c_at = 0
-    for j in range(len(batches)):
-        k, t, m, width = batches[j, 0], batches[j, 1], batches[j, 2], batches[j, 3]
-        c0, n_c = batches[j, 8], batches[j, 9]
+    for j in range(len(jac.batches)):
+        k, t, m, width = jac.batches[j, 0], jac.batches[j, 1], jac.batches[j, 2], jac.batches[j, 3]
+        c0, n_c = jac.batches[j, 8], jac.batches[j, 9]
         for i in range(k):
-            s0 = batches[j, 4] + (i * members + b) * t
+            s0 = jac.batches[j, 4] + (i * members + b) * t
             if n_c:
                 for e in range(t):
-                    dof = slots[s0 + e]
-                    if c_of[c0 + e] >= 0:
-                        c_dof[c_at + c_of[c0 + e]] = dof
-                    if c_of[c0 + e] >= 0 and dof >= 0 and where_r[dof] < 0:
-                        where_r[dof], rd[counts[1]] = counts[1], dof
-                        Ct[counts[1]] = 0.0
-                        counts[1] += 1
-            v0 = batches[j, 5] + (i * members + b) * width
-            _joint(t, (s0, v0, c0, y_at, c_at), tables[batches[j, 6] : batches[j, 7]], jac, v)
+                    dof = jac.slots[s0 + e]
+                    if jac.c_of[c0 + e] >= 0:
+                        v.c_dof[c_at + jac.c_of[c0 + e]] = dof
+                    if jac.c_of[c0 + e] >= 0 and dof >= 0 and v.where_r[dof] < 0:
+                        v.where_r[dof], v.rd[v.counts[1]] = v.counts[1], dof
+                        v.Ct[v.counts[1]] = 0.0
+                        v.counts[1] += 1
+            v0 = jac.batches[j, 5] + (i * members + b) * width
+            _joint(
+                t,
+                (s0, v0, c0, y_at, c_at),
+                jac.tables[jac.batches[j, 6] : jac.batches[j, 7]],
+                jac,
+                v,
+            )
             y_at += m
             c_at += n_c
 
@@ -203,26 +206,24 @@ def _columns(columns: Columns, n: int, v: StepScratch, n_f: int, n_r: int) -> No
     nonzeros of ``G``.  Each stored column is read once at the read dofs (``read``) and added
     into ``Yt = Y^T`` (contiguous rows), then transposed: every entry sums its terms in the
     order of the force dofs."""
-    store, column = columns.store, columns.column
-    fd, rd, G, Y, Y_z, Yt, read = v.fd, v.rd, v.G, v.Y, v.Y_z, v.Yt, v.read
-    ncm = G.shape[1]
-    Yt[:, :n_r] = 0.0
-    Y_z[:, :] = 0.0
+    ncm = v.G.shape[1]
+    v.Yt[:, :n_r] = 0.0
+    v.Y_z[:, :] = 0.0
     for f in range(n_f):
-        at = column[fd[f]]
+        at = columns.column[v.fd[f]]
         for r in range(n_r):
-            read[r] = store[at, rd[r]]
+            v.read[r] = columns.store[at, v.rd[r]]
         for j in range(ncm):
-            g = G[f, j]
+            g = v.G[f, j]
             if g == 0.0:
                 continue
             for r in range(n_r):
-                Yt[j, r] += read[r] * g
-            for z in range(Y_z.shape[0]):
-                Y_z[z, j] += store[at, n + z] * g
+                v.Yt[j, r] += v.read[r] * g
+            for z in range(v.Y_z.shape[0]):
+                v.Y_z[z, j] += columns.store[at, n + z] * g
     for r in range(n_r):
         for j in range(ncm):
-            Y[r, j] = Yt[j, r]
+            v.Y[r, j] = v.Yt[j, r]
 
 
 @numba.njit(inline="never")
@@ -231,33 +232,32 @@ def _small(base: np.ndarray, r_y: np.ndarray, phi: np.ndarray, v: StepScratch, n
     ``dy``, rigid amplitudes) and right-hand side ``rhs`` into the scratch ``v`` (module
     docstring; :func:`_small_rhs`), from its base solution ``base = B^{-1}[r_q; 0]``, joint
     residuals ``r_y`` and the ``n_r`` read dofs ``v.rd``."""
-    c_dof, where_r, rd, Y, Y_z, Ct, D, A = v.c_dof, v.where_r, v.rd, v.Y, v.Y_z, v.Ct, v.D, v.A
-    nc, k, m = len(c_dof), phi.shape[1], len(r_y)
+    nc, k, m = len(v.c_dof), phi.shape[1], len(r_y)
     ncm = nc + m
-    A[:, :] = 0.0
+    v.A[:, :] = 0.0
     for i in range(nc):
-        dof = c_dof[i]
+        dof = v.c_dof[i]
         if dof < 0:
-            A[i, i] = 1.0
+            v.A[i, i] = 1.0
             continue
-        A[i, :ncm] = Y[where_r[dof]]
-        A[i, i] += 1.0
-        A[i, ncm:] = -phi[dof]
+        v.A[i, :ncm] = v.Y[v.where_r[dof]]
+        v.A[i, i] += 1.0
+        v.A[i, ncm:] = -phi[dof]
     for z in range(k):
-        A[nc + z, :ncm] = Y_z[z]
+        v.A[nc + z, :ncm] = v.Y_z[z]
     for r in range(n_r):
         for y in range(m):
-            c = Ct[r, y]
+            c = v.Ct[r, y]
             if c == 0.0:
                 continue
             row = nc + k + y
             for j in range(ncm):
-                A[row, j] -= c * Y[r, j]
+                v.A[row, j] -= c * v.Y[r, j]
             for z in range(k):
-                A[row, ncm + z] += c * phi[rd[r], z]
+                v.A[row, ncm + z] += c * phi[v.rd[r], z]
     for y in range(m):
         for j in range(m):
-            A[nc + k + y, nc + j] += D[y, j]
+            v.A[nc + k + y, nc + j] += v.D[y, j]
     _small_rhs(base, r_y, k, v, n_r)
 
 
@@ -268,23 +268,22 @@ def _small_rhs(base: np.ndarray, r_y: np.ndarray, k: int, v: StepScratch, n_r: i
     B^{-1}[r_q; 0]`` and the joint residuals ``r_y``; the equations' ``C`` (``Ct``, its
     ``n_r`` read dofs ``rd``) and the ``c`` slots' dofs ``c_dof`` as :func:`_gather` left them
     in the scratch ``v``."""
-    c_dof, rd, Ct, rhs = v.c_dof, v.rd, v.Ct, v.rhs
-    nc, m = len(c_dof), len(r_y)
+    nc, m = len(v.c_dof), len(r_y)
     n = len(base) - k
     for i in range(nc):
-        dof = c_dof[i]
-        rhs[i] = 0.0 if dof < 0 else -base[dof]
+        dof = v.c_dof[i]
+        v.rhs[i] = 0.0 if dof < 0 else -base[dof]
     for z in range(k):
-        rhs[nc + z] = -base[n + z]
+        v.rhs[nc + z] = -base[n + z]
     for y in range(m):
-        rhs[nc + k + y] = 0.0
+        v.rhs[nc + k + y] = 0.0
     for r in range(n_r):
         for y in range(m):
-            c = Ct[r, y]
+            c = v.Ct[r, y]
             if c != 0.0:
-                rhs[nc + k + y] += c * base[rd[r]]
+                v.rhs[nc + k + y] += c * base[v.rd[r]]
     for y in range(m):
-        rhs[nc + k + y] -= r_y[y]
+        v.rhs[nc + k + y] -= r_y[y]
 
 
 @numba.njit(inline="never")
