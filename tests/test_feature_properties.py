@@ -40,6 +40,7 @@ shrunk (a failure is reported as drawn): about 20 s in all once the kernels are 
 from __future__ import annotations
 
 import copy
+import csv
 import math
 import re
 from datetime import timedelta
@@ -441,22 +442,39 @@ def test_a_gear_with_one_thing_wrong_is_refused_at_its_key(kind, data):
     assert examine(data.draw(broken(kind))) == 2
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="known defect, not yet fixed: the planar solve of this gear fails at t = 0.8 ms "
-    "with a free motion along both sliders' lambda_y; the 3-D solve of it runs",
-)
 def test_a_planar_gear_whose_start_holds_the_axle_runs_as_the_3d_one(tmp_path):
     """Found by :func:`test_a_gear_killed_and_resumed_writes_an_uninterrupted_runs_bytes`:
-    the start holding the axle too, a forward speed of 0.125 m/s.  The same scene with
-    ``study.planar = false`` runs (and so does it at 0 or 1 m/s)."""
+    the start holding the axle too, a forward speed of 0.125 m/s.  The wheel spins up to
+    rolling within 0.8 ms (the slip passes the tyre's linear range in one step), where the
+    full step's Newton does not converge and the step is taken in halves: the planar run
+    too (a diagnosis of the Newton matrix without the pinned multipliers' equations finds it
+    singular along ``lambda_y`` and stops the run instead).  The two histories: the same
+    steps, every column within 10 ``tol`` of its largest value (``tests/test_planar.py``'s
+    bound)."""
     scene = gear()
     scene["study"]["start"] = {
         "velocity": [0.125, 0.0, -2.675],
         "hold": ["axle", "airframe", "wheel"],
     }
-    scene["study"]["planar"] = False
-    assert run_to(tmp_path, scene, "three_d")[0] == 0
-    scene["study"]["planar"] = True
-    code, _, err = run_to(tmp_path, scene, "planar")
-    assert code == 0, err
+    tol = scene["study"].setdefault("tol", 1e-8)
+    runs = []
+    for planar in (False, True):
+        scene["study"]["planar"] = planar
+        code, out, err = run_to(tmp_path, scene, f"planar_{planar}")
+        assert code == 0, err
+        runs.append(columns(out / "history.csv"))
+    three_d, planar_run = runs
+    assert list(planar_run) == list(three_d)
+    assert planar_run["h"] == three_d["h"]
+    assert min(three_d["h"][1:]) == scene["study"]["step"] / 2  # a step taken in halves
+    for name, values in three_d.items():
+        scale = max(max(abs(v) for v in values), 1.0)
+        worst = max(abs(a - b) for a, b in zip(planar_run[name], values, strict=True))
+        assert worst <= 10 * tol * scale, name
+
+
+def columns(path: Path) -> dict[str, list[float]]:
+    """The columns of a CSV table of numbers, by name."""
+    with path.open(newline="") as handle:
+        rows = list(csv.reader(handle))
+    return {name: [float(row[i]) for row in rows[1:]] for i, name in enumerate(rows[0])}

@@ -17,6 +17,7 @@ from test_sliders import SECTION, sliding_beams_model
 from fvbeam import Beam, Section, Structure, Support, straight
 from sliders.joints.drives import Ramp
 from sliders.solve.dynamics import Dynamics
+from sliders.solve.newton_kernel import NOT_CONVERGED_MESSAGE
 from sliders.solve.planar import out_of_plane
 from sliders.solve.statics import SliderStatics
 
@@ -43,6 +44,24 @@ def test_sliding_beams_in_their_plane(kind, name) -> None:
     assert np.all(q[out_of_plane(structure, "xy")] == 0.0)
     for a, b in zip(y, y_ref, strict=True):
         close(a, b)
+
+
+@pytest.mark.parametrize("warm", [False, True])
+def test_a_planar_newton_stopped_short_is_not_called_singular(warm) -> None:
+    """The Newton matrix a planar solve factorises holds the pinned multipliers' equations
+    ``y_k = 0`` (:func:`sliders.solve.planar.pin`): it is regular where the solve converges,
+    and a Newton stopped after one iteration is reported unconverged, as in three dimensions
+    (a dynamic step then tries halves).  Without them a pinned multiplier's column lies on
+    held dofs only, and the diagnosis would name a free motion along it.  From the default
+    start (multipliers zero) and from the converged state under a load three times larger."""
+    structure, supports, sliders, P = sliding_beams_model(0.37 * 0.6, 3, "classical", "fv3")
+    f = structure.gather(1, P.nodal_load("end", (40.0, 1.0e3, 0.0), (0.0, 0.0, 5.0)))
+    for plane in (None, "xy"):
+        statics = SliderStatics(structure, supports, sliders, plane=plane)
+        q, y, _ = statics.newton(f, None, TOL, 25)
+        assert statics._singular(statics.jacobian(q, y)) is None
+        outcome = statics.newton(3 * f, (q, y), TOL, 1) if warm else statics.newton(f, None, TOL, 1)
+        assert isinstance(outcome, str) and outcome.startswith(NOT_CONVERGED_MESSAGE), outcome
 
 
 def full_free(structure: Structure, supports: list[Support]) -> int:

@@ -10,7 +10,8 @@ given ``plane`` holds those dofs (as supports do) and pins those multipliers to 
 equations replaced by ``y_k = 0``, :mod:`sliders.joints.packed`): half the dofs, the same
 answer (``tests/test_planar.py`` holds the two equal to roundoff).
 
-:func:`out_of_plane` lists the dofs, :func:`pinned` a joint's multipliers, :func:`check`
+:func:`out_of_plane` lists the dofs, :func:`pinned` a joint's multipliers (:func:`pin` puts
+their equations into a joint's Jacobian), :func:`check`
 refuses a problem that is not planar in the plane asked for, naming what leaves it, and
 :func:`check_load` a load with out-of-plane components (scenes find their plane themselves:
 :meth:`sliders.app.model.Model.plane`).
@@ -78,6 +79,22 @@ def pinned(slider: Slider, plane: str) -> list[int]:
     if slider.kind == "spline":
         out.append(6)
     return out
+
+
+def pin(J: np.ndarray, slots: int, pins: Sequence[int]) -> np.ndarray:
+    """A joint's Jacobian ``J`` on ``[q(slots); y]`` (rows: its ``slots`` slot forces, then
+    its equations) with the equation row of every unknown ``k`` in ``pins`` (:func:`pinned`)
+    replaced by the unit row of ``y_k = 0``, as the compiled joints hold it
+    (:func:`sliders.joints.packed.evaluate_joint`): the Newton matrix a planar solve
+    factorises.  Without it a pinned multiplier's column has its entries on out-of-plane
+    dofs only, all held, and the matrix is singular along it whatever the state."""
+    if not len(pins):
+        return J
+    J = J.copy()
+    for k in pins:
+        J[slots + k] = 0.0
+        J[slots + k, slots + k] = 1.0
+    return J
 
 
 def check(

@@ -56,7 +56,7 @@ from sliders.solve.mechanism import (
 )
 from sliders.solve.newton import ColumnStorageError, CompiledNewton
 from sliders.solve.newton_kernel import NOT_CONVERGED_MESSAGE
-from sliders.solve.planar import check, check_load, moved_in_plane, out_of_plane, pinned
+from sliders.solve.planar import check, check_load, moved_in_plane, out_of_plane, pin, pinned
 
 METHODS = ("auto", "bordered", "condensed")
 
@@ -426,11 +426,14 @@ class SliderStatics:
 
     def _bordered(self, parts: list) -> sp.csc_matrix:
         """The bordered matrix on the free dofs and slider unknowns (a dof held by several
-        slots sums them)."""
+        slots sums them); in a planar solve with the pinned multipliers' equations
+        (:func:`sliders.solve.planar.pin`), as the condensed back end solves it."""
         nf = len(self.free)
         rows, cols, vals = [self.K_free.row], [self.K_free.col], [self.K_free.data]
         offset = nf
-        for dofs, _, ry, J in parts:
+        for j, (dofs, _, ry, J) in enumerate(parts):
+            if self.plane is not None:
+                J = pin(J, len(dofs), pinned(self.sliders[j], self.plane))
             index = np.concatenate([self._position[dofs], offset + np.arange(len(ry))])
             keep = index >= 0
             rr, cc = np.meshgrid(index[keep], index[keep], indexing="ij")
