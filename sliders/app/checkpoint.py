@@ -48,7 +48,7 @@ import warnings
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -56,8 +56,10 @@ from fvbeam.io import OUTPUT_MARKER, check_replaceable, replace_directory, write
 from sliders.app.history import Recorder
 from sliders.app.scene import dump_scene
 from sliders.app.schema import Scene
-from sliders.solve.dynamics import Cursor, Dynamics
 from sliders.solve.integrator import State
+
+if TYPE_CHECKING:  # a static run clears checkpoints without the time integration
+    from sliders.solve.dynamics import Cursor, Dynamics
 
 #: The file that marks a directory as a checkpoint this program wrote.
 MARKER = ".fvslider-checkpoint"
@@ -326,6 +328,8 @@ class Checkpoints:
     def _restore(self, fields: dict[str, np.ndarray], dynamics: Dynamics) -> tuple[Cursor, _Saved]:
         """The cursor and the recorder of the checkpoint whose commit holds ``fields``, after
         checking every array's shape, count and range and every file's checksum."""
+        from sliders.solve.dynamics import Cursor  # imported by then: dynamics is given
+
         tables = _texts(fields, "tables")
         count = len(tables)
         rows = dict(zip(tables, _counts(fields, "rows", count), strict=True))

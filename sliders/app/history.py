@@ -51,7 +51,7 @@ import os
 import time
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import TextIO
+from typing import TYPE_CHECKING, TextIO
 
 import numpy as np
 import scipy.sparse as sp
@@ -68,8 +68,10 @@ from sliders.app.state_tables import (
     quote,
     state_table,
 )
-from sliders.solve.dynamics import Dynamics
 from sliders.solve.integrator import State
+
+if TYPE_CHECKING:  # what records a run is imported before the time integration is
+    from sliders.solve.dynamics import Dynamics
 
 #: Steps and seconds between the blocks a streaming recorder writes.
 FLUSH_ROWS, FLUSH_SECONDS = 1000, 5.0
