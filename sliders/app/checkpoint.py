@@ -135,7 +135,7 @@ class Checkpoints:
         self.toml, self.recorder = dump_scene(scene), recorder
         self.scene = scene
         self.steps, self.seconds = steps, seconds
-        self._pending: tuple[Cursor, dict[str, int], int, dict[str, np.ndarray]] | None = None
+        self._pending: tuple[Cursor, dict[str, int], int] | None = None
         self._saved: _Saved | None = None
         self._clock = time.monotonic()
 
@@ -148,7 +148,7 @@ class Checkpoints:
         """Note the step just recorded; write a checkpoint if one is due."""
         recorder = self.recorder
         counts = {name: recorder.count(name) for name in recorder.headers}
-        self._pending = (cursor, counts, len(recorder.states), recorder.carry())
+        self._pending = (cursor, counts, len(recorder.states))
         done = counts["history"] - 1 - (self._saved.step if self._saved else 0)
         if (self.steps and done >= self.steps) or (
             self.seconds and time.monotonic() - self._clock >= self.seconds
@@ -181,6 +181,19 @@ class Checkpoints:
             )
         self._clock = time.monotonic()
 
+    def written(self) -> dict[str, tuple[Path, int, int]]:
+        """Per table of the last checkpoint written: its file, rows and length in bytes (the
+        header and those rows as :meth:`sliders.app.history.Recorder.text` gives them, which
+        :meth:`~sliders.app.history.Recorder.write` copies instead of formatting them
+        again); empty before the first."""
+        saved = self._saved
+        if saved is None:
+            return {}
+        return {
+            name: (self.directory / f"{name}.csv", saved.rows[name], saved.sizes[name])
+            for name in saved.rows
+        }
+
     def remove(self) -> None:
         """Remove the checkpoint (the run's outputs are written): renamed aside, then
         deleted, so that it is either whole or gone.  One that cannot be removed warns
@@ -205,7 +218,8 @@ class Checkpoints:
     def _write(self, directory: Path) -> _Saved:
         """Append to ``directory``'s files what the last checkpoint lacks, then commit."""
         assert self._pending is not None  # save writes only after a step was noted
-        cursor, counts, kept, carry = self._pending
+        cursor, counts, kept = self._pending
+        carry = self.recorder.carry(cursor.state, counts["history"])
         old = self._saved
         rows, sizes, hashes = {}, {}, {}
         for name, header in self.recorder.headers.items():
