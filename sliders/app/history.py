@@ -313,6 +313,7 @@ class Recorder:
         #: Each table's header, ``history`` first.
         self.headers: dict[str, Sequence[str]] = {}
         self._layouts: dict[str, StateTable] = {}
+        self._prefixes: dict[str, list[str]] = {}
         self._records: dict[str, _Records] = {}
         self._files: dict[str, tuple[TextIO, int]] = {}
         self._clock = time.monotonic()
@@ -373,18 +374,18 @@ class Recorder:
             return []
         if name == "history":
             return lines(self._history(start, stop), integers=self._integers)
-        layout = self._layouts[name]
-        n = layout.n_rows
+        layout, prefixes = self._layouts[name], self._prefixes[name]
+        n, fixed = layout.n_rows, layout.fixed.shape[1]
         first, last = start // n, -(-stop // n)
         values = self._records[name].array(first, last)
         steps = len(values)
-        body = lines(values.reshape(steps * n, -1), np.tile(layout.blank, (steps, 1)))
+        blank = np.tile(layout.blank[:, fixed:], (steps, 1))
+        body = lines(values.reshape(steps * n, -1), blank)
         heads = lines(self._history(first, last)[:, :2], integers=(0,))
-        labels = [quote(label) for label in layout.labels]
-        if layout.blank.shape[1]:
-            out = [f"{heads[k // n]},{labels[k % n]},{row}" for k, row in enumerate(body)]
+        if blank.shape[1]:
+            out = [f"{heads[k // n]},{prefixes[k % n]},{row}" for k, row in enumerate(body)]
         else:
-            out = [f"{heads[k // n]},{labels[k % n]}" for k in range(len(body))]
+            out = [f"{heads[k // n]},{prefixes[k % n]}" for k in range(len(body))]
         return out[start - first * n : stop - first * n]
 
     # -- recording -------------------------------------------------------------------------
@@ -493,8 +494,9 @@ class Recorder:
         n, width = layout.n_rows, len(layout.columns) + 2
         if len(rows) != steps * n or any(len(row) != width for row in rows):
             raise ValueError(f"{name}: {steps * n} rows of {width} cells needed")
-        numbers = [[float(x) if x else np.nan for x in row[3:]] for row in rows]
-        self._records[name].extend(np.array(numbers, dtype=float).reshape(steps, n, width - 3))
+        skip = 3 + layout.fixed.shape[1]  # step, t, the label and the shared columns
+        numbers = [[float(x) if x else np.nan for x in row[skip:]] for row in rows]
+        self._records[name].extend(np.array(numbers, dtype=float).reshape(steps, n, width - skip))
 
     def close(self) -> None:
         """Write the rows not yet written and give the files their final names."""
@@ -544,6 +546,18 @@ class Recorder:
                 name, dynamics.structure, dynamics.sliders, dynamics.supports, selection
             )
             for name, selection in self.selections.items()
+        }
+        # each row's label and shared columns (StateTable.fixed) as text, once
+        self._prefixes = {
+            name: [
+                ",".join([quote(label), cells]) if layout.fixed.shape[1] else quote(label)
+                for label, cells in zip(
+                    layout.labels,
+                    lines(layout.fixed, layout.blank[:, : layout.fixed.shape[1]]),
+                    strict=True,
+                )
+            ]
+            for name, layout in self._layouts.items()
         }
         self.headers = {"history": self.columns} | {
             name: ("step", "t", *layout.columns) for name, layout in self._layouts.items()
@@ -599,7 +613,7 @@ class Recorder:
                 dynamics.constraint_forces(state) if "reactions" in self._layouts else None,
             )
             for name, layout in self._layouts.items():
-                self._records[name].append(layout.values(snapshot))
+                self._records[name].append(layout.values(snapshot)[:, layout.fixed.shape[1] :])
 
 
 #: Placeholders of the energies in a step's full row (they are computed by blocks).
