@@ -20,10 +20,11 @@
     The moving load of the work-precision study's Euler-Bernoulli case (a body on a
     spherical slider driven along a simply supported beam: :func:`studies.moving_load.scene`)
     through the command, its recording on (``history.csv`` of the steps, and ``nodes.csv``
-    of the beam's deflections at every step), for each run of :data:`MOVING_RUNS`: the CPU seconds of the
-    run over 1.5 crossings less those of the same scene stopped after one step (so that the
-    start-up, timed above, is not counted twice), and the error of the mid-span deflection
-    against the closed form (:func:`studies.moving_load.relative_error`).  At each level of
+    of the beam's deflections at every step), for each run of :data:`MOVING_RUNS`: the CPU
+    seconds of the run over 1.5 crossings less those of the same scene stopped after one
+    step (so that the start-up, timed above, is not counted twice), and the error of the
+    mid-span deflection against the closed form (:func:`studies.moving_load.relative_error`).
+    At each level of
     :data:`MOVING_LEVELS`, the cheapest run reaching it (a run whose difference is not
     positive, its steps below the start-up's spread, is left out and counted) beside the
     peer's cheapest (Exudyn, either loading: :mod:`studies.peer_moving_load`, run here when
