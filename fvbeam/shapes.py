@@ -53,7 +53,6 @@ from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
-from scipy.special import expit, zeta
 
 from fvbeam.geometry import number
 
@@ -230,6 +229,8 @@ class Rectangle:
 
     def torsion_constant(self) -> float:
         """The series of Timoshenko and Goodier (module doc), sides ``a >= c``."""
+        from scipy.special import expit, zeta  # a tenth of a second: a rectangle's only
+
         a, c = max(self.width, self.height), min(self.width, self.height)
         n = np.arange(1, 2 * TORSION_TERMS, 2)
         rest = np.sum(2 * expit(-n * np.pi * a / c) / n**5)

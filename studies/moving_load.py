@@ -32,6 +32,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 import scipy.linalg as sla
@@ -193,6 +194,84 @@ def model(
     beam = Beam(straight((0, 0, 0), (problem.L, 0, 0), n_elements, npe), section(problem), name)
     supports = [Support(0, "start", "ux+uy+uz+rx"), Support(0, "end", "uy+uz")]
     return Model(name, n_elements, beam, Structure([beam]), supports, smearing, problem)
+
+
+def scene(
+    formulation: str,
+    n_elements: int,
+    steps: int,
+    rho_inf: float,
+    t_end: float,
+    problem: Problem = VERIFICATION,
+) -> dict[str, Any]:
+    """The ``slider`` loading of :meth:`Model.dynamics` as a scene (``docs/scenes.md``): the
+    beam of ``n_elements`` (even) elements, a massless body carrying the force on a
+    spherical slider driven from ``0`` to ``L`` over the crossing (a linear ramp, then at
+    rest on the end support), ``steps`` steps per crossing of generalized-alpha to
+    ``t_end``; ``nodes.csv`` keeps every beam node's ``uy`` at every step (the mid-span one
+    is the deflection measured), ``history.csv`` the steps and times only."""
+    if n_elements % 2:
+        raise ValueError(f"n_elements must be even (mid-span on a node), got {n_elements}")
+    p = problem
+    material = section(p)
+    stiffness = dict(
+        zip(("EA", "GAy", "GAz", "GJ", "EJy", "EJz"), np.diag(material.stiffness), strict=True)
+    )
+    return {
+        "title": f"moving load, {formulation}, {n_elements} elements, {steps} steps per crossing",
+        "formulation": formulation,
+        "section": [
+            {"name": "beam"}
+            | {k: float(v) for k, v in stiffness.items()}
+            | {"mass_per_length": p.m}
+        ],
+        "beam": [
+            {
+                "name": "beam",
+                "section": "beam",
+                "straight": {
+                    "start": [0.0, 0.0, 0.0],
+                    "end": [p.L, 0.0, 0.0],
+                    "elements": n_elements,
+                },
+            }
+        ],
+        "body": [{"name": "body", "position": [0.0, 0.0, 0.0]}],
+        "support": [
+            {"node": "beam.start", "kind": "ux+uy+uz+rx"},
+            {"node": "beam.end", "kind": "uy+uz"},
+            {"node": "body", "kind": "rx+ry+rz"},
+        ],
+        "slider": [{"name": "body", "kind": "spherical", "line": "beam", "body": "body"}],
+        "load": [{"kind": "nodal", "node": "body", "force": [0.0, p.F, 0.0]}],
+        "drive": [
+            {
+                "kind": "abscissa",
+                "slider": "body",
+                "motion": {
+                    "kind": "ramp",
+                    "start": 0.0,
+                    "end": p.L,
+                    "t0": 0.0,
+                    "t1": p.crossing,
+                    "shape": "linear",
+                },
+            }
+        ],
+        "study": {
+            "kind": "dynamic",
+            "t_end": t_end,
+            "step": p.crossing / steps,
+            "rho_inf": rho_inf,
+            "mass": MASS[formulation],
+            "method": "condensed",
+        },
+        "output": {
+            "csv": ["nodes"],
+            "nodes": {"nodes": ["beam"], "columns": ["uy"]},
+            "history": [],
+        },
+    }
 
 
 def simulate(

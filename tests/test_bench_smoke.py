@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pytest
 
 from studies.bench import main
 
@@ -154,6 +155,28 @@ def test_command_benchmark_scenes_are_valid():
         assert scene.study.t_end == 0.1
         assert scene.output.csv == (("nodes",) if record else ())
         assert scene.output.history == (None if record else ())
+
+
+def test_the_moving_load_scene_is_the_in_process_slider_problem():
+    """``studies.moving_load.scene`` (what ``studies.bench_command`` runs through the
+    command) validates, and builds the model ``Model.dynamics(loading="slider")`` integrates
+    in process: the same beam matrices (the same section and mesh), supports (less the
+    out-of-plane dofs a planar scene holds) and load."""
+    from sliders.app.model import Model
+    from sliders.app.scene import parse_scene
+    from studies import moving_load as ml
+
+    model = Model(parse_scene(ml.scene("cubic", 4, 50, 0.8, 0.1)))
+    reference = ml.model("cubic", 4).dynamics(0.8, "slider")
+    dynamics = model.dynamics()
+    for ours, theirs in ((dynamics.K, reference.K), (dynamics.M, reference.M)):
+        assert (ours != theirs).nnz == 0
+    # the scene is solved in its plane: the same free dofs but the out-of-plane ones
+    held = np.setdiff1d(reference.free, dynamics.free)
+    assert set(dynamics.free) <= set(reference.free) and set(held % 6) <= {2, 3, 4}
+    assert np.array_equal(dynamics.load(0.0), reference.load(0.0))
+    with pytest.raises(ValueError, match="even"):
+        ml.scene("cubic", 3, 50, 0.8, 0.1)
 
 
 def test_campaign_benchmark_samples_200_drops():

@@ -426,3 +426,19 @@ def test_a_run_killed_twice_at_random_steps_resumes_to_the_same_bytes(tmp_path):
     assert run(scene, "--resume", str(out)) == 0
     assert_same_files(out, whole)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["killed", "push.toml", "whole"]
+
+
+def test_a_run_with_checkpoints_writes_the_files_of_one_without(tmp_path):
+    """The tables a run writes copy its last checkpoint's rows: the files of a run keeping a
+    checkpoint every 7 steps are those of one keeping none, byte for byte."""
+    kept = run(
+        scene_file(tmp_path, "kept", checkpoint={"steps": 7, "seconds": 0.0}),
+        "--out",
+        str(tmp_path / "kept"),
+    )
+    assert kept == 0
+    none = scene_file(tmp_path, "none", checkpoint={"steps": 0, "seconds": 0.0})
+    assert run(none, "--out", str(tmp_path / "none")) == 0
+    a, b = files(tmp_path / "kept"), files(tmp_path / "none")
+    a.pop("scene.toml"), b.pop("scene.toml")  # their checkpoint tables differ
+    assert sorted(a) == sorted(b) and [n for n in a if a[n] != b[n]] == []

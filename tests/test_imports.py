@@ -17,6 +17,7 @@ from test_scenes import SCENES
 
 import fvbeam
 import sliders
+import sliders.forces
 
 HEAVY = ("numba", "scipy", "skfem", "pydantic", "numpy", "meshio", "matplotlib", "pyvista")
 
@@ -61,7 +62,7 @@ assert main(["check", {str(SCENES / scene)!r}, "--out", {str(tmp_path / "out")!r
     assert not imported & {"matplotlib", "pyvista"}
 
 
-@pytest.mark.parametrize("package", [sliders, fvbeam], ids=lambda p: p.__name__)
+@pytest.mark.parametrize("package", [sliders, fvbeam, sliders.forces], ids=lambda p: p.__name__)
 def test_every_public_name_resolves(package):
     assert set(package.__all__) <= set(dir(package))
     for name in package.__all__:
@@ -83,3 +84,68 @@ raise SystemExit
     script = f"import json, sys\n{code}"
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
     assert json.loads(done.stdout.splitlines()[-1]) == []
+
+
+#: What a static run of beams, loads and supports does not use: the time integration and
+#: its recording, the modes (and scipy's optimisation they match modes with), the exact
+#: joints (and scipy's rotations), scipy's special functions (a rectangle's torsion series),
+#: the moving load and user laws (scipy's differentiation), plotting and rendering.
+STATIC_UNUSED = (
+    "sliders.solve.dynamics",
+    "sliders.solve.dynamics_kernel",
+    "sliders.app.run_dynamic",
+    "sliders.app.render",
+    "sliders.solve.modes",
+    "sliders.joints.exact_model",
+    "sliders.forces.moving_load",
+    "sliders.forces.user",
+    "scipy.optimize",
+    "scipy.special",
+    "scipy.spatial",
+    "scipy.differentiate",
+    "matplotlib",
+    "pyvista",
+)
+
+CANTILEVER = """
+kinematics = "linear"
+formulation = "fv3"
+[[section]]
+name = "steel"
+EA = 2.1e9
+GAy = 8e8
+GAz = 8e8
+GJ = 1.6e6
+EJy = 1.75e6
+EJz = 1.75e6
+[[beam]]
+name = "cantilever"
+section = "steel"
+straight = { start = [0.0, 0.0, 0.0], end = [10.0, 0.0, 0.0], elements = 10 }
+[[support]]
+node = "cantilever.start"
+[[load]]
+kind = "nodal"
+node = "cantilever.end"
+force = [0.0, 1e3, 0.0]
+[study]
+kind = "static"
+[output]
+csv = ["nodes"]
+"""
+
+
+def test_a_static_run_imports_only_what_it_uses(tmp_path):
+    """``fvslider run`` of a static cantilever: solved and written, and none of
+    :data:`STATIC_UNUSED` imported."""
+    scene = tmp_path / "cantilever.toml"
+    scene.write_text(CANTILEVER)
+    code = f"""
+import json, sys
+from sliders.app.cli import main
+assert main(["run", {str(scene)!r}, "--out", {str(tmp_path / "out")!r}]) == 0
+print(json.dumps(sorted(set(sys.modules) & set({list(STATIC_UNUSED)!r}))))
+"""
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert json.loads(done.stdout.splitlines()[-1]) == []
+    assert (tmp_path / "out" / "nodes.csv").is_file()

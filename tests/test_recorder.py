@@ -185,3 +185,45 @@ def test_linear_probes_are_the_cells_they_read(pushed):
     shear = [float(r[5]) for r in forces if float(r[3]) == beam.recovery_abscissae[point]]
     # one product of the same row with q: the same sum, in the same order
     np.testing.assert_array_equal(table["shear"], shear)
+
+
+def test_the_carry_of_a_past_step_is_the_one_taken_at_that_step(pushed):
+    """What a checkpoint saves of step ``k``, asked for once later steps are recorded (its
+    state given), is what the recorder carried when ``k`` was its last step: the same
+    arrays, bit for bit (the same products, on a block of one step)."""
+    _, d, states = pushed
+    later, now = Recorder(), Recorder()
+    later.start(d, states[0])
+    now.start(d, states[0])
+    taken = []
+    for old, new in zip(states[:-1], states[1:], strict=True):
+        for recorder in (later, now):
+            recorder.record(d, new, old)
+        taken.append(now.carry())
+    for k in (0, 7, len(taken) - 1):
+        asked = later.carry(states[k + 1], k + 2)
+        assert asked.keys() == taken[k].keys()
+        for key, value in taken[k].items():
+            assert np.array_equal(asked[key], value, equal_nan=True), (k, key)
+
+
+def test_rows_copied_from_a_checkpoint_are_the_rows_formatted(pushed, tmp_path):
+    """A recorder writing with a file of its first rows (a checkpoint's, header included)
+    copies them and formats the rest: the bytes of the file it writes alone."""
+    _, d, states = pushed
+    recorder = replay(d, states, Recorder(tables=TABLES))
+    (tmp_path / "alone").mkdir()
+    recorder.write(tmp_path / "alone")
+    written = {}
+    for name, header in recorder.headers.items():
+        rows = recorder.count(name) // 3
+        head = io.StringIO(newline="")
+        csv.writer(head).writerow(header)
+        data = (head.getvalue() + recorder.text(name, 0, rows)).encode()
+        (tmp_path / f"{name}.part").write_bytes(data + b"a torn append")
+        written[name] = (tmp_path / f"{name}.part", rows, len(data))
+    (tmp_path / "copied").mkdir()
+    recorder.write(tmp_path / "copied", written)
+    for name in recorder.headers:
+        copied = (tmp_path / "copied" / f"{name}.csv").read_bytes()
+        assert copied == (tmp_path / "alone" / f"{name}.csv").read_bytes(), name

@@ -48,7 +48,7 @@ import warnings
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -56,8 +56,10 @@ from fvbeam.io import OUTPUT_MARKER, check_replaceable, replace_directory, write
 from sliders.app.history import Recorder
 from sliders.app.scene import dump_scene
 from sliders.app.schema import Scene
-from sliders.solve.dynamics import Cursor, Dynamics
 from sliders.solve.integrator import State
+
+if TYPE_CHECKING:  # a static run clears checkpoints without the time integration
+    from sliders.solve.dynamics import Cursor, Dynamics
 
 #: The file that marks a directory as a checkpoint this program wrote.
 MARKER = ".fvslider-checkpoint"
@@ -133,7 +135,7 @@ class Checkpoints:
         self.toml, self.recorder = dump_scene(scene), recorder
         self.scene = scene
         self.steps, self.seconds = steps, seconds
-        self._pending: tuple[Cursor, dict[str, int], int, dict[str, np.ndarray]] | None = None
+        self._pending: tuple[Cursor, dict[str, int], int] | None = None
         self._saved: _Saved | None = None
         self._clock = time.monotonic()
 
@@ -146,7 +148,7 @@ class Checkpoints:
         """Note the step just recorded; write a checkpoint if one is due."""
         recorder = self.recorder
         counts = {name: recorder.count(name) for name in recorder.headers}
-        self._pending = (cursor, counts, len(recorder.states), recorder.carry())
+        self._pending = (cursor, counts, len(recorder.states))
         done = counts["history"] - 1 - (self._saved.step if self._saved else 0)
         if (self.steps and done >= self.steps) or (
             self.seconds and time.monotonic() - self._clock >= self.seconds
@@ -179,6 +181,19 @@ class Checkpoints:
             )
         self._clock = time.monotonic()
 
+    def written(self) -> dict[str, tuple[Path, int, int]]:
+        """Per table of the last checkpoint written: its file, rows and length in bytes (the
+        header and those rows as :meth:`sliders.app.history.Recorder.text` gives them, which
+        :meth:`~sliders.app.history.Recorder.write` copies instead of formatting them
+        again); empty before the first."""
+        saved = self._saved
+        if saved is None:
+            return {}
+        return {
+            name: (self.directory / f"{name}.csv", saved.rows[name], saved.sizes[name])
+            for name in saved.rows
+        }
+
     def remove(self) -> None:
         """Remove the checkpoint (the run's outputs are written): renamed aside, then
         deleted, so that it is either whole or gone.  One that cannot be removed warns
@@ -203,7 +218,8 @@ class Checkpoints:
     def _write(self, directory: Path) -> _Saved:
         """Append to ``directory``'s files what the last checkpoint lacks, then commit."""
         assert self._pending is not None  # save writes only after a step was noted
-        cursor, counts, kept, carry = self._pending
+        cursor, counts, kept = self._pending
+        carry = self.recorder.carry(cursor.state, counts["history"])
         old = self._saved
         rows, sizes, hashes = {}, {}, {}
         for name, header in self.recorder.headers.items():
@@ -326,6 +342,8 @@ class Checkpoints:
     def _restore(self, fields: dict[str, np.ndarray], dynamics: Dynamics) -> tuple[Cursor, _Saved]:
         """The cursor and the recorder of the checkpoint whose commit holds ``fields``, after
         checking every array's shape, count and range and every file's checksum."""
+        from sliders.solve.dynamics import Cursor  # imported by then: dynamics is given
+
         tables = _texts(fields, "tables")
         count = len(tables)
         rows = dict(zip(tables, _counts(fields, "rows", count), strict=True))

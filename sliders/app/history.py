@@ -46,12 +46,13 @@ from __future__ import annotations
 
 import bisect
 import csv
+import io
 import operator
 import os
 import time
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import TextIO
+from typing import TYPE_CHECKING, TextIO
 
 import numpy as np
 import scipy.sparse as sp
@@ -68,8 +69,10 @@ from sliders.app.state_tables import (
     quote,
     state_table,
 )
-from sliders.solve.dynamics import Dynamics
 from sliders.solve.integrator import State
+
+if TYPE_CHECKING:  # what records a run is imported before the time integration is
+    from sliders.solve.dynamics import Dynamics
 
 #: Steps and seconds between the blocks a streaming recorder writes.
 FLUSH_ROWS, FLUSH_SECONDS = 1000, 5.0
@@ -143,6 +146,7 @@ class _Balance:
 
     def __init__(self, dynamics: Dynamics, energies: bool, weights: sp.csr_matrix | None) -> None:
         self.M, self.C, self.K = dynamics.M, dynamics.C, dynamics.K
+        self.load = dynamics.load
         self.energies, self.weights = energies, weights
         n = dynamics.structure.n_dofs
         self.size = max(1, min(512, self.BUFFER // (32 * max(n, 1))))
@@ -188,6 +192,35 @@ class _Balance:
         if self.weights is not None:
             out.append(_times(self.weights, Q))
         self.records.extend(np.concatenate(out, axis=1) if out else np.zeros((k, 0)))
+
+    def carry(self, state: State, row: int) -> dict[str, np.ndarray]:
+        """What the step after row ``row`` (of state ``state``) builds on
+        (:meth:`Recorder.carry`): the row's work integrals, as recorded; its load, constraint
+        forces ``M qdd + C v + K q - f`` and damping power ``v.C v`` as :meth:`_energies`
+        computes them for a block of one step."""
+        self.settle()
+        reference = np.array(np.nan if self.reference is None else self.reference)
+        if not self.energies:
+            return {
+                "work": self.work.copy(),
+                "reference": reference,
+                "f": self.f,
+                "reaction": self.reaction,
+                "power": np.array(self.power),
+            }
+        work = self.records.array(row, row + 1)[0, 2:5].copy()  # ENERGIES' work columns
+        Q, V, A = state.q[None], state.v[None], state.qdd[None]
+        F = np.asarray(self.load(state.t), dtype=float)[None]
+        CV = _times(self.C, V)
+        reaction = _times(self.M, A) + CV + _times(self.K, Q) - F
+        power = (V * CV).sum(axis=1)
+        return {
+            "work": work,
+            "reference": reference,
+            "f": F[0],
+            "reaction": reaction[0],
+            "power": np.array(float(power[0])),
+        }
 
     def _energies(
         self, Q: np.ndarray, V: np.ndarray, A: np.ndarray, F: np.ndarray, h: np.ndarray
@@ -280,6 +313,7 @@ class Recorder:
         #: Each table's header, ``history`` first.
         self.headers: dict[str, Sequence[str]] = {}
         self._layouts: dict[str, StateTable] = {}
+        self._prefixes: dict[str, list[str]] = {}
         self._records: dict[str, _Records] = {}
         self._files: dict[str, tuple[TextIO, int]] = {}
         self._clock = time.monotonic()
@@ -310,21 +344,19 @@ class Recorder:
         rows = self._lines(name, start, self.count(name) if stop is None else stop)
         return "".join(line + "\r\n" for line in rows)
 
-    def carry(self) -> dict[str, np.ndarray]:
-        """What the next record builds on, as arrays (a checkpoint saves them; :meth:`resume`
-        takes them back): the work integrals so far, the energy balance at the start, and
-        the last state's load, constraint forces and damping power."""
+    def carry(self, state: State | None = None, rows: int | None = None) -> dict[str, np.ndarray]:
+        """What the record after the first ``rows`` rows (default all of them) builds on, as
+        arrays (a checkpoint saves them; :meth:`resume` takes them back): the work integrals
+        up to that row, the energy balance at the start, and the load, constraint forces and
+        damping power of the row's ``state`` (default the last recorded), by the products a
+        block of steps takes (the same numbers).  A checkpoint of a step asks for them when
+        it is written, so that the energies are still computed a block of steps at a time."""
         if not self._records:
             raise ValueError("the recorder has not started: nothing to carry")
-        balance = self._balance
-        balance.settle()
-        return {
-            "work": balance.work.copy(),
-            "reference": np.array(np.nan if balance.reference is None else balance.reference),
-            "f": balance.f,
-            "reaction": balance.reaction,
-            "power": np.array(balance.power),
-        }
+        rows = self.count("history") if rows is None else rows
+        state = self.last if state is None else state
+        assert state is not None  # the recorder has started: its start is recorded
+        return self._balance.carry(state, rows - 1)
 
     def _history(self, start: int, stop: int) -> np.ndarray:
         """Rows ``start:stop`` of ``history.csv`` as numbers."""
@@ -342,18 +374,18 @@ class Recorder:
             return []
         if name == "history":
             return lines(self._history(start, stop), integers=self._integers)
-        layout = self._layouts[name]
-        n = layout.n_rows
+        layout, prefixes = self._layouts[name], self._prefixes[name]
+        n, fixed = layout.n_rows, layout.fixed.shape[1]
         first, last = start // n, -(-stop // n)
         values = self._records[name].array(first, last)
         steps = len(values)
-        body = lines(values.reshape(steps * n, -1), np.tile(layout.blank, (steps, 1)))
+        blank = np.tile(layout.blank[:, fixed:], (steps, 1))
+        body = lines(values.reshape(steps * n, -1), blank)
         heads = lines(self._history(first, last)[:, :2], integers=(0,))
-        labels = [quote(label) for label in layout.labels]
-        if layout.blank.shape[1]:
-            out = [f"{heads[k // n]},{labels[k % n]},{row}" for k, row in enumerate(body)]
+        if blank.shape[1]:
+            out = [f"{heads[k // n]},{prefixes[k % n]},{row}" for k, row in enumerate(body)]
         else:
-            out = [f"{heads[k // n]},{labels[k % n]}" for k in range(len(body))]
+            out = [f"{heads[k // n]},{prefixes[k % n]}" for k in range(len(body))]
         return out[start - first * n : stop - first * n]
 
     # -- recording -------------------------------------------------------------------------
@@ -376,13 +408,32 @@ class Recorder:
         ):
             self._flush()
 
-    def write(self, directory: str | Path) -> None:
+    def write(
+        self, directory: str | Path, written: Mapping[str, tuple[Path, int, int]] | None = None
+    ) -> None:
         """Write the tables recorded in memory (``directory=None``) into ``directory`` (which
-        must exist): the same files a recorder streaming there would have left."""
+        must exist): the same files a recorder streaming there would have left.
+
+        ``written``: per table, a file holding its header and first rows as this recorder
+        writes them, their count and the file's length in bytes (the last checkpoint's,
+        :meth:`sliders.app.checkpoint.Checkpoints.written`): those bytes are copied and only
+        the rows after them turned into text; a file that cannot be read is written whole."""
         for name, header in self.headers.items():
-            with open(Path(directory) / f"{name}.csv", "w", newline="") as stream:
-                csv.writer(stream).writerow(header)
-                stream.write(self.text(name))
+            head = io.StringIO(newline="")
+            csv.writer(head).writerow(header)
+            data, rows = head.getvalue().encode(), 0
+            if written and name in written:
+                source, count, size = written[name]
+                try:
+                    with open(source, "rb") as stream:
+                        copied = stream.read(size)
+                    if len(copied) == size:
+                        data, rows = copied, count
+                except OSError:
+                    pass
+            with open(Path(directory) / f"{name}.csv", "wb") as stream:
+                stream.write(data)
+                stream.write(self.text(name, rows).encode())
 
     def resume(
         self,
@@ -443,8 +494,9 @@ class Recorder:
         n, width = layout.n_rows, len(layout.columns) + 2
         if len(rows) != steps * n or any(len(row) != width for row in rows):
             raise ValueError(f"{name}: {steps * n} rows of {width} cells needed")
-        numbers = [[float(x) if x else np.nan for x in row[3:]] for row in rows]
-        self._records[name].extend(np.array(numbers, dtype=float).reshape(steps, n, width - 3))
+        skip = 3 + layout.fixed.shape[1]  # step, t, the label and the shared columns
+        numbers = [[float(x) if x else np.nan for x in row[skip:]] for row in rows]
+        self._records[name].extend(np.array(numbers, dtype=float).reshape(steps, n, width - skip))
 
     def close(self) -> None:
         """Write the rows not yet written and give the files their final names."""
@@ -494,6 +546,18 @@ class Recorder:
                 name, dynamics.structure, dynamics.sliders, dynamics.supports, selection
             )
             for name, selection in self.selections.items()
+        }
+        # each row's label and shared columns (StateTable.fixed) as text, once
+        self._prefixes = {
+            name: [
+                ",".join([quote(label), cells]) if layout.fixed.shape[1] else quote(label)
+                for label, cells in zip(
+                    layout.labels,
+                    lines(layout.fixed, layout.blank[:, : layout.fixed.shape[1]]),
+                    strict=True,
+                )
+            ]
+            for name, layout in self._layouts.items()
         }
         self.headers = {"history": self.columns} | {
             name: ("step", "t", *layout.columns) for name, layout in self._layouts.items()
@@ -549,7 +613,7 @@ class Recorder:
                 dynamics.constraint_forces(state) if "reactions" in self._layouts else None,
             )
             for name, layout in self._layouts.items():
-                self._records[name].append(layout.values(snapshot))
+                self._records[name].append(layout.values(snapshot)[:, layout.fixed.shape[1] :])
 
 
 #: Placeholders of the energies in a step's full row (they are computed by blocks).

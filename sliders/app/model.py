@@ -22,6 +22,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable, Sequence
 from functools import cached_property, partial
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -78,12 +79,14 @@ from sliders.lines.rigid import (
     StraightLine,
     project_one,
 )
-from sliders.solve.dynamics import Dynamics, DynamicsError
 from sliders.solve.integrator import State
 from sliders.solve.jumps import velocity_jumps
 from sliders.solve.mechanism import MASSLESS_REMEDY, REMEDY, free_motion, joint_parts
 from sliders.solve.planar import PLANES, check, check_load, out_of_plane_names
 from sliders.solve.statics import SliderStatics
+
+if TYPE_CHECKING:  # the time integration is imported by the dynamic studies only
+    from sliders.solve.dynamics import Dynamics
 
 #: Body-on-line tolerance, relative to the line's size (module docstring).
 ON_LINE = 1e-6
@@ -805,6 +808,8 @@ class Model:
         study = self.scene.study
         if not isinstance(study, DynamicStudy):
             raise ValueError(f"a {study.kind} study has no time integration")
+        from sliders.solve.dynamics import Dynamics
+
         return Dynamics(
             self.structure,
             self.supports,
@@ -851,6 +856,8 @@ class Model:
                 dynamics.load(0.0), (first, unknowns), study.tol, study.max_iterations
             )
         except ValueError as exc:
+            from sliders.solve.dynamics import DynamicsError
+
             rest = np.zeros(self.structure.n_dofs)
             raise DynamicsError(
                 f"t = 0: the static start: {exc}", State(0.0, first, rest, rest, rest, unknowns)

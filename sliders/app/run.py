@@ -13,16 +13,18 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from sliders.app.errors import SceneError
 from sliders.app.model import Model
-from sliders.app.run_dynamic import DynamicRun, integrate
 from sliders.app.schema import DynamicStudy, ModesStudy, Scene, SweepStudy
 from sliders.solve.statics import SliderSolution, SliderStatics
 from sliders.solve.sweep import sweep
+
+if TYPE_CHECKING:  # the time integration is imported by a dynamic study only
+    from sliders.app.run_dynamic import DynamicRun
 
 
 @dataclass(frozen=True)
@@ -97,6 +99,8 @@ def run(model: Model, progress: bool = True, kinematics: str | None = None) -> R
     if isinstance(study, DynamicStudy):
         if kind == "exact":
             raise SceneError(model.source, exact_problems(model.scene, model.structure))
+        from sliders.app.run_dynamic import integrate
+
         return integrate(model, progress)
     results = _kinematic_samples(model, progress, kind)
     if isinstance(study, ModesStudy):

@@ -163,7 +163,8 @@ def write_dynamic(outcome: DynamicRun, out: str | Path) -> None:
 
     def fill(directory: Path) -> None:
         (directory / "scene.toml").write_text(dump_scene(model.scene))
-        outcome.recorder.write(directory)
+        checkpoints = outcome.checkpoints
+        outcome.recorder.write(directory, checkpoints.written() if checkpoints else None)
         if events.asked(output) and outcome.recorder.count("history"):
             values = events.summary(output, model.forces, outcome.recorder.table())
             events.write_summary(directory / "summary.csv", values)

@@ -18,7 +18,7 @@ import csv
 from collections.abc import Callable, Sequence
 from functools import partial
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -27,8 +27,9 @@ from fvbeam.structure import Structure
 from sliders.app.errors import Problems
 from sliders.app.schema import JointSpec, Scene
 from sliders.app.state_tables import cell
-from sliders.joints.exact_laws import selected_rows
-from sliders.joints.exact_model import GROUND, Joint
+
+if TYPE_CHECKING:  # the exact joints are imported by the scenes that have joints only
+    from sliders.joints.exact_model import Joint
 
 #: The columns of ``joints.csv``.
 COLUMNS = ("sample", "value", "joint", "node", "fx", "fy", "fz", "mx", "my", "mz")
@@ -40,6 +41,11 @@ NEEDS_EXACT = "joints need kinematics = 'exact' (or 'auto', which then takes the
 def joint_problems(scene: Scene, node_ok: Callable[[str, str], object], problems: Problems) -> None:
     """Every problem of ``scene``'s joints, by key path (module docstring); ``node_ok(path,
     ref)`` checks a node reference and reports it."""
+    if not scene.joint:
+        return
+    from sliders.joints.exact_laws import selected_rows
+    from sliders.joints.exact_model import GROUND
+
     for i, spec in enumerate(scene.joint):
         path = f"joint[{i}]"
         problems.attempt(f"{path}.kind", partial(selected_rows, spec.kind, path), spec.kind)
@@ -55,14 +61,18 @@ def joint_problems(scene: Scene, node_ok: Callable[[str, str], object], problems
             problems.add(f"{path}.axis", "give an axis or a frame, not both")
         elif spec.axis is not None:
             problems.attempt(f"{path}.axis", partial(direction, spec.axis, "the axis"), spec.axis)
-    if scene.joint and scene.kinematics == "linear":
+    if scene.kinematics == "linear":
         problems.add("kinematics", NEEDS_EXACT, scene.kinematics)
-    if any(body.name == GROUND for body in scene.body) and scene.joint:
+    if any(body.name == GROUND for body in scene.body):
         problems.add("body", f"a body named {GROUND!r} in a scene with joints (the fixed frame)")
 
 
 def tied_ends(scene: Scene, structure: Structure, problems: Problems) -> None:
     """A joint whose ends are one node of ``structure`` (tied together), at its ``b``."""
+    if not scene.joint:
+        return
+    from sliders.joints.exact_model import GROUND
+
     for i, spec in enumerate(scene.joint):
         if GROUND in (spec.a, spec.b) or spec.a == spec.b:
             continue
@@ -75,6 +85,8 @@ def tied_ends(scene: Scene, structure: Structure, problems: Problems) -> None:
 def joint(spec: JointSpec) -> Joint:
     """The joint of a ``[[joint]]`` table (its ``frame`` rows are the axes, the joint's
     columns)."""
+    from sliders.joints.exact_model import Joint
+
     frame = None if spec.frame is None else np.array(spec.frame).T
     position = None if spec.position is None else np.array(spec.position)
     axis = None if spec.axis is None else np.array(spec.axis)
@@ -91,6 +103,8 @@ def write_joints(path: Path, scene: Scene, samples: Sequence[Any]) -> None:
     ``index``, ``value`` and an exact ``solution``): per sample, joint and end that is not
     the ground, what the joint exerts on the node, the opposite of its share ``B^T lambda``
     of the node's balance (:meth:`sliders.joints.exact_model.ExactModel.reactions`)."""
+    from sliders.joints.exact_model import GROUND
+
     with open(path, "w", newline="") as handle:
         writer = csv.writer(handle)
         writer.writerow(COLUMNS)

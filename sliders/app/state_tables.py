@@ -96,13 +96,17 @@ class Snapshot:
 class StateTable:
     """A table's rows for one structure and selection: ``columns`` after the head (the label
     column first), a ``label`` per row, the ``blank`` cells of the numeric columns (rows,
-    columns - 1), and ``values(snapshot)``, the numbers (NaN where blank)."""
+    columns - 1), and ``values(snapshot)``, the numbers (NaN where blank).  ``fixed``: the
+    leading numeric columns every state shares (rows, k), as ``values`` gives them (a node's
+    abscissa and reference position, a recovery point's abscissa): a recording of many
+    states keeps and formats them once."""
 
     name: str
     columns: tuple[str, ...]
     labels: list[str]
     blank: np.ndarray
     values: Callable[[Snapshot], np.ndarray]
+    fixed: np.ndarray
 
     @property
     def n_rows(self) -> int:
@@ -161,9 +165,9 @@ def state_table(
         "internal_forces": _internal_forces,
         "reactions": _reactions,
     }[name]
-    labels, blank, values = build(structure, sliders, supports, wanted, chosen)
+    labels, blank, values, fixed = build(structure, sliders, supports, wanted, chosen)
     columns = KEY_COLUMNS[name] + tuple(CHOICES[name][c] for c in chosen)
-    return StateTable(name, columns, labels, blank, values)
+    return StateTable(name, columns, labels, blank, values, fixed)
 
 
 def items(
@@ -196,7 +200,7 @@ def _chosen(name: str, columns: Sequence[str] | None) -> np.ndarray:
     return np.array([i for i, c in enumerate(choices) if c in columns], dtype=int)
 
 
-Built = tuple[list[str], np.ndarray, Callable[[Snapshot], np.ndarray]]
+Built = tuple[list[str], np.ndarray, Callable[[Snapshot], np.ndarray], np.ndarray]
 
 
 def _nodes(structure, sliders, supports, wanted, chosen) -> Built:
@@ -232,7 +236,7 @@ def _nodes(structure, sliders, supports, wanted, chosen) -> Built:
     def values(state: Snapshot) -> np.ndarray:
         return np.concatenate([head, state.q[index]], axis=1)
 
-    return labels, blank, values
+    return labels, blank, values, head
 
 
 def _sliders(structure, sliders, supports, wanted, chosen) -> Built:
@@ -257,7 +261,7 @@ def _sliders(structure, sliders, supports, wanted, chosen) -> Built:
                 out[r, 1:4] = np.sum(contact_point(sliders[j], state.q, y), axis=0)
         return out[:, chosen]
 
-    return labels, blank, values
+    return labels, blank, values, np.zeros((len(labels), 0))
 
 
 def _internal_forces(structure, sliders, supports, wanted, chosen) -> Built:
@@ -297,7 +301,7 @@ def _internal_forces(structure, sliders, supports, wanted, chosen) -> Built:
         )
         return np.concatenate([xi, table[:, chosen]], axis=1)
 
-    return labels, blank, values
+    return labels, blank, values, xi
 
 
 def _turned(R: sp.csr_matrix, frames: np.ndarray) -> sp.csr_matrix:
@@ -338,7 +342,7 @@ def _reactions(structure, sliders, supports, wanted, chosen) -> Built:
         out[blank] = np.nan
         return out
 
-    return labels, blank, values
+    return labels, blank, values, np.zeros((len(labels), 0))
 
 
 def _reach(structure: Structure, slider: Slider) -> np.ndarray:

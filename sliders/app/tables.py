@@ -40,6 +40,7 @@ import importlib.util
 import io
 from collections.abc import Iterator, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -47,7 +48,6 @@ from fvbeam.io import OUTPUT_MARKER as MARKER
 from fvbeam.io import replace_directory
 from fvbeam.support import complement
 from sliders.app.run import Results, Sample
-from sliders.app.run_modes import Animator, Painter, write_modes
 from sliders.app.scene import dump_scene
 from sliders.app.scene_joints import write_joints
 from sliders.app.schema import ModesStudy, Scene
@@ -62,6 +62,9 @@ from sliders.app.state_tables import (
 )
 from sliders.app.vtu import Frame, write_series
 from sliders.solve.statics import SliderSolution, SliderStatics
+
+if TYPE_CHECKING:  # the modes' writing is imported by a modes study only
+    from sliders.app.run_modes import Animator, Painter
 
 #: Columns of the tables of a static study or a sweep: a row per sample and item.
 COLUMNS = {
@@ -162,6 +165,8 @@ def write_results(results: Results, out: str | Path, tables: Sequence[str] | Non
                 write_table(results, name, directory / f"{name}.csv", selections.get(name))
         study = results.scene.study
         if results.modes is not None and isinstance(study, ModesStudy):
+            from sliders.app.run_modes import write_modes
+
             default = "csv" not in output.model_fields_set
             sweep = study.parameter is not None
             write_modes(
