@@ -1,0 +1,146 @@
+"""Sliders on lines of exact beams (sliders.joints.exact_sliders, sliders.lines.exact_line,
+sliders.joints.exact_slider_model) against finite differences and the linear slider.
+
+Tolerances:
+
+* finite differences: central differences of step ``h`` on the manifold (``x + du``,
+  ``exp(dphi) R``, ``xi + dxi``, ``y + dy``), their truncation estimated from a second step
+  ``2 h`` (``|D(2h) - D(h)| / 3``, Richardson for an ``h^2`` error) and their rounding
+  ``2 eps |r| / h`` (``|r|`` the residual's terms, bounded by its round-off floor); the
+  assertions allow twice the sum;
+* the linear limit: the same rows and derivatives in the reference configuration, evaluated
+  by different sums: a few ``eps`` of the entries' sizes (``FLOOR_FACTOR``).
+"""
+
+import numpy as np
+import pytest
+
+from fvbeam import rotations
+from fvbeam.beam import Beam
+from fvbeam.body import RigidBody
+from fvbeam.exact_statics import FLOOR_FACTOR
+from fvbeam.mesh import straight
+from fvbeam.section import Section
+from fvbeam.structure import Structure
+from sliders.joints.exact_model import ExactModel
+from sliders.joints.exact_slider_model import ExactSlider, SlidingModel, SlidingState
+from sliders.joints.slider import Slider
+from sliders.lines.chain import BeamChain
+
+EPS = np.finfo(float).eps
+RNG = np.random.default_rng(2025)
+SECTION = Section.diagonal(EA=100.0, GAy=50.0, GAz=40.0, GJ=3.0, EJy=2.0, EJz=1.5)
+OFFSET = np.array([0.01, 0.02, -0.01])
+
+
+def structure(formulation: str, n: int = 3) -> Structure:
+    """A rod from the origin along ``x`` (``n`` elements) and a ring at ``x = 0.43``."""
+    npe = 2 if formulation in ("fv2", "galerkin-p1") else 3
+    rod = Beam(straight([0, 0, 0], [1, 0, 0], n, npe, name="rod"), SECTION, formulation)
+    return Structure([rod], (), [RigidBody("ring", [0.43, 0.0, 0.0])])
+
+
+def random_frame() -> np.ndarray:
+    return rotations.exp_map(RNG.uniform(-2, 2, 3))
+
+
+def sliding(kind: str, formulation: str, smearing: float, frame: np.ndarray) -> SlidingModel:
+    model = ExactModel.on(structure(formulation), [])
+    slider = ExactSlider(kind, "rod", "ring", OFFSET, frame, smearing)
+    return SlidingModel(model, [slider])
+
+
+def slider_residual(model: SlidingModel, state: SlidingState) -> np.ndarray:
+    """The sliders' share of the residual (the model's own taken off)."""
+    r = model.residual(state)
+    r[: model.model.n_dofs] -= model.model.residual(state.model)
+    return r
+
+
+def slider_part(model: SlidingModel, state: SlidingState) -> tuple[np.ndarray, np.ndarray]:
+    """The sliders' share of the residual and the tangent."""
+    n = model.model.n_dofs
+    r = slider_residual(model, state)
+    K = model.tangent(state).toarray()
+    K[:n, :n] -= model.model.tangent(state.model).toarray()
+    return r, K
+
+
+CASES = [
+    ("spherical", "fv3", 0.1),
+    ("classical", "fv3", 0.1),
+    ("spline", "fv3", 0.0),
+    ("classical", "galerkin-p2", 0.0),
+    ("spline", "fv2", 0.1),
+]
+
+
+@pytest.mark.parametrize(("kind", "formulation", "smearing"), CASES)
+def test_slider_tangent_matches_finite_differences(kind, formulation, smearing):
+    """The derived tangent of a slider's loads and rows (geometric stiffness, the line's
+    interpolation, the ``xi`` rates of the test functions and of the section frame) agrees
+    with central differences at random finite rotations (up to about 2 rad) and positions of
+    every node and random multipliers."""
+    model = sliding(kind, formulation, smearing, random_frame())
+    reference = model.reference()
+    n = 6 * model.n_nodes
+    dq = np.concatenate([0.3 * RNG.standard_normal(n), RNG.standard_normal(model.n_dofs - n)])
+    dq[3:n:6], dq[4:n:6], dq[5:n:6] = RNG.uniform(-1.2, 1.2, (3, model.n_nodes))
+    dq[n] = 0.02  # xi, inside its element
+    state = reference.updated(dq)
+    r, K = slider_part(model, state)
+    derived = model.points(state).sliders[0]
+    columns = model._dofs(0, derived)
+
+    def differences(h: float) -> np.ndarray:
+        out = []
+        for j in columns:
+            e = np.zeros(model.n_dofs)
+            e[j] = h
+            plus, minus = (
+                slider_part(model, state.updated(e))[0],
+                slider_part(model, state.updated(-e))[0],
+            )
+            out.append((plus - minus) / (2 * h))
+        return np.column_stack(out)
+
+    h = 1e-5
+    D1, D2 = differences(h), differences(2 * h)
+    floor = model.residual_floor(state)
+    allowed = 2 * (np.abs(D2 - D1) / 3 + 2 * EPS * floor[:, None] / h) + 1e-300
+    error = np.abs(D1 - K[:, columns])
+    assert np.all(error <= allowed), (error / allowed).max()
+
+
+@pytest.mark.parametrize("formulation", ["fv3", "fv2", "galerkin-p2"])
+@pytest.mark.parametrize("kind", ["spherical", "classical", "spline"])
+def test_linear_slider_is_the_first_order_case(kind, formulation):
+    """In the reference configuration with zero multipliers, at a random abscissa, offset and
+    frame (the spline slider's the line's, about which the linear spline law is
+    linearised), the exact slider's residual and tangent are the linear slider's
+    (``section`` orientation): the exact law to first order in the displacements and the
+    multipliers is the linear law.  The one exception is the linear law's kink correction,
+    a compliance ``-n . C_L n`` of its orientation rows in the multipliers ``mu`` (the
+    linear interpolation's correction at a couple, ``docs/sliders.md``), which exact lines
+    do not carry: the (mu, mu) block."""
+    st = structure(formulation)
+    frame = np.eye(3) if kind == "spline" else random_frame()
+    xi = RNG.uniform(0.1, 0.9)
+    linear = Slider(kind, BeamChain(st, "rod"), "ring", OFFSET, frame, smearing=0.05)
+    model = SlidingModel(
+        ExactModel.on(st, []), [ExactSlider(kind, "rod", "ring", OFFSET, frame, 0.05, xi=xi)]
+    )
+    state = model.reference()
+    r, K = slider_part(model, state)
+    dofs, r_q, r_y, J = linear.assemble(st, np.zeros(st.n_dofs), state.unknowns)
+    n = model.model.n_dofs
+    r_lin = np.zeros(model.n_dofs)
+    r_lin[dofs], r_lin[n:] = r_q, r_y
+    K_lin = np.zeros_like(K)
+    at = np.concatenate([dofs, np.arange(n, model.n_dofs)])
+    K_lin[np.ix_(at, at)] = J
+    mu = np.arange(n + 4, model.n_dofs)
+    K_lin[np.ix_(mu, mu)] = K[np.ix_(mu, mu)]
+    size = FLOOR_FACTOR * EPS * max(np.abs(K).max(), 1.0)
+    assert np.abs(r - r_lin).max() <= size
+    assert np.abs(K - K_lin).max() <= size
