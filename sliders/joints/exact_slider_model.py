@@ -196,9 +196,11 @@ class SlidingModel:
     def residual_floor(self, state: SlidingState, pts: SlidingPoints | None = None) -> np.ndarray:
         """A bound on each residual in units of its rounding: the model's; on a slider's
         loads and rows, the sizes of their terms: ``|load|`` spread as the load is
-        (``|J| |y|`` over the multipliers' columns), on the ``xi`` row ``|f_L| |l| +
+        (``|J| |y|`` over the multipliers' columns), on the ``xi`` row plus ``|f_L| |l| +
         |m_L| |k|``, on a constraint row ``|B|`` times the nodes' coordinates' sizes (as
-        :meth:`~sliders.joints.exact_model.ExactModel.residual_floor`) plus its value."""
+        :meth:`~sliders.joints.exact_model.ExactModel.residual_floor`) plus its value; on
+        every row, the sizes of its derivatives times the unknowns' (``|J| [|x|, 1, |y|]``:
+        the rounding of the state the row reads)."""
         pts = self.points(state) if pts is None else pts
         out = np.zeros(self.n_dofs)
         out[: self.model.n_dofs] = self.model.residual_floor(state.model, pts.model)
