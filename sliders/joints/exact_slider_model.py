@@ -13,9 +13,10 @@ balances and their ``xi`` and constraint rows appended::
 ``p_s`` the slider's loads on its body and on its line's nodes; its tangent is the model's
 bordered tangent with each slider's block (derived: :func:`sliders.joints.exact_sliders.
 derive`).  :class:`SlidingModel` has the operator interface of
-:func:`fvbeam.exact_statics.solve_static`; the sliders' ``lambda`` hold positions (their
-rows are linear in the positions at fixed rotations and ``xi``), so the solver's position
-correction takes them with the nodes' positions.
+:func:`fvbeam.exact_statics.solve_static`, without the solver's position correction: a
+slider's ``xi`` row, ``-lambda . l + ...``, is bilinear in its multipliers and the line's
+positions, and a correction of the positions and multipliers at fixed ``xi`` leaves it off
+by their rounding times its large derivatives, which Newton alone removes.
 """
 
 from __future__ import annotations
@@ -139,10 +140,10 @@ class SlidingModel:
             start += point.n_unknowns
         self.n_dofs = start
         self.n_nodes = model.n_nodes
-        self.position_multipliers = np.concatenate(
-            [model.position_multipliers]
-            + [np.arange(where.start + 1, where.start + 4) for where in self.slices]
-        ).astype(np.int64)
+        self.position_multipliers = model.position_multipliers
+        #: No position correction (:func:`fvbeam.exact_statics._balance_forces`): a
+        #: slider's ``xi`` row is bilinear in its multipliers and the line's positions.
+        self.balances_positions = False
         self._X = model.exact.reference().x
 
     def reference(self) -> SlidingState:

@@ -57,7 +57,15 @@ import numpy as np
 
 from fvbeam.geometry import skew_matrices
 from sliders.joints.dual import Dual, gradients, seeded, values
-from sliders.lines.exact_line import LineSite, axial, position, section_frame, skew, transfer
+from sliders.lines.exact_line import (
+    LineSite,
+    axial,
+    cayley,
+    position,
+    section_frame,
+    skew,
+    transfer,
+)
 
 #: The slider kinds built on exact lines and their orientation rows.
 KINDS = {"spherical": 0, "classical": 2, "spline": 3}
@@ -179,8 +187,17 @@ def derive(
         k0,
     )
     c = rows(point, xb_v, Rb_v, xL_v, D_L)
-    work = sum(m * r for m, r in zip(mult, c, strict=True))
-    virtual = gradients(np.array([work], dtype=object), VIRTUAL)[0]  # order eta, duals
+    virtual = _virtual(mult, c)
+    if point.kind != "spherical":  # the kink correction at the couple the line takes
+        couple = -(virtual[9:12] + virtual[12:15])  # exerted on the line: minus its load
+        Lam = values(D_L) @ R0.T  # Lambda, as duals of the change of state
+        flex = along(site.flex, site.flex_xi)
+        kink = Lam @ flex @ Lam.T @ couple
+        # along xi, half the compliance's rate: the xi row of its energy m . C m / 2
+        rate = 0.5 * (Lam @ along(site.flex_xi, site.flex_xixi) @ Lam.T @ couple)
+        D_L = cayley(seeded(kink, {15: rate})) @ D_L
+        c = rows(point, xb_v, Rb_v, xL_v, D_L)
+        virtual = _virtual(mult, c)
     load = virtual[6:9]
     G = along(site.G[:, :3], site.G_xi[:, :3])
     X_nodes = {int(a): X[a] for a in nodes}
@@ -205,6 +222,12 @@ def derive(
         _number(np.concatenate([load, couple])),
         np.concatenate([_number(l), _number(values(k))]),
     )
+
+
+def _virtual(mult: list, c: np.ndarray) -> np.ndarray:
+    """The order ``eta`` of ``y . c`` (:data:`VIRTUAL` duals of the change of state)."""
+    work = sum(m * r for m, r in zip(mult, c, strict=True))
+    return gradients(np.array([work], dtype=object), VIRTUAL)[0]
 
 
 def _number(a: np.ndarray) -> np.ndarray:

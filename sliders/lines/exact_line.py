@@ -98,6 +98,10 @@ class LineSite:
     a force and couple at ``xi`` load, ``G``, ``G_xi`` (k, 6) the test functions and their
     ``xi``-rates; ``X`` and ``l0`` the reference line and its tangent at ``xi``; ``R0``,
     ``k0``, ``k0_xi`` the reference frame (columns ``[t_0, ...]``) and its curvature;
+    ``flex``, ``flex_xi``, ``flex_xixi`` (3, 3) the linear chain's kink correction
+    ``kappa C`` and its first two ``xi``-rates (reference axes:
+    :meth:`~sliders.lines.batched.ChainStack.rotation`; ``kappa`` is quadratic in ``xi``
+    over the node span, so the second is the difference quotient of the first there);
     ``finite_volume`` whether the beam holding ``xi`` balances regions (the moment arms of
     :func:`transfer`)."""
 
@@ -117,6 +121,9 @@ class LineSite:
     R0: np.ndarray
     k0: np.ndarray
     k0_xi: np.ndarray
+    flex: np.ndarray
+    flex_xi: np.ndarray
+    flex_xixi: np.ndarray
     finite_volume: bool
 
     @property
@@ -150,6 +157,10 @@ class ExactChain:
         interp = self.chain.interpolation(xi)
         rotation = self.chain.rotation(xi)
         dofs, G, G_xi = self.chain.transfer(xi, self.smearing, self.kernel)
+        s, s_xi = float(rotation.W[0, 3]), float(rotation.W_xi[0, 3])
+        # flex_xi is linear over the node span: its difference quotient inside it is exact
+        other = xi + 0.5 * (1 - s) / s_xi if s < 0.5 else xi - 0.5 * s / s_xi
+        flex_xixi = (self.chain.rotation(other).flex_xi - rotation.flex_xi) / (other - xi)
         width = interp.N.shape[-1] // 3
         columns = 3 * np.arange(width)
         return LineSite(
@@ -159,8 +170,8 @@ class ExactChain:
             dN=interp.dN[0, columns],
             d2N=interp.d2N[0, columns],
             pair=rotation.dofs[[0, 3]] // 6,
-            s=float(rotation.W[0, 3]),
-            s_xi=float(rotation.W_xi[0, 3]),
+            s=s,
+            s_xi=s_xi,
             load_dofs=np.asarray(dofs),
             G=np.asarray(G),
             G_xi=np.asarray(G_xi),
@@ -169,6 +180,9 @@ class ExactChain:
             R0=rotation.R0,
             k0=rotation.k0,
             k0_xi=rotation.k0_xi,
+            flex=rotation.flex,
+            flex_xi=rotation.flex_xi,
+            flex_xixi=flex_xixi,
             finite_volume=isinstance(self.chain.beams[k].formulation, FiniteVolume),
         )
 
