@@ -158,7 +158,8 @@ class SlidingModel:
         values = np.concatenate(unknowns) if unknowns else np.zeros(0)
         return SlidingState(self.model.reference(), values)
 
-    def _unknowns(self, state: SlidingState, i: int) -> np.ndarray:
+    def unknowns(self, state: SlidingState, i: int) -> np.ndarray:
+        """Slider ``i``'s unknowns ``[xi, lambda, mu]`` at ``state``."""
         where = self.slices[i]
         n = self.model.n_dofs
         return state.unknowns[where.start - n : where.stop - n]
@@ -169,7 +170,7 @@ class SlidingModel:
         for i, (chain, point, body) in enumerate(
             zip(self.chains, self.points_, self.bodies, strict=True)
         ):
-            y = self._unknowns(state, i)
+            y = self.unknowns(state, i)
             try:
                 site = chain.at(y[0])
             except ValueError as error:
@@ -209,7 +210,7 @@ class SlidingModel:
         for i, derived in enumerate(pts.sliders):
             dofs = self._dofs(i, derived)
             n_y = self.slices[i].stop - self.slices[i].start
-            y = np.abs(self._unknowns(state, i))
+            y = np.abs(self.unknowns(state, i))
             J = np.abs(derived.tangent)
             nodes = len(dofs) - n_y
             scale = np.concatenate(

@@ -1,0 +1,107 @@
+"""Sliders in scenes with ``kinematics = "exact"`` (``docs/scenes.md``, "Kinematics";
+``docs/exact_sliders.md``): the tables and what the exact path refuses, at its key.
+
+Tolerance of the bearing: the configurational force's discretisation error, at most the
+curvature's relative change over an element, ``h / a`` (``tests/test_exact_sliders.py``);
+the ``sliders`` table's ``lambda_x`` and the far end's reaction are the same balance, equal to
+the residual's round-off floor (``16 eps`` times the axial stiffness' terms, ``EA = 1e5``).
+"""
+
+import csv
+
+import numpy as np
+import pytest
+
+from sliders.app.cli import main
+
+EPS = np.finfo(float).eps
+BEARING = """title = "bearing"
+kinematics = "exact"
+formulation = "fv3"
+[[section]]
+name = "rod"
+EA = 1e5
+GAy = 1e3
+GAz = 1e3
+GJ = 1.0
+EJy = 1.0
+EJz = 1.0
+[[beam]]
+name = "rod"
+section = "rod"
+straight = { start = [0.0, 0.0, 0.0], end = [1.0, 0.0, 0.0], elements = 8 }
+[[body]]
+name = "bearing"
+position = [0.4, 0.0, 0.0]
+[[support]]
+node = "bearing"
+[[support]]
+node = "rod.start"
+kind = "ux+rx"
+[[slider]]
+name = "ring"
+kind = "classical"
+line = "rod"
+body = "bearing"
+[[load]]
+kind = "nodal"
+node = "rod.end"
+force = [0.0, 1.0, 0.0]
+[study]
+kind = "static"
+[output]
+csv = ["nodes", "sliders", "reactions"]
+"""
+
+
+def rows(path) -> list[dict]:
+    with open(path, newline="") as file:
+        return list(csv.DictReader(file))
+
+
+def test_a_rod_pushed_through_a_bearing_as_a_scene(tmp_path, capsys):
+    """The rod of ``tests/test_exact_sliders.py`` pushed through a bearing, as a scene: the
+    sliders table has the linear path's columns (``mu_1`` blank for a classical slider);
+    the far end's support holds the rod with the configurational force,
+    ``M^2 / 2 EJ + V^2 / 2 GA`` (``M`` from the tip's current place), which is the
+    slider's ``lambda_x`` (the rod's axial balance)."""
+    path = tmp_path / "bearing.toml"
+    path.write_text(BEARING)
+    assert main(["run", "--out", str(tmp_path / "out"), str(path)]) == 0
+    assert "kinematics: exact (asked)" in capsys.readouterr().out
+    slider = rows(tmp_path / "out" / "sliders.csv")
+    assert list(slider[0]) == [
+        "sample", "value", "slider", "xi", "x", "y", "z",
+        "lambda_x", "lambda_y", "lambda_z", "mu_2", "mu_3", "mu_1",
+    ]  # fmt: skip
+    assert slider[0]["mu_1"] == ""  # a classical slider's: blank
+    tip = next(r for r in rows(tmp_path / "out" / "nodes.csv") if float(r["xi"]) == 1.0)
+    M = 1.0 * (float(tip["x"]) + float(tip["ux"]) - 0.4)
+    closed = M**2 / 2 + 1.0 / (2 * 1e3)
+    reaction = next(r for r in rows(tmp_path / "out" / "reactions.csv") if r["node"] == "rod.start")
+    pull = -float(reaction["fx"])
+    assert abs(pull - closed) <= (1 / 8) / 0.6 * closed
+    assert abs(float(slider[0]["lambda_x"]) - pull) <= 16 * EPS * 1e5
+
+
+@pytest.mark.parametrize(
+    ("change", "key", "what"),
+    [
+        ('body = "bearing"\n', "slider[0].end_stops", "a slider's end stops"),
+        (
+            'body = "bearing"\nfriction = { mu = 0.1 }\n',
+            "slider[0].friction",
+            "a slider's friction",
+        ),
+        ('body = "bearing"\norientation = "slope"\n', "slider[0].orientation", "'slope'"),
+    ],
+)
+def test_exact_refuses_what_its_sliders_do_not_carry(tmp_path, capsys, change, key, what):
+    """End stops, friction and the ``slope`` orientation: one error naming the key."""
+    if key.endswith("end_stops"):
+        change += "end_stops = true\n"
+    path = tmp_path / "scene.toml"
+    path.write_text(BEARING.replace('body = "bearing"\n', change))
+    assert main(["check", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert f"{key}: " in err and what in err and "exact kinematics does not carry it" in err
