@@ -288,3 +288,30 @@ def test_a_conservative_slider_problem_is_a_stationary_point_of_its_potential():
         truncation = np.abs(D2 - D1).max() / 3
         rounding = 2 * EPS * (abs(potential(state)) + 1e3) / h  # terms of size EA = 1e3
         assert (np.abs(D1).max() <= 2 * (truncation + rounding)) == stationary
+
+
+def test_spline_slider_transmits_a_torque_on_a_line_turned_by_a_large_angle():
+    """A shaft (``EJ = GJ = 1``) rolled by a tip couple ``pi EJ / 2 L`` towards a quarter
+    circle, a collar on it by a spline slider (held along ``x``, so that it cannot slide
+    off), a couple ``C`` on the collar: the collar's moment balance is the torque balance
+    of the slider, ``C = mu_1 e_b1 + mu_3 e_b2 - mu_2 e_b3`` in the collar's current axes
+    (the spline row's couple about ``e_b1 = t``, the classical rows' about ``e_bj x t``),
+    with the collar turned by about 0.9 rad.  Tolerance: the collar's rows' round-off floor
+    (the residual of a converged state)."""
+    section = Section.diagonal(EA=1e3, GAy=1e3, GAz=1e3, GJ=1.0, EJy=1.0, EJz=1.0)
+    shaft = Beam(straight([0, 0, 0], [1, 0, 0], 8, 3, name="shaft"), section, "fv3")
+    st = Structure([shaft], (), [RigidBody("collar", [0.5, 0.0, 0.0])])
+    model = SlidingModel(ExactModel.on(st, []), [ExactSlider("spline", "shaft", "collar")])
+    collar, start, tip = (model.model._node(r, r) for r in ("collar", "shaft.start", "shaft.end"))
+    fixed = np.concatenate([6 * start + np.arange(6), [6 * collar]])
+    load = np.zeros(model.n_dofs)
+    load[6 * tip + 5] = np.pi / 2
+    C = 0.3 * np.array([np.cos(np.pi / 4), np.sin(np.pi / 4), 0.0])
+    load[6 * collar + 3 : 6 * collar + 6] = C
+    state = solve_static(model, load, fixed).state
+    E = state.R[collar]
+    assert np.linalg.norm(rotations.log_map(E)) > 0.8
+    _, _, _, _, mu_2, mu_3, mu_1 = state.unknowns
+    turn = slice(6 * collar + 3, 6 * collar + 6)
+    floor = FLOOR_FACTOR * EPS * model.residual_floor(state)[turn].sum()
+    np.testing.assert_allclose([mu_1, mu_3, -mu_2], C @ E, rtol=0, atol=floor)
