@@ -29,6 +29,7 @@ from sliders.joints.exact_slider_model import ExactSlider, SlidingModel, Sliding
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
 from sliders.solve.statics import SliderStatics
+from studies.bench_exact_sliders import bearing, configurational
 
 EPS = np.finfo(float).eps
 RNG = np.random.default_rng(2025)
@@ -147,33 +148,17 @@ def test_linear_slider_is_the_first_order_case(kind, formulation):
     assert np.abs(K - K_lin).max() <= size
 
 
-def bearing_model(formulation: str, n: int, GA: float = 1e3):
-    """The rod through the bearing of :func:`bearing`: the model, its held dofs and the
-    tip's node."""
-    npe = 2 if formulation in ("fv2", "galerkin-p1") else 3
-    section = Section.diagonal(EA=1e5, GAy=GA, GAz=GA, GJ=1.0, EJy=1.0, EJz=1.0)
-    rod = Beam(straight([0, 0, 0], [1, 0, 0], n, npe, name="rod"), section, formulation)
-    st = Structure([rod], (), [RigidBody("bearing", [0.4, 0.0, 0.0])])
-    model = SlidingModel(ExactModel.on(st, []), [ExactSlider("classical", "rod", "bearing")])
-    held, start, tip = (model.model._node(ref, ref) for ref in ("bearing", "rod.start", "rod.end"))
-    fixed = np.concatenate([6 * held + np.arange(6), [6 * start, 6 * start + 3]])
-    return model, fixed, start, tip
-
-
-def bearing(formulation: str, n: int) -> tuple[float, float, float]:
-    """A rod (``L = 1``, ``EJ = 1``, ``GA = 1e3``, ``EA = 1e5``, ``n`` elements along ``x``)
-    pushed through a bearing held in space at ``x = 0.4`` (a classical slider whose body is
-    held), held axially (and in twist) at its far end ``x = 0``, a tip load ``P = 1`` along
-    ``y``: the axial force its far end's support carries, the closed form and the element
-    length over the overhang."""
-    EJ, GA = 1.0, 1e3
-    model, fixed, start, tip = bearing_model(formulation, n, GA)
-    load = np.zeros(model.n_dofs)
-    load[6 * tip + 1] = 1.0
+def pulled(formulation: str, n: int) -> tuple[float, float, float]:
+    """The rod through the bearing (:func:`studies.bench_exact_sliders.bearing`: ``L = 1``,
+    ``EJ = 1``, ``GA = 1e3``, the bearing at 0.4, a tip load of 1 N) on ``n`` elements: the
+    axial force its far end's support carries, the closed form and the element length over
+    the overhang."""
+    model, fixed, load = bearing(formulation, n)
+    start, tip = (model.model._node(ref, ref) for ref in ("rod.start", "rod.end"))
     state = solve_static(model, load, fixed).state
-    axial = -model.residual(state)[6 * start]
-    M, V = 1.0 * (state.x[tip, 0] - 0.4), 1.0
-    return axial, M**2 / (2 * EJ) + V**2 / (2 * GA), (1.0 / n) / 0.6
+    pull = -model.residual(state)[6 * start]
+    exact, _ = configurational(model, state.x[tip, 0], pull)
+    return pull, exact, (1.0 / n) / 0.6
 
 
 @pytest.mark.parametrize("formulation", ["fv3", "galerkin-p1"])
@@ -191,7 +176,7 @@ def test_configurational_force_of_a_rod_pushed_through_a_bearing(formulation):
     span)."""
     errors = []
     for n in (8, 32):
-        axial, exact, bound = bearing(formulation, n)
+        axial, exact, bound = pulled(formulation, n)
         errors.append(abs(axial - exact) / exact)
         assert errors[-1] <= bound, (n, axial, exact)
     assert errors[1] < errors[0]
@@ -204,7 +189,8 @@ def test_small_load_approaches_the_linear_solution_at_second_order():
     the measured slope of the difference against the load, log2 of the ratio of successive
     differences, is 2 within the next order's share (the load halves: ``1 +- 1/2`` on a
     ratio of 4 gives a ratio within ``4 +- 2``, a slope from 1 to 2.58)."""
-    model, fixed, start, tip = bearing_model("fv3", 8)
+    model, fixed, load = bearing("fv3", 8)
+    tip = model.model._node("rod.end", "rod.end")
     st = model.model.structure
     linear = SliderStatics(
         st,
@@ -214,10 +200,8 @@ def test_small_load_approaches_the_linear_solution_at_second_order():
     X = st.node_position("rod.end")
     differences = []
     for P in (1e-2, 5e-3, 2.5e-3):
-        load = np.zeros(model.n_dofs)
-        load[6 * tip + 1] = P
-        exact = solve_static(model, load, fixed).state
-        q = linear.solve(load[: st.n_dofs]).q
+        exact = solve_static(model, P * load, fixed).state
+        q = linear.solve(P * load[: st.n_dofs]).q
         differences.append(np.abs(exact.x[tip] - X - q[6 * tip : 6 * tip + 3]).max())
     slopes = np.log2(np.array(differences[:-1]) / differences[1:])
     assert np.all((slopes > np.log2(2.0)) & (slopes < np.log2(6.0))), slopes
