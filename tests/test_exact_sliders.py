@@ -299,3 +299,27 @@ def test_spline_slider_transmits_a_torque_on_a_line_turned_by_a_large_angle():
     turn = slice(6 * collar + 3, 6 * collar + 6)
     floor = FLOOR_FACTOR * EPS * model.residual_floor(state)[turn].sum()
     np.testing.assert_allclose([mu_1, mu_3, -mu_2], C @ E, rtol=0, atol=floor)
+
+
+def test_a_drive_holds_the_rod_in_its_bearing():
+    """The rod through the bearing held by a drive of the slider's abscissa
+    (``ExactSlider.drive``) instead of its far end's support: ``xi`` stays where the drive
+    holds it, the rod's axial balance leaves the bearing's force no axial part
+    (``lambda_x``: zero to the round-off floor of the rod's axial force balances), and the
+    drive carries the configurational force: the frictionless row's value
+    ``f_L . l + m_L . k`` (the force along the line the drive holds the contact with) is the
+    closed form within the discretisation bound ``h / a``
+    (:func:`test_configurational_force_of_a_rod_pushed_through_a_bearing`)."""
+    model, fixed, load = bearing("fv3", 8)
+    model = SlidingModel(model.model, [ExactSlider("classical", "rod", "bearing", drive=0.4)])
+    start = model.model._node("rod.start", "rod.start")
+    fixed = fixed[fixed != 6 * start]  # the rod free along its axis
+    state = solve_static(model, load, fixed).state
+    xi, lambda_x = state.unknowns[:2]
+    floor = FLOOR_FACTOR * EPS * model.residual_floor(state)[0 : 6 * model.n_nodes : 6].sum()
+    assert xi == 0.4
+    assert abs(lambda_x) <= floor
+    tip = model.model._node("rod.end", "rod.end")
+    along = model.points(state).sliders[0].along
+    _, error = configurational(model, state.x[tip, 0], along)
+    assert error <= (1 / 8) / 0.6

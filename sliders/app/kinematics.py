@@ -9,9 +9,10 @@ geometrically exact beams (:class:`fvbeam.exact_structure.ExactStructure`,
 bodies or joints their exact model (:class:`sliders.joints.exact_model.ExactModel`, the
 joints of the scene's ``[[joint]]`` tables, :mod:`sliders.app.scene_joints`), and with
 sliders on chains (spherical, classical or spline, ``section`` orientation, smeared or
-not) the model with them (:class:`sliders.joints.exact_slider_model.SlidingModel`).  The bodies'
-masses play no part (no gravity on this path).  :func:`unsupported` names the first scene item it
-does not carry.
+not) the model with them
+(:class:`sliders.joints.exact_slider_model.SlidingModel`).  The bodies' masses play no
+part (no gravity on this path).  :func:`unsupported` names the first scene item it does not
+carry.
 
 **The bound** (:func:`neglected`).  Linear kinematics writes the strains as
 ``nu = u' - theta x t`` and ``kappa = theta'``; the exact ones

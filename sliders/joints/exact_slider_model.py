@@ -55,8 +55,11 @@ class ExactSlider:
     smearing, kernel
         The spread of the load on the line (:mod:`fvbeam.smearing`), as on linear chains.
     xi
-        The starting abscissa (default: the reference line's point closest to the sliding
-        point).
+        The starting abscissa (default: the drive's, else the reference line's point closest
+        to the sliding point).
+    drive
+        The abscissa a drive holds (statics: a drive's value at the start), or None: the
+        frictionless slider.
     """
 
     kind: str
@@ -67,6 +70,7 @@ class ExactSlider:
     smearing: float = 0.0
     kernel: str = "box"
     xi: float | None = None
+    drive: float | None = None
 
 
 @dataclass(frozen=True)
@@ -153,7 +157,8 @@ class SlidingModel:
         for slider, chain, point, body in zip(
             self.sliders, self.chains, self.points_, self.bodies, strict=True
         ):
-            xi = chain.project(self._X[body] + point.offset) if slider.xi is None else slider.xi
+            xi = slider.drive if slider.xi is None else slider.xi
+            xi = chain.project(self._X[body] + point.offset) if xi is None else xi
             unknowns.append(np.concatenate([[float(xi)], np.zeros(point.n_unknowns - 1)]))
         values = np.concatenate(unknowns) if unknowns else np.zeros(0)
         return SlidingState(self.model.reference(), values)
@@ -175,7 +180,8 @@ class SlidingModel:
                 site = chain.at(y[0])
             except ValueError as error:
                 raise ValueError(f"{self.name}: {self.key}[{i}]: {error}") from None
-            derived.append(derive(point, site, state.x, state.R, body, y, self._X))
+            held = self.sliders[i].drive
+            derived.append(derive(point, site, state.x, state.R, body, y, self._X, held))
         return SlidingPoints(self.model.points(state.model), derived)
 
     def _dofs(self, i: int, derived: SliderDerived) -> np.ndarray:
@@ -201,7 +207,8 @@ class SlidingModel:
         (``|J| |y|`` over the multipliers' columns), on the ``xi`` row plus ``|f_L| |l| +
         |m_L| |k|``, on a constraint row ``|B|`` times the nodes' coordinates' sizes (as
         :meth:`~sliders.joints.exact_model.ExactModel.residual_floor`) plus its value; on
-        every row, the sizes of its derivatives times the unknowns' (``|J| [|x|, 1, |y|]``:
+        every row, the sizes of its derivatives times the unknowns' (``|J| [|x|, 1, |y|]``,
+        ``|xi|`` among ``|y|``:
         the rounding of the state the row reads)."""
         pts = self.points(state) if pts is None else pts
         out = np.zeros(self.n_dofs)
@@ -214,7 +221,7 @@ class SlidingModel:
             J = np.abs(derived.tangent)
             nodes = len(dofs) - n_y
             scale = np.concatenate(
-                [np.where(np.arange(nodes) % 6 < 3, size[dofs[:nodes] // 6], 1.0), [0.0], y[1:]]
+                [np.where(np.arange(nodes) % 6 < 3, size[dofs[:nodes] // 6], 1.0), y]
             )
             floor = J @ scale + np.abs(derived.residual)
             load = np.abs(derived.load)

@@ -109,13 +109,16 @@ class SliderDerived(NamedTuple):
     of ``nodes`` six (the line's), then ``xi``, ``lambda``, ``mu``.  Rows likewise: the loads
     on the body and the line's nodes, the ``xi`` row, the constraints.  ``load`` the force
     and couple on the line's point (6,), ``arms`` the line's ``l`` and ``k`` (for the
-    residual's round-off floor)."""
+    residual's round-off floor), ``along`` the frictionless ``xi`` row's value
+    ``f_L . l + m_L . k`` (zero unless driven: then the force the drive holds the contact
+    with, along the line)."""
 
     nodes: np.ndarray
     residual: np.ndarray
     tangent: np.ndarray
     load: np.ndarray
     arms: np.ndarray
+    along: float
 
 
 def _state(x: np.ndarray, R: np.ndarray, first: int) -> tuple[np.ndarray, np.ndarray]:
@@ -144,11 +147,14 @@ def derive(
     body: int,
     y: np.ndarray,
     X: np.ndarray,
+    held: float | None = None,
 ) -> SliderDerived:
     """The slider's residual and tangent (module docstring) at the nodes' positions ``x``
     (n, 3) and rotations ``R`` (n, 3, 3), ``body`` the body's node, ``y`` the joint's
     unknowns ``[xi, lambda, mu]`` (the line's ``site`` read at ``xi``), ``X`` (n, 3) the
-    nodes' reference positions."""
+    nodes' reference positions.  A driven slider's abscissa is ``held``: its ``xi`` row is
+    ``xi - held`` (the frictionless row's value, ``f_L . l + m_L . k``, is then the drive's
+    force along the line), as on linear lines."""
     nodes = site.touched
     if body in set(nodes.tolist()):
         raise ValueError("a slider's body may not be a node of its own line")
@@ -212,7 +218,7 @@ def derive(
         at = slot[int(a)] + 3
         for m in range(3):
             residual[at + m] = residual[at + m] + virtual[9 + 3 * j + m]
-    residual[at_xi] = virtual[15]
+    residual[at_xi] = virtual[15] if held is None else Dual(y[0], {at_xi: 1.0}) - held
     residual[at_xi + 1 :] = values(c)
     couple = virtual[9:12] + virtual[12:15]
     return SliderDerived(
@@ -221,6 +227,7 @@ def derive(
         gradients(residual, n).astype(float),
         _number(np.concatenate([load, couple])),
         np.concatenate([_number(l), _number(values(k))]),
+        float(_number(np.array([virtual[15]]))[0]),
     )
 
 
