@@ -115,7 +115,7 @@ class SlidingModel:
         self.name = model.name
         structure = model.structure
         self.chains: list[ExactChain] = []
-        self.points_: list[SliderPoint] = []
+        self.laws: list[SliderPoint] = []
         self.bodies: list[int] = []
         self.slices: list[slice] = []
         start = model.n_dofs
@@ -138,7 +138,7 @@ class SlidingModel:
                 np.asarray(slider.frame, dtype=float),
             )
             self.chains.append(chain)
-            self.points_.append(point)
+            self.laws.append(point)
             self.bodies.append(body)
             self.slices.append(slice(start, start + point.n_unknowns))
             start += point.n_unknowns
@@ -155,7 +155,7 @@ class SlidingModel:
         point closest to the sliding point), zero multipliers."""
         unknowns = []
         for slider, chain, point, body in zip(
-            self.sliders, self.chains, self.points_, self.bodies, strict=True
+            self.sliders, self.chains, self.laws, self.bodies, strict=True
         ):
             xi = slider.drive if slider.xi is None else slider.xi
             xi = chain.project(self._X[body] + point.offset) if xi is None else xi
@@ -173,7 +173,7 @@ class SlidingModel:
         """The model's points and each slider's residual and tangent."""
         derived = []
         for i, (chain, point, body) in enumerate(
-            zip(self.chains, self.points_, self.bodies, strict=True)
+            zip(self.chains, self.laws, self.bodies, strict=True)
         ):
             y = self.unknowns(state, i)
             try:

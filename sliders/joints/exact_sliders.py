@@ -35,6 +35,15 @@ couple's work through the line's curvature: ``-m . k`` with ``m = sum_j mu_j (e_
 derivatives are the linear slider's (:mod:`sliders.joints.equations`, ``section``
 orientation): ``tests/test_exact_sliders.py`` holds them equal at first order.
 
+**Kink correction** (classical and spline): as on linear lines (:mod:`sliders.joints.
+equations`, ``docs/sliders.md``), the couple ``M`` the line takes at ``xi`` turns its
+section there off the nodes' interpolation by ``kappa C M`` (the linear chain's
+``flex``, turned with the section): the rows read ``D_L`` turned by ``cay(kappa C M)``, a
+compliance of the rows, never a load; the ``xi`` row carries half its rate,
+``M . kappa_/xi C M / 2`` (the change with ``xi`` of the compliance's energy), which makes
+the configurational force of a bent rod independent of where ``xi`` sits in its node span
+(``docs/exact_sliders.md``).
+
 **Derivation.**  Nothing but :func:`rows` and the line's interpolation is written by hand:
 :func:`derive` runs them on dual numbers nested twice, as
 :func:`sliders.joints.exact_laws.derive` does: an outer change of state ``epsilon`` in the
@@ -170,7 +179,7 @@ def derive(
         return seeded(value, {at_xi: rate})
 
     N, dN = along(site.N, site.dN), along(site.dN, site.d2N)
-    x_L, l = position(site, np.array([x_n[int(a)][0] for a in site.nodes]), N, dN)
+    x_L, l = position(np.array([x_n[int(a)][0] for a in site.nodes]), N, dN)
     s = along(np.array([site.s]), np.array([site.s_xi]))[0]
     R0 = along(site.R0, np.asarray(skew(site.k0) @ site.R0, dtype=float))
     k0 = along(site.k0, site.k0_xi)

@@ -192,10 +192,10 @@ class ExactChain:
         return self.chain.project(point, q)
 
 
-def position(site: LineSite, x: Any, N: Any, dN: Any) -> tuple[Any, Any]:
-    """``x(xi) = sum N_a x_a`` and ``l = sum N_a' x_a`` on the site's nodes' positions ``x``
-    (m, 3), with the functions ``N``, ``dN`` given (numbers, or duals carrying their
-    ``xi``-rates)."""
+def position(x: Any, N: Any, dN: Any) -> tuple[Any, Any]:
+    """``x(xi) = sum N_a x_a`` and ``l = sum N_a' x_a`` on the positions ``x`` (m, 3) of the
+    nodes a site interpolates, with the functions ``N``, ``dN`` given (numbers, or duals
+    carrying their ``xi``-rates)."""
     return N @ x, dN @ x
 
 
