@@ -19,12 +19,13 @@ import scipy.linalg
 from fvbeam import rotations
 from fvbeam.beam import Beam
 from fvbeam.body import RigidBody
+from fvbeam.exact_beam import ExactBeam, ExactState
 from fvbeam.exact_statics import FLOOR_FACTOR, solve_static
 from fvbeam.mesh import straight
 from fvbeam.section import Section
 from fvbeam.structure import Structure
 from fvbeam.support import Support
-from sliders.joints.exact_model import ExactModel
+from sliders.joints.exact_model import ExactModel, JointedState
 from sliders.joints.exact_slider_model import ExactSlider, SlidingModel, SlidingState
 from sliders.joints.slider import Slider
 from sliders.lines.chain import BeamChain
@@ -313,3 +314,39 @@ def test_a_drive_holds_the_rod_in_its_bearing():
     along = model.points(state).sliders[0].along
     _, error = configurational(model, state.x[tip, 0], along)
     assert error <= (1 / 8) / 0.6
+
+
+@pytest.mark.parametrize("formulation", ["fv3", "galerkin-p1"])
+def test_spherical_slider_loads_a_bent_cantilever_as_a_point_force(formulation):
+    """A ring (held along ``x`` and in its rotations) pushed across a cantilever by a dead
+    force (``P L^2 / EJ = 1``, the rod turning by about 0.26 rad): the loads the slider puts
+    on the rod's nodes are a point force ``lambda`` at the contact ``x(xi)`` (the joint
+    pushes the line with ``+lambda``, the body with ``-lambda``: ``docs/scenes.md``; their
+    resultant, and their moment about the contact zero: the fv regions' arms on the current
+    configuration), and the rod alone under those loads, dead, is in equilibrium at the
+    slider's state (its residual on the round-off floor).  Tolerance: the floor of the rows
+    summed (16 eps times their terms)."""
+    section = Section.diagonal(EA=1e3, GAy=1e3, GAz=1e3, GJ=1.0, EJy=1.0, EJz=1.0)
+    npe = 2 if formulation == "galerkin-p1" else 3
+    rod = Beam(straight([0, 0, 0], [1, 0, 0], 8, npe, name="rod"), section, formulation)
+    st = Structure([rod], (), [RigidBody("ring", [0.7, 0.0, 0.0])])
+    model = SlidingModel(ExactModel.on(st, []), [ExactSlider("spherical", "rod", "ring")])
+    ring, start = model.model._node("ring", "ring"), model.model._node("rod.start", "rod")
+    fixed = np.concatenate([6 * start + np.arange(6), [6 * ring], 6 * ring + np.arange(3, 6)])
+    load = np.zeros(model.n_dofs)
+    load[6 * ring + 1] = -1.0
+    state = solve_static(model, load, fixed).state
+    n_rod = 6 * st.beams[0].mesh.n_nodes  # the rod's nodes come first
+    on_rod = -slider_residual(model, state)[:n_rod].reshape(-1, 6)  # what the slider puts there
+    lam = state.unknowns[1:4]
+    x_L = state.x[ring]  # the ring's point is the contact (no offset)
+    floor = FLOOR_FACTOR * EPS * model.residual_floor(state)[:n_rod].sum()
+    np.testing.assert_allclose(on_rod[:, :3].sum(axis=0), lam, rtol=0, atol=floor)
+    arms = np.cross(state.x[: len(on_rod)] - x_L, on_rod[:, :3])
+    np.testing.assert_allclose((on_rod[:, 3:] + arms).sum(axis=0), 0.0, rtol=0, atol=floor)
+    alone = ExactModel(beams=[ExactBeam(rod)])
+    nodes = JointedState(ExactState(state.x[: len(on_rod)], state.R[: len(on_rod)]), np.zeros(0))
+    residual = alone.residual(nodes) - on_rod.ravel()
+    held = np.arange(6)  # the clamp
+    residual[held] = 0.0
+    assert np.abs(residual).max() <= FLOOR_FACTOR * EPS * alone.residual_floor(nodes).max() + floor
