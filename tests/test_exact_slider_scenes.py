@@ -8,6 +8,7 @@ the residual's round-off floor (``16 eps`` times the axial stiffness' terms, ``E
 """
 
 import csv
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,6 +16,7 @@ import pytest
 from sliders.app.cli import main
 
 EPS = np.finfo(float).eps
+SCENES = Path(__file__).resolve().parents[1] / "studies" / "scenes"
 BEARING = """title = "bearing"
 kinematics = "exact"
 formulation = "fv3"
@@ -87,7 +89,6 @@ def test_a_rod_pushed_through_a_bearing_as_a_scene(tmp_path, capsys):
 @pytest.mark.parametrize(
     ("change", "key", "what"),
     [
-        ('body = "bearing"\n', "slider[0].end_stops", "a slider's end stops"),
         (
             'body = "bearing"\nfriction = { mu = 0.1 }\n',
             "slider[0].friction",
@@ -97,9 +98,7 @@ def test_a_rod_pushed_through_a_bearing_as_a_scene(tmp_path, capsys):
     ],
 )
 def test_exact_refuses_what_its_sliders_do_not_carry(tmp_path, capsys, change, key, what):
-    """End stops, friction and the ``slope`` orientation: one error naming the key."""
-    if key.endswith("end_stops"):
-        change += "end_stops = true\n"
+    """Friction and the ``slope`` orientation: one error naming the key."""
     path = tmp_path / "scene.toml"
     path.write_text(BEARING.replace('body = "bearing"\n', change))
     assert main(["check", str(path)]) == 2
@@ -131,3 +130,26 @@ def test_auto_takes_a_bent_rod_through_its_bearing_exact(tmp_path, capsys):
         said[name] = capsys.readouterr().out
     assert "kinematics: exact (auto: the linear answer's largest rotation" in said["auto"]
     assert rows(tmp_path / "auto" / "sliders.csv") == rows(tmp_path / "exact" / "sliders.csv")
+
+
+def test_an_end_stop_holds_a_tip_pushed_off_its_rail(tmp_path, capsys):
+    """studies/scenes/end_stops.toml's problem on an exact rail beam (clamped at both ends)
+    with ``kinematics = "exact"``: the tip pushed outwards rests on the stop, ``xi`` at the
+    rail's end and the slider's ``lambda_x`` the force ``F`` (to the round-off floor of the
+    arm's force balance, ``16 eps`` times ``EA = 1e9`` and its terms)."""
+    text = (SCENES / "end_stops.toml").read_text()
+    text = text.replace('title = "end stops"', 'title = "end stops"\nkinematics = "exact"')
+    text = text.replace(
+        '[[line]]\nkind = "straight"\nname = "rail"\nstart = [-1.0, 0.0, 0.0]\n'
+        "end = [0.0, 0.0, 0.0]\n",
+        '[[beam]]\nname = "rail"\nsection = "rod"\n'
+        "straight = { start = [-1.0, 0.0, 0.0], end = [0.0, 0.0, 0.0], elements = 4 }\n"
+        '[[support]]\nnode = "rail.start"\n[[support]]\nnode = "rail.end"\n',
+    )
+    text = text.split("[study]")[0] + '[study]\nkind = "static"\n[output]\ncsv = ["sliders"]\n'
+    path = tmp_path / "stops.toml"
+    path.write_text(text)
+    assert main(["run", "--out", str(tmp_path / "out"), str(path)]) == 0, capsys.readouterr()
+    (slider,) = rows(tmp_path / "out" / "sliders.csv")
+    assert float(slider["xi"]) == 1.0
+    assert abs(float(slider["lambda_x"]) - 50.0) <= 16 * EPS * 1e9

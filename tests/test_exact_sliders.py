@@ -350,3 +350,42 @@ def test_spherical_slider_loads_a_bent_cantilever_as_a_point_force(formulation):
     held = np.arange(6)  # the clamp
     residual[held] = 0.0
     assert np.abs(residual).max() <= FLOOR_FACTOR * EPS * alone.residual_floor(nodes).max() + floor
+
+
+def test_end_stops_hold_a_sliding_point_that_pushes_and_release_one_that_pulls():
+    """A cantilever arm along ``y`` whose tip slides (spherical slider with end stops) on a
+    rail beam along ``x`` clamped at both ends, the tip at the rail's far end, a force ``F``
+    along ``x`` at the tip (the linear end-stop scene's problem on an exact line).  Pushed
+    outwards, the stop holds the tip at the end: ``xi = L`` exactly, ``lambda = (F, 0, 0)``
+    and the stop's force ``-along = F |l|`` with the rail's end unstrained (``|l| = 1``), to
+    the round-off floor.  Pulled inwards, the stop lets go: the frictionless row holds
+    (``along = 0``), the slider carries nothing along the rail, and the tip slides in by the
+    cantilever's deflection ``F L^3 / 3 EJ + F L / GA``, stiffened by the tension ``N`` the
+    rail's hold on the shortening arm puts in it: by at most the geometric over the elastic
+    stiffness, ``(6 N / 5 L) / (3 EJ / L^3) = 0.4 N L^2 / EJ`` (twice allowed)."""
+    EJ, GA = 4e4, 1e8
+    section = Section.diagonal(EA=1e9, GAy=GA, GAz=GA, GJ=4e4, EJy=EJ, EJz=EJ)
+    arm = Beam(straight([0, -1, 0], [0, 0, 0], 4, 3, name="arm"), section, "fv3")
+    rail = Beam(straight([-1, 0, 0], [0, 0, 0], 4, 3, name="rail"), section, "fv3")
+    slider = ExactSlider("spherical", "rail", "arm.end", end_stops=True)
+    model = SlidingModel(ExactModel.on(Structure([arm, rail]), []), [slider])
+    ends = [model.model._node(r, r) for r in ("arm.start", "rail.start", "rail.end")]
+    fixed = (6 * np.array(ends)[:, None] + np.arange(6)).ravel()
+    tip = model.model._node("arm.end", "arm.end")
+    F = 50.0
+    for sign in (1.0, -1.0):
+        load = np.zeros(model.n_dofs)
+        load[6 * tip] = sign * F
+        state = solve_static(model, load, fixed).state
+        xi, lam = state.unknowns[0], state.unknowns[1:4]
+        along = model.points(state).sliders[0].along
+        floor = FLOOR_FACTOR * EPS * model.residual_floor(state).max()
+        if sign > 0:
+            assert xi == 1.0
+            np.testing.assert_allclose(lam, [F, 0.0, 0.0], rtol=0, atol=floor)
+            assert abs(along + F) <= floor
+            continue
+        assert abs(along) <= floor and abs(lam[0]) <= floor
+        linear = F / (3 * EJ) + F / GA
+        tension = abs(lam[1])
+        assert abs((1.0 - xi) - linear) <= 2 * 0.4 * tension / EJ * linear

@@ -9,7 +9,7 @@ geometrically exact beams (:class:`fvbeam.exact_structure.ExactStructure`,
 bodies or joints their exact model (:class:`sliders.joints.exact_model.ExactModel`, the
 joints of the scene's ``[[joint]]`` tables, :mod:`sliders.app.scene_joints`), and with
 sliders on chains (spherical, classical or spline, ``section`` orientation, smeared or
-not) the model with them
+not, with end stops or not) the model with them
 (:class:`sliders.joints.exact_slider_model.SlidingModel`).  The bodies' masses play no
 part (no gravity on this path).  :func:`unsupported` names the first scene item it does not
 carry.
@@ -128,16 +128,14 @@ def unsupported(scene: Scene) -> tuple[str, str] | None:
 
 def _slider_unsupported(scene: Scene) -> tuple[str, str] | None:
     """The first slider item the exact path does not carry (it takes spherical, classical
-    and spline sliders on chains of beams, ``section`` orientation, with smearing:
-    :mod:`sliders.joints.exact_sliders`), as :func:`unsupported` names it."""
+    and spline sliders on chains of beams, ``section`` orientation, with smearing and end
+    stops: :mod:`sliders.joints.exact_sliders`), as :func:`unsupported` names it."""
     rigid = {line.name for line in scene.line}
     for i, slider in enumerate(scene.slider):
         if slider.line[0] in rigid:
             return f"slider[{i}].line", "a slider on a rigid line"
         if slider.orientation != "section":
             return f"slider[{i}].orientation", "a slider's 'slope' orientation"
-        if slider.end_stops:
-            return f"slider[{i}].end_stops", "a slider's end stops"
         if slider.friction is not None:
             return f"slider[{i}].friction", "a slider's friction"
     return None
@@ -276,7 +274,7 @@ class ExactPath:
 
 def exact_slider(slider: Slider) -> ExactSlider:
     """The slider on the exact path of a scene's (linear) ``slider``, on a chain:
-    its kind, line, body, offset, frame and smearing."""
+    its kind, line, body, offset, frame, smearing and end stops."""
     from sliders.joints.exact_slider_model import ExactSlider
 
     line = slider.line
@@ -289,4 +287,5 @@ def exact_slider(slider: Slider) -> ExactSlider:
         slider.frame,
         slider.smearing,
         slider.kernel,
+        end_stops=slider.end_stops,
     )

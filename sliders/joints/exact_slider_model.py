@@ -60,6 +60,10 @@ class ExactSlider:
     drive
         The abscissa a drive holds (statics: a drive's value at the start), or None: the
         frictionless slider.
+    end_stops
+        Stops at both ends of the line: the sliding point rests at an end (``xi`` held
+        there, the frictionless row's value the stop's force) while the stop pushes, and
+        leaves it when the stop would pull (:meth:`SlidingModel.stopped`).
     """
 
     kind: str
@@ -71,6 +75,7 @@ class ExactSlider:
     kernel: str = "box"
     xi: float | None = None
     drive: float | None = None
+    end_stops: bool = False
 
 
 @dataclass(frozen=True)
@@ -176,13 +181,30 @@ class SlidingModel:
             zip(self.chains, self.laws, self.bodies, strict=True)
         ):
             y = self.unknowns(state, i)
+            slider, at = self.sliders[i], y[0]
+            if slider.end_stops and slider.drive is None:
+                at = min(max(at, 0.0), chain.length)  # a stop holds xi on the line
             try:
-                site = chain.at(y[0])
+                site = chain.at(at)
             except ValueError as error:
                 raise ValueError(f"{self.name}: {self.key}[{i}]: {error}") from None
-            held = self.sliders[i].drive
-            derived.append(derive(point, site, state.x, state.R, body, y, self._X, held))
+            d = derive(point, site, state.x, state.R, body, y, self._X, slider.drive)
+            if at != y[0] or (slider.end_stops and self.stopped(chain, at, d.along)):
+                d = derive(point, site, state.x, state.R, body, y, self._X, at)
+            derived.append(d)
         return SlidingPoints(self.model.points(state.model), derived)
+
+    @staticmethod
+    def stopped(chain: ExactChain, xi: float, along: float) -> bool:
+        """Whether an end stop holds a sliding point at ``xi``: at an end of the line, the
+        frictionless row's value ``along`` (``d (y . c) / d xi``) pushing it out, i.e. the
+        stop's multiplier non-negative (``-along`` at the far end, where ``xi <= L``;
+        ``along`` at the start, where ``xi >= 0``: Karush-Kuhn-Tucker)."""
+        if xi >= chain.length:
+            return along <= 0.0
+        if xi <= 0.0:
+            return along >= 0.0
+        return False
 
     def _dofs(self, i: int, derived: SliderDerived) -> np.ndarray:
         """The model's dofs of slider ``i``'s local columns (:class:`SliderDerived`)."""
