@@ -52,6 +52,7 @@ bench: $(VENV)/.installed-all
 	$(BIN)/python -m studies.bench_landing_gear --out $(RESULTS)/bench.json
 	$(BIN)/python -m studies.bench_command --out $(RESULTS)/bench.json
 	$(BIN)/python -m studies.bench_exact --out $(RESULTS)/bench.json
+	$(BIN)/python -m studies.bench_exact_sliders --out $(RESULTS)/bench.json
 	$(BIN)/python -m studies.bench_kinematics --out $(RESULTS)/bench.json
 	$(BIN)/python -m studies.bench_campaign --out $(RESULTS)/bench.json
 	$(BIN)/python -m studies.bench_modes --out $(RESULTS)/bench.json

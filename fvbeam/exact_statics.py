@@ -442,7 +442,10 @@ def _balance_forces(
     the rows that hold positions (``position_multipliers``; those rows are linear in the
     positions), so one solve with their block of the tangent, ``K_uu du = lambda f_u -
     r_u``, satisfies them.  A singular block (positions held by rotations only) leaves the
-    state as it is."""
+    state as it is, and so does an operator whose ``balances_positions`` is False (one
+    with rows that are not affine in its positions, as a slider's ``xi`` row)."""
+    if not getattr(beam, "balances_positions", True):
+        return state
     positions = np.union1d(
         _node_positions(free, state), np.intersect1d(free, beam.position_multipliers)
     )

@@ -9,8 +9,8 @@ with ``"linear"`` and with ``"auto"`` alternately (least of the repeats each, af
 of each), on:
 
 ``sliders``
-    ``studies/scenes/spline_slider.toml`` (a static study with a slider: the exact path
-    does not carry it);
+    ``studies/scenes/rigid_lines.toml`` (a static study with sliders on rigid lines: the
+    exact path does not carry them);
 ``cantilever``
     an fv3 cantilever of 1e3 and 1e4 elements under a tip load small enough for the linear
     answer to be kept (``P L^2 / EJ = 1e-10``: a rotation of 5e-11 rad).
@@ -125,7 +125,7 @@ def main(argv: list[str] | None = None) -> None:
     """Run the benchmark and merge it into ``--out``."""
     args = bench_arguments("studies.bench_kinematics", __doc__ or "", "short runs", argv)
     repeats = 1 if args.quick else 5
-    rows = [row("sliders", Model(load_scene(SCENES / "spline_slider.toml")), repeats)]
+    rows = [row("sliders", Model(load_scene(SCENES / "rigid_lines.toml")), repeats)]
     for elements in (100,) if args.quick else (1_000, 10_000):
         model = Model(load_scene(cantilever(elements)))
         rows.append(row("cantilever", model, repeats, elements))

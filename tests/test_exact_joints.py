@@ -13,7 +13,9 @@ Tolerances:
   the next Newton correction, bounded by the floor divided by the smallest stiffness.
 """
 
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -609,6 +611,30 @@ def test_the_linear_model_is_the_first_order_case():
     np.testing.assert_allclose(slopes, 2.0, atol=0.01)
 
 
+def is_stationary(
+    potential: Callable, projected: Callable, state: Any, directions: np.ndarray, size: float
+) -> bool:
+    """Whether the central slopes of ``potential`` at ``state`` along ``directions`` (each
+    step projected back onto the constraints by ``projected(state, step)``) vanish to their
+    truncation, estimated from a doubled step (Richardson, ``|D(2h) - D(h)| / 3``), and
+    rounding, ``2 eps size / h`` (``size`` the potential's terms), with twice their sum
+    allowed; ``h = 1e-4``."""
+    h = 1e-4
+
+    def slopes(step: float) -> np.ndarray:
+        return np.array(
+            [
+                (potential(projected(state, step * v)) - potential(projected(state, -step * v)))
+                / (2 * step)
+                for v in directions
+            ]
+        )
+
+    D1, D2 = slopes(h), slopes(2 * h)
+    truncation = np.abs(D2 - D1).max() / 3
+    return bool(np.abs(D1).max() <= 2 * (truncation + 2 * EPS * size / h))
+
+
 def test_the_elastic_toggle_is_a_stationary_point_of_its_potential():
     """A conservative problem with elastic energy: the Galerkin toggle (``galerkin-p2``)
     under a dead apex load, its equilibrium a stationary point of the potential
@@ -639,25 +665,14 @@ def test_the_elastic_toggle_is_a_stationary_point_of_its_potential():
             state = state.updated(np.concatenate([step, np.zeros(model.n_dofs - n)]))
         raise AssertionError("the projection onto the joints' rows did not converge")
 
-    def slopes(state: JointedState, h: float, directions: np.ndarray) -> np.ndarray:
-        return np.array(
-            [
-                (potential(projected(state, h * v)) - potential(projected(state, -h * v))) / (2 * h)
-                for v in directions
-            ]
-        )
-
     for factor, stationary in ((1.0, True), (0.9, False)):
         state = solve(model, factor * load).state
         B = model.tangent(state)[n:, :n].toarray()
         free = scipy.linalg.null_space(B)
         directions = (free @ RNG.standard_normal((free.shape[1], 2))).T
         directions /= np.linalg.norm(directions, axis=1)[:, None]
-        h = 1e-4
-        D1, D2 = slopes(state, h, directions), slopes(state, 2 * h, directions)
-        truncation = np.abs(D2 - D1).max() / 3
-        rounding = 2 * EPS * (abs(potential(state)) + 100.0) / h  # terms of size EA = 100
-        assert (np.abs(D1).max() <= 2 * (truncation + rounding)) == stationary
+        size = abs(potential(state)) + 100.0  # terms of size EA = 100
+        assert is_stationary(potential, projected, state, directions, size) == stationary
 
 
 #: A four-bar linkage: crank ``a``, coupler ``b``, rocker ``c``, ground pivots ``d`` apart.

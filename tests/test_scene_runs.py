@@ -103,8 +103,10 @@ def test_end_stops_scene(tmp_path):
 
 def test_spline_slider_scene_twists_by_T_a_over_GJ():
     """tests/test_spline_slider.py's twist test: the arm's root turns by T a / GJ (relative
-    1e-9: roundoff of K ~ 1e10 against rotations ~ 1e-5)."""
-    results = run(Model(load_scene(SCENES / "spline_slider.toml")), progress=False)
+    1e-9: roundoff of K ~ 1e10 against rotations ~ 1e-5) with linear kinematics (the
+    scene's ``auto`` takes the exact path, whose second-order terms are above that)."""
+    model = Model(load_scene(SCENES / "spline_slider.toml"))
+    results = run(model, progress=False, kinematics="linear")
     (sample,) = results.samples
     structure = sample.statics.structure
     turn = sample.solution.q[structure.node_dofs((1, "start"))[3]]

@@ -7,9 +7,12 @@ supports, joints and nodal loads (and point loads at a node, unsmeared) with
 geometrically exact beams (:class:`fvbeam.exact_structure.ExactStructure`,
 :func:`fvbeam.exact_statics.solve_static`; the loads dead, fixed in global axes), and with
 bodies or joints their exact model (:class:`sliders.joints.exact_model.ExactModel`, the
-joints of the scene's ``[[joint]]`` tables, :mod:`sliders.app.scene_joints`).  The bodies'
-masses play no part (no gravity on this path).  :func:`unsupported` names the first scene item it
-does not carry.
+joints of the scene's ``[[joint]]`` tables, :mod:`sliders.app.scene_joints`), and with
+sliders on chains (spherical, classical or spline, ``section`` orientation, smeared or
+not, with end stops or not) the model with them
+(:class:`sliders.joints.exact_slider_model.SlidingModel`).  The bodies' masses play no
+part (no gravity on this path).  :func:`unsupported` names the first scene item it does not
+carry.
 
 **The bound** (:func:`neglected`).  Linear kinematics writes the strains as
 ``nu = u' - theta x t`` and ``kappa = theta'``; the exact ones
@@ -44,12 +47,15 @@ from fvbeam.beam import InternalForces
 from fvbeam.structure import Structure
 from sliders.app.errors import Problem
 from sliders.app.schema import DynamicStudy, LoadFactor, ModesStudy, Scene, SweepStudy
+from sliders.joints.slider import Slider
+from sliders.lines.chain import BeamChain
 from sliders.solve.statics import SliderSolution
 
 if TYPE_CHECKING:  # the exact beams are imported where the exact path is taken
     from fvbeam.exact_beam import ExactState
     from fvbeam.exact_structure import ExactStructure
     from sliders.joints.exact_model import ExactModel, Joint, JointedState
+    from sliders.joints.exact_slider_model import ExactSlider, SlidingModel, SlidingState
 
 #: The scene key's values.
 KINDS = ("exact", "linear", "auto")
@@ -64,7 +70,7 @@ class ExactSolution(SliderSolution):
     joint's share ``B^T lambda`` of its nodes' balances
     (:meth:`sliders.joints.exact_model.ExactModel.reactions`)."""
 
-    state: ExactState | JointedState = field(kw_only=True)
+    state: ExactState | JointedState | SlidingState = field(kw_only=True)
     internal: np.ndarray = field(kw_only=True)
     forces: list[InternalForces] = field(kw_only=True)
     joints: list[np.ndarray] = field(kw_only=True, default_factory=list)
@@ -92,10 +98,11 @@ class Bound:
 def unsupported(scene: Scene) -> tuple[str, str] | None:
     """The first item of ``scene`` the exact path does not carry, as ``(key path,
     reason)``, or None."""
-    parts = {"slider": "a slider", "force": "a force element"}
-    for what, items in zip(parts, (scene.slider, scene.force), strict=True):
-        if items:
-            return f"{what}[0]", parts[what]
+    if scene.force:
+        return "force[0]", "a force element"
+    item = _slider_unsupported(scene)
+    if item is not None:
+        return item
     if scene.drive:
         return "drive[0]", "a drive"
     for i, beam in enumerate(scene.beam):
@@ -116,6 +123,21 @@ def unsupported(scene: Scene) -> tuple[str, str] | None:
         return None
     if isinstance(study, SweepStudy) and not isinstance(study.parameter, LoadFactor):
         return "study.parameter", f"a sweep over {study.parameter.kind}"
+    return None
+
+
+def _slider_unsupported(scene: Scene) -> tuple[str, str] | None:
+    """The first slider item the exact path does not carry (it takes spherical, classical
+    and spline sliders on chains of beams, ``section`` orientation, with smearing and end
+    stops: :mod:`sliders.joints.exact_sliders`), as :func:`unsupported` names it."""
+    rigid = {line.name for line in scene.line}
+    for i, slider in enumerate(scene.slider):
+        if slider.line[0] in rigid:
+            return f"slider[{i}].line", "a slider on a rigid line"
+        if slider.orientation != "section":
+            return f"slider[{i}].orientation", "a slider's 'slope' orientation"
+        if slider.friction is not None:
+            return f"slider[{i}].friction", "a slider's friction"
     return None
 
 
@@ -174,20 +196,30 @@ class ExactPath:
     max_iterations: int = 25
     load_steps: int = 1
     joints: list[Joint] = field(default_factory=list)
+    sliders: list[Slider] = field(default_factory=list)
     exact: ExactStructure = field(init=False)
     model: ExactModel | None = field(init=False, default=None)
+    sliding: SlidingModel | None = field(init=False, default=None)
 
     def __post_init__(self) -> None:
         from fvbeam.exact_structure import ExactStructure
         from sliders.joints.exact_model import ExactModel
+        from sliders.joints.exact_slider_model import SlidingModel
 
-        if self.joints or self.structure.bodies:
+        if self.joints or self.structure.bodies or self.sliders:
             self.model = ExactModel.on(self.structure, self.joints, "scene", "joint")
             self.exact = self.model.exact
         else:
             self.exact = ExactStructure(self.structure)
+        if self.sliders:
+            assert self.model is not None
+            self.sliding = SlidingModel(
+                self.model, [exact_slider(s) for s in self.sliders], "slider"
+            )
 
-    def solve(self, f: np.ndarray, start: ExactState | JointedState | None = None) -> ExactSolution:
+    def solve(
+        self, f: np.ndarray, start: ExactState | JointedState | SlidingState | None = None
+    ) -> ExactSolution:
         """Equilibrium under the dead load ``f`` from ``start`` (default the reference, with
         joints the multipliers that balance ``f`` best there:
         :meth:`~sliders.joints.exact_model.ExactModel.balanced`); ``ValueError`` with the
@@ -198,9 +230,12 @@ class ExactPath:
 
         # an ExactModel is a StaticOperator over its JointedState (nodes and multipliers)
         operator: Any = self.exact if self.model is None else self.model
+        operator = operator if self.sliding is None else self.sliding
         load = np.zeros(operator.n_dofs)
         load[: len(f)] = f
-        if self.model is not None:
+        if self.sliding is not None and start is None:
+            start = self.sliding.reference()
+        elif self.model is not None:
             if start is None:
                 start = self.model.balanced(self.model.reference(), load, self.fixed)
             free = np.setdiff1d(np.arange(self.model.n_dofs), self.fixed)
@@ -219,15 +254,38 @@ class ExactPath:
         except NotConverged as exc:
             raise ValueError(f"exact kinematics: {exc}") from None
         state: Any = result.state
-        nodes = state if self.model is None else state.nodes
+        jointed = state if self.sliding is None else state.model
+        nodes = jointed if self.model is None else jointed.nodes
         internal = operator.residual(state)[: self.exact.n_dofs]
+        sliding = self.sliding
         return ExactSolution(
             self.exact.displacements(nodes),
-            [],
+            []
+            if sliding is None
+            else [sliding.unknowns(state, i) for i in range(len(self.sliders))],
             [result.floor_ratio],
             result.iterations,
             state=state,
             internal=internal,
             forces=self.exact.internal_forces(nodes),
-            joints=[] if self.model is None else self.model.reactions(state),
+            joints=[] if self.model is None else self.model.reactions(jointed),
         )
+
+
+def exact_slider(slider: Slider) -> ExactSlider:
+    """The slider on the exact path of a scene's (linear) ``slider``, on a chain:
+    its kind, line, body, offset, frame, smearing and end stops."""
+    from sliders.joints.exact_slider_model import ExactSlider
+
+    line = slider.line
+    assert isinstance(line, BeamChain), "unsupported() refuses sliders on rigid lines"
+    return ExactSlider(
+        slider.kind,
+        line.indices,
+        slider.body,
+        slider.offset,
+        slider.frame,
+        slider.smearing,
+        slider.kernel,
+        end_stops=slider.end_stops,
+    )

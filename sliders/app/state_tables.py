@@ -81,6 +81,8 @@ class Snapshot:
     force the joints exert there is the support's reaction (None: not computed, no
     ``reactions`` table).  ``section_forces``: each beam's section forces at its recovery points
     when they are not the linear map of ``q`` (a state of exact kinematics).
+    ``sliders_in_residual``: the residual holds the sliders' forces already (a state of
+    exact kinematics), else the reactions add them.
     """
 
     structure: Structure
@@ -90,6 +92,7 @@ class Snapshot:
     supports: Sequence[Support]
     residual: np.ndarray | None = None
     section_forces: Sequence[InternalForces] | None = None
+    sliders_in_residual: bool = False
 
 
 @dataclass(frozen=True)
@@ -333,7 +336,7 @@ def _reactions(structure, sliders, supports, wanted, chosen) -> Built:
     def values(state: Snapshot) -> np.ndarray:
         residual = state.residual
         assert residual is not None, "the reactions need the residual"
-        if touching:
+        if touching and not state.sliders_in_residual:
             residual = residual.copy()
             for j in touching:
                 dofs, r_q, _, _ = sliders[j].assemble(structure, state.q, state.unknowns[j])

@@ -98,6 +98,7 @@ def _snapshot(results: Results, sample: Sample) -> Snapshot:
         results.model.supports,
         (statics.K @ solution.q if internal is None else internal) - sample.load,
         getattr(solution, "forces", None),
+        internal is not None,
     )
 
 
