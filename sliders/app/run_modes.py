@@ -117,11 +117,13 @@ def modes_of(
     def preload(statics: SliderStatics, solution: SliderSolution) -> Preload | None:
         """The preload at an exact sample's state: the exact beams' tangent and mass, with
         bodies or joints their exact model's (:meth:`Preload.of_model`); None for a linear
-        sample (its modes take the linear stiffness, with the preload warning)."""
+        sample, or one with sliders on exact lines (their modes take the linear stiffness,
+        with the preload warning)."""
         from fvbeam.exact_structure import ExactStructure
         from sliders.joints.exact_model import ExactModel, JointedState
+        from sliders.joints.exact_slider_model import SlidingState
 
-        if not isinstance(solution, ExactSolution):
+        if not isinstance(solution, ExactSolution) or isinstance(solution.state, SlidingState):
             return None
         structure = statics.structure
         state = solution.state
