@@ -1,11 +1,12 @@
 """Static equilibrium of a geometrically exact beam: Newton with automatic load stepping.
 
 The problem is ``r(q) = lambda f`` on the free dofs, ``r`` the internal forces of an
-:class:`~fvbeam.exact_beam.ExactBeam`, ``f`` *dead* nodal forces and couples (fixed in
-global axes; with the spatial rotation increments of the beam a dead couple does no work on
-the tangent, so none is added to it), ``lambda`` the load factor raised from 0 to 1, and the
-supports clamping the dofs they name (zero increment, so a clamped node keeps its reference
-position and rotation).
+:class:`~fvbeam.exact_beam.ExactBeam`, ``f`` *dead* loads (fixed in global axes; with the
+spatial rotation increments of the beam a dead couple does no work on the tangent, so none
+is added to it): nodal forces and couples, or loads between nodes, whose lever arms follow
+the configuration, with their load stiffness in the tangent (:mod:`fvbeam.exact_loads`);
+``lambda`` the load factor raised from 0 to 1, and the supports clamping the dofs they name
+(zero increment, so a clamped node keeps its reference position and rotation).
 
 **Newton** on each load step: ``K_ff dq = lambda f_f - r_f(q)``, the state updated on the
 manifold (:meth:`~fvbeam.exact_beam.ExactState.updated`), then its **positions corrected**
@@ -142,6 +143,38 @@ class StaticOperator(Protocol):
     def tangent(self, state: ExactState, pts: Any = None, keep: Any = None) -> sp.spmatrix: ...
 
 
+class Load(Protocol):
+    """A dead load that depends on the configuration (:class:`fvbeam.exact_loads.DeadLoad`:
+    loads between nodes, whose lever arms turn): its vector at a state and its derivative
+    in the spatial increments, the load stiffness."""
+
+    def vector(self, state: Any) -> np.ndarray: ...
+
+    def stiffness(self, state: Any) -> sp.spmatrix: ...
+
+
+@dataclass(frozen=True)
+class _Fixed:
+    """Loads at nodes: the same vector in every configuration, no load stiffness."""
+
+    f: np.ndarray
+
+    def vector(self, state: Any) -> np.ndarray:
+        return self.f
+
+    def stiffness(self, state: Any) -> None:
+        return None
+
+
+def _tangent(
+    beam: StaticOperator, load: Load, factor: float, state: Any, pts: Any, keep: np.ndarray
+) -> sp.spmatrix:
+    """The tangent of ``r(q) - factor f(q)`` on the dofs ``keep``."""
+    K = beam.tangent(state, pts, keep)
+    S = load.stiffness(state)
+    return K if S is None or factor == 0 else sp.csc_matrix(K - factor * S[keep][:, keep])
+
+
 class NotConverged(RuntimeError):
     """The load step (or arc length) fell below ``min_step`` without converging, or the
     arc length did not reach the full load in ``max_steps``."""
@@ -160,7 +193,7 @@ def _free(n_dofs: int, fixed: np.ndarray) -> np.ndarray:
 
 def solve_static(
     beam: StaticOperator,
-    load: np.ndarray,
+    load: np.ndarray | Load,
     fixed: np.ndarray,
     state: ExactState | None = None,
     tolerance: float = 1e-12,
@@ -170,7 +203,8 @@ def solve_static(
     method: str = "load",
     max_steps: int = 1000,
 ) -> ExactStaticResult:
-    """Equilibrium of ``beam`` under the dead nodal ``load`` (6 per node), the dofs
+    """Equilibrium of ``beam`` under the dead ``load`` (6 per node, or a :class:`Load` whose
+    vector depends on the configuration: :class:`fvbeam.exact_loads.DeadLoad`), the dofs
     ``fixed`` clamped, from ``state`` (default the reference), by Newton with automatic load
     stepping (``method="load"``) or along the equilibrium path by arc length
     (``method="arc-length"``, through limit points; ``first_step`` sets the first arc length
@@ -184,9 +218,13 @@ def solve_static(
         reached, or the arc length does not reach the full load in ``max_steps``.
     """
     name = beam.name
-    f = sized(load, beam.n_dofs, "load", f"6 per node of beam {name!r}")
-    if not np.all(np.isfinite(f)):
-        raise ValueError(f"load on beam {name!r} has a non-finite entry")
+    if isinstance(load, np.ndarray | list | tuple):
+        fixed_load = sized(load, beam.n_dofs, "load", f"6 per node of beam {name!r}")
+        if not np.all(np.isfinite(fixed_load)):
+            raise ValueError(f"load on beam {name!r} has a non-finite entry")
+        f: Load = _Fixed(fixed_load)
+    else:
+        f = load
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     free = _free(beam.n_dofs, fixed)
@@ -225,7 +263,7 @@ def solve_static(
 
 def _newton(
     beam: StaticOperator,
-    f: np.ndarray,
+    f: Load,
     factor: float,
     free: np.ndarray,
     state: ExactState,
@@ -237,7 +275,8 @@ def _newton(
     ratio = np.inf
     first = np.inf
     for it in range(max_iterations + 1):
-        pts, g, ratio, size, converged = _unbalance(beam, state, factor * f, free, tolerance)
+        load = factor * f.vector(state)
+        pts, g, ratio, size, converged = _unbalance(beam, state, load, free, tolerance)
         if converged:
             return state, it, True, ratio
         if it == 0:
@@ -246,7 +285,7 @@ def _newton(
         if it == max_iterations or stalled or not np.isfinite(size):
             break
         try:
-            dq_free = _solve(beam.tangent(state, pts, free), g)
+            dq_free = _solve(_tangent(beam, f, factor, state, pts, free), g)
         except (RuntimeError, np.linalg.LinAlgError):  # singular: let the load step shrink
             break
         dq = np.zeros(beam.n_dofs)
@@ -286,7 +325,7 @@ def _unbalance(
 
 def _arc_length(
     beam: StaticOperator,
-    f: np.ndarray,
+    f: Load,
     free: np.ndarray,
     state: ExactState,
     tolerance: float,
@@ -301,7 +340,7 @@ def _arc_length(
     if moved.size == 0:
         raise ValueError("method 'arc-length' needs free positions: every position is fixed")
     linear = np.zeros(beam.n_dofs)
-    linear[free] = _solve(beam.tangent(state, None, free), f[free])
+    linear[free] = _solve(beam.tangent(state, None, free), f.vector(state)[free])
     longest = float(np.linalg.norm(linear[moved]))
     first = min(first_step, 1.0) * longest
     arc, factor = first, 0.0
@@ -370,7 +409,7 @@ def _positions(dofs: np.ndarray) -> np.ndarray:
 
 def _arc_step(
     beam: StaticOperator,
-    f: np.ndarray,
+    f: Load,
     free: np.ndarray,
     moved: np.ndarray,
     start: ExactState,
@@ -390,7 +429,6 @@ def _arc_step(
     increment turns least from the last (Crisfield 1981); then the positions' force
     correction at the new load factor."""
     index = _positions(moved)
-    load = f[free]
     slot = np.searchsorted(free, moved)  # the free positions among the free dofs
 
     def moved_by(state: ExactState) -> np.ndarray:
@@ -398,8 +436,9 @@ def _arc_step(
 
     state, lam, ratio = start, factor, np.inf
     for it in range(max_iterations + 1):
+        load = f.vector(state)
         if it > 0:
-            pts, g, ratio, size, converged = _unbalance(beam, state, lam * f, free, tolerance)
+            pts, g, ratio, size, converged = _unbalance(beam, state, lam * load, free, tolerance)
             if converged:
                 return state, lam, it, True, ratio
             if not np.isfinite(size):
@@ -407,8 +446,8 @@ def _arc_step(
         else:
             pts, g = beam.points(state), np.zeros(len(free))
         try:
-            K = beam.tangent(state, pts, free)
-            dq_g, dq_f = _solve(K, np.column_stack([g, load])).T
+            K = _tangent(beam, f, lam, state, pts, free)
+            dq_g, dq_f = _solve(K, np.column_stack([g, load[free]])).T
         except (RuntimeError, np.linalg.LinAlgError):
             break
         delta = moved_by(state) + dq_g[slot]
@@ -434,7 +473,7 @@ def _arc_step(
 
 
 def _balance_forces(
-    beam: StaticOperator, f: np.ndarray, factor: float, free: np.ndarray, state: ExactState
+    beam: StaticOperator, f: Load, factor: float, free: np.ndarray, state: ExactState
 ) -> ExactState:
     """The state with its free positions corrected so that the force balances hold
     exactly, its rotations kept (the position correction of the module docstring): at fixed
@@ -449,9 +488,9 @@ def _balance_forces(
     if positions.size == 0:
         return state
     pts = beam.points(state)
-    g = factor * f[positions] - beam.residual(state, pts)[positions]
+    g = factor * f.vector(state)[positions] - beam.residual(state, pts)[positions]
     try:
-        du = _solve(beam.tangent(state, pts, positions), g)
+        du = _solve(_tangent(beam, f, factor, state, pts, positions), g)
     except (RuntimeError, np.linalg.LinAlgError):
         return state
     dq = np.zeros(beam.n_dofs)
