@@ -3,13 +3,13 @@ bound on what it neglects (``kinematics = "auto"``, ``docs/scenes.md``).
 
 **The exact path** solves a static study, a load-factor sweep or the states of a modes
 study (about the scene or along a load-factor sweep) of beams, rigid bodies, ties,
-supports, joints and nodal loads (and point loads at a node, unsmeared) with
-geometrically exact beams (:class:`fvbeam.exact_structure.ExactStructure`,
-:func:`fvbeam.exact_statics.solve_static`; the loads dead, fixed in global axes), and with
+supports, joints, loads (nodal, distributed, point loads between nodes, smeared or not) and
+gravity with geometrically exact beams (:class:`fvbeam.exact_structure.ExactStructure`,
+:func:`fvbeam.exact_statics.solve_static`; the loads dead, fixed in global axes, their
+lever arms on the current configuration: :mod:`sliders.app.dead_loads`), and with
 bodies or joints their exact model (:class:`sliders.joints.exact_model.ExactModel`, the
-joints of the scene's ``[[joint]]`` tables, :mod:`sliders.app.scene_joints`).  The bodies'
-masses play no part (no gravity on this path).  :func:`unsupported` names the first scene item it
-does not carry.
+joints of the scene's ``[[joint]]`` tables, :mod:`sliders.app.scene_joints`).
+:func:`unsupported` names the first scene item it does not carry.
 
 **The bound** (:func:`neglected`).  Linear kinematics writes the strains as
 ``nu = u' - theta x t`` and ``kappa = theta'``; the exact ones
@@ -48,6 +48,7 @@ from sliders.solve.statics import SliderSolution
 
 if TYPE_CHECKING:  # the exact beams are imported where the exact path is taken
     from fvbeam.exact_beam import ExactState
+    from fvbeam.exact_loads import DeadLoad
     from fvbeam.exact_structure import ExactStructure
     from sliders.joints.exact_model import ExactModel, Joint, JointedState
 
@@ -102,16 +103,9 @@ def unsupported(scene: Scene) -> tuple[str, str] | None:
         if (beam.formulation or scene.formulation) == "cubic":
             where = f"beam[{i}].formulation" if beam.formulation else "formulation"
             return where, "the cubic element"
-    for i, load in enumerate(scene.load):
-        if load.kind == "distributed":
-            return f"load[{i}]", "a distributed load"
-        if load.kind == "point" and load.smearing > 0:
-            return f"load[{i}].smearing", "a smeared point load"
     study = scene.study
     if isinstance(study, DynamicStudy):
         return "study.kind", "a dynamic study"
-    if study.gravity is not None:
-        return "study.gravity", "gravity (a distributed load)"
     if isinstance(study, ModesStudy) and study.parameter is None:
         return None
     if isinstance(study, SweepStudy) and not isinstance(study.parameter, LoadFactor):
@@ -119,24 +113,11 @@ def unsupported(scene: Scene) -> tuple[str, str] | None:
     return None
 
 
-def point_loads_off_nodes(scene: Scene, structure: Structure) -> tuple[str, str] | None:
-    """The first point load of ``scene`` that is not at a node of its beam (the exact path
-    takes a point load at a node as that node's load), as :func:`unsupported` names it."""
-    for i, load in enumerate(scene.load):
-        if load.kind != "point":
-            continue
-        mesh = structure.beams[structure.beam_index(load.beam)].mesh
-        gap = np.abs(mesh.node_abscissae() - load.at).min()
-        if gap > 1e-12 * mesh.length:
-            return f"load[{i}].at", "a point load between nodes"
-    return None
-
-
 def exact_problems(scene: Scene, structure: Structure) -> list[Problem]:
-    """The first scene item the exact path does not carry (:func:`unsupported`,
-    :func:`point_loads_off_nodes`), as a scene problem (with joints, which need the exact
-    path, saying so); none when it carries the scene."""
-    item = unsupported(scene) or point_loads_off_nodes(scene, structure)
+    """The first scene item the exact path does not carry (:func:`unsupported`), as a
+    scene problem (with joints, which need the exact path, saying so); none when it
+    carries the scene."""
+    item = unsupported(scene)
     if item is None:
         return []
     path, reason = item
@@ -187,8 +168,11 @@ class ExactPath:
         else:
             self.exact = ExactStructure(self.structure)
 
-    def solve(self, f: np.ndarray, start: ExactState | JointedState | None = None) -> ExactSolution:
-        """Equilibrium under the dead load ``f`` from ``start`` (default the reference, with
+    def solve(
+        self, f: np.ndarray | DeadLoad, start: ExactState | JointedState | None = None
+    ) -> ExactSolution:
+        """Equilibrium under the dead load ``f`` (a vector, or loads between nodes:
+        :class:`fvbeam.exact_loads.DeadLoad`) from ``start`` (default the reference, with
         joints the multipliers that balance ``f`` best there:
         :meth:`~sliders.joints.exact_model.ExactModel.balanced`); ``ValueError`` with the
         solver's message when it does not converge, or, with bodies or joints, naming the
@@ -198,11 +182,17 @@ class ExactPath:
 
         # an ExactModel is a StaticOperator over its JointedState (nodes and multipliers)
         operator: Any = self.exact if self.model is None else self.model
-        load = np.zeros(operator.n_dofs)
-        load[: len(f)] = f
+        load: np.ndarray | DeadLoad
+        if isinstance(f, np.ndarray):
+            load = np.zeros(operator.n_dofs)
+            load[: len(f)] = f
+        else:
+            load = f.padded(operator.n_dofs)
         if self.model is not None:
             if start is None:
-                start = self.model.balanced(self.model.reference(), load, self.fixed)
+                reference = self.model.reference()
+                at = load if isinstance(load, np.ndarray) else load.vector(reference)
+                start = self.model.balanced(reference, at, self.fixed)
             free = np.setdiff1d(np.arange(self.model.n_dofs), self.fixed)
             motion = self.model.free_motion(cast(Any, start), free)
             if motion is not None:

@@ -23,13 +23,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from fvbeam.structure import Structure
+from sliders.app.dead_loads import dead_load
 from sliders.app.errors import Problem, SceneError
 from sliders.app.kinematics import (
     ExactPath,
     ExactSolution,
     exact_problems,
     neglected,
-    point_loads_off_nodes,
     unsupported,
 )
 from sliders.app.model import Model
@@ -77,7 +77,7 @@ def choose(
         if bound.eta > tol:
             return Choice(False, f"warning: kinematics linear: {bound.describe()}, {within}", True)
         return Choice(False, "")
-    item = unsupported(scene) or point_loads_off_nodes(scene, model.structure)
+    item = unsupported(scene)
     if item is not None:
         return Choice(
             False,
@@ -142,7 +142,8 @@ def exact_samples(model: Model, progress: bool) -> ExactRun:
                 solution: ExactSolution | None = None
                 error = None
                 try:
-                    solution = path.solve(problem[1], state if continuation else None)
+                    load = dead_load(model, problem[0].structure, value)
+                    solution = path.solve(load, state if continuation else None)
                 except ValueError as exc:
                     error = str(exc)
                 run.samples.append((k, value, *problem, solution, error))
