@@ -380,3 +380,18 @@ def test_heavy_cantilever_scene_takes_the_exact_path_and_matches_its_elastica(tm
     richardson = np.abs(coarse - fine_tip)[[0, 1, 5]] * 16 / 15
     model = 2 * 9.81 / STIFF
     assert np.all(np.abs(coarse[[0, 1, 5]] - exact) <= 2 * richardson + model)
+
+
+def test_a_modes_study_refuses_loads_between_nodes_under_exact(tmp_path, capsys):
+    """Modes about an exact state take the structure's tangent, which holds no load
+    stiffness: a modes study with a distributed load is refused under exact, naming it."""
+    distributed = '[[load]]\nkind = "distributed"\nbeam = "rod"\nforce = [0.0, 1.0, 0.0]\n'
+    text = (
+        cantilever(kinematics="exact", extra=distributed)
+        .replace('kind = "static"', 'kind = "modes"\ncount = 2')
+        .replace("EJz = 1.0\n", "EJz = 1.0\nmass_per_length = 1.0\n", 1)
+    )
+    path = tmp_path / "modes.toml"
+    path.write_text(text)
+    assert main(["check", str(path)]) == 2
+    assert "load[1]: in a modes study, a load between nodes" in capsys.readouterr().err

@@ -113,11 +113,32 @@ def unsupported(scene: Scene) -> tuple[str, str] | None:
     return None
 
 
+def modes_loads_off_nodes(scene: Scene, structure: Structure) -> tuple[str, str] | None:
+    """In a modes study, the first load of ``scene`` between nodes (distributed, gravity, a
+    point load off its beam's nodes or smeared), as :func:`unsupported` names it: its lever
+    arms follow the configuration (:mod:`fvbeam.exact_loads`), a load stiffness that the
+    modes' tangent (:meth:`fvbeam.exact_structure.ExactStructure.tangent`) does not hold."""
+    study = scene.study
+    if not isinstance(study, ModesStudy):
+        return None
+    reason = "in a modes study, a load between nodes (its load stiffness is not in the modes)"
+    if study.gravity is not None:
+        return "study.gravity", reason
+    for i, load in enumerate(scene.load):
+        if load.kind == "distributed" or (load.kind == "point" and load.smearing > 0):
+            return f"load[{i}]", reason
+        if load.kind == "point":
+            mesh = structure.beams[structure.beam_index(load.beam)].mesh
+            if np.abs(mesh.node_abscissae() - load.at).min() > 1e-12 * mesh.length:
+                return f"load[{i}].at", reason
+    return None
+
+
 def exact_problems(scene: Scene, structure: Structure) -> list[Problem]:
-    """The first scene item the exact path does not carry (:func:`unsupported`), as a
-    scene problem (with joints, which need the exact path, saying so); none when it
-    carries the scene."""
-    item = unsupported(scene)
+    """The first scene item the exact path does not carry (:func:`unsupported`,
+    :func:`modes_loads_off_nodes`), as a scene problem (with joints, which need the exact
+    path, saying so); none when it carries the scene."""
+    item = unsupported(scene) or modes_loads_off_nodes(scene, structure)
     if item is None:
         return []
     path, reason = item

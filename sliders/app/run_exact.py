@@ -29,6 +29,7 @@ from sliders.app.kinematics import (
     ExactPath,
     ExactSolution,
     exact_problems,
+    modes_loads_off_nodes,
     neglected,
     unsupported,
 )
@@ -77,7 +78,7 @@ def choose(
         if bound.eta > tol:
             return Choice(False, f"warning: kinematics linear: {bound.describe()}, {within}", True)
         return Choice(False, "")
-    item = unsupported(scene)
+    item = unsupported(scene) or modes_loads_off_nodes(scene, model.structure)
     if item is not None:
         return Choice(
             False,
