@@ -65,6 +65,7 @@ the load).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
@@ -202,6 +203,7 @@ def solve_static(
     min_step: float = 1e-6,
     method: str = "load",
     max_steps: int = 1000,
+    drives: Mapping[int, float] | None = None,
 ) -> ExactStaticResult:
     """Equilibrium of ``beam`` under the dead ``load`` (6 per node, or a :class:`Load` whose
     vector depends on the configuration: :class:`fvbeam.exact_loads.DeadLoad`), the dofs
@@ -210,6 +212,14 @@ def solve_static(
     (``method="arc-length"``, through limit points; ``first_step`` sets the first arc length
     as the linear response's displacement at that load factor, ``min_step`` the smallest
     as a fraction of it, ``max_steps`` the most steps): module docstring.
+
+    ``drives``: prescribed values of dofs at the full load (the load factor's share of
+    each at every step, as the loads; load stepping only), held as ``fixed`` dofs are: a
+    position dof moves its node along the global axis by the value (m); a rotation dof turns
+    it about the global axis by the value (rad), each step's share applied on the manifold,
+    ``R <- exp(d alpha e_k) R``, the spatial increments about that axis held otherwise (a
+    node whose other rotations are held too, a clamp turned by a drive, ends at
+    ``exp(alpha e_k)`` exactly); a step turns a driven node by at most :data:`MAX_TURN`.
 
     Raises
     ------
@@ -227,7 +237,17 @@ def solve_static(
         f = load
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
-    free = _free(beam.n_dofs, fixed)
+    driven = {} if drives is None else {int(k): float(v) for k, v in drives.items()}
+    if driven and method != "load":
+        raise ValueError(f"drives take method 'load', not {method!r}")
+    held = np.concatenate([np.asarray(fixed, dtype=np.int64).ravel(), list(driven)])
+    free = _free(beam.n_dofs, held.astype(np.int64))
+    move = np.zeros(beam.n_dofs)
+    move[list(driven)] = list(driven.values())
+    turns = np.abs(move[: 6 * len(beam.reference().x)].reshape(-1, 6)[:, 3:])
+    # a driven turn of more than MAX_TURN per step is beyond the rotations' linearisation (and
+    # a half turn, log's branch cut, could take either way round)
+    cap = MAX_TURN / turns.max() if turns.size and turns.max() > 0 else np.inf
     current = beam.reference() if state is None else state
     if method == "arc-length":
         return _arc_length(
@@ -239,9 +259,10 @@ def solve_static(
     path: list[ExactState] = []
     attempts, total, ratio = 0, 0, 0.0
     while done < 1.0:
-        target = min(1.0, done + step)
+        target = min(1.0, done + step, done + cap)
         attempts += 1
-        trial, its, ok, ratio = _newton(beam, f, target, free, current, tolerance, max_iterations)
+        start = current.updated((target - done) * move) if driven else current
+        trial, its, ok, ratio = _newton(beam, f, target, free, start, tolerance, max_iterations)
         total += its
         if ok:
             current, done = trial, target
