@@ -149,23 +149,24 @@ class DeadLoad:
         nodal = np.zeros(self.n_dofs)
         nodal[: len(self.nodal)] = self.nodal
         self.nodal = nodal
-
-    def _beam_terms(
-        self, state: Any
-    ) -> list[tuple[Beam, np.ndarray, LoadPoints, np.ndarray, np.ndarray]]:
-        """For each beam: its points' element nodes (K, npe, global) and the test functions
-        at them on the current node positions (K, 6 npe, 6)."""
-        out = []
-        for beam, node_map, pts in self.beams:
-            nodes = node_map[beam.mesh.cells[pts.element]]
-            G, _ = beam.formulation.transfer_at(
-                state.x[nodes],
+        #: Per beam: its points' element nodes (K, npe, global), element lengths and section
+        #: frames (what the test functions read besides the positions).
+        self._elements = [
+            (
+                node_map[beam.mesh.cells[pts.element]],
                 beam.mesh.element_length[pts.element],
-                pts.X,
                 beam.mesh.frames(pts.element, np.full(len(pts.X), 0.5)),
-                beam.section,
             )
-            out.append((beam, node_map, pts, nodes, G))
+            for beam, node_map, pts in self.beams
+        ]
+
+    def _beam_terms(self, state: Any) -> list[tuple[Beam, LoadPoints, np.ndarray, np.ndarray]]:
+        """For each beam: its points, their element nodes (K, npe, global) and the test
+        functions at them on the current node positions (K, 6 npe, 6)."""
+        out = []
+        for (beam, _, pts), (nodes, h, frames) in zip(self.beams, self._elements, strict=True):
+            G, _ = beam.formulation.transfer_at(state.x[nodes], h, pts.X, frames, beam.section)
+            out.append((beam, pts, nodes, G))
         return out
 
     def vector(self, state: Any) -> np.ndarray:
@@ -174,7 +175,7 @@ class DeadLoad:
         functions on the current positions, each body force with its moment about the
         node's current position."""
         f = self.nodal.copy()
-        for _, _, pts, nodes, G in self._beam_terms(state):
+        for _, pts, nodes, G in self._beam_terms(state):
             dofs = 6 * nodes[:, :, None] + np.arange(6)
             f += np.bincount(
                 dofs.ravel(), np.einsum("kij,kj->ki", G, pts.wrench).ravel(), minlength=self.n_dofs
@@ -191,7 +192,7 @@ class DeadLoad:
         node ``a`` to the positions of node ``b``, bodies' ``skew(F) skew(R c)`` on their
         rotations; Galerkin beams add nothing."""
         rows, cols, vals = [], [], []
-        for beam, _, pts, nodes, G in self._beam_terms(state):
+        for beam, pts, nodes, G in self._beam_terms(state):
             if not isinstance(beam.formulation, FiniteVolume):
                 continue
             npe = nodes.shape[1]

@@ -147,7 +147,9 @@ class StaticOperator(Protocol):
 class Load(Protocol):
     """A dead load that depends on the configuration (:class:`fvbeam.exact_loads.DeadLoad`:
     loads between nodes, whose lever arms turn): its vector at a state and its derivative
-    in the spatial increments, the load stiffness."""
+    in the spatial increments, the load stiffness.  Dead: its forces are fixed, only its
+    moments move, so the stiffness has no rows on positions (the position correction,
+    :func:`_balance_forces`, takes none)."""
 
     def vector(self, state: Any) -> np.ndarray: ...
 
@@ -511,7 +513,7 @@ def _balance_forces(
     pts = beam.points(state)
     g = factor * f.vector(state)[positions] - beam.residual(state, pts)[positions]
     try:
-        du = _solve(_tangent(beam, f, factor, state, pts, positions), g)
+        du = _solve(beam.tangent(state, pts, positions), g)
     except (RuntimeError, np.linalg.LinAlgError):
         return state
     dq = np.zeros(beam.n_dofs)
