@@ -211,7 +211,7 @@ def _auto(path):
 def test_shipped_scenes_take_the_path_their_bound_says():
     """Under auto, every scene of studies/scenes but the elastica and the heavy cantilever
     (the exact path's examples, tested above) and those with joints (exact only) either has
-    an item the exact path does not carry (sliders, force elements, drives, dynamics) and
+    an item the exact path does not carry (sliders, drives, dynamics) and
     keeps its linear answer, or is the arch under its weight (a distributed load), whose
     linear answer's bound (4.4e-4 of its displacement) is above the study's ``tol`` (1e-8):
     auto solves it exactly, and the two answers differ by the bound's size, a second-order
@@ -395,3 +395,42 @@ def test_a_modes_study_refuses_loads_between_nodes_under_exact(tmp_path, capsys)
     path.write_text(text)
     assert main(["check", str(path)]) == 2
     assert "load[1]: in a modes study, a load between nodes" in capsys.readouterr().err
+
+
+STRUT = (
+    '{ kind = "strut", area = 1.6e-3, pressure = 4.1e5, volume = 2.8e-4, exponent = 1.3, '
+    "compression = 5000.0, rebound = 20000.0, stop_stiffness = 1e8, stroke_max = 0.16 }"
+)
+
+
+def test_a_force_element_between_exact_nodes(tmp_path, capsys):
+    """A strut from the tip of a rod along x (``EA = 1e5``, 4 fv3 elements) to a held body
+    0.4 m beyond it, extended 0.45 m: it pushes the tip back along the rod, and the tip's
+    displacement ``u`` solves ``EA u / L = -F(0.05 + u)`` with the strut's law
+    (:class:`sliders.forces.laws.Strut`; scipy's ``brentq`` to 1e-14): the beam is
+    compressed uniformly, which its fv3 elements represent exactly, so the exact path is held
+    to the solver's round-off (the force's terms, ``16 eps`` each, over ``EA / L``), and
+    the linear path, with the same element, gives the same answer."""
+    import scipy.optimize
+
+    from sliders.forces.laws import Strut
+
+    law = Strut(1.6e-3, 4.1e5, 2.8e-4, 1.3, 5000.0, 20000.0, 1e8, 0.16)
+    EA = 1e5
+    u = scipy.optimize.brentq(lambda u: EA * u + law(0.05 + u, 0.0)[0], -0.04, 0.0, xtol=1e-14)
+    strut = (
+        '[[body]]\nname = "anchor"\nposition = [1.4, 0.0, 0.0]\n\n'
+        '[[support]]\nnode = "anchor"\n\n'
+        '[[force]]\nkind = "axial"\nname = "strut"\nnodes = ["rod.end", "anchor"]\n'
+        f"extended = 0.45\nlaw = {STRUT}\n"
+    )
+    text = cantilever(4, force=0.0, extra=strut).replace(f"EA = {STIFF}", f"EA = {EA}")
+    assert f"EA = {EA}" in text
+    for kinematics in ("exact", "linear"):
+        scene = text.replace('title = "cantilever"', f'kinematics = "{kinematics}"\ntitle = "c"')
+        code, out, err = run_scene(tmp_path, scene, capsys, kinematics)
+        assert code == 0, err
+        row = next(r for r in read(tmp_path / kinematics / "nodes.csv") if r["xi"] == "1.0")
+        force = abs(law(0.05 + u, 0.0)[0])
+        error = float(row["ux"]) - u
+        assert abs(error) <= 64 * EPS * force / EA + 16 * EPS, (kinematics, error)

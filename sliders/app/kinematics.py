@@ -3,8 +3,9 @@ bound on what it neglects (``kinematics = "auto"``, ``docs/scenes.md``).
 
 **The exact path** solves a static study, a load-factor sweep or the states of a modes
 study (about the scene or along a load-factor sweep) of beams, rigid bodies, ties,
-supports, joints, loads (nodal, distributed, point loads between nodes, smeared or not) and
-gravity with geometrically exact beams (:class:`fvbeam.exact_structure.ExactStructure`,
+supports, joints, force elements (:mod:`sliders.app.exact_forces`), loads (nodal,
+distributed, point loads between nodes, smeared or not) and gravity with geometrically
+exact beams (:class:`fvbeam.exact_structure.ExactStructure`,
 :func:`fvbeam.exact_statics.solve_static`; the loads dead, fixed in global axes, their
 lever arms on the current configuration: :mod:`sliders.app.dead_loads`), and with
 bodies or joints their exact model (:class:`sliders.joints.exact_model.ExactModel`, the
@@ -50,6 +51,7 @@ if TYPE_CHECKING:  # the exact beams are imported where the exact path is taken
     from fvbeam.exact_beam import ExactState
     from fvbeam.exact_loads import DeadLoad
     from fvbeam.exact_structure import ExactStructure
+    from sliders.forces.elements import ForceElement
     from sliders.joints.exact_model import ExactModel, Joint, JointedState
 
 #: The scene key's values.
@@ -93,10 +95,8 @@ class Bound:
 def unsupported(scene: Scene) -> tuple[str, str] | None:
     """The first item of ``scene`` the exact path does not carry, as ``(key path,
     reason)``, or None."""
-    parts = {"slider": "a slider", "force": "a force element"}
-    for what, items in zip(parts, (scene.slider, scene.force), strict=True):
-        if items:
-            return f"{what}[0]", parts[what]
+    if scene.slider:
+        return "slider[0]", "a slider"
     if scene.drive:
         return "drive[0]", "a drive"
     for i, beam in enumerate(scene.beam):
@@ -176,6 +176,7 @@ class ExactPath:
     max_iterations: int = 25
     load_steps: int = 1
     joints: list[Joint] = field(default_factory=list)
+    forces: list[ForceElement] = field(default_factory=list)
     exact: ExactStructure = field(init=False)
     model: ExactModel | None = field(init=False, default=None)
 
@@ -200,9 +201,12 @@ class ExactPath:
         free motion when the tangent at the start is singular
         (:meth:`~sliders.joints.exact_model.ExactModel.free_motion`)."""
         from fvbeam.exact_statics import NotConverged, solve_static
+        from sliders.app.exact_forces import WithForces
 
         # an ExactModel is a StaticOperator over its JointedState (nodes and multipliers)
         operator: Any = self.exact if self.model is None else self.model
+        if self.forces:
+            operator = WithForces(operator, self.forces, self.structure)
         load: np.ndarray | DeadLoad
         if isinstance(f, np.ndarray):
             load = np.zeros(operator.n_dofs)

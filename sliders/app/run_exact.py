@@ -126,6 +126,7 @@ def exact_samples(model: Model, progress: bool) -> ExactRun:
         study.max_iterations,
         study.load_steps,
         joints(model.scene),
+        statics.forces,
     )
     values: list[float | None] = [None]
     continuation = stop = False
