@@ -21,6 +21,7 @@ import numpy as np
 import pytest
 from test_scenes import SCENES
 
+from fvbeam import rotations
 from fvbeam.elastica import tip_loaded_cantilever
 from sliders.app.cli import main
 from sliders.app.errors import SceneError
@@ -434,3 +435,36 @@ def test_a_force_element_between_exact_nodes(tmp_path, capsys):
         force = abs(law(0.05 + u, 0.0)[0])
         error = float(row["ux"]) - u
         assert abs(error) <= 64 * EPS * force / EA + 16 * EPS, (kinematics, error)
+
+
+@pytest.mark.parametrize("offset", [False, True])
+def test_a_pendulum_hangs_along_gravity(tmp_path, capsys, offset):
+    """A bob on a revolute joint to the ground (about z), 1.5 m below it, under a gravity
+    tilted by ``atan(9.81)`` from the vertical: it swings through 1.47 rad to hang along
+    gravity.  The bob is its node (its weight at it), or a body whose node is at the pin and
+    whose centre of mass is 1.5 m below it (its weight's moment about the node turning with
+    it); the bob's centre ends at ``1.5 g / |g|`` (closed form) to the solver's round-off
+    (16 eps of the 1.5 m arm)."""
+    g = np.array([-9.81, -1.0, 0.0])
+    position, centre = (
+        ("[0.0, 0.0, 0.0]", "centre = [0.0, -1.5, 0.0]\n")
+        if offset
+        else (
+            "[0.0, -1.5, 0.0]",
+            "",
+        )
+    )
+    text = (
+        f'title = "pendulum"\n[[body]]\nname = "bob"\nposition = {position}\nmass = 1.0\n{centre}'
+        '[[joint]]\nkind = "revolute"\na = "ground"\nb = "bob"\nposition = [0.0, 0.0, 0.0]\n'
+        'axis = [0.0, 0.0, 1.0]\n[study]\nkind = "static"\ngravity = [-9.81, -1.0, 0.0]\n'
+        '[output]\ncsv = ["nodes"]\n'
+    )
+    code, out, err = run_scene(tmp_path, text, capsys)
+    assert code == 0, err
+    assert "kinematics: exact (auto: the scene has joints, exact only)" in out
+    row = read(tmp_path / "scene" / "nodes.csv")[0]
+    node = np.array([float(row[c]) + float(row["u" + c]) for c in "xyz"])
+    turn = np.array([float(row[c]) for c in ("rx", "ry", "rz")])
+    bob = node + (rotations.exp_map(turn) @ [0.0, -1.5, 0.0] if offset else 0.0)
+    np.testing.assert_allclose(bob, 1.5 * g / np.linalg.norm(g), atol=16 * EPS * 1.5)

@@ -199,7 +199,8 @@ class ExactPath:
         :meth:`~sliders.joints.exact_model.ExactModel.balanced`); ``ValueError`` with the
         solver's message when it does not converge, or, with bodies or joints, naming the
         free motion when the tangent at the start is singular
-        (:meth:`~sliders.joints.exact_model.ExactModel.free_motion`)."""
+        (:meth:`~sliders.joints.exact_model.ExactModel.free_motion`) and the load has no
+        stiffness there to hold it (a weight off its body's node has)."""
         from fvbeam.exact_statics import NotConverged, solve_static
         from sliders.app.exact_forces import WithForces
 
@@ -220,7 +221,9 @@ class ExactPath:
                 start = self.model.balanced(reference, at, self.fixed)
             free = np.setdiff1d(np.arange(self.model.n_dofs), self.fixed)
             motion = self.model.free_motion(cast(Any, start), free)
-            if motion is not None:
+            # a load's own stiffness (a weight off its body's node) may hold the motion
+            stiff = not isinstance(load, np.ndarray) and load.stiffness(start)[free][:, free].nnz
+            if motion is not None and not stiff:
                 raise ValueError(f"exact kinematics: at the start, {motion}")
         try:
             result = solve_static(
