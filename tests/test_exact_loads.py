@@ -244,3 +244,31 @@ def test_body_weight_at_its_centre_turns_with_it():
     )
     turned = ExactState(np.zeros((1, 3)), rotations.exp_map(np.array([[0.0, 0.0, np.pi]])))
     np.testing.assert_allclose(dead.vector(turned)[3:], [0.0, -9.81, 0.0], atol=1e-14)
+
+
+@pytest.mark.parametrize("name", ["fv2", "fv3", "galerkin-p2"])
+def test_a_box_smeared_over_the_whole_beam_is_the_uniform_load(name):
+    """A point force ``-10 EJ / L^2`` at ``L / 2`` smeared by the box of half-width ``L / 2``
+    is the uniform load ``-10 EJ / L^3`` (the heavy cantilever at ``w L^3 / EJ = 10``): both
+    quadratures integrate the lever arms (polynomials of the element's degree) exactly, so
+    the two equilibria agree to the solvers' round-off: each converged state is off by its
+    next Newton correction (computed, with the load stiffness), plus ``16 eps`` of the unit
+    length per element."""
+    n = 4
+    exact = rod(name, n, slenderness=1e4)
+    beam = exact.beam
+    fixed = beam.node_dofs("start")
+    free = np.setdiff1d(np.arange(beam.n_dofs), fixed)
+    tips, bound = [], 16 * EPS * n
+    for load in (
+        distributed(beam, (0.0, -10.0, 0.0)),
+        point(beam, 0.5, (0.0, -10.0, 0.0), smearing=0.5),
+    ):
+        dead = on_beam(beam, load)
+        result = solve_static(exact, dead, fixed)
+        state = result.state
+        K = (exact.tangent(state) - dead.stiffness(state)).toarray()[np.ix_(free, free)]
+        g = (dead.vector(state) - exact.residual(state))[free]
+        bound += float(np.abs(np.linalg.solve(K, g)).max())
+        tips.append(state.x[beam.node_index("end")])
+    np.testing.assert_allclose(tips[0], tips[1], rtol=0, atol=bound)
