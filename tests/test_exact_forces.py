@@ -10,6 +10,7 @@ of the largest entry bounds both.
 """
 
 import numpy as np
+from test_exact_loads import central_differences
 
 from fvbeam import Beam, RigidBody, Section, Structure, rotations, straight
 from fvbeam.exact_beam import ExactState
@@ -34,14 +35,7 @@ def test_tangent_with_a_strut_matches_finite_differences():
         rotations.exp_map(0.5 * rng.standard_normal((n, 3))),
     )
     K = operator.tangent(state).toarray()
-    e = 1e-7
-    columns = []
-    for j in range(6 * n):
-        dq = np.zeros(6 * n)
-        dq[j] = e
-        plus, minus = operator.residual(state.updated(dq)), operator.residual(state.updated(-dq))
-        columns.append((plus - minus) / (2 * e))
-    fd = np.column_stack(columns)
+    fd = central_differences(operator.residual, state, 1e-7)
     np.testing.assert_allclose(K, fd, rtol=0, atol=1e-6 * np.abs(fd).max())
     slots = strut.slots(structure)
     assert (

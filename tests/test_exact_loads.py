@@ -46,6 +46,18 @@ def curved(name: str, n: int = 3) -> Beam:
     return Beam(mesh, section, name)
 
 
+def central_differences(function, state, e: float) -> np.ndarray:
+    """``d function / d q`` at ``state`` by central differences of step ``e`` in the spatial
+    increments ``[du, dphi]`` of every node (:meth:`ExactState.updated`)."""
+    n = 6 * len(state.x)
+    columns = []
+    for j in range(n):
+        dq = np.zeros(n)
+        dq[j] = e
+        columns.append((function(state.updated(dq)) - function(state.updated(-dq))) / (2 * e))
+    return np.column_stack(columns)
+
+
 def random_state(n: int, rng: np.random.Generator, X: np.ndarray) -> ExactState:
     """Positions ``X`` moved by up to 0.3 and rotations of about a radian."""
     x = X + 0.3 * rng.standard_normal(X.shape)
@@ -100,13 +112,7 @@ def test_load_stiffness_matches_finite_differences(name):
     )
     state = random_state(n, rng, beam.mesh.points)
     S = load.stiffness(state).toarray()
-    e = 1e-6
-    columns = []
-    for j in range(6 * n):
-        dq = np.zeros(6 * n)
-        dq[j] = e
-        columns.append((load.vector(state.updated(dq)) - load.vector(state.updated(-dq))) / (2 * e))
-    fd = np.column_stack(columns)
+    fd = central_differences(load.vector, state, 1e-6)
     np.testing.assert_allclose(S, fd, rtol=0, atol=1e-8 * np.abs(fd).max())
     body_rows = slice(6 * body.node + 3, 6 * body.node + 6)
     S[body_rows, body_rows] = 0.0  # the body's own block, checked above
