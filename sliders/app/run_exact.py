@@ -103,8 +103,9 @@ def dynamic_choice(model: Model, q: np.ndarray) -> Choice:
 @dataclass
 class ExactRun:
     """The samples solved on the exact path, each ``(index, value, statics, load, solution,
-    error)`` (:class:`sliders.app.run.Sample`'s fields), how many were ``planned``, whether
-    Ctrl-C ended the sweep, and the wall time."""
+    error)`` (:class:`sliders.app.run.Sample`'s fields; ``load`` at the converged state, the
+    lever arms of loads between nodes its own, as the reactions take it), how many were
+    ``planned``, whether Ctrl-C ended the sweep, and the wall time."""
 
     samples: list[tuple] = field(default_factory=list)
     planned: int = 1
@@ -143,12 +144,14 @@ def exact_samples(model: Model, progress: bool) -> ExactRun:
                 problem: tuple[SliderStatics, np.ndarray] = model.problem(value)
                 solution: ExactSolution | None = None
                 error = None
+                applied = problem[1]
                 try:
                     load = dead_load(model, problem[0].structure, value)
                     solution = path.solve(load, state if continuation else None)
+                    applied = load.vector(solution.state)  # the lever arms of the state
                 except ValueError as exc:
                     error = str(exc)
-                run.samples.append((k, value, *problem, solution, error))
+                run.samples.append((k, value, problem[0], applied, solution, error))
                 if solution is not None:
                     state = solution.state
                 elif stop:
