@@ -311,6 +311,31 @@ class Beam:
         np.add.at(H, index, np.moveaxis(local, 1, -1))  # type: ignore[arg-type]
         return dofs, list(H), [float(np.sum(v * basis.dx[:n])) for v in values]
 
+    def kernel_points(
+        self, xi: float, smearing: float, window: tuple[float, float] | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """The abscissae and weights (in the abscissa) of the quadrature that integrates a
+        kernel at ``xi`` of half-width ``smearing`` against the test functions exactly
+        (:meth:`_kernel_basis`): ``smearing`` 0, the one-point rule at ``xi`` of weight 1;
+        else composite 3-point Gauss rules on the part of ``[xi - smearing, xi + smearing]``
+        inside ``window`` (default the beam), split at the element ends, the test functions'
+        break points and the kernel's.  ``ValueError`` if the kernel does not reach
+        ``window``."""
+        if smearing == 0:
+            return np.array([xi]), np.array([1.0])
+        start, end = (0.0, self.mesh.length) if window is None else window
+        lo, hi = max(start, xi - smearing), min(end, xi + smearing)
+        if hi <= lo:
+            raise ValueError(
+                f"{self.mesh.name}: the kernel at xi = {xi} of half-width {smearing} "
+                f"does not reach [{start}, {end}] of the beam"
+            )
+        vertices = self.mesh.vertex_s
+        touched = np.flatnonzero((vertices[:-1] < hi) & (vertices[1:] > lo))
+        local = self.mesh.abscissae(touched[:, None], self.formulation.breakpoints())
+        breaks = np.concatenate([local.ravel(), kernel_breaks(xi, smearing)])
+        return composite_gauss(np.unique(np.clip(breaks, lo, hi)), KERNEL_GAUSS_POINTS)
+
     def _kernel_basis(
         self, xi: float, smearing: float, window: tuple[float, float] | None, copies: int
     ) -> CellBasis:
@@ -319,31 +344,14 @@ class Beam:
         the elements and their rules repeated ``copies`` times (copy-major) so that one
         assembly integrates ``copies`` loads, one per copy.
 
-        ``smearing`` 0: the one-point rule at ``xi`` of weight 1.  ``smearing > 0``: composite
-        3-point Gauss rules on the part of ``[xi - smearing, xi + smearing]`` inside
-        ``window``, split at the element ends, the test functions' break points (fv
-        evaluation points) and the kernel's (``xi``, ``xi -+ smearing``): on each piece
-        kernel times test function is a polynomial of degree at most 3 in the abscissa.  The
+        The points are :meth:`kernel_points`: on each piece between their breaks kernel
+        times test function is a polynomial of degree at most 3 in the abscissa.  The
         weights measure the abscissa ``xi``, the affine element coordinate that scikit-fem
         sees (``|det J| = h_e``).  Each element takes its own points (scikit-fem's points
         (1, nel, nq) and weights (nel, nq)), padded with zero weights to a common count.
         Raises ``ValueError`` if the kernel does not reach ``window``.
         """
-        if smearing == 0:
-            s, w = np.array([xi]), np.array([1.0])
-        else:
-            start, end = (0.0, self.mesh.length) if window is None else window
-            lo, hi = max(start, xi - smearing), min(end, xi + smearing)
-            if hi <= lo:
-                raise ValueError(
-                    f"{self.mesh.name}: the kernel at xi = {xi} of half-width {smearing} "
-                    f"does not reach [{start}, {end}] of the beam"
-                )
-            vertices = self.mesh.vertex_s
-            touched = np.flatnonzero((vertices[:-1] < hi) & (vertices[1:] > lo))
-            local = self.mesh.abscissae(touched[:, None], self.formulation.breakpoints())
-            breaks = np.concatenate([local.ravel(), kernel_breaks(xi, smearing)])
-            s, w = composite_gauss(np.unique(np.clip(breaks, lo, hi)), KERNEL_GAUSS_POINTS)
+        s, w = self.kernel_points(xi, smearing, window)
         e, X = self.mesh.locate(s)
         elements, first, counts = np.unique(e, return_index=True, return_counts=True)
         row = np.repeat(np.arange(len(elements)), counts)
@@ -373,7 +381,7 @@ class Beam:
         )
         geometry, _ = self.geometry(X)
         xi = self.mesh.abscissae(np.arange(self.mesh.n_elements)[:, None], X)
-        fields = {k: _sample(v, xi, k) for k, v in (("f", force), ("m", moment))}
+        fields = {k: sample_field(v, xi, k) for k, v in (("f", force), ("m", moment))}
         return asm(distributed_load, basis, metric=geometry["metric"], **fields)
 
     # -- recovery -------------------------------------------------------------------------
@@ -471,7 +479,7 @@ def internal_forces_reference(beam: Beam, q: ArrayLike) -> np.ndarray:
     return (RT @ stress[..., None]).reshape(-1, 6)
 
 
-def _sample(value: Field, xi: np.ndarray, name: str) -> np.ndarray:
+def sample_field(value: Field, xi: np.ndarray, name: str) -> np.ndarray:
     """A constant 3-vector or a function of xi, as a (3, nel, nqp) field."""
     if callable(value):
         out = np.asarray(value(xi.ravel()), dtype=float)

@@ -1,11 +1,12 @@
 """Static equilibrium of a geometrically exact beam: Newton with automatic load stepping.
 
 The problem is ``r(q) = lambda f`` on the free dofs, ``r`` the internal forces of an
-:class:`~fvbeam.exact_beam.ExactBeam`, ``f`` *dead* nodal forces and couples (fixed in
-global axes; with the spatial rotation increments of the beam a dead couple does no work on
-the tangent, so none is added to it), ``lambda`` the load factor raised from 0 to 1, and the
-supports clamping the dofs they name (zero increment, so a clamped node keeps its reference
-position and rotation).
+:class:`~fvbeam.exact_beam.ExactBeam`, ``f`` *dead* loads (fixed in global axes; with the
+spatial rotation increments of the beam a dead couple does no work on the tangent, so none
+is added to it): nodal forces and couples, or loads between nodes, whose lever arms follow
+the configuration, with their load stiffness in the tangent (:mod:`fvbeam.exact_loads`);
+``lambda`` the load factor raised from 0 to 1, and the supports clamping the dofs they name
+(zero increment, so a clamped node keeps its reference position and rotation).
 
 **Newton** on each load step: ``K_ff dq = lambda f_f - r_f(q)``, the state updated on the
 manifold (:meth:`~fvbeam.exact_beam.ExactState.updated`), then its **positions corrected**
@@ -64,6 +65,7 @@ the load).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
@@ -142,6 +144,40 @@ class StaticOperator(Protocol):
     def tangent(self, state: ExactState, pts: Any = None, keep: Any = None) -> sp.spmatrix: ...
 
 
+class Load(Protocol):
+    """A dead load that depends on the configuration (:class:`fvbeam.exact_loads.DeadLoad`:
+    loads between nodes, whose lever arms turn): its vector at a state and its derivative
+    in the spatial increments, the load stiffness.  Dead: its forces are fixed, only its
+    moments move, so the stiffness has no rows on positions (the position correction,
+    :func:`_balance_forces`, takes none)."""
+
+    def vector(self, state: Any) -> np.ndarray: ...
+
+    def stiffness(self, state: Any) -> sp.spmatrix: ...
+
+
+@dataclass(frozen=True)
+class _Fixed:
+    """Loads at nodes: the same vector in every configuration, no load stiffness."""
+
+    f: np.ndarray
+
+    def vector(self, state: Any) -> np.ndarray:
+        return self.f
+
+    def stiffness(self, state: Any) -> None:
+        return None
+
+
+def _tangent(
+    beam: StaticOperator, load: Load, factor: float, state: Any, pts: Any, keep: np.ndarray
+) -> sp.spmatrix:
+    """The tangent of ``r(q) - factor f(q)`` on the dofs ``keep``."""
+    K = beam.tangent(state, pts, keep)
+    S = load.stiffness(state)
+    return K if S is None or factor == 0 else sp.csc_matrix(K - factor * S[keep][:, keep])
+
+
 class NotConverged(RuntimeError):
     """The load step (or arc length) fell below ``min_step`` without converging, or the
     arc length did not reach the full load in ``max_steps``."""
@@ -160,7 +196,7 @@ def _free(n_dofs: int, fixed: np.ndarray) -> np.ndarray:
 
 def solve_static(
     beam: StaticOperator,
-    load: np.ndarray,
+    load: np.ndarray | Load,
     fixed: np.ndarray,
     state: ExactState | None = None,
     tolerance: float = 1e-12,
@@ -169,13 +205,23 @@ def solve_static(
     min_step: float = 1e-6,
     method: str = "load",
     max_steps: int = 1000,
+    drives: Mapping[int, float] | None = None,
 ) -> ExactStaticResult:
-    """Equilibrium of ``beam`` under the dead nodal ``load`` (6 per node), the dofs
+    """Equilibrium of ``beam`` under the dead ``load`` (6 per node, or a :class:`Load` whose
+    vector depends on the configuration: :class:`fvbeam.exact_loads.DeadLoad`), the dofs
     ``fixed`` clamped, from ``state`` (default the reference), by Newton with automatic load
     stepping (``method="load"``) or along the equilibrium path by arc length
     (``method="arc-length"``, through limit points; ``first_step`` sets the first arc length
     as the linear response's displacement at that load factor, ``min_step`` the smallest
     as a fraction of it, ``max_steps`` the most steps): module docstring.
+
+    ``drives``: prescribed values of dofs at the full load (the load factor's share of
+    each at every step, as the loads; load stepping only), held as ``fixed`` dofs are: a
+    position dof moves its node along the global axis by the value (m); a rotation dof turns
+    it about the global axis by the value (rad), each step's share applied on the manifold,
+    ``R <- exp(d alpha e_k) R``, the spatial increments about that axis held otherwise (a
+    node whose other rotations are held too, a clamp turned by a drive, ends at
+    ``exp(alpha e_k)`` exactly); a step turns a driven node by at most :data:`MAX_TURN`.
 
     Raises
     ------
@@ -184,12 +230,26 @@ def solve_static(
         reached, or the arc length does not reach the full load in ``max_steps``.
     """
     name = beam.name
-    f = sized(load, beam.n_dofs, "load", f"6 per node of beam {name!r}")
-    if not np.all(np.isfinite(f)):
-        raise ValueError(f"load on beam {name!r} has a non-finite entry")
+    if isinstance(load, np.ndarray | list | tuple):
+        fixed_load = sized(load, beam.n_dofs, "load", f"6 per node of beam {name!r}")
+        if not np.all(np.isfinite(fixed_load)):
+            raise ValueError(f"load on beam {name!r} has a non-finite entry")
+        f: Load = _Fixed(fixed_load)
+    else:
+        f = load
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
-    free = _free(beam.n_dofs, fixed)
+    driven = {} if drives is None else {int(k): float(v) for k, v in drives.items()}
+    if driven and method != "load":
+        raise ValueError(f"drives take method 'load', not {method!r}")
+    held = np.concatenate([np.asarray(fixed, dtype=np.int64).ravel(), list(driven)])
+    free = _free(beam.n_dofs, held.astype(np.int64))
+    move = np.zeros(beam.n_dofs)
+    move[list(driven)] = list(driven.values())
+    turns = np.abs(move[: 6 * len(beam.reference().x)].reshape(-1, 6)[:, 3:])
+    # a driven turn of more than MAX_TURN per step is beyond the rotations' linearisation (and
+    # a half turn, log's branch cut, could take either way round)
+    cap = MAX_TURN / turns.max() if turns.size and turns.max() > 0 else np.inf
     current = beam.reference() if state is None else state
     if method == "arc-length":
         return _arc_length(
@@ -201,9 +261,10 @@ def solve_static(
     path: list[ExactState] = []
     attempts, total, ratio = 0, 0, 0.0
     while done < 1.0:
-        target = min(1.0, done + step)
+        target = min(1.0, done + step, done + cap)
         attempts += 1
-        trial, its, ok, ratio = _newton(beam, f, target, free, current, tolerance, max_iterations)
+        start = current.updated((target - done) * move) if driven else current
+        trial, its, ok, ratio = _newton(beam, f, target, free, start, tolerance, max_iterations)
         total += its
         if ok:
             current, done = trial, target
@@ -225,7 +286,7 @@ def solve_static(
 
 def _newton(
     beam: StaticOperator,
-    f: np.ndarray,
+    f: Load,
     factor: float,
     free: np.ndarray,
     state: ExactState,
@@ -237,7 +298,8 @@ def _newton(
     ratio = np.inf
     first = np.inf
     for it in range(max_iterations + 1):
-        pts, g, ratio, size, converged = _unbalance(beam, state, factor * f, free, tolerance)
+        load = factor * f.vector(state)
+        pts, g, ratio, size, converged = _unbalance(beam, state, load, free, tolerance)
         if converged:
             return state, it, True, ratio
         if it == 0:
@@ -246,7 +308,7 @@ def _newton(
         if it == max_iterations or stalled or not np.isfinite(size):
             break
         try:
-            dq_free = _solve(beam.tangent(state, pts, free), g)
+            dq_free = _solve(_tangent(beam, f, factor, state, pts, free), g)
         except (RuntimeError, np.linalg.LinAlgError):  # singular: let the load step shrink
             break
         dq = np.zeros(beam.n_dofs)
@@ -286,7 +348,7 @@ def _unbalance(
 
 def _arc_length(
     beam: StaticOperator,
-    f: np.ndarray,
+    f: Load,
     free: np.ndarray,
     state: ExactState,
     tolerance: float,
@@ -301,7 +363,7 @@ def _arc_length(
     if moved.size == 0:
         raise ValueError("method 'arc-length' needs free positions: every position is fixed")
     linear = np.zeros(beam.n_dofs)
-    linear[free] = _solve(beam.tangent(state, None, free), f[free])
+    linear[free] = _solve(beam.tangent(state, None, free), f.vector(state)[free])
     longest = float(np.linalg.norm(linear[moved]))
     first = min(first_step, 1.0) * longest
     arc, factor = first, 0.0
@@ -370,7 +432,7 @@ def _positions(dofs: np.ndarray) -> np.ndarray:
 
 def _arc_step(
     beam: StaticOperator,
-    f: np.ndarray,
+    f: Load,
     free: np.ndarray,
     moved: np.ndarray,
     start: ExactState,
@@ -390,7 +452,6 @@ def _arc_step(
     increment turns least from the last (Crisfield 1981); then the positions' force
     correction at the new load factor."""
     index = _positions(moved)
-    load = f[free]
     slot = np.searchsorted(free, moved)  # the free positions among the free dofs
 
     def moved_by(state: ExactState) -> np.ndarray:
@@ -398,8 +459,9 @@ def _arc_step(
 
     state, lam, ratio = start, factor, np.inf
     for it in range(max_iterations + 1):
+        load = f.vector(state)
         if it > 0:
-            pts, g, ratio, size, converged = _unbalance(beam, state, lam * f, free, tolerance)
+            pts, g, ratio, size, converged = _unbalance(beam, state, lam * load, free, tolerance)
             if converged:
                 return state, lam, it, True, ratio
             if not np.isfinite(size):
@@ -407,8 +469,8 @@ def _arc_step(
         else:
             pts, g = beam.points(state), np.zeros(len(free))
         try:
-            K = beam.tangent(state, pts, free)
-            dq_g, dq_f = _solve(K, np.column_stack([g, load])).T
+            K = _tangent(beam, f, lam, state, pts, free)
+            dq_g, dq_f = _solve(K, np.column_stack([g, load[free]])).T
         except (RuntimeError, np.linalg.LinAlgError):
             break
         delta = moved_by(state) + dq_g[slot]
@@ -434,7 +496,7 @@ def _arc_step(
 
 
 def _balance_forces(
-    beam: StaticOperator, f: np.ndarray, factor: float, free: np.ndarray, state: ExactState
+    beam: StaticOperator, f: Load, factor: float, free: np.ndarray, state: ExactState
 ) -> ExactState:
     """The state with its free positions corrected so that the force balances hold
     exactly, its rotations kept (the position correction of the module docstring): at fixed
@@ -452,7 +514,7 @@ def _balance_forces(
     if positions.size == 0:
         return state
     pts = beam.points(state)
-    g = factor * f[positions] - beam.residual(state, pts)[positions]
+    g = factor * f.vector(state)[positions] - beam.residual(state, pts)[positions]
     try:
         du = _solve(beam.tangent(state, pts, positions), g)
     except (RuntimeError, np.linalg.LinAlgError):

@@ -20,6 +20,11 @@
     :data:`BEND_LOAD` out of plane) with 8 elements of each formulation: its time, its tip
     and the tip's distance from the published ones (:data:`BEND_PUBLISHED`) and from the
     converged one (fv3, 32 elements), for each of :data:`BEND_FORMULATIONS`.
+    ``heavy``: the heavy cantilever (its own weight a dead distributed load,
+    ``w L^3 / EJ = 10``, :mod:`fvbeam.exact_loads`) with 8 and 16 fv3 elements: the exact
+    solve's time and its tip's error against the heavy elastica
+    (:func:`fvbeam.elastica.heavy_cantilever`), beside the linear beam's solve (the clamped
+    stiffness factorised and solved, ``scipy.sparse.linalg.spsolve``) and its error.
 
 Run as ``python -m studies.bench_exact --out results/bench.json`` (``make bench``;
 ``--quick``: coarse meshes, one repeat).  Ctrl-C keeps and writes what was measured, marked
@@ -36,8 +41,9 @@ from typing import Any
 import numpy as np
 
 from fvbeam import Beam, Section, from_curve, straight
-from fvbeam.elastica import tip_loaded_cantilever
+from fvbeam.elastica import heavy_cantilever, tip_loaded_cantilever
 from fvbeam.exact_beam import ExactBeam
+from fvbeam.exact_loads import DeadLoad, distributed
 from fvbeam.exact_statics import ExactStaticResult, solve_static
 
 from .bench import environment, read_existing, summary, write_merged
@@ -292,6 +298,44 @@ def bench_bend(repeats: int, converged_n: int) -> dict[str, Any]:
     return out
 
 
+def bench_heavy(repeats: int) -> dict[str, Any]:
+    """The heavy cantilever at ``w L^3 / EJ = 10``, exact beside linear (module
+    docstring)."""
+    import scipy.sparse.linalg as spla
+
+    tip = heavy_cantilever(LOAD)
+    closed = np.array([-tip.shortening, -tip.deflection, -tip.rotation])
+    out: dict[str, Any] = {}
+    for n in (8, 16):
+        exact = rod("fv3", n)
+        beam = exact.beam
+        fixed = beam.node_dofs("start")
+        free = np.setdiff1d(np.arange(beam.n_dofs), fixed)
+        points = distributed(beam, (0.0, -LOAD, 0.0))
+        dead = DeadLoad(beam.n_dofs, beams=[(beam, np.arange(beam.mesh.n_nodes), points)])
+        f = beam.distributed_load((0.0, -LOAD, 0.0))
+        exact_times, linear_times = [], []
+        for _ in range(repeats):
+            clock = time.perf_counter()
+            result = solve_static(exact, dead, fixed)
+            exact_times.append(time.perf_counter() - clock)
+            clock = time.perf_counter()
+            q = np.zeros(beam.n_dofs)
+            q[free] = spla.spsolve(beam.stiffness[free][:, free].tocsc(), f[free])
+            linear_times.append(time.perf_counter() - clock)
+        end = beam.node_index("end")
+        ours = exact.displacements(result.state)[end][[0, 1, 5]]
+        linear = q[6 * end : 6 * end + 6][[0, 1, 5]]
+        out[f"fv3 x {n}"] = {
+            "exact": {"seconds": summary(exact_times), "error": float(np.abs(ours - closed).max())},
+            "linear": {
+                "seconds": summary(linear_times),
+                "error": float(np.abs(linear - closed).max()),
+            },
+        }
+    return out
+
+
 def bench(repeats: int = 10, most: int = MOST, converged_n: int = 32) -> dict[str, Any]:
     """The benchmark's JSON section (module docstring)."""
     result: dict[str, Any] = {"load": LOAD, "target": TARGET, "interrupted": False}
@@ -300,6 +344,7 @@ def bench(repeats: int = 10, most: int = MOST, converged_n: int = 32) -> dict[st
             name: bench_elastica(name, repeats, first, most) for name, first in FIRST.items()
         }
         result["bend"] = bench_bend(repeats, converged_n)
+        result["heavy"] = bench_heavy(repeats)
         if peer_available():
             result["peer"] = {
                 f"exudyn-ancf, {steps} load steps": bench_peer(repeats, 8, most, steps)
@@ -354,6 +399,12 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                 f"{max(row['distance_to_published'].values()):.2f} from the published, "
                 f"{row['distance_to_converged']:.3f} from the converged"
             )
+    for mesh, row in result.get("heavy", {}).items():  # load: LOAD, as the elastica's
+        print(
+            f"heavy cantilever w L^3/EJ = {LOAD:g}, {mesh}: exact "
+            f"{row['exact']['seconds']['min']:.4f} s, error {row['exact']['error']:.2e}; "
+            f"linear {row['linear']['seconds']['min']:.4f} s, error {row['linear']['error']:.2e}"
+        )
     print(f"written to {args.out}")
     return result
 

@@ -27,4 +27,7 @@ def test_quick_run_writes_time_beside_error_and_keeps_other_keys(tmp_path, capsy
             assert pair["ratio_to_peer"] > 0
     for name in ("fv2", "fv3"):
         assert all(d > 0 for d in section["bend"][name]["distance_to_published"].values())
+    for row in section["heavy"].values():  # exact beside linear, each with its error
+        assert row["exact"]["error"] < row["linear"]["error"]
+        assert row["exact"]["seconds"]["min"] > 0 and row["linear"]["seconds"]["min"] > 0
     assert "45-degree bend" in capsys.readouterr().out

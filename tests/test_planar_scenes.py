@@ -24,6 +24,7 @@ PLANAR = {
     "end_stops": "xy",
     "fig1_cantilever": "xy",
     "fig4_sliding_beams": "xy",
+    "heavy_cantilever": "xy",
     "landing_gear": "zx",
     "long_run_probes": "xy",
     "pendulum": "xy",

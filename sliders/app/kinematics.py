@@ -3,16 +3,17 @@ bound on what it neglects (``kinematics = "auto"``, ``docs/scenes.md``).
 
 **The exact path** solves a static study, a load-factor sweep or the states of a modes
 study (about the scene or along a load-factor sweep) of beams, rigid bodies, ties,
-supports, joints and nodal loads (and point loads at a node, unsmeared) with
-geometrically exact beams (:class:`fvbeam.exact_structure.ExactStructure`,
-:func:`fvbeam.exact_statics.solve_static`; the loads dead, fixed in global axes), and with
+supports, joints, force elements (:mod:`sliders.app.exact_forces`), loads (nodal,
+distributed, point loads between nodes, smeared or not) and gravity with geometrically
+exact beams (:class:`fvbeam.exact_structure.ExactStructure`,
+:func:`fvbeam.exact_statics.solve_static`; the loads dead, fixed in global axes, their
+lever arms on the current configuration: :mod:`sliders.app.dead_loads`), and with
 bodies or joints their exact model (:class:`sliders.joints.exact_model.ExactModel`, the
 joints of the scene's ``[[joint]]`` tables, :mod:`sliders.app.scene_joints`), and with
 sliders on chains (spherical, classical or spline, ``section`` orientation, smeared or
 not, with end stops or not) the model with them
-(:class:`sliders.joints.exact_slider_model.SlidingModel`).  The bodies' masses play no
-part (no gravity on this path).  :func:`unsupported` names the first scene item it does not
-carry.
+(:class:`sliders.joints.exact_slider_model.SlidingModel`).  :func:`unsupported` names the
+first scene item it does not carry.
 
 **The bound** (:func:`neglected`).  Linear kinematics writes the strains as
 ``nu = u' - theta x t`` and ``kappa = theta'``; the exact ones
@@ -53,7 +54,9 @@ from sliders.solve.statics import SliderSolution
 
 if TYPE_CHECKING:  # the exact beams are imported where the exact path is taken
     from fvbeam.exact_beam import ExactState
+    from fvbeam.exact_loads import DeadLoad
     from fvbeam.exact_structure import ExactStructure
+    from sliders.forces.elements import ForceElement
     from sliders.joints.exact_model import ExactModel, Joint, JointedState
     from sliders.joints.exact_slider_model import ExactSlider, SlidingModel, SlidingState
 
@@ -98,8 +101,6 @@ class Bound:
 def unsupported(scene: Scene) -> tuple[str, str] | None:
     """The first item of ``scene`` the exact path does not carry, as ``(key path,
     reason)``, or None."""
-    if scene.force:
-        return "force[0]", "a force element"
     item = _slider_unsupported(scene)
     if item is not None:
         return item
@@ -109,16 +110,9 @@ def unsupported(scene: Scene) -> tuple[str, str] | None:
         if (beam.formulation or scene.formulation) == "cubic":
             where = f"beam[{i}].formulation" if beam.formulation else "formulation"
             return where, "the cubic element"
-    for i, load in enumerate(scene.load):
-        if load.kind == "distributed":
-            return f"load[{i}]", "a distributed load"
-        if load.kind == "point" and load.smearing > 0:
-            return f"load[{i}].smearing", "a smeared point load"
     study = scene.study
     if isinstance(study, DynamicStudy):
         return "study.kind", "a dynamic study"
-    if study.gravity is not None:
-        return "study.gravity", "gravity (a distributed load)"
     if isinstance(study, ModesStudy) and study.parameter is None:
         return None
     if isinstance(study, SweepStudy) and not isinstance(study.parameter, LoadFactor):
@@ -138,27 +132,37 @@ def _slider_unsupported(scene: Scene) -> tuple[str, str] | None:
             return f"slider[{i}].orientation", "a slider's 'slope' orientation"
         if slider.friction is not None:
             return f"slider[{i}].friction", "a slider's friction"
+    if scene.slider and scene.force:
+        return "force[0]", "a force element beside sliders"
     return None
 
 
-def point_loads_off_nodes(scene: Scene, structure: Structure) -> tuple[str, str] | None:
-    """The first point load of ``scene`` that is not at a node of its beam (the exact path
-    takes a point load at a node as that node's load), as :func:`unsupported` names it."""
+def modes_loads_off_nodes(scene: Scene, structure: Structure) -> tuple[str, str] | None:
+    """In a modes study, the first load of ``scene`` between nodes (distributed, gravity, a
+    point load off its beam's nodes or smeared), as :func:`unsupported` names it: its lever
+    arms follow the configuration (:mod:`fvbeam.exact_loads`), a load stiffness that the
+    modes' tangent (:meth:`fvbeam.exact_structure.ExactStructure.tangent`) does not hold."""
+    study = scene.study
+    if not isinstance(study, ModesStudy):
+        return None
+    reason = "in a modes study, a load between nodes (its load stiffness is not in the modes)"
+    if study.gravity is not None:
+        return "study.gravity", reason
     for i, load in enumerate(scene.load):
-        if load.kind != "point":
-            continue
-        mesh = structure.beams[structure.beam_index(load.beam)].mesh
-        gap = np.abs(mesh.node_abscissae() - load.at).min()
-        if gap > 1e-12 * mesh.length:
-            return f"load[{i}].at", "a point load between nodes"
+        if load.kind == "distributed" or (load.kind == "point" and load.smearing > 0):
+            return f"load[{i}]", reason
+        if load.kind == "point":
+            mesh = structure.beams[structure.beam_index(load.beam)].mesh
+            if np.abs(mesh.node_abscissae() - load.at).min() > 1e-12 * mesh.length:
+                return f"load[{i}].at", reason
     return None
 
 
 def exact_problems(scene: Scene, structure: Structure) -> list[Problem]:
     """The first scene item the exact path does not carry (:func:`unsupported`,
-    :func:`point_loads_off_nodes`), as a scene problem (with joints, which need the exact
+    :func:`modes_loads_off_nodes`), as a scene problem (with joints, which need the exact
     path, saying so); none when it carries the scene."""
-    item = unsupported(scene) or point_loads_off_nodes(scene, structure)
+    item = unsupported(scene) or modes_loads_off_nodes(scene, structure)
     if item is None:
         return []
     path, reason = item
@@ -197,6 +201,7 @@ class ExactPath:
     load_steps: int = 1
     joints: list[Joint] = field(default_factory=list)
     sliders: list[Slider] = field(default_factory=list)
+    forces: list[ForceElement] = field(default_factory=list)
     exact: ExactStructure = field(init=False)
     model: ExactModel | None = field(init=False, default=None)
     sliding: SlidingModel | None = field(init=False, default=None)
@@ -218,29 +223,44 @@ class ExactPath:
             )
 
     def solve(
-        self, f: np.ndarray, start: ExactState | JointedState | SlidingState | None = None
+        self,
+        f: np.ndarray | DeadLoad,
+        start: ExactState | JointedState | SlidingState | None = None,
     ) -> ExactSolution:
-        """Equilibrium under the dead load ``f`` from ``start`` (default the reference, with
+        """Equilibrium under the dead load ``f`` (a vector, or loads between nodes:
+        :class:`fvbeam.exact_loads.DeadLoad`) from ``start`` (default the reference, with
         joints the multipliers that balance ``f`` best there:
         :meth:`~sliders.joints.exact_model.ExactModel.balanced`); ``ValueError`` with the
         solver's message when it does not converge, or, with bodies or joints, naming the
         free motion when the tangent at the start is singular
-        (:meth:`~sliders.joints.exact_model.ExactModel.free_motion`)."""
+        (:meth:`~sliders.joints.exact_model.ExactModel.free_motion`) and the load has no
+        stiffness there to hold it (a weight off its body's node has)."""
         from fvbeam.exact_statics import NotConverged, solve_static
+        from sliders.app.exact_forces import WithForces
 
         # an ExactModel is a StaticOperator over its JointedState (nodes and multipliers)
         operator: Any = self.exact if self.model is None else self.model
+        if self.forces:
+            operator = WithForces(operator, self.forces, self.structure)
         operator = operator if self.sliding is None else self.sliding
-        load = np.zeros(operator.n_dofs)
-        load[: len(f)] = f
+        load: np.ndarray | DeadLoad
+        if isinstance(f, np.ndarray):
+            load = np.zeros(operator.n_dofs)
+            load[: len(f)] = f
+        else:
+            load = f.padded(operator.n_dofs)
         if self.sliding is not None and start is None:
             start = self.sliding.reference()
         elif self.model is not None:
             if start is None:
-                start = self.model.balanced(self.model.reference(), load, self.fixed)
+                reference = self.model.reference()
+                at = load if isinstance(load, np.ndarray) else load.vector(reference)
+                start = self.model.balanced(reference, at, self.fixed)
             free = np.setdiff1d(np.arange(self.model.n_dofs), self.fixed)
             motion = self.model.free_motion(cast(Any, start), free)
-            if motion is not None:
+            # a load's own stiffness (a weight off its body's node) may hold the motion
+            stiff = not isinstance(load, np.ndarray) and load.stiffness(start)[free][:, free].nnz
+            if motion is not None and not stiff:
                 raise ValueError(f"exact kinematics: at the start, {motion}")
         try:
             result = solve_static(

@@ -1058,8 +1058,6 @@ class Model:
 
     def load_vector(self, structure: Structure, value: float | None) -> np.ndarray:
         """The scene's loads on ``structure`` at the study point ``value``."""
-        study = self.scene.study
-        parameter = study.parameter if isinstance(study, SweepStudy) else None
         f = np.zeros(structure.n_dofs)
         for spec in self.scene.load:
             if spec.kind == "nodal":
@@ -1070,11 +1068,23 @@ class Model:
             if spec.kind == "distributed":
                 f += structure.gather(i, beam.distributed_load(spec.force, spec.moment))
                 continue
-            moves = isinstance(parameter, Abscissa) and parameter.of == spec.name
-            at = value if moves and value is not None else spec.at
+            at = self.load_at(spec, value)
             f += structure.gather(
                 i, beam.point_load(at, spec.force, spec.moment, spec.smearing, spec.kernel)
             )
-        if isinstance(parameter, LoadFactor) and value is not None:
-            f *= value
-        return f
+        return f * self.load_factor(value)
+
+    def load_at(self, spec: PointLoad, value: float | None) -> float:
+        """The abscissa of the point load ``spec`` at the study point ``value``: the value
+        of a sweep over its abscissa, else its ``at``."""
+        study = self.scene.study
+        parameter = study.parameter if isinstance(study, SweepStudy) else None
+        moves = isinstance(parameter, Abscissa) and parameter.of == spec.name
+        return value if moves and value is not None else spec.at
+
+    def load_factor(self, value: float | None) -> float:
+        """The factor on the scene's loads at the study point ``value``: the value of a
+        load-factor sweep, else 1."""
+        study = self.scene.study
+        parameter = study.parameter if isinstance(study, SweepStudy) else None
+        return value if isinstance(parameter, LoadFactor) and value is not None else 1.0

@@ -23,13 +23,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from fvbeam.structure import Structure
+from sliders.app.dead_loads import dead_load
 from sliders.app.errors import Problem, SceneError
 from sliders.app.kinematics import (
     ExactPath,
     ExactSolution,
     exact_problems,
+    modes_loads_off_nodes,
     neglected,
-    point_loads_off_nodes,
     unsupported,
 )
 from sliders.app.model import Model
@@ -77,7 +78,7 @@ def choose(
         if bound.eta > tol:
             return Choice(False, f"warning: kinematics linear: {bound.describe()}, {within}", True)
         return Choice(False, "")
-    item = unsupported(scene) or point_loads_off_nodes(scene, model.structure)
+    item = unsupported(scene) or modes_loads_off_nodes(scene, model.structure)
     if item is not None:
         return Choice(
             False,
@@ -102,8 +103,9 @@ def dynamic_choice(model: Model, q: np.ndarray) -> Choice:
 @dataclass
 class ExactRun:
     """The samples solved on the exact path, each ``(index, value, statics, load, solution,
-    error)`` (:class:`sliders.app.run.Sample`'s fields), how many were ``planned``, whether
-    Ctrl-C ended the sweep, and the wall time."""
+    error)`` (:class:`sliders.app.run.Sample`'s fields; ``load`` at the converged state, the
+    lever arms of loads between nodes its own, as the reactions take it), how many were
+    ``planned``, whether Ctrl-C ended the sweep, and the wall time."""
 
     samples: list[tuple] = field(default_factory=list)
     planned: int = 1
@@ -126,6 +128,7 @@ def exact_samples(model: Model, progress: bool) -> ExactRun:
         study.load_steps,
         joints(model.scene),
         statics.sliders,
+        statics.forces,
     )
     values: list[float | None] = [None]
     continuation = stop = False
@@ -142,11 +145,14 @@ def exact_samples(model: Model, progress: bool) -> ExactRun:
                 problem: tuple[SliderStatics, np.ndarray] = model.problem(value)
                 solution: ExactSolution | None = None
                 error = None
+                applied = problem[1]
                 try:
-                    solution = path.solve(problem[1], state if continuation else None)
+                    load = dead_load(model, problem[0].structure, value)
+                    solution = path.solve(load, state if continuation else None)
+                    applied = load.vector(solution.state)  # the lever arms of the state
                 except ValueError as exc:
                     error = str(exc)
-                run.samples.append((k, value, *problem, solution, error))
+                run.samples.append((k, value, problem[0], applied, solution, error))
                 if solution is not None:
                     state = solution.state
                 elif stop:
