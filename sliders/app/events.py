@@ -16,7 +16,8 @@ by :func:`write_summary`):
 
 * events: a force element's first ``contact`` (a tyre's deflection becoming positive), a
   tyre's ``lift_off`` (its deflection falling through zero after the contact) and
-  ``spin_up`` (``omega R0`` reaching ``fraction`` of the axle's forward speed), an axial
+  ``spin_up`` (``omega R0`` reaching ``fraction`` of the axle's forward speed, while that
+  speed is above the tyre's ``speed_eps``: :func:`spin_up`), an axial
   force's ``stop`` (its stroke beyond ``stroke_max``, or below ``stroke_min``): the first time,
   the largest penetration and its time, and the force then.  An event that does not happen
   has no time (NaN, an empty cell);
@@ -111,6 +112,38 @@ def crossing(t: np.ndarray, y: np.ndarray, after: float = -math.inf, rising: boo
         return math.nan
     i = int(np.argmax(mask))
     return float(t[i] + (t[i + 1] - t[i]) * (-s[i]) / (s[i + 1] - s[i]))
+
+
+def spin_up(
+    t: np.ndarray,
+    spin: np.ndarray,
+    forward_speed: np.ndarray,
+    radius: float,
+    fraction: float,
+    speed_eps: float,
+) -> float:
+    """The first time a wheel's rim speed ``omega R0`` reaches ``fraction`` of its axle's
+    forward speed ``u`` (:func:`crossing` of ``omega R0 - fraction u``, upward), counted
+    only between two samples at which the axle rolls forward faster than the tyre's
+    ``speed_eps``; NaN if it does not.
+
+    The rule reads the slip ``(u - omega R0) / u`` falling to ``1 - fraction``.  The tyre's
+    slip law is ``(u - omega R0) / sqrt(u^2 + speed_eps^2)``
+    (:func:`sliders.forces.laws.slip_ratio`): the plain slip for ``u >> speed_eps``, within
+    a factor ``sqrt(2)`` of it at ``u = speed_eps``, and ``u / speed_eps`` times it below,
+    where the tyre sees no slip to spin the wheel up against.  So the speed ``speed_eps`` is
+    the scale of the rule: below it there is no spin-up, and a forward speed that is
+    round-off (a drop at 0 m/s, whose ``u`` and ``omega`` are zero to round-off) is below it
+    by many orders and fires none.
+
+    >>> t = np.array([0.0, 1.0, 2.0])
+    >>> spin_up(t, np.array([0.0, 6.0, 10.0]), np.full(3, 4.0), 0.5, 1.0, 0.1)
+    1.5
+    >>> spin_up(t, np.array([0.0, 6e-20, 10e-20]), np.full(3, 4e-20), 0.5, 1.0, 0.1)
+    nan
+    """
+    speed = spin * radius - fraction * forward_speed
+    return crossing(t, np.where(forward_speed > speed_eps, speed, np.nan))
 
 
 def first_above(t: np.ndarray, y: np.ndarray) -> float:
@@ -224,8 +257,16 @@ def _event(
         return {name: crossing(t, read["deflection"], after=contact, rising=False)}
     if spec.kind == "spin_up":
         assert isinstance(element, Tyre)
-        speed = read["spin"] * element.radius - spec.fraction * read["forward_speed"]
-        return {name: crossing(t, speed)}
+        return {
+            name: spin_up(
+                t,
+                read["spin"],
+                read["forward_speed"],
+                element.radius,
+                spec.fraction,
+                element.speed_eps,
+            )
+        }
     assert isinstance(element, AxialForce)
     return stop_reached(name, t, read["stroke"], read["force"], element.law, spec.stop)
 

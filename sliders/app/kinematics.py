@@ -23,7 +23,11 @@ first scene item it does not carry.
     kappa = J(theta)^T theta' = kappa_lin - theta x kappa_lin / 2 + O(theta^3),
 
 so the neglected terms are second order: ``|nu - nu_lin| <= theta (theta / 2 + eps)`` with
-``theta`` the largest rotation and ``eps`` the largest strain ``|nu_lin|``.  Integrated
+``theta`` the largest rotation at the beams' nodes and ``eps`` the largest strain
+``|nu_lin|``.  A body tied to a beam shares its node's rotation; a body on no beam (a wheel
+spinning about its axle) moves rigidly, strains nothing and does not enter ``theta``:
+linear kinematics is exact for its rotation about one fixed axis, and does not bound a
+free body turning about several.  Integrated
 along a path from a support, they move a point by at most ``ell theta (theta / 2 + eps)``,
 ``ell`` the path's length (bounded here by the beams' total length), and the loads' lever
 arms by as much.  Relative to the largest displacement ``u`` of the linear answer,
@@ -173,11 +177,12 @@ def exact_problems(scene: Scene, structure: Structure) -> list[Problem]:
 
 def neglected(structure: Structure, q: np.ndarray) -> Bound:
     """The bound of a linear answer ``q`` on its neglected terms (module docstring): the
-    largest nodal rotation and displacement, and the largest strain ``|nu|`` at the beams'
-    recovery points (their section forces, :attr:`fvbeam.beam.Beam.recovery`, through the
-    section's compliance)."""
+    largest rotation at the beams' nodes, the largest nodal displacement, and the largest
+    strain ``|nu|`` at the beams' recovery points (their section forces,
+    :attr:`fvbeam.beam.Beam.recovery`, through the section's compliance)."""
     d = q.reshape(-1, 6)
-    rotation = float(np.linalg.norm(d[:, 3:], axis=1).max(initial=0.0))
+    on_beams = np.concatenate([np.zeros(0, int), *(m[::6] // 6 for m in structure.dof_maps)])
+    rotation = float(np.linalg.norm(d[on_beams, 3:], axis=1).max(initial=0.0))
     displacement = float(np.linalg.norm(d[:, :3], axis=1).max(initial=0.0))
     strain, length = 0.0, 0.0
     for beam, dofs in zip(structure.beams, structure.dof_maps, strict=True):

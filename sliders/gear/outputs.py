@@ -181,6 +181,7 @@ class GearRecorder:
             model.model,
             model.slider_kind,
             g.radius,
+            g.speed_eps,
             g.strut,
             t,
             outputs,
@@ -208,6 +209,8 @@ class GearRun:
     model: str
     slider: str
     radius: float
+    #: The tyre's regularising speed (:meth:`spin_up_time`).
+    speed_eps: float
     #: The strut's law (its stops, :meth:`summary`).
     strut: Strut
     t: np.ndarray
@@ -227,10 +230,16 @@ class GearRun:
 
     def spin_up_time(self) -> float:
         """When the wheel first reaches :data:`SPIN_UP` of the rolling speed,
-        ``omega R0 = 0.99 u_axle``."""
+        ``omega R0 = 0.99 u_axle``, the axle faster than the tyre's ``speed_eps``
+        (:func:`sliders.app.events.spin_up`)."""
         o = self.outputs
-        return events.crossing(
-            self.t, o["wheel_speed"] * self.radius - SPIN_UP * o["axle_forward_speed"]
+        return events.spin_up(
+            self.t,
+            o["wheel_speed"],
+            o["axle_forward_speed"],
+            self.radius,
+            SPIN_UP,
+            self.speed_eps,
         )
 
     def lift_off_time(self) -> float:
