@@ -1,7 +1,9 @@
 """Scene sections from material and shape, and gravity in static studies: a section written
 with its geometry and the same section written as its numbers give the same model and
 results; each bad section is named; a cantilever under its own weight against the closed
-form ``q L^4 / (8 EJ) + q L^2 / (2 GA)``."""
+form ``q L^4 / (8 EJ) + q L^2 / (2 GA)``.  The scenes ask for linear kinematics: these are the
+linear model's closed forms and its lumped weight (the exact path's weight, a distributed
+load on the current configuration, is tested in ``tests/test_exact_loads.py``)."""
 
 import math
 import tomllib
@@ -27,6 +29,7 @@ def cantilever(section: dict, form: str = "fv3", elements: int = 4, **study) -> 
     """A cantilever along x, its tip loaded along every axis (tension, two shears, torsion):
     every stiffness of the section acts."""
     return {
+        "kinematics": "linear",
         "formulation": form,
         "section": [{"name": "s", **section}],
         "beam": [
