@@ -153,3 +153,24 @@ def test_an_end_stop_holds_a_tip_pushed_off_its_rail(tmp_path, capsys):
     (slider,) = rows(tmp_path / "out" / "sliders.csv")
     assert float(slider["xi"]) == 1.0
     assert abs(float(slider["lambda_x"]) - 50.0) <= 16 * EPS * 1e9
+
+
+def test_modes_about_an_exact_sliding_state_warn_they_take_the_linear_stiffness(tmp_path):
+    """A modes study about the bearing's rod on the exact path: the sliding model's tangent
+    is not yet handed to the modes' reduction, so the modes take the linear, unloaded
+    stiffness about the state, with the preload warning (:data:`sliders.solve.modes.
+    PRELOAD_WARNING`), and the study still gives its modes."""
+    from sliders.solve.modes import PRELOAD_WARNING
+
+    text = BEARING.replace(
+        "EJz = 1.0\n", "EJz = 1.0\nmass_per_length = 1.0\ninertia = [1e-3, 1e-3, 1e-3]\n", 1
+    )
+    text = text.replace('[study]\nkind = "static"\n', '[study]\nkind = "modes"\ncount = 3\n')
+    text = text.replace('csv = ["nodes", "sliders", "reactions"]', 'csv = ["modes"]')
+    path, out = tmp_path / "modes.toml", tmp_path / "out"
+    path.write_text(text)
+    with pytest.warns(UserWarning, match=PRELOAD_WARNING.split(":")[0]):
+        assert main(["run", str(path), "--out", str(out)]) == 0
+    frequencies = [float(row["frequency_hz"]) for row in rows(out / "modes.csv")]
+    assert len(frequencies) == 3
+    assert all(np.isfinite(f) and f > 0 for f in frequencies)

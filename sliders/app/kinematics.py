@@ -105,6 +105,9 @@ class Bound:
 def unsupported(scene: Scene) -> tuple[str, str] | None:
     """The first item of ``scene`` the exact path does not carry, as ``(key path,
     reason)``, or None."""
+    study = scene.study
+    if isinstance(study, DynamicStudy):
+        return "study.kind", "a dynamic study"
     item = _slider_unsupported(scene)
     if item is not None:
         return item
@@ -114,9 +117,6 @@ def unsupported(scene: Scene) -> tuple[str, str] | None:
         if (beam.formulation or scene.formulation) == "cubic":
             where = f"beam[{i}].formulation" if beam.formulation else "formulation"
             return where, "the cubic element"
-    study = scene.study
-    if isinstance(study, DynamicStudy):
-        return "study.kind", "a dynamic study"
     if isinstance(study, ModesStudy) and study.parameter is None:
         return None
     if isinstance(study, SweepStudy) and not isinstance(study.parameter, LoadFactor):
