@@ -320,32 +320,40 @@ class ExactModel:
         """The bordered tangent (module docstring); with ``keep`` (sorted dofs), its rows and
         columns on those only."""
         pts = self.points(state) if pts is None else pts
-        K = sp.block_diag(
-            [
-                self.exact.tangent(state.nodes, pts.parts),
-                sp.csc_matrix((self.n_dofs - 6 * self.n_nodes,) * 2),
-            ],
-            format="coo",
-        )
-        rows, cols, vals = [K.row], [K.col], [K.data]
+        H, B = self.joint_blocks(state, pts)
+        K = self.exact.tangent(state.nodes, pts.parts)
+        zero = sp.csr_matrix((B.shape[0], B.shape[0]))
+        full = sp.bmat([[K + H, B.T], [B, zero]], format="csc")
+        return full if keep is None else full[keep][:, keep].tocsc()
+
+    def joint_blocks(
+        self, state: JointedState, pts: ModelPoints | None = None
+    ) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+        """The joints' geometric stiffness ``sum_j H_j`` (on the nodes' dofs) and their rows
+        ``B`` (one per multiplier, on the nodes' dofs) at ``state``: the blocks of the
+        bordered tangent (module docstring)."""
+        pts = self.points(state) if pts is None else pts
+        n = 6 * self.n_nodes
+        h_rows, h_cols, h_vals = [np.zeros(0, int)], [np.zeros(0, int)], [np.zeros(0)]
+        b_rows, b_cols, b_vals = [np.zeros(0, int)], [np.zeros(0, int)], [np.zeros(0)]
         for derived, ends, where in zip(pts.joints, self.ends, self.slices, strict=True):
             dofs, columns = self._columns(ends)
-            H = derived.stiffness[np.ix_(columns, columns)]
-            B = derived.jacobian[:, columns]
-            mult = np.arange(where.start, where.stop)
-            for r, c, v in (
-                (np.repeat(dofs, len(dofs)), np.tile(dofs, len(dofs)), H.ravel()),
-                (np.repeat(mult, len(dofs)), np.tile(dofs, len(mult)), B.ravel()),
-                (np.repeat(dofs, len(mult)), np.tile(mult, len(dofs)), B.T.ravel()),
-            ):
-                rows.append(r)
-                cols.append(c)
-                vals.append(v)
-        full = sp.coo_matrix(
-            (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-            shape=(self.n_dofs, self.n_dofs),
-        ).tocsc()
-        return full if keep is None else full[keep][:, keep].tocsc()
+            mult = np.arange(where.start, where.stop) - n
+            h_rows.append(np.repeat(dofs, len(dofs)))
+            h_cols.append(np.tile(dofs, len(dofs)))
+            h_vals.append(derived.stiffness[np.ix_(columns, columns)].ravel())
+            b_rows.append(np.repeat(mult, len(dofs)))
+            b_cols.append(np.tile(dofs, len(mult)))
+            b_vals.append(derived.jacobian[:, columns].ravel())
+        H = sp.coo_matrix(
+            (np.concatenate(h_vals), (np.concatenate(h_rows), np.concatenate(h_cols))),
+            shape=(n, n),
+        )
+        B = sp.coo_matrix(
+            (np.concatenate(b_vals), (np.concatenate(b_rows), np.concatenate(b_cols))),
+            shape=(self.n_dofs - n, n),
+        )
+        return H.tocsr(), B.tocsr()
 
     def reactions(self, state: JointedState) -> list[np.ndarray]:
         """Each joint's share of its nodes' balances, ``B^T lambda``, as ``[force, couple]``

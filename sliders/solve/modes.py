@@ -114,17 +114,14 @@ class Preload:
     def of_model(cls, model: ExactModel, state: JointedState, mass: str = "lumped") -> Preload:
         """The beams' tangent, the mass (the bodies' turned whole,
         :meth:`fvbeam.exact_bodies.ExactBodies.mass`), the joints' geometric stiffness and
-        their rows of the exact ``model`` at its converged ``state`` (its bordered tangent,
-        :meth:`~sliders.joints.exact_model.ExactModel.tangent`: ``[K + sum H, B^T; B, 0]``)."""
-        n = model.exact.n_dofs
+        their rows of the exact ``model`` at its converged ``state`` (the blocks of its
+        bordered tangent ``[K + sum H, B^T; B, 0]``,
+        :meth:`~sliders.joints.exact_model.ExactModel.joint_blocks`)."""
         points = model.points(state)
-        bordered = model.tangent(state, points).tocsr()
-        beams = sp.csr_matrix(model.exact.tangent(state.nodes, points.parts))
-        # sum H = (K + sum H) - K: exact zeros where no joint acts (K + 0 - K)
-        joints = (bordered[:n, :n] - beams).tocsr()
-        joints.eliminate_zeros()
-        rows = bordered[n:, :n].tocsr()
+        joints, rows = model.joint_blocks(state, points)
+        joints.eliminate_zeros()  # the reduction reads the columns the rows touch
         rows.eliminate_zeros()
+        beams = sp.csr_matrix(model.exact.tangent(state.nodes, points.parts))
         return cls(beams, model.exact.mass(state.nodes, mass), joints, rows)
 
 
